@@ -1,0 +1,6 @@
+//! bezier-subdiv: view-adaptive, crack-free recursive subdivision of bicubic
+//! Bézier surfaces (Tabaei, Kuth et al. 2026) on Vulkan, with the CPU oracle
+//! every GPU path is checked against.
+
+pub mod patch;
+pub mod scene;
