@@ -1,1 +1,259 @@
-fn main() {}
+//! # compile-shaders
+//!
+//! Compiles the renderer's GLSL (`glsl/*.{comp,task,mesh,vert,tesc,tese,geom,frag}`)
+//! into the SPIR-V that is checked in under `spirv/` (`glsl/x.comp` →
+//! `spirv/x.comp.spv`), so the renderer itself builds without a shader
+//! compiler. Files in subdirectories such as `glsl/common/` are include files:
+//! `#include "common/foo.glsl"` resolves against the including file's
+//! directory, then against `glsl/`.
+//!
+//! ```text
+//! cargo run --release -p compile-shaders            # regenerate spirv/
+//! cargo run --release -p compile-shaders -- --check # CI: fail if spirv/ is stale
+//! ```
+//!
+//! Every module is built the same way: Vulkan 1.3 environment (SPIR-V 1.6),
+//! GLSL 460, no optimisation (the `precise`/NoContraction decorations stay
+//! exactly as written; drivers optimise anyway) and no debug info, so the
+//! bytes depend only on the source text and the shaderc/glslang version.
+//! A run writes nothing unless every shader compiles; each file is written
+//! to a temporary name and renamed into place, and `.spv` files without a
+//! source are removed.
+//!
+//! `--check` compiles in memory, compares with `spirv/`, lists every stale,
+//! missing or orphaned file and exits 1 if there is one. CI runs it so that
+//! a GLSL change committed without its SPIR-V fails the build. The bytes come
+//! from the glslang in Debian 12's packages; another glslang version may
+//! produce different (equally valid) modules, so regenerate on that setup.
+//!
+//! ## Why static linking, configured in `.cargo/config.toml`
+//!
+//! Debian's `libshaderc.so` leaves glslang and SPIRV-Tools symbols undefined,
+//! and its `libshaderc_combined.a` is not combined: it lacks glslang and
+//! SPIRV-Tools. When `shaderc-sys`' build script finds no usable library it
+//! builds shaderc from source, which takes over 8 minutes on two cores. So the
+//! workspace's `.cargo/config.toml` overrides that build script (a cargo
+//! `links` override for `shaderc`): it names the system directory and every
+//! static archive needed, the build script never runs, and a missing library
+//! is a link error in seconds instead of a silent source build. All archives
+//! end up in one rlib, so their order does not matter to GNU ld either.
+
+mod shaders;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use shaders::{show, Error, State};
+
+const USAGE: &str = "\
+Compiles glsl/*.{comp,task,mesh,vert,tesc,tese,geom,frag} to spirv/<name>.spv.
+
+Usage: compile-shaders [--check] [--glsl DIR] [--spirv DIR]
+
+Options:
+  --check       compile in memory and compare with the SPIR-V directory; list
+                stale, missing and orphaned files and exit 1 if there are any
+  --glsl DIR    GLSL sources (default: glsl/ in the workspace root)
+  --spirv DIR   compiled modules (default: spirv/ in the workspace root)
+  -h, --help    print this help
+
+Exit status: 0 success, 1 --check found differences, 2 any other error.";
+
+/// Exit status for `--check` finding differences.
+const EXIT_STALE: u8 = 1;
+/// Exit status for usage, I/O and compile errors.
+const EXIT_ERROR: u8 = 2;
+
+#[derive(Debug, PartialEq)]
+struct Args {
+    check: bool,
+    glsl: Option<PathBuf>,
+    spirv: Option<PathBuf>,
+    help: bool,
+}
+
+fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Args, Error> {
+    let mut parsed = Args {
+        check: false,
+        glsl: None,
+        spirv: None,
+        help: false,
+    };
+    let mut args = args.into_iter();
+    while let Some(arg) = args.next() {
+        let (flag, inline) = match arg.split_once('=') {
+            Some((f, v)) if f.starts_with("--") => (f.to_owned(), Some(v.to_owned())),
+            _ => (arg.clone(), None),
+        };
+        let mut value = |name: &str| {
+            inline
+                .clone()
+                .or_else(|| args.next())
+                .filter(|v| !v.is_empty())
+                .map(PathBuf::from)
+                .ok_or_else(|| Error(format!("{name} needs a directory")))
+        };
+        match flag.as_str() {
+            "--check" if inline.is_none() => parsed.check = true,
+            "-h" | "--help" if inline.is_none() => parsed.help = true,
+            "--glsl" => parsed.glsl = Some(value("--glsl")?),
+            "--spirv" => parsed.spirv = Some(value("--spirv")?),
+            _ => return Err(Error(format!("unknown argument `{arg}`"))),
+        }
+    }
+    Ok(parsed)
+}
+
+/// The workspace root: where this tool was built from if that still exists
+/// (so `cargo run -p compile-shaders` works from any directory), else the
+/// current directory.
+fn workspace_root() -> PathBuf {
+    let built_in = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    match built_in.canonicalize() {
+        Ok(root) if root.join("glsl").is_dir() => root,
+        _ => std::env::current_dir().unwrap_or_else(|_| PathBuf::from(".")),
+    }
+}
+
+fn main() -> ExitCode {
+    match run(std::env::args().skip(1)) {
+        Ok(code) => ExitCode::from(code),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_ERROR)
+        }
+    }
+}
+
+fn run(args: impl IntoIterator<Item = String>) -> Result<u8, Error> {
+    let args = parse_args(args).map_err(|e| Error(format!("{e}\n\n{USAGE}")))?;
+    if args.help {
+        println!("{USAGE}");
+        return Ok(0);
+    }
+    let root = workspace_root();
+    let glsl = args.glsl.unwrap_or_else(|| root.join("glsl"));
+    let spirv = args.spirv.unwrap_or_else(|| root.join("spirv"));
+
+    let batch = shaders::compile_all(&glsl)?;
+    for (_, compiled) in &batch.modules {
+        // glslang's warnings already start with `file:line: warning:`.
+        if !compiled.warnings.is_empty() {
+            eprintln!("{}", compiled.warnings.trim_end());
+        }
+    }
+    if !batch.failures.is_empty() {
+        for failure in &batch.failures {
+            eprintln!("error: {failure}");
+        }
+        let n = batch.failures.len();
+        let what = if args.check {
+            "nothing compared"
+        } else {
+            "nothing written"
+        };
+        return Err(Error(format!(
+            "{n} shader{} failed to compile; {what}",
+            if n == 1 { "" } else { "s" }
+        )));
+    }
+
+    if args.check {
+        check(&spirv, &batch.modules)
+    } else {
+        write(&glsl, &spirv, &batch.modules)
+    }
+}
+
+fn check(spirv: &Path, modules: &[(shaders::Source, shaders::Compiled)]) -> Result<u8, Error> {
+    let states = shaders::compare(spirv, modules)?;
+    let bad: Vec<_> = states
+        .iter()
+        .filter(|(_, s)| *s != State::Current)
+        .collect();
+    for (name, state) in &bad {
+        println!(
+            "{:<9} {}",
+            format!("{}:", state.label()),
+            show(&spirv.join(name))
+        );
+    }
+    if bad.is_empty() {
+        println!(
+            "all {} SPIR-V module{} in {} are current",
+            modules.len(),
+            if modules.len() == 1 { "" } else { "s" },
+            show(spirv)
+        );
+        Ok(0)
+    } else {
+        println!(
+            "{} is out of date ({} file{}); run `cargo run --release -p compile-shaders` and commit the result",
+            show(spirv),
+            bad.len(),
+            if bad.len() == 1 { "" } else { "s" }
+        );
+        Ok(EXIT_STALE)
+    }
+}
+
+fn write(
+    glsl: &Path,
+    spirv: &Path,
+    modules: &[(shaders::Source, shaders::Compiled)],
+) -> Result<u8, Error> {
+    if modules.is_empty() {
+        println!("no shaders in {}", show(glsl));
+    }
+    let written = shaders::write_all(spirv, modules)?;
+    for (label, names) in [
+        ("created", &written.created),
+        ("updated", &written.updated),
+        ("removed", &written.removed),
+    ] {
+        for name in names {
+            println!("{:<8} {}", format!("{label}:"), show(&spirv.join(name)));
+        }
+    }
+    println!(
+        "{} shader{} compiled: {} created, {} updated, {} unchanged, {} orphaned .spv removed",
+        modules.len(),
+        if modules.len() == 1 { "" } else { "s" },
+        written.created.len(),
+        written.updated.len(),
+        written.unchanged.len(),
+        written.removed.len()
+    );
+    Ok(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Result<Args, Error> {
+        parse_args(args.iter().map(|s| s.to_string()))
+    }
+
+    #[test]
+    fn parses_flags_and_directories() {
+        let a = parse(&["--check", "--glsl", "g", "--spirv=s"]).unwrap();
+        assert!(a.check && !a.help);
+        assert_eq!(a.glsl.as_deref(), Some(Path::new("g")));
+        assert_eq!(a.spirv.as_deref(), Some(Path::new("s")));
+        assert!(parse(&["-h"]).unwrap().help);
+        assert_eq!(parse(&[]).unwrap().glsl, None);
+    }
+
+    #[test]
+    fn rejects_unknown_and_incomplete_arguments() {
+        assert!(parse(&["--chek"]).unwrap_err().0.contains("--chek"));
+        assert!(parse(&["--glsl"])
+            .unwrap_err()
+            .0
+            .contains("needs a directory"));
+        assert!(parse(&["--spirv="]).is_err());
+        assert!(parse(&["--check=yes"]).is_err());
+        assert!(parse(&["extra"]).is_err());
+    }
+}

@@ -1,0 +1,169 @@
+//! The tool as CI and developers run it: exit statuses and what it prints.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A fresh directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        static NEXT: AtomicUsize = AtomicUsize::new(0);
+        let n = NEXT.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!(
+            "compile-shaders-cli-{tag}-{}-{n}",
+            std::process::id()
+        ));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(dir.join("glsl/common")).unwrap();
+        Self(dir)
+    }
+
+    fn put(&self, rel: &str, text: &str) {
+        let path = self.0.join(rel);
+        fs::create_dir_all(path.parent().unwrap()).unwrap();
+        fs::write(path, text).unwrap();
+    }
+
+    /// Runs the tool on this directory's glsl/ and spirv/, from inside it.
+    fn run(&self, extra: &[&str]) -> Output {
+        Command::new(env!("CARGO_BIN_EXE_compile-shaders"))
+            .args(["--glsl", "glsl", "--spirv", "spirv"])
+            .args(extra)
+            .current_dir(&self.0)
+            .output()
+            .unwrap()
+    }
+
+    fn spv(&self, name: &str) -> PathBuf {
+        self.0.join("spirv").join(name)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
+}
+
+fn text(out: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+const COMP: &str = "#version 460\n#include \"common/k.glsl\"\n\
+    layout(local_size_x = 1) in;\nvoid main() {}\n";
+
+fn is_spirv(path: &Path) -> bool {
+    let bytes = fs::read(path).unwrap();
+    bytes.len() >= 20 && bytes[..4] == 0x0723_0203u32.to_le_bytes()
+}
+
+#[test]
+fn check_reports_stale_missing_and_orphaned_then_passes_after_compiling() {
+    let dir = TempDir::new("check");
+    dir.put("glsl/common/k.glsl", "const uint K = 3u;\n");
+    dir.put("glsl/a.comp", COMP);
+    dir.put("glsl/b.comp", COMP);
+    dir.put("spirv/a.comp.spv", "stale bytes");
+    dir.put("spirv/old.comp.spv", "no source any more");
+
+    let out = dir.run(&["--check"]);
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{log}");
+    assert!(
+        log.contains("stale:") && log.contains("a.comp.spv"),
+        "{log}"
+    );
+    assert!(
+        log.contains("missing:") && log.contains("b.comp.spv"),
+        "{log}"
+    );
+    assert!(
+        log.contains("orphaned:") && log.contains("old.comp.spv"),
+        "{log}"
+    );
+    // --check never writes.
+    assert_eq!(fs::read(dir.spv("a.comp.spv")).unwrap(), b"stale bytes");
+    assert!(!dir.spv("b.comp.spv").exists());
+
+    let out = dir.run(&[]);
+    let log = text(&out);
+    assert!(out.status.success(), "{log}");
+    assert!(
+        log.contains("removed:") && log.contains("old.comp.spv"),
+        "{log}"
+    );
+    assert!(is_spirv(&dir.spv("a.comp.spv")) && is_spirv(&dir.spv("b.comp.spv")));
+    assert!(!dir.spv("old.comp.spv").exists());
+
+    let out = dir.run(&["--check"]);
+    let log = text(&out);
+    assert!(out.status.success(), "{log}");
+    assert!(log.contains("all 2 SPIR-V modules"), "{log}");
+
+    // Editing an include makes the modules that use it stale.
+    dir.put(
+        "glsl/common/k.glsl",
+        "const uint K = 4u;\nconst uint L = K;\n",
+    );
+    let out = dir.run(&["--check"]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+}
+
+#[test]
+fn a_compile_error_names_the_file_and_writes_nothing() {
+    let dir = TempDir::new("error");
+    dir.put("glsl/common/k.glsl", "const uint K = 3u;\n");
+    dir.put("glsl/good.comp", COMP);
+    dir.put(
+        "glsl/bad.frag",
+        "#version 460\nvoid main() { undefined_thing(); }\n",
+    );
+    dir.put("spirv/orphan.comp.spv", "kept while the build is broken");
+
+    for extra in [&[][..], &["--check"][..]] {
+        let out = dir.run(extra);
+        let log = text(&out);
+        assert_eq!(out.status.code(), Some(2), "{log}");
+        assert!(log.contains("glsl/bad.frag:2:"), "{log}");
+        assert!(log.contains("undefined_thing"), "{log}");
+        assert!(!log.contains("good.comp"), "{log}");
+    }
+    assert!(!dir.spv("good.comp.spv").exists());
+    assert!(dir.spv("orphan.comp.spv").exists());
+}
+
+#[test]
+fn an_empty_glsl_directory_compiles_and_checks_clean() {
+    let dir = TempDir::new("empty");
+    let out = dir.run(&[]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(text(&out).contains("no shaders"), "{}", text(&out));
+    let out = dir.run(&["--check"]);
+    assert!(out.status.success(), "{}", text(&out));
+}
+
+#[test]
+fn help_and_bad_arguments() {
+    let dir = TempDir::new("args");
+    let out = dir.run(&["--help"]);
+    assert!(out.status.success());
+    assert!(text(&out).contains("--check"));
+    let out = dir.run(&["--frobnicate"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out).contains("unknown argument `--frobnicate`"));
+}
+
+#[test]
+fn a_missing_glsl_directory_is_an_error() {
+    let dir = TempDir::new("noglsl");
+    let out = dir.run(&["--glsl", "nowhere"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out).contains("nowhere"), "{}", text(&out));
+}
