@@ -33,3 +33,30 @@ pub enum SceneError {
         msg: String,
     },
 }
+
+impl SceneError {
+    /// A [`SceneError::Parse`] at `line` (1-based) of `path`.
+    pub fn at(path: &std::path::Path, line: usize, msg: impl Into<String>) -> Self {
+        SceneError::Parse {
+            path: path.to_path_buf(),
+            line,
+            msg: msg.into(),
+        }
+    }
+
+    /// A [`SceneError::Invalid`] for `path`.
+    pub fn invalid(path: &std::path::Path, msg: impl Into<String>) -> Self {
+        SceneError::Invalid {
+            path: path.to_path_buf(),
+            msg: msg.into(),
+        }
+    }
+
+    /// A [`SceneError::Io`] for `path`.
+    pub fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+        SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
