@@ -72,7 +72,12 @@ impl BezierPatch {
     /// The control column of constant u index `i`, v ascending.
     #[inline]
     pub fn column(&self, i: usize) -> [Vec3; 4] {
-        [self.pts[i], self.pts[4 + i], self.pts[8 + i], self.pts[12 + i]]
+        [
+            self.pts[i],
+            self.pts[4 + i],
+            self.pts[8 + i],
+            self.pts[12 + i],
+        ]
     }
 
     /// Boundary curve `e` (see `EDGE_*`), in counter-clockwise order around
@@ -236,7 +241,11 @@ mod tests {
     #[test]
     fn reorientation_maps_the_surface() {
         let s = sample_patch();
-        for &(swap, fu, fv) in &[(false, true, false), (true, false, false), (true, true, true)] {
+        for &(swap, fu, fv) in &[
+            (false, true, false),
+            (true, false, false),
+            (true, true, true),
+        ] {
             let r = s.reoriented(swap, fu, fv);
             for &(u, v) in &[(0.25f32, 0.75f32), (0.5, 0.125)] {
                 let (nu, nv) = (if fu { 1.0 - u } else { u }, if fv { 1.0 - v } else { v });

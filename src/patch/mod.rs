@@ -2,4 +2,11 @@
 //! floating-point operation order of the GLSL in `glsl/common/`.
 
 pub mod bezier;
+pub mod blossom;
+pub mod criterion;
+pub mod cull;
 pub mod ops;
+pub mod oracle;
+pub mod quadnode;
+pub mod view;
+pub mod wedge;

@@ -1,0 +1,137 @@
+//! Sub-patch reconstruction by tensor-product blossoms (paper §3.3.2).
+//!
+//! The 16 Bézier points of the sub-patch over [a,b]×[c,d] are the blossom
+//! values `s(a^(3-i), b^(i) | c^(3-j), d^(j))`, computed from the base patch by
+//! three rounds of bilinear interpolation. Round one and two insert the same
+//! parameter pair (the "doubled" parameter), round three the single one. With
+//! the pairwise parentheses of [`bilerp`], every permutation of the domain
+//! (flipping u, flipping v, swapping them) performs the same multiplications
+//! and the same additions up to commutation, so neighbouring sub-patches, and
+//! neighbouring base patches that share a boundary curve, get identical bits
+//! on their common edge. The paper's listing prints the final output index as
+//! `P[2+l+k][2+j+i]`; from the blossom the v index is `2l+k` and the u index
+//! `2j+i`, with arrays indexed `[v][u]`.
+
+use glam::Vec3;
+
+use super::bezier::BezierPatch;
+
+/// Bilinear interpolation with the paper's parenthesisation:
+/// `(P00 + P11) + (P10 + P01)`, weights `u1*v1`, `u0*v1`, `u1*v0`, `u0*v0`.
+/// `p10` is the neighbour along u, `p01` along v.
+#[inline]
+pub fn bilerp(u0: f32, v0: f32, p00: Vec3, p10: Vec3, p01: Vec3, p11: Vec3) -> Vec3 {
+    let u1 = 1.0 - u0;
+    let v1 = 1.0 - v0;
+    let w00 = p00 * (u1 * v1);
+    let w10 = p10 * (u0 * v1);
+    let w01 = p01 * (u1 * v0);
+    let w11 = p11 * (u0 * v0);
+    (w00 + w11) + (w10 + w01)
+}
+
+/// The sub-patch of `base` over [a,b]×[c,d].
+pub fn reconstruct(base: &BezierPatch, a: f32, b: f32, c: f32, d: f32) -> BezierPatch {
+    let us = [a, b];
+    let vs = [c, d];
+    let p = &base.pts;
+
+    // First round: bi-quadratic nets s(U[k], · · | V[l], · ·), 3×3 each.
+    let mut d_net = [[[Vec3::ZERO; 9]; 2]; 2];
+    for l in 0..2 {
+        for k in 0..2 {
+            for j in 0..3 {
+                for i in 0..3 {
+                    d_net[l][k][3 * j + i] = bilerp(
+                        us[k],
+                        vs[l],
+                        p[4 * j + i],
+                        p[4 * j + i + 1],
+                        p[4 * (j + 1) + i],
+                        p[4 * (j + 1) + i + 1],
+                    );
+                }
+            }
+        }
+    }
+
+    // Second round: bilinear nets s(U[k], U[k], · | V[l], V[l], ·), 2×2 each.
+    let mut e_net = [[[Vec3::ZERO; 4]; 2]; 2];
+    for l in 0..2 {
+        for k in 0..2 {
+            let dn = &d_net[l][k];
+            for j in 0..2 {
+                for i in 0..2 {
+                    e_net[l][k][2 * j + i] = bilerp(
+                        us[k],
+                        vs[l],
+                        dn[3 * j + i],
+                        dn[3 * j + i + 1],
+                        dn[3 * (j + 1) + i],
+                        dn[3 * (j + 1) + i + 1],
+                    );
+                }
+            }
+        }
+    }
+
+    // Third round: s(U[j], U[j], U[i] | V[l], V[l], V[k]) is the point with
+    // u index 2j+i and v index 2l+k.
+    let mut out = [Vec3::ZERO; 16];
+    for l in 0..2 {
+        for k in 0..2 {
+            for j in 0..2 {
+                for i in 0..2 {
+                    let e = &e_net[l][j];
+                    out[4 * (2 * l + k) + (2 * j + i)] =
+                        bilerp(us[i], vs[k], e[0], e[1], e[2], e[3]);
+                }
+            }
+        }
+    }
+    BezierPatch { pts: out }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patch::bezier::curve;
+
+    fn wavy() -> BezierPatch {
+        let mut pts = [Vec3::ZERO; 16];
+        for j in 0..4 {
+            for i in 0..4 {
+                let (x, y) = (i as f32, j as f32);
+                pts[4 * j + i] = Vec3::new(x + 0.3 * y, y - 0.2 * x * x, (x * 1.7 + y * 0.9).sin());
+            }
+        }
+        BezierPatch { pts }
+    }
+
+    #[test]
+    fn full_domain_is_identity() {
+        let s = wavy();
+        assert_eq!(reconstruct(&s, 0.0, 1.0, 0.0, 1.0), s);
+    }
+
+    #[test]
+    fn corners_and_boundary_match_the_surface() {
+        let s = wavy();
+        let r = reconstruct(&s, 0.25, 0.5, 0.125, 0.375);
+        for &(i, j, u, v) in &[
+            (0, 0, 0.25, 0.125),
+            (3, 0, 0.5, 0.125),
+            (3, 3, 0.5, 0.375),
+            (0, 3, 0.25, 0.375),
+        ] {
+            assert!((r.at(i, j) - s.eval(u, v)).length() < 1e-5);
+        }
+        // A boundary curve of the sub-patch traces the base surface.
+        let bottom = r.row(0);
+        for k in 0..=8 {
+            let t = k as f32 / 8.0;
+            let want = s.eval(0.25 + 0.25 * t, 0.125);
+            assert!((curve(t, &bottom) - want).length() < 1e-5);
+        }
+    }
+}

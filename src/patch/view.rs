@@ -1,0 +1,140 @@
+//! Per-frame constants of the criterion and culling, in the exact layout the
+//! GPU receives (std140/std430 compatible). All camera-only factors are
+//! computed here once, in f64, and rounded to f32: the shaders and the oracle
+//! then start from the same bits.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{DMat4, DVec3, DVec4, Vec4};
+
+use super::quadnode::L_MAX;
+
+/// Frustum-cull sub-patches whose control-point box is outside the view.
+pub const FLAG_FRUSTUM_CULL: u32 = 1;
+/// Drop ready sub-patches that are back-facing everywhere (one-sided models).
+pub const FLAG_BACKFACE_CULL: u32 = 2;
+/// Emit wedge triangles (off only to show the cracks they close).
+pub const FLAG_WEDGES: u32 = 4;
+/// The defaults: everything on.
+pub const FLAGS_DEFAULT: u32 = FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL | FLAG_WEDGES;
+
+/// Constants of one view, uploaded verbatim.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct ViewParams {
+    /// View-space depth of a world point p: `((r.x p.x + r.y p.y) + r.z p.z) + r.w`.
+    pub depth_row: Vec4,
+    /// Frustum planes (left, right, bottom, top, near, far); inside when the
+    /// same affine form is ≥ 0.
+    pub planes: [Vec4; 6],
+    /// Camera position (xyz), w = 1.
+    pub eye: Vec4,
+    /// World-space size of one pixel at unit depth times ε:
+    /// `ε · 2·tan(fov_y/2) / viewport height`.
+    pub eps_k: f32,
+    /// Depths below this (samples near, at or behind the camera plane) are
+    /// clamped to it, so they demand fine subdivision, bounded by `l_max`.
+    pub near: f32,
+    /// Weight of the orthogonal distance, `1 - λ`.
+    pub w_orth: f32,
+    /// Weight of the parametric distance, `λ`.
+    pub w_par: f32,
+    /// Deepest level; nodes at this depth are drawn whatever the criterion says.
+    pub l_max: u32,
+    /// `FLAG_*` bits.
+    pub flags: u32,
+    /// Padding to a 16-byte multiple.
+    pub pad: [u32; 2],
+}
+
+/// What a view is made of, in f64.
+#[derive(Clone, Copy, Debug)]
+pub struct ViewInputs {
+    /// Camera position.
+    pub eye: DVec3,
+    /// Unit viewing direction.
+    pub forward: DVec3,
+    /// Projection × view (Vulkan clip space: depth in [0, w]).
+    pub view_proj: DMat4,
+    /// Vertical field of view in radians.
+    pub fov_y: f64,
+    /// Near-plane distance.
+    pub near: f64,
+    /// Viewport height in pixels.
+    pub height: u32,
+    /// Pixel tolerance ε.
+    pub eps: f64,
+    /// Blend λ ∈ [0, 1] between orthogonal (0) and parametric (1) distance.
+    pub lambda: f64,
+}
+
+impl ViewParams {
+    /// Builds the constants for a view.
+    pub fn new(v: &ViewInputs) -> Self {
+        let f = v.forward.normalize();
+        let depth_row = DVec4::new(f.x, f.y, f.z, -f.dot(v.eye));
+        let eps_k = v.eps * 2.0 * (v.fov_y * 0.5).tan() / v.height as f64;
+        ViewParams {
+            depth_row: depth_row.as_vec4(),
+            planes: frustum_planes(&v.view_proj),
+            eye: v.eye.extend(1.0).as_vec4(),
+            eps_k: eps_k as f32,
+            near: v.near as f32,
+            w_orth: (1.0 - v.lambda) as f32,
+            w_par: v.lambda as f32,
+            l_max: L_MAX,
+            flags: FLAGS_DEFAULT,
+            pad: [0; 2],
+        }
+    }
+
+    /// True when `flag` is set.
+    pub fn has(&self, flag: u32) -> bool {
+        self.flags & flag != 0
+    }
+}
+
+/// The six planes of a Vulkan-convention view-projection (clip x, y in
+/// [-w, w], z in [0, w]), normalised so the distances have world units.
+pub fn frustum_planes(m: &DMat4) -> [Vec4; 6] {
+    let r = |i: usize| m.row(i);
+    let raw = [
+        r(3) + r(0),
+        r(3) - r(0),
+        r(3) + r(1),
+        r(3) - r(1),
+        r(2),
+        r(3) - r(2),
+    ];
+    raw.map(|p| {
+        let len = p.truncate().length();
+        (if len > 0.0 { p / len } else { p }).as_vec4()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn layout_is_gpu_friendly() {
+        assert_eq!(std::mem::size_of::<ViewParams>(), 160);
+        assert_eq!(std::mem::size_of::<ViewParams>() % 16, 0);
+    }
+
+    #[test]
+    fn planes_contain_the_view_axis() {
+        let eye = DVec3::new(0.0, 1.0, 5.0);
+        let view = DMat4::look_at_rh(eye, DVec3::ZERO, DVec3::Y);
+        let proj = DMat4::perspective_rh(0.8, 1.5, 0.1, 100.0);
+        let planes = frustum_planes(&(proj * view));
+        let inside = (DVec3::ZERO - eye).normalize() * 3.0 + eye;
+        for p in planes {
+            let d = p.as_dvec4().truncate().dot(inside) + p.w as f64;
+            assert!(d > 0.0, "{p}");
+        }
+        let behind = eye + (eye - DVec3::ZERO).normalize();
+        assert!(planes
+            .iter()
+            .any(|p| p.as_dvec4().truncate().dot(behind) + (p.w as f64) < 0.0));
+    }
+}
