@@ -1,7 +1,11 @@
 //! Scene input: Bézier patch files, Catmull–Clark cages, scene files, cameras.
 
+pub mod acc;
 pub mod bpt;
+pub mod cage;
+pub mod camera;
 pub mod error;
+pub mod file;
 pub mod obj;
 
 pub use error::SceneError;

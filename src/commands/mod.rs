@@ -1,0 +1,77 @@
+//! The command-line verbs, as library functions the binary and the tests call.
+
+pub mod import;
+pub mod stats;
+
+use std::path::{Path, PathBuf};
+
+/// The scene used when `--scene` is not given.
+pub const DEFAULT_SCENE: &str = "scenes/kitchen.toml";
+
+/// Resolves a scene path: as given if it exists, else relative to the
+/// source tree (so `cargo run` works from any directory).
+pub fn resolve_scene(path: Option<&Path>) -> PathBuf {
+    let p = path.map_or_else(|| PathBuf::from(DEFAULT_SCENE), Path::to_path_buf);
+    if p.exists() || p.is_absolute() {
+        return p;
+    }
+    let in_tree = Path::new(env!("CARGO_MANIFEST_DIR")).join(&p);
+    if in_tree.exists() {
+        in_tree
+    } else {
+        p
+    }
+}
+
+/// Parses `WxH` (e.g. `1920x1080`).
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("size '{s}' is not WIDTHxHEIGHT (e.g. 1920x1080)"))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad height in '{s}'"))?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!("size '{s}' must be between 1x1 and 16384x16384"));
+    }
+    Ok((w, h))
+}
+
+/// Formats an integer with thousands separators.
+pub fn thousands(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_and_refuse() {
+        assert_eq!(parse_size("640x360"), Ok((640, 360)));
+        assert!(parse_size("640").is_err());
+        assert!(parse_size("0x10").is_err());
+        assert!(parse_size("axb").is_err());
+    }
+
+    #[test]
+    fn thousands_groups_digits() {
+        assert_eq!(thousands(0), "0");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(thousands(35940), "35,940");
+        assert_eq!(thousands(1234567), "1,234,567");
+    }
+}

@@ -1,0 +1,192 @@
+//! `stats`: the CPU oracle's subdivision statistics for one view of a scene.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{anyhow, Context as _};
+use serde::Serialize;
+
+use super::thousands;
+use crate::patch::oracle::{subdivide_parallel, triangle_counts};
+use crate::patch::view::{FLAGS_DEFAULT, FLAG_WEDGES};
+use crate::scene::file::Scene;
+
+/// What `stats` is asked for.
+#[derive(Clone, Debug)]
+pub struct StatsArgs {
+    /// Scene file.
+    pub scene: PathBuf,
+    /// Keyframe (0 = the scene camera).
+    pub frame: usize,
+    /// ε override.
+    pub eps: Option<f64>,
+    /// λ override.
+    pub lambda: Option<f64>,
+    /// Viewport.
+    pub size: (u32, u32),
+    /// `FLAG_*` bits for the view.
+    pub flags: u32,
+}
+
+impl StatsArgs {
+    /// Defaults for a scene: frame 0, the scene's ε and λ, 1920×1080.
+    pub fn new(scene: PathBuf) -> Self {
+        StatsArgs {
+            scene,
+            frame: 0,
+            eps: None,
+            lambda: None,
+            size: (1920, 1080),
+            flags: FLAGS_DEFAULT,
+        }
+    }
+}
+
+/// The oracle's figures for one view.
+#[derive(Clone, Debug, Serialize)]
+pub struct StatsReport {
+    /// Scene file.
+    pub scene: String,
+    /// Scene name.
+    pub name: String,
+    /// Keyframe.
+    pub frame: usize,
+    /// Viewport width.
+    pub width: u32,
+    /// Viewport height.
+    pub height: u32,
+    /// Pixel tolerance.
+    pub eps: f64,
+    /// Distance blend.
+    pub lambda: f64,
+    /// Depth limit.
+    pub l_max: u32,
+    /// Base patches.
+    pub patches: u64,
+    /// Nodes (any depth) dropped by the frustum test.
+    pub culled_patches: u64,
+    /// Ready nodes dropped as back-facing.
+    pub backface_culled: u64,
+    /// Ready quads drawn.
+    pub ready_quads: u64,
+    /// Triangles drawn (2 per quad + wedges).
+    pub triangles: u64,
+    /// Wedge triangles among them.
+    pub wedge_triangles: u64,
+    /// Deepest ready node.
+    pub max_depth: u32,
+    /// Ready nodes at the depth limit.
+    pub nodes_at_lmax: u64,
+    /// Work items processed.
+    pub nodes_processed: u64,
+    /// Wall time of the oracle run (CPU), seconds.
+    pub oracle_seconds: f64,
+}
+
+impl StatsReport {
+    /// Wedge triangles as a percentage of all triangles.
+    pub fn wedge_share(&self) -> f64 {
+        if self.triangles == 0 {
+            0.0
+        } else {
+            100.0 * self.wedge_triangles as f64 / self.triangles as f64
+        }
+    }
+
+    /// The human-readable table.
+    pub fn to_text(&self) -> String {
+        let t = |n: u64| thousands(n);
+        format!(
+            "scene           {} ({}), frame {}, {}x{}, eps {} px, lambda {}, l_max {}\n\
+             patches         {}\n\
+             culled          {} nodes outside the frustum\n\
+             back-facing     {} ready nodes\n\
+             ready quads     {}\n\
+             triangles       {} ({} wedges, {:.1} %)\n\
+             max depth       {}\n\
+             nodes at l_max  {}\n\
+             nodes processed {}\n\
+             oracle time     {:.2} s (CPU reference)\n",
+            self.scene,
+            self.name,
+            self.frame,
+            self.width,
+            self.height,
+            self.eps,
+            self.lambda,
+            self.l_max,
+            t(self.patches),
+            t(self.culled_patches),
+            t(self.backface_culled),
+            t(self.ready_quads),
+            t(self.triangles),
+            t(self.wedge_triangles),
+            self.wedge_share(),
+            self.max_depth,
+            t(self.nodes_at_lmax),
+            t(self.nodes_processed),
+            self.oracle_seconds,
+        )
+    }
+}
+
+/// Runs the oracle for one view of a scene.
+pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
+    let scene = Scene::load(&args.scene)?;
+    let camera = scene.frame_camera(args.frame).ok_or_else(|| {
+        anyhow!(
+            "{}: frame {} does not exist (the scene has frames 0..={})",
+            args.scene.display(),
+            args.frame,
+            scene.frame_count() - 1
+        )
+    })?;
+    let eps = args.eps.unwrap_or(scene.view.eps);
+    let lambda = args.lambda.unwrap_or(scene.view.lambda);
+    check_eps_lambda(eps, lambda)?;
+    let geo = scene
+        .geometry()
+        .with_context(|| format!("loading the models of {}", args.scene.display()))?;
+    let (w, h) = args.size;
+    let mut vp = camera.view_params(w, h, eps, lambda);
+    vp.flags = args.flags;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let start = Instant::now();
+    let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, threads);
+    let (triangles, wedge_triangles) = triangle_counts(&res.ready, vp.has(FLAG_WEDGES));
+    let oracle_seconds = start.elapsed().as_secs_f64();
+    let s = res.stats;
+    Ok(StatsReport {
+        scene: args.scene.display().to_string(),
+        name: scene.name,
+        frame: args.frame,
+        width: w,
+        height: h,
+        eps,
+        lambda,
+        l_max: vp.l_max,
+        patches: s.patches,
+        culled_patches: s.culled_patches,
+        backface_culled: s.backface_culled,
+        ready_quads: s.ready_quads,
+        triangles,
+        wedge_triangles,
+        max_depth: s.max_depth,
+        nodes_at_lmax: s.nodes_at_lmax,
+        nodes_processed: s.nodes_processed,
+        oracle_seconds,
+    })
+}
+
+/// Refuses ε ≤ 0 and λ outside [0, 1] with a sentence.
+pub fn check_eps_lambda(eps: f64, lambda: f64) -> anyhow::Result<()> {
+    if !(eps.is_finite() && eps > 0.0) {
+        return Err(anyhow!(
+            "--eps must be a positive number of pixels (got {eps})"
+        ));
+    }
+    if !(0.0..=1.0).contains(&lambda) {
+        return Err(anyhow!("--lambda must be in [0, 1] (got {lambda})"));
+    }
+    Ok(())
+}

@@ -1,0 +1,543 @@
+//! Scene files (TOML): models with instance transforms, a camera, an optional
+//! camera path, and default ε and λ.
+//!
+//! ```toml
+//! name = "teapot"
+//! [view]                      # optional defaults for render/bench
+//! eps = 1.0                   # pixel tolerance ε
+//! lambda = 0.5                # orthogonal (0) ↔ parametric (1) distance
+//! [camera]
+//! position = [6.0, -6.5, 4.0]
+//! target = [0.0, 0.0, 1.2]
+//! up = [0.0, 0.0, 1.0]        # default +z
+//! fov_y_deg = 45.0            # default 45
+//! near = 0.05                 # default 0.05
+//! far = 1000.0                # default 1000
+//! [camera_path]               # optional; frame 0 is [camera], frame k is key k
+//! frames = 240                # frames `bench` samples along the path
+//! [[camera_path.key]]
+//! position = [...]
+//! target = [...]
+//! [[model]]
+//! name = "teapot"
+//! file = "models/teapot.bpt"  # .bpt or Catmull–Clark .obj, relative to this file
+//! two_sided = true            # open or thin models: never back-face culled
+//! [[model.instance]]          # none given: one instance, identity
+//! translate = [0.0, 0.0, 0.0]
+//! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
+//! scale = 1.0                 # or [sx, sy, sz]
+//! grid = { count = [4, 2, 1], step = [1.0, 1.0, 0.0] }  # optional lattice of copies
+//! ```
+//!
+//! Instances are baked into world-space base patches at load (the transform
+//! is applied to the control points in f64 and rounded once), so shared
+//! boundary points stay bitwise shared within each instance. A mirroring
+//! transform swaps each patch's u and v to keep normals outward.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DVec3, EulerRot};
+use serde::Deserialize;
+
+use super::camera::Camera;
+use super::{bpt, obj, ImportedModel, SceneError};
+use crate::patch::bezier::BezierPatch;
+use crate::patch::oracle::PATCH_TWO_SIDED;
+
+/// Largest absolute world coordinate accepted. The criterion multiplies up
+/// to sixth powers of lengths; this keeps them far from f32 overflow.
+pub const MAX_COORD: f32 = 1.0e6;
+
+/// Bit position of the model index in a patch's flags word.
+pub const FLAG_MODEL_SHIFT: u32 = 16;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneToml {
+    name: Option<String>,
+    #[serde(default)]
+    view: ViewDefaults,
+    camera: Camera,
+    camera_path: Option<PathToml>,
+    #[serde(default)]
+    model: Vec<ModelToml>,
+}
+
+/// Default ε and λ of a scene.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViewDefaults {
+    /// Pixel tolerance ε.
+    #[serde(default = "default_eps")]
+    pub eps: f64,
+    /// Blend λ.
+    #[serde(default = "default_lambda")]
+    pub lambda: f64,
+}
+
+impl Default for ViewDefaults {
+    fn default() -> Self {
+        ViewDefaults {
+            eps: default_eps(),
+            lambda: default_lambda(),
+        }
+    }
+}
+
+fn default_eps() -> f64 {
+    1.0
+}
+fn default_lambda() -> f64 {
+    0.5
+}
+fn default_frames() -> u32 {
+    240
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PathToml {
+    #[serde(default = "default_frames")]
+    frames: u32,
+    #[serde(default)]
+    key: Vec<Camera>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ModelToml {
+    name: Option<String>,
+    file: String,
+    #[serde(default)]
+    two_sided: bool,
+    #[serde(default)]
+    instance: Vec<InstanceToml>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InstanceToml {
+    #[serde(default)]
+    translate: [f64; 3],
+    #[serde(default)]
+    rotate_deg: [f64; 3],
+    #[serde(default)]
+    scale: Scale,
+    grid: Option<GridToml>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Scale {
+    Uniform(f64),
+    PerAxis([f64; 3]),
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Scale::Uniform(1.0)
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GridToml {
+    count: [u32; 3],
+    step: [f64; 3],
+}
+
+/// One model of a scene with its instance transforms.
+#[derive(Clone, Debug)]
+pub struct ModelDesc {
+    /// Display name.
+    pub name: String,
+    /// Resolved model file.
+    pub file: PathBuf,
+    /// Never back-face culled.
+    pub two_sided: bool,
+    /// Object → world transforms.
+    pub instances: Vec<DMat4>,
+}
+
+/// A parsed scene file.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene file.
+    pub path: PathBuf,
+    /// Display name.
+    pub name: String,
+    /// Default ε and λ.
+    pub view: ViewDefaults,
+    /// Frame 0's camera.
+    pub camera: Camera,
+    /// Camera path keyframes (frames 1..).
+    pub keys: Vec<Camera>,
+    /// Frames `bench` samples along the path.
+    pub path_frames: u32,
+    /// Models.
+    pub models: Vec<ModelDesc>,
+}
+
+/// What a model contributed to the scene geometry.
+#[derive(Clone, Debug)]
+pub struct ModelSummary {
+    /// Display name.
+    pub name: String,
+    /// Model file.
+    pub file: PathBuf,
+    /// Base patches in one instance.
+    pub patches_per_instance: usize,
+    /// Number of instances.
+    pub instances: usize,
+    /// Never back-face culled.
+    pub two_sided: bool,
+    /// Import warnings.
+    pub warnings: Vec<String>,
+}
+
+/// World-space base patches of a whole scene.
+#[derive(Clone, Debug, Default)]
+pub struct SceneGeometry {
+    /// Base patches of every instance of every model, in scene order.
+    pub patches: Vec<BezierPatch>,
+    /// Per patch: `PATCH_TWO_SIDED` and the model index `<< FLAG_MODEL_SHIFT`.
+    pub flags: Vec<u32>,
+    /// Per model, in scene order.
+    pub models: Vec<ModelSummary>,
+}
+
+/// Loads one model file by extension (`.bpt` or `.obj`).
+pub fn load_model(path: &Path) -> Result<ImportedModel, SceneError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("bpt") => Ok(ImportedModel {
+            patches: bpt::read(path)?,
+            ..Default::default()
+        }),
+        Some("obj") => obj::read(path),
+        _ => Err(SceneError::Invalid {
+            path: path.to_path_buf(),
+            msg: "unknown model format: expected a .bpt patch file or a .obj Catmull-Clark cage"
+                .into(),
+        }),
+    }
+}
+
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+impl Scene {
+    /// Reads and checks a scene file (models are loaded by [`Scene::geometry`]).
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(path, &text)
+    }
+
+    /// Parses scene text; `path` names the file in errors and anchors
+    /// relative model paths.
+    pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+        let raw: SceneToml = toml::from_str(text).map_err(|e| SceneError::Parse {
+            path: path.to_path_buf(),
+            line: e.span().map_or(1, |s| line_of(text, s.start)),
+            msg: e.message().trim().to_string(),
+        })?;
+        let invalid = |msg: String| SceneError::Invalid {
+            path: path.to_path_buf(),
+            msg,
+        };
+        raw.camera
+            .check()
+            .map_err(|m| invalid(format!("[camera]: {m}")))?;
+        let (keys, path_frames) = match raw.camera_path {
+            Some(p) => (p.key, p.frames),
+            None => (Vec::new(), default_frames()),
+        };
+        for (k, key) in keys.iter().enumerate() {
+            key.check().map_err(|m| {
+                invalid(format!("camera_path key {} (frame {}): {m}", k + 1, k + 1))
+            })?;
+        }
+        let v = raw.view;
+        if !(v.eps.is_finite() && v.eps > 0.0) {
+            return Err(invalid(format!("[view] eps must be > 0 (got {})", v.eps)));
+        }
+        if !(0.0..=1.0).contains(&v.lambda) {
+            return Err(invalid(format!(
+                "[view] lambda must be in [0, 1] (got {})",
+                v.lambda
+            )));
+        }
+        if raw.model.is_empty() {
+            return Err(invalid("the scene has no [[model]]".into()));
+        }
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let mut models = Vec::new();
+        for (i, m) in raw.model.into_iter().enumerate() {
+            let name = m.name.clone().unwrap_or_else(|| format!("model {}", i + 1));
+            let instances = instance_transforms(&m.instance)
+                .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
+            models.push(ModelDesc {
+                name,
+                file: dir.join(&m.file),
+                two_sided: m.two_sided,
+                instances,
+            });
+        }
+        let name = raw.name.unwrap_or_else(|| {
+            path.file_stem()
+                .map_or("scene".into(), |s| s.to_string_lossy().into_owned())
+        });
+        Ok(Scene {
+            path: path.to_path_buf(),
+            name,
+            view: v,
+            camera: raw.camera,
+            keys,
+            path_frames,
+            models,
+        })
+    }
+
+    /// Number of keyframes: the scene camera plus the path keys.
+    pub fn frame_count(&self) -> usize {
+        1 + self.keys.len()
+    }
+
+    /// Keyframe `k`: 0 is `[camera]`, `k ≥ 1` is path key `k`.
+    pub fn frame_camera(&self, k: usize) -> Option<Camera> {
+        match k {
+            0 => Some(self.camera),
+            _ => self.keys.get(k - 1).copied(),
+        }
+    }
+
+    /// The camera at `t` ∈ [0, 1] along the piecewise-linear path through
+    /// every keyframe (frame 0 first).
+    pub fn path_camera(&self, t: f64) -> Camera {
+        let frames: Vec<Camera> = (0..self.frame_count())
+            .filter_map(|k| self.frame_camera(k))
+            .collect();
+        if frames.len() == 1 {
+            return frames[0];
+        }
+        let x = t.clamp(0.0, 1.0) * (frames.len() - 1) as f64;
+        let i = (x.floor() as usize).min(frames.len() - 2);
+        frames[i].lerp(&frames[i + 1], x - i as f64)
+    }
+
+    /// Loads every model file (each once) and bakes the instances into
+    /// world-space base patches.
+    pub fn geometry(&self) -> Result<SceneGeometry, SceneError> {
+        let mut cache: HashMap<PathBuf, ImportedModel> = HashMap::new();
+        let mut geo = SceneGeometry::default();
+        for (index, m) in self.models.iter().enumerate() {
+            if !cache.contains_key(&m.file) {
+                let model = load_model(&m.file).map_err(|e| SceneError::Invalid {
+                    path: self.path.clone(),
+                    msg: format!("model '{}': {e}", m.name),
+                })?;
+                cache.insert(m.file.clone(), model);
+            }
+            let model = &cache[&m.file];
+            let flags =
+                (index as u32) << FLAG_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
+            for xf in &m.instances {
+                for p in &model.patches {
+                    let w = transform_patch(p, xf);
+                    if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
+                        return Err(SceneError::Invalid {
+                            path: self.path.clone(),
+                            msg: format!(
+                                "model '{}': a transformed control point exceeds ±{MAX_COORD} (scale the scene down)",
+                                m.name
+                            ),
+                        });
+                    }
+                    geo.patches.push(w);
+                    geo.flags.push(flags);
+                }
+            }
+            geo.models.push(ModelSummary {
+                name: m.name.clone(),
+                file: m.file.clone(),
+                patches_per_instance: model.patches.len(),
+                instances: m.instances.len(),
+                two_sided: m.two_sided,
+                warnings: model.warnings.clone(),
+            });
+        }
+        Ok(geo)
+    }
+}
+
+fn instance_transforms(list: &[InstanceToml]) -> Result<Vec<DMat4>, String> {
+    if list.is_empty() {
+        return Ok(vec![DMat4::IDENTITY]);
+    }
+    let mut out = Vec::new();
+    for (k, inst) in list.iter().enumerate() {
+        let scale = match inst.scale {
+            Scale::Uniform(s) => DVec3::splat(s),
+            Scale::PerAxis(s) => DVec3::from_array(s),
+        };
+        if scale.x * scale.y * scale.z == 0.0 || !scale.is_finite() {
+            return Err(format!(
+                "instance {}: scale must be finite and non-zero",
+                k + 1
+            ));
+        }
+        let r = inst.rotate_deg.map(f64::to_radians);
+        let base = DMat4::from_translation(DVec3::from_array(inst.translate))
+            * DMat4::from_euler(EulerRot::ZYX, r[2], r[1], r[0])
+            * DMat4::from_scale(scale);
+        let (count, step) = match &inst.grid {
+            Some(g) => (g.count, DVec3::from_array(g.step)),
+            None => ([1, 1, 1], DVec3::ZERO),
+        };
+        if count.contains(&0) {
+            return Err(format!(
+                "instance {}: grid count must be ≥ 1 on every axis",
+                k + 1
+            ));
+        }
+        for z in 0..count[2] {
+            for y in 0..count[1] {
+                for x in 0..count[0] {
+                    let off = step * DVec3::new(x as f64, y as f64, z as f64);
+                    out.push(DMat4::from_translation(off) * base);
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Applies an affine transform to a patch's control points (f64, rounded
+/// once). Mirroring transforms swap u and v so ∂u × ∂v stays outward.
+pub fn transform_patch(p: &BezierPatch, m: &DMat4) -> BezierPatch {
+    let mut out = *p;
+    for q in &mut out.pts {
+        *q = m.transform_point3(q.as_dvec3()).as_vec3();
+    }
+    let out = if m.determinant() < 0.0 {
+        out.reoriented(true, false, false)
+    } else {
+        out
+    };
+    out.canonical_zeros()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = r#"
+[camera]
+position = [5.0, -5.0, 3.0]
+target = [0.0, 0.0, 1.0]
+
+[[model]]
+file = "teapot.bpt"
+"#;
+
+    fn parse(text: &str) -> Result<Scene, SceneError> {
+        Scene::parse(Path::new("/tmp/x/scene.toml"), text)
+    }
+
+    #[test]
+    fn minimal_scene_has_defaults() {
+        let s = parse(MINIMAL).unwrap();
+        assert_eq!(s.name, "scene");
+        assert_eq!((s.view.eps, s.view.lambda), (1.0, 0.5));
+        assert_eq!(s.frame_count(), 1);
+        assert_eq!(s.models[0].file, Path::new("/tmp/x/teapot.bpt"));
+        assert_eq!(s.models[0].instances, vec![DMat4::IDENTITY]);
+    }
+
+    #[test]
+    fn unknown_keys_and_wrong_types_name_the_line() {
+        let e = parse(&MINIMAL.replace("target", "targte"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("/tmp/x/scene.toml:") && e.contains("targte"),
+            "{e}"
+        );
+        let e = parse(&format!("{MINIMAL}two_sided = \"yes\"\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("scene.toml:8"), "{e}");
+        let e = parse(&MINIMAL.replace("[5.0, -5.0, 3.0]", "[5.0, \"a\", 3.0]"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("scene.toml:3"), "{e}");
+        let e = parse("[camera\n").unwrap_err().to_string();
+        assert!(e.contains("scene.toml:1"), "{e}");
+    }
+
+    #[test]
+    fn semantic_errors_are_explained() {
+        let e = parse(&MINIMAL.replace("target = [0.0, 0.0, 1.0]", "target = [5.0, -5.0, 3.0]"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("coincide"), "{e}");
+        let e = parse(&format!("{MINIMAL}[[model.instance]]\nscale = 0.0\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("scale"), "{e}");
+        let e = parse(&MINIMAL.replace("[[model]]\nfile = \"teapot.bpt\"", ""))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no [[model]]"), "{e}");
+    }
+
+    #[test]
+    fn grids_multiply_instances() {
+        let text = format!(
+            "{MINIMAL}[[model.instance]]\ngrid = {{ count = [3, 2, 1], step = [1.0, 2.0, 0.0] }}\n[[model.instance]]\ntranslate = [9.0, 0.0, 0.0]\n"
+        );
+        let s = parse(&text).unwrap();
+        assert_eq!(s.models[0].instances.len(), 7);
+        let last_grid = s.models[0].instances[5].transform_point3(DVec3::ZERO);
+        assert_eq!(last_grid, DVec3::new(2.0, 2.0, 0.0));
+    }
+
+    #[test]
+    fn path_camera_interpolates_keyframes() {
+        let text = format!(
+            "{MINIMAL}[camera_path]\nframes = 10\n[[camera_path.key]]\nposition = [7.0, -5.0, 3.0]\ntarget = [0.0, 0.0, 1.0]\n"
+        );
+        let s = parse(&text).unwrap();
+        assert_eq!(s.frame_count(), 2);
+        assert_eq!(s.path_camera(0.5).position, [6.0, -5.0, 3.0]);
+        assert_eq!(s.frame_camera(1).unwrap().position[0], 7.0);
+        assert!(s.frame_camera(2).is_none());
+    }
+
+    #[test]
+    fn mirroring_keeps_normals_outward() {
+        let mut pts = [glam::Vec3::ZERO; 16];
+        for j in 0..4 {
+            for i in 0..4 {
+                pts[4 * j + i] = glam::Vec3::new(i as f32, j as f32, 0.0);
+            }
+        }
+        let p = BezierPatch { pts };
+        let n0 = p.normal(0.5, 0.5);
+        let m = DMat4::from_scale(DVec3::new(1.0, 1.0, -1.0)) * DMat4::from_rotation_x(0.3);
+        let q = transform_patch(&p, &m);
+        let want = m.transform_vector3(n0.as_dvec3());
+        // The mirrored normal of the original surface, as an oriented plane,
+        // should agree with the new patch's normal after the u/v swap.
+        let got = q.normal(0.5, 0.5).as_dvec3();
+        assert!(got.dot(want) > 0.0);
+    }
+}
