@@ -1,0 +1,476 @@
+//! The Vulkan context: instance, device, queue, allocator and command pool,
+//! plus the validation bookkeeping tests check.
+//!
+//! Ownership: the handles every resource needs (device, allocator) live in a
+//! reference-counted `Core`. Buffers, images, pipelines hold an `Arc<Core>`
+//! and free themselves on drop, so nothing can outlive the device and
+//! nothing needs a context passed to its destructor. The device is destroyed
+//! when the last holder goes.
+
+use super::debug::{self, DebugState, VALIDATION_LAYER};
+use super::device::{self, DeviceSelector};
+use super::error::{VkError, VkResult, VkResultExt};
+use super::info::{version_string, DeviceInfo};
+use super::memory::Buffer;
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
+use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+/// Fence waits give up after this long unless told otherwise.
+pub const DEFAULT_FENCE_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// How to create a [`Context`].
+#[derive(Debug, Clone)]
+pub struct ContextOptions {
+    /// Which device to use.
+    pub selector: DeviceSelector,
+    /// Enable the Khronos validation layer and count its messages.
+    pub validation: bool,
+    /// With validation: also enable synchronization validation (missing or
+    /// wrong barriers), if the layer offers VK_EXT_validation_features.
+    pub sync_validation: bool,
+    /// Fail device selection unless task + mesh shaders are available.
+    pub require_mesh_shader: bool,
+    /// Default timeout for fence waits (a hung shader must fail, not stall).
+    pub fence_timeout: Duration,
+}
+
+impl Default for ContextOptions {
+    fn default() -> Self {
+        Self {
+            selector: DeviceSelector::Auto,
+            validation: false,
+            sync_validation: true,
+            require_mesh_shader: false,
+            fence_timeout: DEFAULT_FENCE_TIMEOUT,
+        }
+    }
+}
+
+/// Handles shared by the context and every resource created from it.
+pub(crate) struct Core {
+    /// Kept only so the loader library stays loaded while the instance lives.
+    entry: ManuallyDrop<ash::Entry>,
+    pub(crate) instance: ash::Instance,
+    pub(crate) physical_device: vk::PhysicalDevice,
+    pub(crate) device: ash::Device,
+    pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub(crate) debug_utils: Option<ash::ext::debug_utils::Device>,
+    messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Its address is the messenger's user data, so it lives until after
+    /// the instance is destroyed (see `Drop`); tests may hold a clone to
+    /// see messages from device and instance destruction.
+    debug_state: ManuallyDrop<Arc<DebugState>>,
+    /// Set when submitted work never finished: tearing down would block
+    /// forever in vkDeviceWaitIdle or free memory the GPU still uses.
+    pub(crate) hung: AtomicBool,
+}
+
+impl Core {
+    /// Locks the allocator; a poisoned lock is still usable because the
+    /// allocator's state is updated atomically with respect to panics.
+    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
+        self.allocator.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Names an object for validation messages (no-op without debug utils).
+    pub(crate) fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        debug::set_name(self.debug_utils.as_ref(), handle, name);
+    }
+}
+
+impl Drop for Core {
+    fn drop(&mut self) {
+        if self.hung.load(Ordering::SeqCst) {
+            // The GPU may still run our work and the driver may still call
+            // the messenger: leak everything rather than hang or crash.
+            log::error!("Vulkan work never finished; leaking the device instead of destroying it");
+            return;
+        }
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            // The allocator frees its memory blocks through the device.
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some((loader, messenger)) = self.messenger.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            // Messages from instance destruction still reach `debug_state`
+            // through the chained create-info, so it is freed only after.
+            self.instance.destroy_instance(None);
+            ManuallyDrop::drop(&mut self.debug_state);
+            ManuallyDrop::drop(&mut self.entry);
+        }
+    }
+}
+
+/// A command buffer whose fence wait timed out, kept until it finishes.
+pub(crate) struct Pending {
+    pub label: String,
+    pub fence: vk::Fence,
+    pub cmd: vk::CommandBuffer,
+    /// Resources the command buffer uses (e.g. a staging buffer).
+    pub keep_alive: Vec<Buffer>,
+}
+
+/// The command pool and queue, which Vulkan requires to be externally
+/// synchronised, with the timed-out submissions still in flight.
+pub(crate) struct SubmitState {
+    pub pool: vk::CommandPool,
+    pub pending: Vec<Pending>,
+}
+
+/// The Vulkan context: one device, one queue, an allocator and a command pool.
+pub struct Context {
+    pub(crate) core: Arc<Core>,
+    pub(crate) queue: vk::Queue,
+    pub(crate) submit: Mutex<SubmitState>,
+    pub(crate) fence_timeout: Duration,
+    mesh: Option<ash::ext::mesh_shader::Device>,
+    info: DeviceInfo,
+    validation: bool,
+}
+
+impl Context {
+    /// Creates a context on the device `options.selector` picks.
+    pub fn new(options: &ContextOptions) -> VkResult<Self> {
+        let entry =
+            unsafe { ash::Entry::load() }.map_err(|e| VkError::LoaderMissing(e.to_string()))?;
+        let loader_version = unsafe { entry.try_enumerate_instance_version() }
+            .ctx("vkEnumerateInstanceVersion")?
+            .unwrap_or(vk::API_VERSION_1_0);
+        if loader_version < vk::API_VERSION_1_3 {
+            return Err(VkError::LoaderTooOld {
+                found: version_string(loader_version),
+            });
+        }
+        let support = debug::probe(&entry, options.validation)?;
+        let debug_state = Arc::new(DebugState::default());
+
+        let app_info = vk::ApplicationInfo::default()
+            .application_name(c"bezier-subdiv")
+            .application_version(vk::make_api_version(0, 0, 1, 0))
+            .engine_name(c"bezier-subdiv")
+            .api_version(vk::API_VERSION_1_3);
+        let layers = if options.validation {
+            vec![VALIDATION_LAYER.as_ptr()]
+        } else {
+            Vec::new()
+        };
+        let mut extensions = Vec::new();
+        if support.debug_utils {
+            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+        }
+        let want_sync = options.validation && options.sync_validation;
+        if want_sync && support.validation_features {
+            extensions.push(ash::ext::validation_features::NAME.as_ptr());
+        } else if want_sync {
+            log::warn!("the validation layer lacks VK_EXT_validation_features; synchronization validation is off");
+        }
+        let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+        let mut chained_messenger = debug::messenger_info(&debug_state);
+        let mut create = vk::InstanceCreateInfo::default()
+            .application_info(&app_info)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions);
+        if options.validation && support.debug_utils {
+            create = create.push_next(&mut chained_messenger);
+        }
+        if want_sync && support.validation_features {
+            create = create.push_next(&mut features);
+        }
+        let instance = match unsafe { entry.create_instance(&create, None) } {
+            Ok(instance) => instance,
+            Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => {
+                return Err(VkError::NoSuitableDevice {
+                    devices: String::from(
+                        "  (none: the Vulkan loader found no driver; install your GPU's Vulkan \
+                         driver, or `mesa-vulkan-drivers` for the lavapipe CPU device)",
+                    ),
+                })
+            }
+            Err(vk::Result::ERROR_LAYER_NOT_PRESENT) => {
+                return Err(VkError::ValidationLayerMissing)
+            }
+            Err(result) => {
+                return Err(VkError::Call {
+                    context: String::from("vkCreateInstance"),
+                    result,
+                })
+            }
+        };
+
+        // From here on, failures must destroy what was made; `Partial`
+        // does that on drop unless disarmed.
+        let mut partial = Partial {
+            instance: Some(instance.clone()),
+            messenger: None,
+            device: None,
+        };
+        if options.validation && support.debug_utils {
+            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let info = debug::messenger_info(&debug_state);
+            let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
+                .ctx("vkCreateDebugUtilsMessengerEXT")?;
+            partial.messenger = Some((loader, messenger));
+        }
+
+        let candidates = device::enumerate(&instance)?;
+        let chosen = device::choose(&candidates, &options.selector, options.require_mesh_shader)?;
+        let candidate = &candidates[chosen];
+        let (device, queue) = device::create_device(&instance, candidate)?;
+        partial.device = Some(device.clone());
+
+        let mut info = candidate.info.clone();
+        // A mesh-shader-less device reports no mesh limits either.
+        if !info.features.mesh_shader {
+            info.mesh = None;
+        }
+        log::info!(
+            "Vulkan device {}: {} ({}, driver {} {}, Vulkan {}){}",
+            info.index,
+            info.name,
+            info.kind_label(),
+            info.driver_name,
+            info.driver_info,
+            info.api_version_string(),
+            if options.validation {
+                ", validation on"
+            } else {
+                ""
+            }
+        );
+
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: candidate.handle,
+            debug_settings: AllocatorDebugSettings::default(),
+            buffer_device_address: false,
+            // Small first blocks: tests make many tiny buffers and lavapipe
+            // backs "device memory" with host RAM.
+            allocation_sizes: AllocationSizes::new(16 << 20, 16 << 20)
+                .with_max_device_memblock_size(256 << 20)
+                .with_max_host_memblock_size(256 << 20),
+        })
+        .map_err(|source| VkError::Allocation {
+            name: String::from("allocator"),
+            source,
+        })?;
+
+        let debug_utils = support
+            .debug_utils
+            .then(|| ash::ext::debug_utils::Device::new(&instance, &device));
+        let mesh = info
+            .features
+            .mesh_shader
+            .then(|| ash::ext::mesh_shader::Device::new(&instance, &device));
+
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(info.queue_family)
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT);
+        let pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.ctx("vkCreateCommandPool")?;
+
+        let messenger = partial.messenger.take();
+        partial.disarm();
+        let core = Arc::new(Core {
+            entry: ManuallyDrop::new(entry),
+            instance,
+            physical_device: candidate.handle,
+            device,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            debug_utils,
+            messenger,
+            debug_state: ManuallyDrop::new(debug_state),
+            hung: AtomicBool::new(false),
+        });
+        core.set_name(pool, "one-shot command pool");
+        Ok(Self {
+            core,
+            queue,
+            submit: Mutex::new(SubmitState {
+                pool,
+                pending: Vec::new(),
+            }),
+            fence_timeout: options.fence_timeout,
+            mesh,
+            info,
+            validation: options.validation,
+        })
+    }
+
+    /// Identity, limits and enabled features of the device.
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+
+    /// The logical device, for recording commands.
+    pub fn device(&self) -> &ash::Device {
+        &self.core.device
+    }
+
+    /// The instance.
+    pub fn instance(&self) -> &ash::Instance {
+        &self.core.instance
+    }
+
+    /// The physical device.
+    pub fn physical_device(&self) -> vk::PhysicalDevice {
+        self.core.physical_device
+    }
+
+    /// The queue. Submitting to it outside [`Context::with_queue`] while
+    /// another thread runs a one-shot breaks Vulkan's external sync rules.
+    pub fn queue(&self) -> vk::Queue {
+        self.queue
+    }
+
+    /// Runs `f` with exclusive access to the queue.
+    pub fn with_queue<R>(&self, f: impl FnOnce(vk::Queue) -> R) -> R {
+        let _guard = self.lock_submit();
+        f(self.queue)
+    }
+
+    /// VK_EXT_mesh_shader entry points, if mesh shaders are enabled.
+    pub fn mesh_shader(&self) -> Option<&ash::ext::mesh_shader::Device> {
+        self.mesh.as_ref()
+    }
+
+    /// The debug-utils device functions (object names, labels), if enabled.
+    pub fn debug_utils(&self) -> Option<&ash::ext::debug_utils::Device> {
+        self.core.debug_utils.as_ref()
+    }
+
+    /// Names a Vulkan object so validation messages mention it.
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        self.core.set_name(handle, name);
+    }
+
+    /// Whether the validation layer is on.
+    pub fn validation_enabled(&self) -> bool {
+        self.validation
+    }
+
+    /// The default fence timeout.
+    pub fn fence_timeout(&self) -> Duration {
+        self.fence_timeout
+    }
+
+    /// Changes the default fence timeout.
+    pub fn set_fence_timeout(&mut self, timeout: Duration) {
+        self.fence_timeout = timeout;
+    }
+
+    /// The first validation error messages since the last check (not cleared).
+    pub fn validation_errors(&self) -> Vec<String> {
+        self.core.debug_state.error_messages()
+    }
+
+    /// Validation errors since the last check, including ones not kept verbatim.
+    pub fn validation_error_count(&self) -> u64 {
+        self.core.debug_state.error_count()
+    }
+
+    /// Validation warnings since the context was created.
+    pub fn validation_warning_count(&self) -> u64 {
+        self.core.debug_state.warning_count()
+    }
+
+    /// The validation message counters; outlives the context, so a test can
+    /// check what destroying the device reported (e.g. leaked objects).
+    pub fn debug_state(&self) -> Arc<DebugState> {
+        Arc::clone(&self.core.debug_state)
+    }
+
+    /// Number of live gpu-allocator allocations (for leak tests).
+    pub fn live_allocations(&self) -> usize {
+        self.core.allocator().generate_report().allocations.len()
+    }
+
+    /// Fails if the validation layer reported any error since the last
+    /// check, and starts counting afresh either way.
+    pub fn check_validation(&self) -> VkResult<()> {
+        let (count, messages) = self.core.debug_state.take_errors();
+        if count == 0 {
+            Ok(())
+        } else {
+            Err(VkError::Validation { count, messages })
+        }
+    }
+
+    pub(crate) fn lock_submit(&self) -> MutexGuard<'_, SubmitState> {
+        self.submit.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        let timeout = self.fence_timeout;
+        let state = self.submit.get_mut().unwrap_or_else(|e| e.into_inner());
+        let device = &self.core.device;
+        let mut finished = true;
+        for p in state.pending.drain(..) {
+            let done = unsafe { device.wait_for_fences(&[p.fence], true, duration_ns(timeout)) };
+            if done.is_ok() {
+                unsafe {
+                    device.destroy_fence(p.fence, None);
+                    device.free_command_buffers(state.pool, &[p.cmd]);
+                }
+            } else {
+                log::error!("`{}` still running at shutdown", p.label);
+                finished = false;
+                // Its resources must not be freed under the GPU.
+                std::mem::forget(p.keep_alive);
+            }
+        }
+        if finished {
+            unsafe { device.destroy_command_pool(state.pool, None) };
+        } else {
+            self.core.hung.store(true, Ordering::SeqCst);
+        }
+    }
+}
+
+/// A timeout as Vulkan's nanosecond count, saturating.
+pub(crate) fn duration_ns(d: Duration) -> u64 {
+    u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
+}
+
+/// Objects created during `Context::new` before `Core` owns them; destroyed
+/// in reverse order if creation fails half way.
+struct Partial {
+    instance: Option<ash::Instance>,
+    messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    device: Option<ash::Device>,
+}
+
+impl Partial {
+    fn disarm(&mut self) {
+        self.instance = None;
+        self.messenger = None;
+        self.device = None;
+    }
+}
+
+impl Drop for Partial {
+    fn drop(&mut self) {
+        unsafe {
+            if let Some(device) = self.device.take() {
+                device.destroy_device(None);
+            }
+            if let Some((loader, messenger)) = self.messenger.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            if let Some(instance) = self.instance.take() {
+                instance.destroy_instance(None);
+            }
+        }
+    }
+}

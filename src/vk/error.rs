@@ -1,0 +1,140 @@
+//! The Vulkan layer's error type: every failure carries enough context for a
+//! user to act on it without a debugger.
+
+use ash::vk;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Result alias for the Vulkan layer.
+pub type VkResult<T> = Result<T, VkError>;
+
+/// Everything that can go wrong in `crate::vk`.
+#[derive(Debug, thiserror::Error)]
+pub enum VkError {
+    /// A Vulkan call returned an error code.
+    #[error("{context} failed: {result}")]
+    Call {
+        /// What was being attempted, e.g. "vkCreateDevice".
+        context: String,
+        /// The code the driver returned.
+        result: vk::Result,
+    },
+
+    /// The Vulkan loader library could not be opened.
+    #[error(
+        "the Vulkan loader (libvulkan) could not be loaded: {0}; \
+         install it (Debian: `apt install libvulkan1 mesa-vulkan-drivers`)"
+    )]
+    LoaderMissing(String),
+
+    /// The loader or instance is older than the API version we need.
+    #[error("the Vulkan loader supports API {found}, but bezier-subdiv needs Vulkan 1.3 or newer")]
+    LoaderTooOld {
+        /// The instance version the loader reported, as "major.minor.patch".
+        found: String,
+    },
+
+    /// No physical device met the requirements.
+    #[error("no suitable Vulkan device found; devices seen:\n{devices}")]
+    NoSuitableDevice {
+        /// One line per enumerated device with the reason it was rejected.
+        devices: String,
+    },
+
+    /// `--device` named an index or substring that matched nothing.
+    #[error("no Vulkan device matches `{selector}`; available devices:\n{devices}")]
+    NoDeviceMatches {
+        /// The selector as the user wrote it.
+        selector: String,
+        /// One line per enumerated device.
+        devices: String,
+    },
+
+    /// The chosen device lacks something we cannot run without.
+    #[error("device `{device}` does not support {feature}, which bezier-subdiv requires{hint}")]
+    FeatureMissing {
+        /// The device's name.
+        device: String,
+        /// The missing feature, extension or API version, in words.
+        feature: String,
+        /// Extra advice (starts with "; " when non-empty).
+        hint: String,
+    },
+
+    /// The validation layer was requested but is not installed.
+    #[error(
+        "validation was requested but the layer `VK_LAYER_KHRONOS_validation` is not installed; \
+         install the Debian package `vulkan-validationlayers` or run without validation"
+    )]
+    ValidationLayerMissing,
+
+    /// gpu-allocator failed to create itself or an allocation.
+    #[error("memory allocation for `{name}` failed: {source}")]
+    Allocation {
+        /// The resource the memory was for.
+        name: String,
+        /// The allocator's error.
+        #[source]
+        source: gpu_allocator::AllocationError,
+    },
+
+    /// A fence did not signal in time: the GPU work probably hangs.
+    #[error(
+        "`{label}` did not finish within {timeout:?}; the GPU work is probably hung \
+         (e.g. a persistent-threads loop that never exits)"
+    )]
+    FenceTimeout {
+        /// What was submitted.
+        label: String,
+        /// How long we waited.
+        timeout: Duration,
+    },
+
+    /// The device was lost (driver reset, crash or hang).
+    #[error("the Vulkan device was lost while waiting for `{label}`")]
+    DeviceLost {
+        /// What was running.
+        label: String,
+    },
+
+    /// The validation layer reported errors.
+    #[error("the validation layer reported {count} error(s):\n{}", messages.join("\n"))]
+    Validation {
+        /// Total number of errors since the last check.
+        count: u64,
+        /// The first few messages (the rest are counted only).
+        messages: Vec<String>,
+    },
+
+    /// A SPIR-V file is missing or malformed.
+    #[error(
+        "SPIR-V `{path}`: {reason}; regenerate the shaders with \
+         `cargo run --release -p compile-shaders`"
+    )]
+    Spirv {
+        /// The file (or label for embedded bytes).
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+
+    /// The API was used in a way it does not support (a programming error
+    /// reported as an error rather than a panic).
+    #[error("invalid use of the Vulkan layer: {0}")]
+    Usage(String),
+}
+
+/// Attaches a context string to a raw `vk::Result` error.
+pub(crate) trait VkResultExt<T> {
+    /// Wraps the error in [`VkError::Call`] with `context`.
+    fn ctx(self, context: &str) -> VkResult<T>;
+}
+
+impl<T> VkResultExt<T> for Result<T, vk::Result> {
+    fn ctx(self, context: &str) -> VkResult<T> {
+        self.map_err(|result| VkError::Call {
+            context: context.to_owned(),
+            result,
+        })
+    }
+}

@@ -1,0 +1,97 @@
+//! Shared setup for GPU integration tests.
+//!
+//! Every GPU test in a test binary shares one validation-enabled [`Context`]
+//! behind a mutex, so tests run on the device one at a time even under the
+//! default parallel test runner: lavapipe's worker threads and persistent
+//! kernels starve each other when two tests dispatch at once.
+//!
+//! The context lives in a `static` and is never dropped (Rust runs no
+//! destructors for statics at exit). That leaks the instance and device at
+//! process exit, which is harmless: no vkDestroyDevice call happens, so the
+//! validation layer has nothing to report, and the OS reclaims the memory.
+//! Tests that need to watch device destruction (leak checks) create their
+//! own short-lived context instead.
+
+#![allow(dead_code)]
+
+use bezier_subdiv::vk::{Context, ContextOptions};
+use std::ops::Deref;
+use std::sync::{Mutex, MutexGuard, OnceLock};
+
+static GPU: OnceLock<Result<Mutex<Context>, String>> = OnceLock::new();
+
+/// Options every test context uses: validation on, automatic device choice.
+pub fn test_options() -> ContextOptions {
+    ContextOptions {
+        validation: true,
+        ..ContextOptions::default()
+    }
+}
+
+/// Routes `log` output (validation messages included) into the test output.
+pub fn init_logging() {
+    let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
+        .is_test(true)
+        .try_init();
+}
+
+/// Exclusive use of the shared context for one test.
+///
+/// Dropping it (or calling [`Gpu::finish`]) fails the test if the validation
+/// layer reported an error while it was held.
+pub struct Gpu {
+    guard: MutexGuard<'static, Context>,
+    checked: bool,
+}
+
+/// Locks the shared test context, creating it on first use.
+pub fn gpu() -> Gpu {
+    init_logging();
+    let shared = GPU.get_or_init(|| {
+        Context::new(&test_options())
+            .map(Mutex::new)
+            .map_err(|e| e.to_string())
+    });
+    let mutex = match shared {
+        Ok(m) => m,
+        Err(e) => panic!("cannot create the shared Vulkan test context: {e}"),
+    };
+    // A test that panicked while holding the lock leaves the context usable.
+    let guard = mutex.lock().unwrap_or_else(|e| e.into_inner());
+    // Errors left by an earlier (failed) test must not fail this one.
+    let _ = guard.check_validation();
+    Gpu {
+        guard,
+        checked: false,
+    }
+}
+
+impl Gpu {
+    /// Asserts that no validation error was reported during this test.
+    pub fn finish(mut self) {
+        self.checked = true;
+        if let Err(e) = self.guard.check_validation() {
+            panic!("{e}");
+        }
+    }
+}
+
+impl Deref for Gpu {
+    type Target = Context;
+
+    fn deref(&self) -> &Context {
+        &self.guard
+    }
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        // Panicking during an unwind would abort the whole test binary.
+        if self.checked || std::thread::panicking() {
+            return;
+        }
+        if let Err(e) = self.guard.check_validation() {
+            panic!("{e}");
+        }
+    }
+}
