@@ -3,6 +3,8 @@
 //! every GPU path is checked against.
 
 pub mod commands;
+pub mod constants;
+pub mod gpu;
 pub mod patch;
 pub mod scene;
 pub mod vk;

@@ -9,10 +9,12 @@
 
 use glam::{Vec3, Vec4};
 
+use crate::constants::{THIRD_BITS, TWO_THIRDS_BITS};
+
 /// f32(1/3), spelled as bits so GLSL and Rust cannot disagree on the literal.
-pub const THIRD: f32 = f32::from_bits(0x3eaa_aaab);
+pub const THIRD: f32 = f32::from_bits(THIRD_BITS);
 /// f32(2/3).
-pub const TWO_THIRDS: f32 = f32::from_bits(0x3f2a_aaab);
+pub const TWO_THIRDS: f32 = f32::from_bits(TWO_THIRDS_BITS);
 
 /// `(a.x*b.x + a.y*b.y) + a.z*b.z`.
 #[inline]

@@ -17,7 +17,7 @@ use super::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use super::wedge::{children, edge_depths, node_mesh, resolve_depths, NodeMesh};
 
 /// Per-patch flag: the model is open or thin; never back-face cull it.
-pub const PATCH_TWO_SIDED: u32 = 1;
+pub use crate::constants::PATCH_TWO_SIDED;
 
 /// What happened to one work item.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

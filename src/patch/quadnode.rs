@@ -12,13 +12,11 @@ use bytemuck::{Pod, Zeroable};
 use super::ops::pow2_neg;
 
 /// Deepest subdivision level the 10-bit `m`, `n` fields allow.
-pub const L_MAX: u32 = 10;
-
-const DEPTH_SHIFT: u32 = 0;
-const M_SHIFT: u32 = 4;
-const N_SHIFT: u32 = 14;
-const L0_SHIFT: u32 = 24;
-const L1_SHIFT: u32 = 28;
+pub use crate::constants::L_MAX;
+use crate::constants::{
+    NODE_DEPTH_SHIFT as DEPTH_SHIFT, NODE_L0_SHIFT as L0_SHIFT, NODE_L1_SHIFT as L1_SHIFT,
+    NODE_M_SHIFT as M_SHIFT, NODE_N_SHIFT as N_SHIFT,
+};
 const MASK4: u32 = 0xf;
 const MASK10: u32 = 0x3ff;
 

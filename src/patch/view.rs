@@ -8,12 +8,10 @@ use glam::{DMat4, DVec3, DVec4, Vec4};
 
 use super::quadnode::L_MAX;
 
-/// Frustum-cull sub-patches whose control-point box is outside the view.
-pub const FLAG_FRUSTUM_CULL: u32 = 1;
-/// Drop ready sub-patches that are back-facing everywhere (one-sided models).
-pub const FLAG_BACKFACE_CULL: u32 = 2;
-/// Emit wedge triangles (off only to show the cracks they close).
-pub const FLAG_WEDGES: u32 = 4;
+/// `ViewParams::flags` bits: frustum culling, back-face culling of ready
+/// one-sided sub-patches, wedge triangles (off only to show the cracks they
+/// close).
+pub use crate::constants::{FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
 /// The defaults: everything on.
 pub const FLAGS_DEFAULT: u32 = FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL | FLAG_WEDGES;
 

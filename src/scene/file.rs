@@ -50,7 +50,7 @@ use crate::patch::oracle::PATCH_TWO_SIDED;
 pub const MAX_COORD: f32 = 1.0e6;
 
 /// Bit position of the model index in a patch's flags word.
-pub const FLAG_MODEL_SHIFT: u32 = 16;
+pub use crate::constants::PATCH_MODEL_SHIFT;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -201,7 +201,7 @@ pub struct ModelSummary {
 pub struct SceneGeometry {
     /// Base patches of every instance of every model, in scene order.
     pub patches: Vec<BezierPatch>,
-    /// Per patch: `PATCH_TWO_SIDED` and the model index `<< FLAG_MODEL_SHIFT`.
+    /// Per patch: `PATCH_TWO_SIDED` and the model index `<< PATCH_MODEL_SHIFT`.
     pub flags: Vec<u32>,
     /// Per model, in scene order.
     pub models: Vec<ModelSummary>,
@@ -348,7 +348,7 @@ impl Scene {
             }
             let model = &cache[&m.file];
             let flags =
-                (index as u32) << FLAG_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
+                (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
             for xf in &m.instances {
                 for p in &model.patches {
                     let w = transform_patch(p, xf);

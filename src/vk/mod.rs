@@ -19,8 +19,8 @@ pub use error::{VkError, VkResult};
 pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, OptionalFeatures};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{
-    write_buffers, ComputePipeline, ComputePipelineDesc, DescriptorPool, PipelineLayout, SetLayout,
-    Specialization,
+    write_buffers, ComputePipeline, ComputePipelineDesc, DescriptorPool, Pipeline, PipelineLayout,
+    SetLayout, Specialization,
 };
 pub use query::GpuTimer;
 pub use shader::{load_spirv, spirv_dir, spirv_path, spirv_words, ShaderModule, SPIRV_DIR_ENV};

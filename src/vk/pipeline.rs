@@ -420,3 +420,87 @@ pub fn write_buffers(
     unsafe { ctx.device().update_descriptor_sets(&writes, &[]) };
     Ok(())
 }
+
+/// A pipeline (compute or graphics) built against a layout owned elsewhere,
+/// e.g. the one scene layout every pass shares. Destroyed on drop.
+pub struct Pipeline {
+    core: Arc<Core>,
+    handle: vk::Pipeline,
+    bind_point: vk::PipelineBindPoint,
+}
+
+impl Pipeline {
+    /// Takes ownership of a pipeline created by the caller.
+    pub fn from_handle(
+        ctx: &Context,
+        handle: vk::Pipeline,
+        bind_point: vk::PipelineBindPoint,
+        name: &str,
+    ) -> Self {
+        ctx.set_name(handle, name);
+        Self {
+            core: ctx.core.clone(),
+            handle,
+            bind_point,
+        }
+    }
+
+    /// A compute pipeline from `shader`'s `main` with `layout`.
+    pub fn compute(
+        ctx: &Context,
+        name: &str,
+        layout: &PipelineLayout,
+        shader: &ShaderModule,
+        specialization: &[(u32, u32)],
+    ) -> VkResult<Self> {
+        let spec = Specialization::new(specialization);
+        let spec_info = spec.info();
+        let mut stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(shader.handle())
+            .name(c"main");
+        if !specialization.is_empty() {
+            stage = stage.specialization_info(&spec_info);
+        }
+        let info = [vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.handle())];
+        let handle = unsafe {
+            ctx.device()
+                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+        }
+        .map_err(|(_, result)| VkError::Call {
+            context: format!("vkCreateComputePipelines({name})"),
+            result,
+        })?[0];
+        Ok(Self::from_handle(
+            ctx,
+            handle,
+            vk::PipelineBindPoint::COMPUTE,
+            name,
+        ))
+    }
+
+    /// The Vulkan handle.
+    pub fn handle(&self) -> vk::Pipeline {
+        self.handle
+    }
+
+    /// Records `vkCmdBindPipeline` at the pipeline's bind point.
+    pub fn bind(&self, cmd: vk::CommandBuffer) {
+        unsafe {
+            self.core
+                .device
+                .cmd_bind_pipeline(cmd, self.bind_point, self.handle)
+        };
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        if self.core.hung.load(Ordering::SeqCst) {
+            return;
+        }
+        unsafe { self.core.device.destroy_pipeline(self.handle, None) };
+    }
+}

@@ -1,0 +1,106 @@
+// Constants shared by the shaders and the host. Mirrored, name for name, by
+// src/constants.rs; tests/constants.rs checks that the two agree. Every
+// value here is a plain `const uint NAME = N;` line (decimal or hex), so the
+// test can read it without a GLSL parser.
+#ifndef CONSTANTS_GLSL
+#define CONSTANTS_GLSL
+
+// Quad-tree depth limit (10-bit m, n in the 8-byte QuadNode).
+const uint L_MAX = 10;
+
+// QuadNode word 1 layout: depth 4 | m 10 | n 10 | l0 4 | l1 4.
+const uint NODE_DEPTH_SHIFT = 0;
+const uint NODE_M_SHIFT = 4;
+const uint NODE_N_SHIFT = 14;
+const uint NODE_L0_SHIFT = 24;
+const uint NODE_L1_SHIFT = 28;
+
+// f32(1/3) and f32(2/3) as bits: the literals cannot be misread.
+const uint THIRD_BITS = 0x3eaaaaab;
+const uint TWO_THIRDS_BITS = 0x3f2aaaab;
+
+// ViewParams.flags.
+const uint FLAG_FRUSTUM_CULL = 1;
+const uint FLAG_BACKFACE_CULL = 2;
+const uint FLAG_WEDGES = 4;
+// Test-only: the subdivision kernel counts one phantom item in flight that
+// never completes, so it can only end through its iteration cap.
+const uint FLAG_PLANT_ENDLESS_LOOP = 0x80000000;
+
+// Per-patch flags word.
+const uint PATCH_TWO_SIDED = 1;
+const uint PATCH_MODEL_SHIFT = 16;
+
+// Descriptor bindings of the one scene set every pass uses.
+const uint BIND_VIEW = 0;
+const uint BIND_PATCHES = 1;
+const uint BIND_PATCH_FLAGS = 2;
+const uint BIND_READY = 3;
+const uint BIND_COUNTERS = 4;
+const uint BIND_QUEUE_ITEMS = 5;
+const uint BIND_QUEUE_SEQS = 6;
+const uint BIND_VERTICES = 7;
+const uint BIND_CAPTURE = 8;
+const uint BIND_COUNT = 9;
+
+// Indices into the counters buffer (uint words).
+const uint C_READY_COUNT = 0;
+const uint C_IN_FLIGHT = 1;
+const uint C_NEXT_BASE = 2;
+const uint C_QUEUE_HEAD = 3;
+const uint C_QUEUE_TAIL = 4;
+const uint C_IDLE = 5;
+const uint C_ERROR = 6;
+const uint C_PROCESSED = 7;
+const uint C_CULLED = 8;
+const uint C_BACKFACE = 9;
+const uint C_MAX_DEPTH = 10;
+const uint C_AT_LMAX = 11;
+const uint C_SPILLS = 12;
+const uint C_QUEUE_PEAK = 13;
+const uint C_QUEUE_PUSHED = 14;
+const uint C_TRIANGLES = 15;
+const uint C_WEDGES = 16;
+const uint C_ITERATIONS_MAX = 17;
+// Indirect arguments, written by the subdivision pass.
+const uint C_MESH_ARGS = 32;      // vkCmdDrawMeshTasksIndirectEXT: x, y, z
+const uint C_EXPAND_ARGS = 36;    // vkCmdDispatchIndirect: x, y, z
+const uint C_DRAW_ARGS = 40;      // vkCmdDrawIndirect: vertices, instances, first vertex, first instance
+const uint COUNTER_WORDS = 64;
+
+// Error bits in counters[C_ERROR].
+const uint ERR_ITERATION_CAP = 1;
+const uint ERR_READY_FULL = 2;
+const uint ERR_STACK_OVERFLOW = 4;
+
+// Workgroup sizes.
+const uint SUBDIV_GROUP_SIZE = 64;
+const uint EXPAND_GROUP_SIZE = 64;
+// Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:
+// at most 192 vertices and 128 primitives).
+const uint MESH_NODES = 32;
+// Mesh workgroups launched by one task workgroup.
+const uint TASK_MESH_GROUPS = 32;
+
+// Depth-first stack of one invocation: a subtree of depth L_MAX needs at
+// most 3 * L_MAX + 1 entries.
+const uint STACK_SIZE = 31;
+
+// Fallback path: each ready node owns 4 triangle slots (12 vertices); a
+// missing wedge is written as a degenerate triangle.
+const uint VERTICES_PER_NODE = 12;
+// Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
+// bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26).
+const uint VERTEX_WORDS = 5;
+const uint PACK_V_SHIFT = 11;
+const uint PACK_DEPTH_SHIFT = 22;
+const uint PACK_WEDGE_SHIFT = 26;
+
+// Shading modes (push constant of the draw pipelines).
+const uint SHADE_NORMAL = 0;
+const uint SHADE_DEPTH = 1;
+const uint SHADE_WEDGES = 2;
+// Hole test: front faces white, back faces in the key colour.
+const uint SHADE_KEY = 3;
+
+#endif
