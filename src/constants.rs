@@ -22,6 +22,9 @@ pub const FLAG_WEDGES: u32 = 4;
 // Test-only: the subdivision kernel counts one phantom item in flight that
 // never completes, so it can only end through its iteration cap.
 pub const FLAG_PLANT_ENDLESS_LOOP: u32 = 0x8000_0000;
+// Test-only: donate to the work queue on every split, not only when some
+// invocation is idle, to exercise the queue (and its overflow) hard.
+pub const FLAG_QUEUE_STRESS: u32 = 0x4000_0000;
 
 // Per-patch flags word.
 pub const PATCH_TWO_SIDED: u32 = 1;
@@ -58,6 +61,10 @@ pub const C_QUEUE_PUSHED: u32 = 14;
 pub const C_TRIANGLES: u32 = 15;
 pub const C_WEDGES: u32 = 16;
 pub const C_ITERATIONS_MAX: u32 = 17;
+// counters[C_IN_FLIGHT]: items in flight in the low 24 bits (so at most
+// 2^24 - 1 base patches), a wrapping progress tick in the top byte.
+pub const IN_FLIGHT_MASK: u32 = 0x00ff_ffff;
+pub const IN_FLIGHT_TICK: u32 = 0x0100_0000;
 // Indirect arguments, written by the subdivision pass.
 /// vkCmdDrawMeshTasksIndirectEXT: x, y, z
 pub const C_MESH_ARGS: u32 = 32;
@@ -116,6 +123,7 @@ pub const ALL: &[(&str, u32)] = &[
     ("FLAG_BACKFACE_CULL", FLAG_BACKFACE_CULL),
     ("FLAG_WEDGES", FLAG_WEDGES),
     ("FLAG_PLANT_ENDLESS_LOOP", FLAG_PLANT_ENDLESS_LOOP),
+    ("FLAG_QUEUE_STRESS", FLAG_QUEUE_STRESS),
     ("PATCH_TWO_SIDED", PATCH_TWO_SIDED),
     ("PATCH_MODEL_SHIFT", PATCH_MODEL_SHIFT),
     ("BIND_VIEW", BIND_VIEW),
@@ -146,6 +154,8 @@ pub const ALL: &[(&str, u32)] = &[
     ("C_TRIANGLES", C_TRIANGLES),
     ("C_WEDGES", C_WEDGES),
     ("C_ITERATIONS_MAX", C_ITERATIONS_MAX),
+    ("IN_FLIGHT_MASK", IN_FLIGHT_MASK),
+    ("IN_FLIGHT_TICK", IN_FLIGHT_TICK),
     ("C_MESH_ARGS", C_MESH_ARGS),
     ("C_EXPAND_ARGS", C_EXPAND_ARGS),
     ("C_DRAW_ARGS", C_DRAW_ARGS),

@@ -5,6 +5,7 @@
 pub mod commands;
 pub mod constants;
 pub mod gpu;
+pub mod methods;
 pub mod patch;
 pub mod scene;
 pub mod vk;

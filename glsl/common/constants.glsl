@@ -26,6 +26,9 @@ const uint FLAG_WEDGES = 4;
 // Test-only: the subdivision kernel counts one phantom item in flight that
 // never completes, so it can only end through its iteration cap.
 const uint FLAG_PLANT_ENDLESS_LOOP = 0x80000000;
+// Test-only: donate to the work queue on every split, not only when some
+// invocation is idle, to exercise the queue (and its overflow) hard.
+const uint FLAG_QUEUE_STRESS = 0x40000000;
 
 // Per-patch flags word.
 const uint PATCH_TWO_SIDED = 1;
@@ -62,6 +65,10 @@ const uint C_QUEUE_PUSHED = 14;
 const uint C_TRIANGLES = 15;
 const uint C_WEDGES = 16;
 const uint C_ITERATIONS_MAX = 17;
+// counters[C_IN_FLIGHT]: items in flight in the low 24 bits (so at most
+// 2^24 - 1 base patches), a wrapping progress tick in the top byte.
+const uint IN_FLIGHT_MASK = 0xffffff;
+const uint IN_FLIGHT_TICK = 0x1000000;
 // Indirect arguments, written by the subdivision pass.
 const uint C_MESH_ARGS = 32;      // vkCmdDrawMeshTasksIndirectEXT: x, y, z
 const uint C_EXPAND_ARGS = 36;    // vkCmdDispatchIndirect: x, y, z
