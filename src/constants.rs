@@ -19,9 +19,6 @@ pub const TWO_THIRDS_BITS: u32 = 0x3f2a_aaab;
 pub const FLAG_FRUSTUM_CULL: u32 = 1;
 pub const FLAG_BACKFACE_CULL: u32 = 2;
 pub const FLAG_WEDGES: u32 = 4;
-// Test-only: the subdivision kernel counts one phantom item in flight that
-// never completes, so it can only end through its iteration cap.
-pub const FLAG_PLANT_ENDLESS_LOOP: u32 = 0x8000_0000;
 // Test-only: donate to the work queue on every split, not only when some
 // invocation is idle, to exercise the queue (and its overflow) hard.
 pub const FLAG_QUEUE_STRESS: u32 = 0x4000_0000;
@@ -122,7 +119,6 @@ pub const ALL: &[(&str, u32)] = &[
     ("FLAG_FRUSTUM_CULL", FLAG_FRUSTUM_CULL),
     ("FLAG_BACKFACE_CULL", FLAG_BACKFACE_CULL),
     ("FLAG_WEDGES", FLAG_WEDGES),
-    ("FLAG_PLANT_ENDLESS_LOOP", FLAG_PLANT_ENDLESS_LOOP),
     ("FLAG_QUEUE_STRESS", FLAG_QUEUE_STRESS),
     ("PATCH_TWO_SIDED", PATCH_TWO_SIDED),
     ("PATCH_MODEL_SHIFT", PATCH_MODEL_SHIFT),

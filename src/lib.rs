@@ -4,8 +4,10 @@
 
 pub mod commands;
 pub mod constants;
+pub mod draw;
 pub mod gpu;
 pub mod methods;
 pub mod patch;
+pub mod renderer;
 pub mod scene;
 pub mod vk;

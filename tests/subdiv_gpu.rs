@@ -16,7 +16,9 @@ use bezier_subdiv::scene::file::{Scene, SceneGeometry};
 use bezier_subdiv::vk::Context;
 
 fn scene(name: &str) -> (Scene, SceneGeometry) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
     let s = Scene::load(&path).unwrap();
     let g = s.geometry().unwrap();
     (s, g)
@@ -43,7 +45,8 @@ fn run_gpu(
     if let Some(cap) = idle_poll_cap {
         sub.idle_poll_cap = cap;
     }
-    ctx.one_shot(|cmd| sub.record(ctx, cmd, &layout, &scene, &frame, plant, None))
+    sub.plant_endless_loop = plant;
+    ctx.one_shot(|cmd| sub.record(ctx, cmd, &layout, &scene, &frame, None))
         .unwrap()
         .unwrap();
     let counters = frame.read_counters(ctx).unwrap();
@@ -53,7 +56,12 @@ fn run_gpu(
     Run { ready, stats }
 }
 
-fn check_against_oracle(ctx: &Context, geo: &SceneGeometry, vp: &ViewParams, caps: Capacities) -> GpuSubdivStats {
+fn check_against_oracle(
+    ctx: &Context,
+    geo: &SceneGeometry,
+    vp: &ViewParams,
+    caps: Capacities,
+) -> GpuSubdivStats {
     let run = run_gpu(ctx, geo, vp, caps, false, None);
     assert_eq!(run.stats.errors, 0, "{:?}", run.stats.error_message());
     let oracle = subdivide(&geo.patches, &geo.flags, vp);
@@ -65,11 +73,21 @@ fn check_against_oracle(ctx: &Context, geo: &SceneGeometry, vp: &ViewParams, cap
     let (tris, wedges) = triangle_counts(&oracle.ready, vp.flags & FLAG_WEDGES != 0);
     let g = run.stats;
     assert_eq!(
-        (g.nodes_processed as u64, g.culled_patches as u64, g.backface_culled as u64),
+        (
+            g.nodes_processed as u64,
+            g.culled_patches as u64,
+            g.backface_culled as u64
+        ),
         (s.nodes_processed, s.culled_patches, s.backface_culled)
     );
-    assert_eq!((g.max_depth, g.nodes_at_lmax as u64), (s.max_depth, s.nodes_at_lmax));
-    assert_eq!((g.triangles as u64, g.wedge_triangles as u64), (tris, wedges));
+    assert_eq!(
+        (g.max_depth, g.nodes_at_lmax as u64),
+        (s.max_depth, s.nodes_at_lmax)
+    );
+    assert_eq!(
+        (g.triangles as u64, g.wedge_triangles as u64),
+        (tris, wedges)
+    );
     assert_eq!(g.in_flight_left, 0);
     // The indirect arguments describe exactly the ready list.
     let counters = g;
@@ -130,7 +148,10 @@ fn planted_endless_loop_hits_the_iteration_cap() {
     let vp = s.camera.view_params(320, 180, 1.0, 0.5);
     let start = std::time::Instant::now();
     let run = run_gpu(&gpu, &geo, &vp, Capacities::default(), true, None);
-    println!("planted loop caught after {:.2} s", start.elapsed().as_secs_f64());
+    println!(
+        "planted loop caught after {:.2} s",
+        start.elapsed().as_secs_f64()
+    );
     assert_ne!(run.stats.errors & ERR_ITERATION_CAP, 0, "{:?}", run.stats);
     assert_eq!(run.stats.in_flight_left, 1);
     println!("planted loop: {}", run.stats.error_message().unwrap());

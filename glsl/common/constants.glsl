@@ -23,9 +23,6 @@ const uint TWO_THIRDS_BITS = 0x3f2aaaab;
 const uint FLAG_FRUSTUM_CULL = 1;
 const uint FLAG_BACKFACE_CULL = 2;
 const uint FLAG_WEDGES = 4;
-// Test-only: the subdivision kernel counts one phantom item in flight that
-// never completes, so it can only end through its iteration cap.
-const uint FLAG_PLANT_ENDLESS_LOOP = 0x80000000;
 // Test-only: donate to the work queue on every split, not only when some
 // invocation is idle, to exercise the queue (and its overflow) hard.
 const uint FLAG_QUEUE_STRESS = 0x40000000;

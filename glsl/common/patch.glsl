@@ -60,6 +60,7 @@ vec3 curve_derivative(float u0, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
 // Unnormalised normal dS/du x dS/dv (shading only); where a boundary curve
 // collapses to a point the normal is taken a little way into the domain.
 vec3 patch_normal(vec3 P[16], float u, float v) {
+    vec3 n = vec3(0.0);
     for (int attempt = 0; attempt < 2; ++attempt) {
         vec3 du[4];
         vec3 pu[4];
@@ -69,14 +70,14 @@ vec3 patch_normal(vec3 P[16], float u, float v) {
         }
         vec3 su = curve(v, du[0], du[1], du[2], du[3]);
         vec3 sv = curve_derivative(v, pu[0], pu[1], pu[2], pu[3]);
-        vec3 n = cross(su, sv);
+        n = cross(su, sv);
         if (dot(n, n) > 1e-12 * dot(su, su) * dot(sv, sv) && dot(su, su) * dot(sv, sv) > 0.0) {
             return n;
         }
         u += (0.5 - u) * 1e-3;
         v += (0.5 - v) * 1e-3;
     }
-    return vec3(0.0, 0.0, 1.0);
+    return n;
 }
 
 // ---------------------------------------------------------------- blossoms

@@ -1,7 +1,8 @@
 // The one descriptor set (set 0) and push-constant block every pass uses.
 // A shader declares the buffers it touches by defining USE_<NAME> before
 // including this file; unused bindings stay in the layout but are not
-// declared. The Rust side is src/gpu/mod.rs (SceneLayout, PushConstants).
+// declared (USE_READY_WRITE / USE_VERTICES_WRITE make the writable
+// variants). The Rust side is src/gpu/mod.rs (SceneLayout, PushConstants).
 #ifndef SCENE_GLSL
 #define SCENE_GLSL
 
@@ -44,9 +45,15 @@ layout(std430, set = 0, binding = BIND_QUEUE_SEQS) coherent buffer QueueSeqs {
 };
 #endif
 
-#ifdef USE_VERTICES
-// Fallback vertices, VERTEX_WORDS words each (see constants.glsl).
-layout(std430, set = 0, binding = BIND_VERTICES) buffer Vertices {
+// Fallback vertices, VERTEX_WORDS words each (see constants.glsl): written
+// by the expansion pass, read by the vertex shader (which may not write
+// storage buffers without vertexPipelineStoresAndAtomics).
+#if defined(USE_VERTICES_WRITE)
+layout(std430, set = 0, binding = BIND_VERTICES) writeonly buffer Vertices {
+    uint vertex_words[];
+};
+#elif defined(USE_VERTICES)
+layout(std430, set = 0, binding = BIND_VERTICES) readonly buffer Vertices {
     uint vertex_words[];
 };
 #endif

@@ -23,6 +23,9 @@ pub struct Subdivider {
     pub groups: u32,
     /// Polls without progress before `ERR_ITERATION_CAP`.
     pub idle_poll_cap: u32,
+    /// Test-only fault: count one phantom item in flight that never
+    /// completes, so the kernel can only end through its iteration cap.
+    pub plant_endless_loop: bool,
 }
 
 /// How many workgroups to launch: about as many as the device keeps
@@ -51,14 +54,13 @@ impl Subdivider {
             pipeline,
             groups: groups.unwrap_or_else(|| default_groups(ctx)).max(1),
             idle_poll_cap: DEFAULT_IDLE_POLL_CAP,
+            plant_endless_loop: false,
         })
     }
 
     /// Records the reset of `frame`'s counters and queue, the subdivision
     /// dispatch, and a barrier making its results (ready list, counters and
     /// indirect arguments) visible to the draw and to transfers.
-    /// `plant_endless_loop` is the test-only fault of
-    /// `FLAG_PLANT_ENDLESS_LOOP`: one phantom item that never completes.
     pub fn record(
         &self,
         ctx: &Context,
@@ -66,8 +68,7 @@ impl Subdivider {
         layout: &SceneLayout,
         scene: &SceneGpu,
         frame: &FrameGpu,
-        plant_endless_loop: bool,
-        timer: Option<&mut GpuTimer>,
+        mut timer: Option<&mut GpuTimer>,
     ) -> VkResult<()> {
         if scene.count > IN_FLIGHT_MASK {
             return Err(VkError::Usage(format!(
@@ -76,7 +77,7 @@ impl Subdivider {
             )));
         }
         frame.record_reset(ctx, cmd);
-        let in_flight = scene.count + plant_endless_loop as u32;
+        let in_flight = scene.count + self.plant_endless_loop as u32;
         unsafe {
             ctx.device().cmd_update_buffer(
                 cmd,
@@ -102,12 +103,11 @@ impl Subdivider {
         self.pipeline.bind(cmd);
         frame.bind(ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
         layout.push(cmd, &pc)?;
-        let mut timer = timer;
         if let Some(t) = timer.as_deref_mut() {
             t.begin(cmd, "subdivide")?;
         }
         unsafe { ctx.device().cmd_dispatch(cmd, self.groups, 1, 1) };
-        if let Some(t) = timer.as_deref_mut() {
+        if let Some(t) = timer {
             t.end(cmd, "subdivide")?;
         }
         buffer_barrier(

@@ -1,0 +1,95 @@
+// Fragment shading shared by both draw paths (draw_mesh.frag and
+// draw_vert.frag differ only in how the per-primitive values arrive).
+// Include after scene.glsl. Colours are display values written straight to
+// the UNORM target.
+#ifndef SHADE_GLSL
+#define SHADE_GLSL
+
+// Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT, wraps).
+const vec3 PALETTE[8] = vec3[8](
+    vec3(0.90, 0.62, 0.38),
+    vec3(0.42, 0.62, 0.90),
+    vec3(0.52, 0.80, 0.45),
+    vec3(0.88, 0.46, 0.56),
+    vec3(0.80, 0.74, 0.46),
+    vec3(0.60, 0.55, 0.88),
+    vec3(0.42, 0.80, 0.78),
+    vec3(0.78, 0.78, 0.78));
+
+// QuadNode depth 0..L_MAX: dark blue through cyan, green and yellow to dark
+// red, with lightness rising to the middle and falling again, so
+// neighbouring depths stay distinguishable.
+const vec3 DEPTH_RAMP[11] = vec3[11](
+    vec3(0.16, 0.20, 0.55),
+    vec3(0.16, 0.40, 0.88),
+    vec3(0.12, 0.64, 0.92),
+    vec3(0.14, 0.80, 0.74),
+    vec3(0.36, 0.88, 0.44),
+    vec3(0.66, 0.92, 0.24),
+    vec3(0.93, 0.85, 0.20),
+    vec3(0.98, 0.62, 0.16),
+    vec3(0.92, 0.38, 0.14),
+    vec3(0.76, 0.16, 0.14),
+    vec3(0.50, 0.06, 0.12));
+
+const vec3 WEDGE_COLOR = vec3(1.0, 0.0, 1.0);
+// SHADE_KEY: the hole test counts pixels of exactly this colour.
+const vec3 KEY_BACK = vec3(0.0, 1.0, 0.0);
+const vec3 KEY_FRONT = vec3(1.0, 1.0, 1.0);
+
+// Unit normal of the base patch at (u, v) from its own partial derivatives
+// (not the flat triangle's), turned towards the viewer on back faces. A
+// wedge's facing says nothing about which side of the surface is seen:
+// where the fine polyline dips below the coarse chord the wedge folds over
+// and faces the other way than its neighbours, so a wedge takes the side of
+// the patch normal that faces the eye.
+vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge) {
+    vec3 P[16];
+    load_patch(patch_id, P);
+    vec3 n = patch_normal(P, uv.x, uv.y);
+    if (!(dot(n, n) > 0.0)) {
+        return to_eye;
+    }
+    n = normalize(n);
+    bool towards = wedge ? dot(n, to_eye) >= 0.0 : front;
+    return towards ? n : -n;
+}
+
+// Lambert term for the push-constant light; a zero light_dir means "light
+// from the eye" so a caller that forgets it still gets a readable image.
+float diffuse(vec3 n, vec3 to_eye) {
+    vec3 l = pc.light_dir.xyz;
+    l = dot(l, l) > 0.0 ? normalize(l) : to_eye;
+    return max(dot(n, l), 0.0);
+}
+
+vec3 depth_color(uint depth) {
+    return DEPTH_RAMP[min(depth, 10u)];
+}
+
+vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool front) {
+    if (pc.shade == SHADE_KEY) {
+        return vec4(front ? KEY_FRONT : KEY_BACK, 1.0);
+    }
+    vec3 to_eye = view.eye.xyz - world;
+    to_eye = dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : vec3(0.0, 0.0, 1.0);
+    vec3 n = shading_normal(patch_id, uv, to_eye, front, wedge);
+    float d = diffuse(n, to_eye);
+    if (pc.shade == SHADE_DEPTH) {
+        return vec4(depth_color(depth) * (0.55 + 0.45 * d), 1.0);
+    }
+    if (pc.shade == SHADE_WEDGES) {
+        vec3 c = wedge ? WEDGE_COLOR * (0.75 + 0.25 * d) : depth_color(depth) * (0.25 + 0.2 * d);
+        return vec4(c, 1.0);
+    }
+    // SHADE_NORMAL: Lambert + ambient + a little Blinn-Phong.
+    vec3 base = PALETTE[(patch_flags[patch_id] >> PATCH_MODEL_SHIFT) & 7u];
+    vec3 l = pc.light_dir.xyz;
+    l = dot(l, l) > 0.0 ? normalize(l) : to_eye;
+    vec3 h = l + to_eye;
+    h = dot(h, h) > 0.0 ? normalize(h) : n;
+    float s = d > 0.0 ? pow(max(dot(n, h), 0.0), 48.0) : 0.0;
+    return vec4(base * (0.16 + 0.84 * d) + vec3(0.22 * s), 1.0);
+}
+
+#endif

@@ -1,0 +1,18 @@
+// Fragment stage of draw path B (fallback): depth and wedge bit arrive as
+// flat vertex outputs, equal on all three vertices of a triangle.
+#version 460
+
+#include "common/scene.glsl"
+#include "common/shade.glsl"
+
+layout(location = 0) in vec3 in_world;
+layout(location = 1) in vec2 in_uv;
+layout(location = 2) flat in uint in_patch;
+layout(location = 3) flat in uint in_depth;
+layout(location = 4) flat in uint in_wedge;
+
+layout(location = 0) out vec4 out_color;
+
+void main() {
+    out_color = shade(in_world, in_uv, in_patch, in_depth, in_wedge != 0u, gl_FrontFacing);
+}

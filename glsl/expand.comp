@@ -1,0 +1,60 @@
+// Draw path B (fallback for devices without mesh shaders), expansion: one
+// invocation per ready QuadNode writes its 4 triangle slots as 12 vertices
+// of VERTEX_WORDS words each (slots as in draw.mesh: quad, quad, wedge along
+// u, wedge along v). A missing wedge is written as a degenerate triangle,
+// three copies of corner 0, which the rasterizer drops; fixed slots let one
+// non-indexed indirect draw of ready * VERTICES_PER_NODE vertices follow.
+#version 460
+
+#define USE_VERTICES_WRITE
+#define USE_CAPTURE
+#include "common/scene.glsl"
+#include "common/draw.glsl"
+
+layout(local_size_x = EXPAND_GROUP_SIZE) in;
+
+void write_vertex(uint index, vec3 p, uint patch_id, uint attrs) {
+    uint o = index * VERTEX_WORDS;
+    vertex_words[o] = floatBitsToUint(p.x);
+    vertex_words[o + 1u] = floatBitsToUint(p.y);
+    vertex_words[o + 2u] = floatBitsToUint(p.z);
+    vertex_words[o + 3u] = patch_id;
+    vertex_words[o + 4u] = attrs;
+}
+
+void main() {
+    uint node = gl_GlobalInvocationID.x;
+    if (node >= ready_count()) {
+        return;
+    }
+    uvec2 q = ready[node];
+    NodeMesh mesh = node_mesh(q, (view.flags & FLAG_WEDGES) != 0u);
+    vec3 P[16];
+    load_patch(q.x, P);
+
+    // The same evaluation as the mesh path: one precise function, exact
+    // dyadic parameters.
+    vec3 pos[6];
+    for (uint s = 0u; s < 6u; ++s) {
+        bool used = s < 4u || (s == 4u && mesh.wedge.x) || (s == 5u && mesh.wedge.y);
+        pos[s] = used ? eval_patch(P, mesh.uv[s].x, mesh.uv[s].y) : pos[0];
+        if (used && pc.capture_enabled != 0u) {
+            capture[6u * node + s] = vec4(pos[s], 1.0);
+        }
+    }
+
+    uint depth = node_depth(q);
+    for (uint t = 0u; t < 4u; ++t) {
+        uvec3 tri;
+        bool present = mesh_tri(mesh, t, tri);
+        if (!present) {
+            tri = uvec3(0u);
+        }
+        bool wedge = t >= 2u;
+        for (uint k = 0u; k < 3u; ++k) {
+            uint s = tri[k];
+            write_vertex(node * VERTICES_PER_NODE + 3u * t + k, pos[s], q.x,
+                pack_attrs(mesh.uv[s], depth, wedge));
+        }
+    }
+}

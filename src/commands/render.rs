@@ -1,0 +1,296 @@
+//! `render`: one offscreen frame of a method to a PNG, with a JSON stats
+//! file beside it.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail, Context as _};
+use serde_json::{json, Map, Value};
+
+use super::stats::check_eps_lambda;
+use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_WEDGES};
+use crate::draw::{choose, headlight, write_png, DrawRequest};
+use crate::gpu::Capacities;
+use crate::methods::Method;
+use crate::renderer::{FrameReport, Renderer, View};
+use crate::scene::file::Scene;
+use crate::vk::{Context, ContextOptions, DeviceSelector};
+
+/// The background of rendered images.
+pub const BACKGROUND: [f32; 4] = [0.09, 0.10, 0.12, 1.0];
+
+/// Shading of the rendered image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Shade {
+    /// Lit surface, normals from the base patches' own derivatives.
+    Normal,
+    /// Heat map of the QuadNode depth.
+    Depth,
+    /// The depth map with crack-closing wedges highlighted.
+    Wedges,
+}
+
+impl Shade {
+    /// The shader's `SHADE_*` value.
+    pub fn code(self) -> u32 {
+        match self {
+            Shade::Normal => SHADE_NORMAL,
+            Shade::Depth => SHADE_DEPTH,
+            Shade::Wedges => SHADE_WEDGES,
+        }
+    }
+
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Shade::Normal => "normal",
+            Shade::Depth => "depth",
+            Shade::Wedges => "wedges",
+        }
+    }
+}
+
+/// What `render` is asked for.
+#[derive(Clone, Debug)]
+pub struct RenderArgs {
+    /// Scene file.
+    pub scene: PathBuf,
+    /// Keyframe (0 = the scene camera).
+    pub frame: usize,
+    /// Method name.
+    pub method: String,
+    /// ε override.
+    pub eps: Option<f64>,
+    /// λ override.
+    pub lambda: Option<f64>,
+    /// Image size.
+    pub size: (u32, u32),
+    /// Draw path request.
+    pub draw: DrawRequest,
+    /// Shading.
+    pub shade: Shade,
+    /// Device choice.
+    pub device: DeviceSelector,
+    /// Khronos validation layer on (any error fails the run).
+    pub validation: bool,
+    /// Output PNG (`None`: `out/<scene name>.png`).
+    pub out: Option<PathBuf>,
+}
+
+/// The JSON stats path for an image path: same name, `.json`.
+pub fn stats_path(png: &Path) -> PathBuf {
+    png.with_extension("json")
+}
+
+/// Checks an output file can be created, before any GPU work: the
+/// directory exists and is writable. The default `out/` is created.
+pub fn check_output(path: &Path, create_dir: bool) -> anyhow::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if create_dir {
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    if !dir.is_dir() {
+        bail!(
+            "{}: the directory {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    let probe = dir.join(format!(".bezier-subdiv-write-test-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .with_context(|| format!("{}: cannot write into {}", path.display(), dir.display()))?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
+/// The current commit (short hash, `-dirty` with local changes), or
+/// "unknown" outside a git checkout.
+pub fn commit_id() -> String {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let run = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(dir)
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match run(&["rev-parse", "--short=12", "HEAD"]) {
+        Some(hash) if !hash.is_empty() => {
+            let dirty = run(&["status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
+            if dirty {
+                format!("{hash}-dirty")
+            } else {
+                hash
+            }
+        }
+        _ => "unknown".into(),
+    }
+}
+
+/// Writes `text` to `path` through a temporary file and a rename.
+pub fn write_atomic(path: &Path, text: &str) -> anyhow::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(format!(".tmp-{}", std::process::id()));
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Renders and writes the PNG and its JSON; returns a short summary.
+pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
+    let method = Method::parse(&args.method).map_err(|e| anyhow!(e))?;
+    let scene = Scene::load(&args.scene)?;
+    let camera = scene.frame_camera(args.frame).ok_or_else(|| {
+        anyhow!(
+            "{}: frame {} does not exist (the scene has frames 0..={})",
+            args.scene.display(),
+            args.frame,
+            scene.frame_count() - 1
+        )
+    })?;
+    let eps = args.eps.unwrap_or(scene.view.eps);
+    let lambda = args.lambda.unwrap_or(scene.view.lambda);
+    check_eps_lambda(eps, lambda)?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
+    check_output(&out, args.out.is_none())?;
+    let json_path = stats_path(&out);
+    let geo = scene
+        .geometry()
+        .with_context(|| format!("loading the models of {}", args.scene.display()))?;
+
+    let ctx = Context::new(&ContextOptions {
+        selector: args.device.clone(),
+        validation: args.validation,
+        ..ContextOptions::default()
+    })?;
+    let path = choose(&ctx, args.draw)?;
+    let (w, h) = args.size;
+    let mut renderer = Renderer::new(
+        &ctx,
+        &geo,
+        path,
+        Capacities::default(),
+        args.size,
+        super::render::BACKGROUND,
+        None,
+    )?;
+    let view = View {
+        params: camera.view_params(w, h, eps, lambda),
+        view_proj: camera.view_proj(w, h),
+        light_dir: headlight(&camera),
+        shade: args.shade.code(),
+    };
+    let report = renderer.render(&view, false)?;
+    let rgba = renderer.target().read_rgba(&ctx)?;
+    if args.validation {
+        ctx.check_validation()?;
+    }
+
+    let info = ctx.info();
+    let stats = stats_json(args, &scene, method, eps, lambda, &renderer, &report, &ctx);
+    // Both files under temporary names first, so a failure leaves neither.
+    let mut tmp_png = out.as_os_str().to_owned();
+    tmp_png.push(format!(".tmp-{}", std::process::id()));
+    let tmp_png = PathBuf::from(tmp_png);
+    write_png(&tmp_png, w, h, &rgba)?;
+    if let Err(e) = write_atomic(&json_path, &(serde_json::to_string_pretty(&stats)? + "\n")) {
+        let _ = std::fs::remove_file(&tmp_png);
+        return Err(e);
+    }
+    std::fs::rename(&tmp_png, &out).with_context(|| format!("writing {}", out.display()))?;
+    let s = &report.stats;
+    Ok(format!(
+        "{} ({}) on {}{}, {} path: {} ready quads, {} triangles ({:.1} % wedges), max depth {}, {:.2} ms GPU\nwrote {} and {}\n",
+        args.scene.display(),
+        method.name(),
+        info.name,
+        if info.is_cpu { " (CPU device)" } else { "" },
+        path.name(),
+        s.ready_quads,
+        s.triangles,
+        100.0 * s.wedge_triangles as f64 / (s.triangles.max(1)) as f64,
+        s.max_depth,
+        report
+            .gpu_ms
+            .iter()
+            .find(|(n, _)| n == "frame")
+            .map_or(0.0, |(_, ms)| *ms),
+        out.display(),
+        json_path.display()
+    ))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn stats_json(
+    args: &RenderArgs,
+    scene: &Scene,
+    method: Method,
+    eps: f64,
+    lambda: f64,
+    renderer: &Renderer<'_>,
+    report: &FrameReport,
+    ctx: &Context,
+) -> Value {
+    let info = ctx.info();
+    let s = &report.stats;
+    let frame = renderer.frame();
+    let mut gpu_ms = Map::new();
+    for (name, ms) in &report.gpu_ms {
+        gpu_ms.insert(name.clone(), json!(ms));
+    }
+    let mut memory = Map::new();
+    memory.insert(
+        "base_patches".into(),
+        json!(renderer.scene().patches.size() + renderer.scene().flags.size()),
+    );
+    for (name, bytes) in frame.memory_bytes() {
+        memory.insert(name.into(), json!(bytes));
+    }
+    json!({
+        "scene": args.scene.display().to_string(),
+        "frame": args.frame,
+        "width": args.size.0,
+        "height": args.size.1,
+        "device": info.name,
+        "device_is_cpu": info.is_cpu,
+        "driver": format!("{} {}", info.driver_name, info.driver_info),
+        "draw_path": renderer.path().name(),
+        "method": method.name(),
+        "shade": args.shade.name(),
+        "eps": eps,
+        "lambda": lambda,
+        "l_max": crate::constants::L_MAX,
+        "commit": commit_id(),
+        "patches": scene_patch_count(renderer),
+        "ready_quads": s.ready_quads,
+        "triangles": s.triangles,
+        "wedge_triangles": s.wedge_triangles,
+        "culled_patches": s.culled_patches,
+        "backface_culled": s.backface_culled,
+        "max_depth": s.max_depth,
+        "nodes_at_lmax": s.nodes_at_lmax,
+        "nodes_processed": s.nodes_processed,
+        "queue_capacity_items": frame.caps.queue,
+        "queue_peak_items": s.queue_peak_items,
+        "queue_spills": s.queue_spills,
+        "queue_pushed": s.queue_pushed,
+        "ready_capacity_items": frame.caps.ready,
+        "ready_list_regrown": report.regrown,
+        "gpu_ms": gpu_ms,
+        "memory_bytes": memory,
+        "scene_name": scene.name,
+    })
+}
+
+fn scene_patch_count(renderer: &Renderer<'_>) -> u32 {
+    renderer.scene().count
+}

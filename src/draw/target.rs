@@ -1,0 +1,284 @@
+//! The offscreen render target: an RGBA8 colour image and a D32 depth
+//! image, drawn with dynamic rendering, read back and saved as PNG.
+//!
+//! Layout contract: [`DrawTarget::begin`] discards both images' previous
+//! contents (transition from UNDEFINED, then clear), and
+//! [`DrawTarget::end`] leaves the colour image in [`DrawTarget::FINAL_LAYOUT`]
+//! (TRANSFER_SRC_OPTIMAL), ready for a copy or a blit.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use ash::vk;
+use image::ImageEncoder;
+
+use super::DrawError;
+use crate::vk::{image_barrier, Access, Context, Image, ImageDesc, VkError, VkResult};
+
+/// Colour format of every draw pipeline.
+pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// Depth format of every draw pipeline.
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// Colour + depth images of one view size.
+pub struct DrawTarget {
+    color: Image,
+    depth: Image,
+    /// Background colour (RGBA in 0..1) the colour image is cleared to.
+    pub clear: [f32; 4],
+    /// Whether `end` was ever recorded, i.e. whether the colour image can be
+    /// in FINAL_LAYOUT rather than UNDEFINED.
+    rendered: AtomicBool,
+}
+
+impl DrawTarget {
+    /// Layout the colour image is left in by [`DrawTarget::end`].
+    pub const FINAL_LAYOUT: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+
+    /// Creates a `width`×`height` target cleared to `clear`.
+    pub fn new(ctx: &Context, width: u32, height: u32, clear: [f32; 4]) -> VkResult<Self> {
+        let color = Image::new(
+            ctx,
+            &ImageDesc {
+                name: "draw target colour",
+                width,
+                height,
+                format: COLOR_FORMAT,
+                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            },
+        )?;
+        let depth = Image::new(
+            ctx,
+            &ImageDesc {
+                name: "draw target depth",
+                width,
+                height,
+                format: DEPTH_FORMAT,
+                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            },
+        )?;
+        Ok(Self {
+            color,
+            depth,
+            clear,
+            rendered: AtomicBool::new(false),
+        })
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.color.extent().width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.color.extent().height
+    }
+
+    /// Size in pixels.
+    pub fn extent(&self) -> vk::Extent2D {
+        self.color.extent()
+    }
+
+    /// The colour image (in FINAL_LAYOUT after a recorded `end`).
+    pub fn color(&self) -> &Image {
+        &self.color
+    }
+
+    /// Records: both images to attachment layouts, `vkCmdBeginRendering`
+    /// clearing colour to `clear` and depth to 1, full-target viewport and
+    /// scissor.
+    pub fn begin(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        // From UNDEFINED: the old contents are cleared anyway. The source
+        // scope is everything, so this frame's writes wait for any earlier
+        // reads (readback copies) and writes of the same images.
+        image_barrier(
+            ctx,
+            cmd,
+            &self.color,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            Access::ALL,
+            Access::new(
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+        );
+        image_barrier(
+            ctx,
+            cmd,
+            &self.depth,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            Access::ALL,
+            Access::DEPTH_ATTACHMENT,
+        );
+        let extent = self.extent();
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(self.color.view())
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: self.clear,
+                },
+            })];
+        // Depth is only needed while drawing.
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(self.depth.view())
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent,
+        };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        // The projection already flips y (Camera::projection), so the
+        // viewport is the plain one.
+        let viewport = [vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        }];
+        let dev = ctx.device();
+        unsafe {
+            dev.cmd_begin_rendering(cmd, &info);
+            dev.cmd_set_viewport(cmd, 0, &viewport);
+            dev.cmd_set_scissor(cmd, 0, &[area]);
+        }
+    }
+
+    /// Records `vkCmdEndRendering` and moves the colour image to
+    /// [`DrawTarget::FINAL_LAYOUT`], its writes visible to transfers.
+    pub fn end(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        unsafe { ctx.device().cmd_end_rendering(cmd) };
+        image_barrier(
+            ctx,
+            cmd,
+            &self.color,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            Self::FINAL_LAYOUT,
+            Access::COLOR_ATTACHMENT_WRITE,
+            Access::TRANSFER_READ,
+        );
+        self.rendered.store(true, Ordering::Relaxed);
+    }
+
+    /// The colour image as tightly packed RGBA8 rows, top row first (waits
+    /// for all submitted work; call after the command buffer that recorded
+    /// `end` was submitted).
+    pub fn read_rgba(&self, ctx: &Context) -> VkResult<Vec<u8>> {
+        if !self.rendered.load(Ordering::Relaxed) {
+            return Err(VkError::Usage(String::from(
+                "the draw target was read before anything was rendered into it",
+            )));
+        }
+        self.color.read_pixels(ctx, Self::FINAL_LAYOUT)
+    }
+
+    /// Reads the colour image back and writes it to `path` as PNG (see
+    /// [`write_png`]).
+    pub fn save_png(&self, ctx: &Context, path: &Path) -> Result<(), DrawError> {
+        let rgba = self.read_rgba(ctx)?;
+        write_png(path, self.width(), self.height(), &rgba)
+    }
+}
+
+/// Writes RGBA8 pixels to `path` as PNG: first to a temporary file in the
+/// same directory, then renamed over `path`, so a reader never sees a half
+/// written image and a failure leaves nothing behind.
+pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<(), DrawError> {
+    let expected = width as usize * height as usize * 4;
+    if rgba.len() != expected {
+        return Err(DrawError::Vk(VkError::Usage(format!(
+            "{} bytes of pixels for a {width}x{height} RGBA8 image ({expected} expected)",
+            rgba.len()
+        ))));
+    }
+    let tmp = temp_path(path);
+    let written = (|| {
+        let file = File::create(&tmp).map_err(|source| DrawError::Io {
+            path: tmp.clone(),
+            source,
+        })?;
+        let mut out = BufWriter::new(file);
+        image::codecs::png::PngEncoder::new(&mut out)
+            .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+            .map_err(|source| DrawError::Png {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        let file = out.into_inner().map_err(|e| DrawError::Io {
+            path: tmp.clone(),
+            source: e.into_error(),
+        })?;
+        file.sync_all().map_err(|source| DrawError::Io {
+            path: tmp.clone(),
+            source,
+        })?;
+        std::fs::rename(&tmp, path).map_err(|source| DrawError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
+}
+
+/// `dir/.name.<pid>.tmp`: same directory (so the rename stays on one file
+/// system), hidden, and unique per process.
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map_or_else(|| "image".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// PNGs appear whole or not at all.
+    #[test]
+    fn png_writes_are_atomic() {
+        let dir = std::env::temp_dir().join(format!("draw-png-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let pixels: Vec<u8> = (0..4 * 3 * 2).map(|i| (i * 10) as u8).collect();
+        let path = dir.join("ok.png");
+        write_png(&path, 3, 2, &pixels).unwrap();
+        let back = image::load_from_memory(&std::fs::read(&path).unwrap())
+            .unwrap()
+            .to_rgba8();
+        assert_eq!(back.dimensions(), (3, 2));
+        assert_eq!(back.into_raw(), pixels);
+        // Wrong size and a missing directory fail and leave nothing behind.
+        assert!(write_png(&dir.join("short.png"), 3, 3, &pixels).is_err());
+        assert!(write_png(&dir.join("missing/x.png"), 3, 2, &pixels).is_err());
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, ["ok.png"]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,290 @@
+//! Both draw paths on a real device (lavapipe in CI), validation on, fed a
+//! ready list the CPU oracle made (so no subdivision kernel is involved):
+//! vertex positions equal the oracle's bit for bit, the two paths' images
+//! agree, wedges switch off as expected, and the winding makes outward
+//! faces front faces. Images go to `target/test-output/draw/`.
+
+mod common;
+mod draw_rig;
+
+use ash::vk;
+use glam::DVec3;
+
+use bezier_subdiv::constants::*;
+use bezier_subdiv::draw::{
+    choose, choose_for, draw_push, headlight, DrawPath, DrawRequest, DrawTarget, Drawer,
+};
+use bezier_subdiv::gpu::{Capacities, FrameGpu, PushConstants};
+use bezier_subdiv::patch::oracle::triangle_counts;
+use bezier_subdiv::patch::view::FLAG_BACKFACE_CULL;
+use bezier_subdiv::scene::camera::Camera;
+use bezier_subdiv::vk::{GpuTimer, VkError};
+
+use draw_rig::*;
+
+#[test]
+fn choose_follows_the_device() {
+    let ctx = common::gpu();
+    let mut info = ctx.info().clone();
+    let has_mesh = info.has_mesh_shader();
+    assert_eq!(
+        choose(&ctx, DrawRequest::Auto).unwrap(),
+        if has_mesh {
+            DrawPath::Mesh
+        } else {
+            DrawPath::Fallback
+        }
+    );
+    assert_eq!(
+        choose(&ctx, DrawRequest::Fallback).unwrap(),
+        DrawPath::Fallback
+    );
+    // The same device without mesh shaders.
+    info.features.mesh_shader = false;
+    info.mesh = None;
+    assert_eq!(
+        choose_for(&info, DrawRequest::Auto).unwrap(),
+        DrawPath::Fallback
+    );
+    let err = choose_for(&info, DrawRequest::Mesh).unwrap_err();
+    assert!(matches!(err, VkError::FeatureMissing { .. }), "{err}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("VK_EXT_mesh_shader") && msg.contains("fallback"),
+        "{msg}"
+    );
+    println!("forcing mesh without mesh shaders: {msg}");
+    for (s, r) in [
+        ("auto", DrawRequest::Auto),
+        ("Mesh", DrawRequest::Mesh),
+        ("fallback", DrawRequest::Fallback),
+    ] {
+        assert_eq!(s.parse::<DrawRequest>().unwrap(), r);
+    }
+    assert!("tess".parse::<DrawRequest>().is_err());
+    ctx.finish();
+}
+
+/// Positions bit for bit against the oracle on both paths, and the two
+/// paths' images against each other, for the teapot (scene camera and a
+/// close-up of the spout) and the converted torus and cube, in all three
+/// viewing modes on the teapot.
+#[test]
+fn paths_match_the_oracle_and_each_other() {
+    let ctx = common::gpu();
+    let rig = Rig::new(&ctx);
+    let cases = [
+        teapot(0, "teapot"),
+        teapot(1, "teapot-spout"),
+        converted("catmark_torus.obj", 1),
+        converted("catmark_cube.obj", 2),
+    ];
+    for case in &cases {
+        let shades: &[u32] = if case.name.starts_with("teapot") {
+            &[SHADE_NORMAL, SHADE_DEPTH, SHADE_WEDGES]
+        } else {
+            &[SHADE_NORMAL]
+        };
+        for &shade in shades {
+            both_paths(&ctx, &rig, case, shade);
+        }
+    }
+    // The close-up must subdivide deeper than the overview, or the depth
+    // images show nothing.
+    let deepest = |c: &Case| c.ready.iter().map(|q| q.depth()).max().unwrap();
+    assert!(deepest(&cases[1]) > deepest(&cases[0]));
+    ctx.finish();
+}
+
+/// Clearing FLAG_WEDGES in the view drops exactly the wedge triangles on
+/// both paths (the ready list staying the same).
+#[test]
+fn wedges_off_drops_the_wedges() {
+    let ctx = common::gpu();
+    let rig = Rig::new(&ctx);
+    for base in [teapot(1, "teapot-spout"), converted("catmark_torus.obj", 1)] {
+        let (with_tris, with_wedges) = triangle_counts(&base.ready, true);
+        let n = base.ready.len();
+        assert!(
+            with_wedges > 0,
+            "{}: no wedges, the test proves nothing",
+            base.name
+        );
+        let off = base.with_flags(
+            &format!("{}-nowedges", base.name),
+            base.vp.flags & !FLAG_WEDGES,
+        );
+        let mut images = Vec::new();
+        for case in [&base, &off] {
+            let [mesh, fallback] = both_paths(&ctx, &rig, case, SHADE_WEDGES);
+            // Triangle slots whose three vertices are not one repeated vertex.
+            let vw = VERTEX_WORDS as usize;
+            let drawn = fallback.vertices[..n * 12 * vw]
+                .chunks_exact(3 * vw)
+                .filter(|t| t[..vw] != t[vw..2 * vw] || t[..vw] != t[2 * vw..])
+                .count();
+            // Wedge pivots the mesh path evaluated (the capture marks them).
+            let pivots = (0..n)
+                .flat_map(|i| [4, 5].map(|s| 6 * i + s))
+                .filter(|&v| mesh.capture[4 * v] != SENTINEL)
+                .count();
+            let (tris, wedges) = if case.wedges() {
+                (with_tris as usize, with_wedges as usize)
+            } else {
+                (2 * n, 0)
+            };
+            println!(
+                "{}: {n} nodes: fallback draws {drawn} triangles (expected {tris}), \
+                 mesh evaluates {pivots} wedge pivots (expected {wedges})",
+                case.name
+            );
+            assert_eq!(drawn, tris, "{}", case.name);
+            assert_eq!(pivots, wedges, "{}", case.name);
+            images.push(mesh.rgba);
+        }
+        let (changed, img) = diff(&images[0], &images[1]);
+        save(&format!("{}-wedges-on-vs-off", base.name), &img);
+        println!("{}: wedges off changes {changed} pixels", base.name);
+        assert!(changed > 0, "{}: the wedges were invisible", base.name);
+    }
+    ctx.finish();
+}
+
+/// SHADE_KEY: a closed model with outward normals (checked on the CPU) shows
+/// front faces (white) from outside and back faces (green) from inside, with
+/// no background inside the outline, except on folded wedges: the
+/// front-face setting matches the triangles' winding and there are no holes.
+#[test]
+fn key_shading_shows_the_winding() {
+    let ctx = common::gpu();
+    let rig = Rig::new(&ctx);
+    let (patches, flags) = model("catmark_cube.obj", 0);
+    let (c, r) = bounds(&patches);
+    // From the centre of the (convex) cube every visible point is the inside.
+    let camera = Camera {
+        position: c.to_array(),
+        target: (c + DVec3::new(1.0, 0.3, 0.2)).to_array(),
+        up: [0.0, 0.0, 1.0],
+        fov_y_deg: 100.0,
+        near: 0.001 * r,
+        far: 10.0 * r,
+    };
+    let inside = Case::new("cube-inside", patches, flags, camera, FLAG_BACKFACE_CULL);
+    let views = [
+        (converted("catmark_cube.obj", 0), true),
+        (converted("catmark_torus.obj", 0), true),
+        (inside, false),
+    ];
+    for (case, outside) in &views {
+        let volume = signed_volume(case);
+        assert!(
+            volume > 0.0,
+            "{}: normals point inward ({volume})",
+            case.name
+        );
+        let wedges = both_paths(&ctx, &rig, case, SHADE_WEDGES);
+        let keys = both_paths(&ctx, &rig, case, SHADE_KEY);
+        for (k, w) in keys.iter().zip(&wedges) {
+            let (white, green) = (count_pixels(&k.rgba, WHITE), count_pixels(&k.rgba, GREEN));
+            let bg = count_pixels(&k.rgba, BG_RGBA);
+            let wrong = unexplained(&k.rgba, &w.rgba, if *outside { GREEN } else { WHITE });
+            println!(
+                "{}: {white} white, {green} green, {bg} background; \
+                 wrong side off wedges and silhouettes: {wrong:?}",
+                case.name
+            );
+            assert!(wrong.is_empty(), "{}: wrong faces seen", case.name);
+            assert_eq!(
+                white + green + bg,
+                (W * H) as usize,
+                "{}: other colours",
+                case.name
+            );
+            if *outside {
+                assert!(white > 1000, "{}: no front faces", case.name);
+            } else {
+                assert_eq!(bg, 0, "{}: holes", case.name);
+            }
+        }
+    }
+    ctx.finish();
+}
+
+/// Timer scopes, and misuse reported as errors rather than out-of-bounds
+/// shader access.
+#[test]
+fn timer_scopes_and_misuse() {
+    let ctx = common::gpu();
+    let rig = Rig::new(&ctx);
+    let case = converted("catmark_cube.obj", 2);
+    let (scene, frame) = rig.upload(&ctx, &case);
+    let pc = draw_push(
+        &case.camera.view_proj(W, H),
+        headlight(&case.camera),
+        SHADE_NORMAL,
+        &frame,
+        scene.count,
+    );
+    let mut timer = GpuTimer::new(&ctx, 4).expect("timer");
+    for path in PATHS {
+        ctx.one_shot(|cmd| {
+            timer.reset(cmd);
+            rig.drawer(path).record(
+                &ctx,
+                cmd,
+                &rig.layout,
+                &frame,
+                &rig.target,
+                &pc,
+                Some(&mut timer),
+            )
+        })
+        .unwrap()
+        .unwrap();
+        let scopes = timer.read().unwrap();
+        println!("{path}: {scopes:?}");
+        let names: Vec<&str> = scopes.iter().map(|(n, _)| n.as_str()).collect();
+        match path {
+            DrawPath::Mesh => assert_eq!(names, ["draw"]),
+            DrawPath::Fallback => assert_eq!(names, ["expand", "draw"]),
+        }
+    }
+    let lean = FrameGpu::new(
+        &ctx,
+        &rig.layout,
+        &scene,
+        Capacities {
+            ready: 4,
+            queue: 1,
+            vertices: false,
+            capture: false,
+        },
+    )
+    .unwrap();
+    let mut bad = pc;
+    bad.ready_capacity = 4;
+    let attempt = |drawer: &Drawer, pc: &PushConstants| {
+        ctx.one_shot(|cmd| drawer.record(&ctx, cmd, &rig.layout, &lean, &rig.target, pc, None))
+            .unwrap()
+    };
+    let err = attempt(rig.drawer(DrawPath::Fallback), &bad).unwrap_err();
+    assert!(err.to_string().contains("vertex buffer"), "{err}");
+    bad.capture_enabled = 1;
+    let err = attempt(rig.drawer(DrawPath::Mesh), &bad).unwrap_err();
+    assert!(err.to_string().contains("capture"), "{err}");
+    bad.capture_enabled = 0;
+    bad.ready_capacity = 5;
+    let err = attempt(rig.drawer(DrawPath::Mesh), &bad).unwrap_err();
+    assert!(err.to_string().contains("ready"), "{err}");
+    ctx.finish();
+}
+
+/// The draw target rejects readback before anything was drawn.
+#[test]
+fn target_readback_needs_a_draw() {
+    let ctx = common::gpu();
+    let target = DrawTarget::new(&ctx, 8, 8, BG).unwrap();
+    assert!(target.read_rgba(&ctx).is_err());
+    assert_eq!(target.color().format(), vk::Format::R8G8B8A8_UNORM);
+    ctx.finish();
+}
