@@ -58,6 +58,9 @@ pub const C_QUEUE_PUSHED: u32 = 14;
 pub const C_TRIANGLES: u32 = 15;
 pub const C_WEDGES: u32 = 16;
 pub const C_ITERATIONS_MAX: u32 = 17;
+// Validation passes (reorder_check.comp): nodes checked, nodes failing.
+pub const C_CHECK_NODES: u32 = 18;
+pub const C_CHECK_FAILS: u32 = 19;
 // counters[C_IN_FLIGHT]: items in flight in the low 24 bits (so at most
 // 2^24 - 1 base patches), a wrapping progress tick in the top byte.
 pub const IN_FLIGHT_MASK: u32 = 0x00ff_ffff;
@@ -105,6 +108,8 @@ pub const SHADE_DEPTH: u32 = 1;
 pub const SHADE_WEDGES: u32 = 2;
 // Hole test: front faces white, back faces in the key colour.
 pub const SHADE_KEY: u32 = 3;
+// Hole test: distance from the eye / pc.light_dir.w as a 24-bit RGB code.
+pub const SHADE_DISTANCE: u32 = 4;
 
 /// Every constant above by name, for the test that compares them with the GLSL.
 pub const ALL: &[(&str, u32)] = &[
@@ -150,6 +155,8 @@ pub const ALL: &[(&str, u32)] = &[
     ("C_TRIANGLES", C_TRIANGLES),
     ("C_WEDGES", C_WEDGES),
     ("C_ITERATIONS_MAX", C_ITERATIONS_MAX),
+    ("C_CHECK_NODES", C_CHECK_NODES),
+    ("C_CHECK_FAILS", C_CHECK_FAILS),
     ("IN_FLIGHT_MASK", IN_FLIGHT_MASK),
     ("IN_FLIGHT_TICK", IN_FLIGHT_TICK),
     ("C_MESH_ARGS", C_MESH_ARGS),
@@ -173,4 +180,5 @@ pub const ALL: &[(&str, u32)] = &[
     ("SHADE_DEPTH", SHADE_DEPTH),
     ("SHADE_WEDGES", SHADE_WEDGES),
     ("SHADE_KEY", SHADE_KEY),
+    ("SHADE_DISTANCE", SHADE_DISTANCE),
 ];

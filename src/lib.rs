@@ -10,4 +10,5 @@ pub mod methods;
 pub mod patch;
 pub mod renderer;
 pub mod scene;
+pub mod validate;
 pub mod vk;

@@ -51,6 +51,8 @@ pub struct View {
     pub light_dir: Vec3,
     /// `SHADE_*`.
     pub shade: u32,
+    /// `SHADE_DISTANCE`: the distance coded as 1.0 (0 for other modes).
+    pub distance_scale: f32,
 }
 
 impl<'a> Renderer<'a> {
@@ -103,6 +105,23 @@ impl<'a> Renderer<'a> {
     /// The image of the last frame.
     pub fn target(&self) -> &DrawTarget {
         &self.target
+    }
+
+    /// The shared scene layout.
+    pub fn layout(&self) -> &SceneLayout {
+        &self.layout
+    }
+
+    /// Replaces the scene (re-uploads the patches, rebuilds the per-view
+    /// buffers with the same capacities); the pipelines are kept.
+    pub fn set_geometry(&mut self, geo: &SceneGeometry) -> VkResult<()> {
+        self.scene = SceneGpu::upload(self.ctx, &geo.patches, &geo.flags)?;
+        self.rebuild(self.frame.caps)
+    }
+
+    /// The background the target is cleared to.
+    pub fn set_background(&mut self, rgba: [f32; 4]) {
+        self.target.clear = rgba;
     }
 
     /// The subdivision pass (to adjust its cap in tests).
@@ -165,6 +184,7 @@ impl<'a> Renderer<'a> {
             self.scene.count,
         );
         pc.capture_enabled = self.frame.caps.capture as u32;
+        pc.light_dir[3] = view.distance_scale;
         let (subdiv, drawer, layout, scene, frame, target, timer) = (
             &self.subdiv,
             &self.drawer,

@@ -62,6 +62,9 @@ const uint C_QUEUE_PUSHED = 14;
 const uint C_TRIANGLES = 15;
 const uint C_WEDGES = 16;
 const uint C_ITERATIONS_MAX = 17;
+// Validation passes (reorder_check.comp): nodes checked, nodes failing.
+const uint C_CHECK_NODES = 18;
+const uint C_CHECK_FAILS = 19;
 // counters[C_IN_FLIGHT]: items in flight in the low 24 bits (so at most
 // 2^24 - 1 base patches), a wrapping progress tick in the top byte.
 const uint IN_FLIGHT_MASK = 0xffffff;
@@ -106,5 +109,7 @@ const uint SHADE_DEPTH = 1;
 const uint SHADE_WEDGES = 2;
 // Hole test: front faces white, back faces in the key colour.
 const uint SHADE_KEY = 3;
+// Hole test: distance from the eye / pc.light_dir.w as a 24-bit RGB code.
+const uint SHADE_DISTANCE = 4;
 
 #endif

@@ -33,9 +33,16 @@ const vec3 DEPTH_RAMP[11] = vec3[11](
     vec3(0.50, 0.06, 0.12));
 
 const vec3 WEDGE_COLOR = vec3(1.0, 0.0, 1.0);
-// SHADE_KEY: the hole test counts pixels of exactly this colour.
+// SHADE_KEY: the hole test counts pixels of exactly this colour (surface
+// seen from behind, or the background).
 const vec3 KEY_BACK = vec3(0.0, 1.0, 0.0);
 const vec3 KEY_FRONT = vec3(1.0, 1.0, 1.0);
+// SHADE_KEY: front surface seen at a grazing angle, i.e. near a contour
+// (silhouette) where front and back surface meet in the image. There the
+// subdivided and the reference surfaces may legitimately show different
+// sides by a pixel, so the hole test treats this colour as silhouette.
+const vec3 KEY_GRAZING = vec3(1.0, 1.0, 0.0);
+const float GRAZING_COS = 0.15;
 
 // Unit normal of the base patch at (u, v) from its own partial derivatives
 // (not the flat triangle's), turned towards the viewer on back faces. A
@@ -68,11 +75,26 @@ vec3 depth_color(uint depth) {
 }
 
 vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool front) {
-    if (pc.shade == SHADE_KEY) {
-        return vec4(front ? KEY_FRONT : KEY_BACK, 1.0);
-    }
     vec3 to_eye = view.eye.xyz - world;
+    if (pc.shade == SHADE_DISTANCE) {
+        float d = clamp(length(to_eye) / pc.light_dir.w, 0.0, 1.0);
+        uint code = uint(d * 16777214.0);
+        return vec4(float(code >> 16) / 255.0, float((code >> 8) & 255u) / 255.0, float(code & 255u) / 255.0, 1.0);
+    }
     to_eye = dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : vec3(0.0, 0.0, 1.0);
+    if (pc.shade == SHADE_KEY) {
+        // Which side of the SURFACE is seen, from the base patch's normal,
+        // not the triangle's winding: where the curvature is high a wedge or
+        // even a quad triangle can fold over and show its back from outside
+        // without any hole. Through a crack one sees the background or the
+        // far side of the model, whose normals face away.
+        float c = dot(shading_normal(patch_id, uv, to_eye, true, false), to_eye);
+        bool facing = c >= 0.0;
+        if (!facing) {
+            return vec4(KEY_BACK, 1.0);
+        }
+        return vec4(abs(c) < GRAZING_COS ? KEY_GRAZING : KEY_FRONT, 1.0);
+    }
     vec3 n = shading_normal(patch_id, uv, to_eye, front, wedge);
     float d = diffuse(n, to_eye);
     if (pc.shade == SHADE_DEPTH) {

@@ -3,6 +3,7 @@
 pub mod import;
 pub mod render;
 pub mod stats;
+pub mod validate;
 
 use std::path::{Path, PathBuf};
 

@@ -188,6 +188,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         view_proj: camera.view_proj(w, h),
         light_dir: headlight(&camera),
         shade: args.shade.code(),
+        distance_scale: 0.0,
     };
     let report = renderer.render(&view, false)?;
     let rgba = renderer.target().read_rgba(&ctx)?;

@@ -102,4 +102,29 @@ impl FallbackDraw {
         };
         Ok(())
     }
+
+    /// Records a direct draw of the first `vertices` vertices of the frame's
+    /// vertex buffer (inside rendering): for meshes made on the CPU, such as
+    /// the hole test's dense reference.
+    pub(super) fn record_vertices(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        layout: &SceneLayout,
+        frame: &FrameGpu,
+        pc: &PushConstants,
+        vertices: u32,
+    ) -> VkResult<()> {
+        bind(
+            ctx,
+            cmd,
+            &self.draw,
+            vk::PipelineBindPoint::GRAPHICS,
+            layout,
+            frame,
+            pc,
+        )?;
+        unsafe { ctx.device().cmd_draw(cmd, vertices, 1, 0, 0) };
+        Ok(())
+    }
 }

@@ -244,6 +244,40 @@ impl Drawer {
         Ok(())
     }
 
+    /// Records, for the fallback path only, a draw of `vertices` vertices
+    /// already in `frame.vertices` (written by the host in the
+    /// `VERTEX_WORDS` format), into `target` with clears: how a mesh made on
+    /// the CPU, such as the hole test's dense reference, is drawn through the
+    /// same vertex and fragment shaders as the fallback path.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_vertices(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        layout: &SceneLayout,
+        frame: &FrameGpu,
+        target: &DrawTarget,
+        pc: &PushConstants,
+        vertices: u32,
+    ) -> VkResult<()> {
+        let Inner::Fallback(f) = &self.inner else {
+            return Err(VkError::Usage(
+                "drawing a vertex buffer needs the fallback drawer".into(),
+            ));
+        };
+        let capacity = frame.vertices.size() / (4 * crate::constants::VERTEX_WORDS as u64);
+        if !frame.caps.vertices || u64::from(vertices) > capacity {
+            return Err(VkError::Usage(format!(
+                "{vertices} vertices do not fit the frame's vertex buffer ({capacity})"
+            )));
+        }
+        memory_barrier(ctx, cmd, Access::ALL, Access::ALL);
+        target.begin(ctx, cmd);
+        let drawn = f.record_vertices(ctx, cmd, layout, frame, pc, vertices);
+        target.end(ctx, cmd);
+        drawn
+    }
+
     /// Misuse that would make the shaders read or write out of bounds.
     fn check(&self, ctx: &Context, frame: &FrameGpu, pc: &PushConstants) -> VkResult<()> {
         let caps = frame.caps;

@@ -1,0 +1,394 @@
+//! The hole test. A model is rendered alone, subdivided, with SHADE_KEY
+//! (front faces white, back faces in the key colour) over a key-coloured
+//! background; a reference is drawn from an independent dense uniform
+//! evaluation (a grid of points per patch, evaluated on the CPU and drawn
+//! through the fallback vertex path) over a different background. Wherever
+//! the reference shows front surface, more than ⌈2ε⌉+2 pixels away from
+//! its silhouettes, the subdivided image must not show the key colour: such
+//! a pixel is a crack through which the background or the inside of the
+//! model is seen.
+//!
+//! The silhouettes are the outline *and* the contours inside it, where the
+//! surface turns from front to back (the teapot's rim seen from above):
+//! there the two approximations may show different sides by a pixel without
+//! any crack. SHADE_KEY paints front surface seen at a grazing angle in its
+//! own colour, and the reference's depth jumps mark the occluding contours
+//! ([`depth_edges`]); the mask leaves both out before eroding. What is left
+//! is smooth front surface, where a key pixel lying well behind the
+//! reference surface can only be a crack (see [`run_model`]). Comparing against the
+//! reference's own front region keeps open models honest too: where the
+//! reference itself sees into the model, nothing is counted.
+
+use glam::Vec3;
+
+use crate::constants::*;
+use crate::draw::{draw_push, headlight, DrawPath, DrawTarget, Drawer};
+use crate::gpu::{Capacities, FrameGpu};
+use crate::patch::bezier::BezierPatch;
+use crate::patch::view::FLAG_WEDGES;
+use crate::renderer::{Renderer, View};
+use crate::scene::camera::Camera;
+use crate::scene::file::SceneGeometry;
+use crate::vk::{Context, VkResult};
+
+/// Background of the subdivided image: the key colour.
+pub const KEY_BACKGROUND: [f32; 4] = [0.0, 1.0, 0.0, 1.0];
+/// Background of the reference image (neither white nor key).
+pub const REFERENCE_BACKGROUND: [f32; 4] = [0.0, 0.0, 1.0, 1.0];
+const WHITE: [u8; 4] = [255, 255, 255, 255];
+const KEY: [u8; 4] = [0, 255, 0, 255];
+
+/// One model seen from one camera.
+#[derive(Clone, Debug)]
+pub struct HoleView {
+    /// Camera index.
+    pub camera: usize,
+    /// Key pixels inside the eroded front region, wedges on (must be 0).
+    pub holes: u64,
+    /// The same with wedges off (shows the test can see cracks).
+    pub holes_without_wedges: u64,
+    /// Pixels in the eroded front region (the test's reach).
+    pub checked_pixels: u64,
+}
+
+/// Grid cells per patch side of the reference: fine for small models,
+/// coarser for big ones to keep the vertex buffer reasonable.
+pub fn reference_grid(patches: usize) -> u32 {
+    if patches <= 64 {
+        32
+    } else if patches <= 800 {
+        24
+    } else {
+        12
+    }
+}
+
+/// The reference mesh in the fallback vertex format: every patch evaluated
+/// on a `grid`×`grid` lattice with the shared evaluation function, two
+/// triangles per cell (counter-clockwise in (u, v), like the quads).
+pub fn dense_vertices(patches: &[BezierPatch], grid: u32) -> Vec<u32> {
+    let n = grid as usize;
+    let mut out = Vec::with_capacity(patches.len() * n * n * 6 * VERTEX_WORDS as usize);
+    for (id, p) in patches.iter().enumerate() {
+        let t = |k: usize| k as f32 / grid as f32;
+        let pts: Vec<Vec3> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| (i, j)))
+            .map(|(i, j)| p.eval(t(i), t(j)))
+            .collect();
+        let mut vertex = |i: usize, j: usize| {
+            let q = pts[j * (n + 1) + i];
+            out.extend(q.to_array().map(f32::to_bits));
+            out.push(id as u32);
+            let u = (i as u32 * 1024) / grid;
+            let v = (j as u32 * 1024) / grid;
+            out.push(u | (v << PACK_V_SHIFT));
+        };
+        for j in 0..n {
+            for i in 0..n {
+                for (a, b) in [(0, 0), (1, 0), (1, 1), (0, 0), (1, 1), (0, 1)] {
+                    vertex(i + a, j + b);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Cameras all around the model's bounding box, outside it.
+pub fn hole_cameras(patches: &[BezierPatch]) -> Vec<Camera> {
+    let (mut lo, mut hi) = patches[0].bbox();
+    for p in patches {
+        let (a, b) = p.bbox();
+        lo = lo.min(a);
+        hi = hi.max(b);
+    }
+    let c = ((lo + hi) * 0.5).as_dvec3();
+    let r = (((hi - lo).length() * 0.5) as f64).max(1e-3);
+    let dirs = [
+        [1.0, -1.3, 0.8],
+        [-1.2, -0.7, 0.5],
+        [0.3, 1.4, 0.6],
+        [1.1, 0.9, -0.4],
+        [-0.8, 0.6, 1.4],
+        [0.2, -0.3, -1.5],
+    ];
+    dirs.iter()
+        .map(|d| {
+            let d = glam::DVec3::from_array(*d).normalize();
+            Camera {
+                position: (c + d * 2.4 * r).to_array(),
+                target: c.to_array(),
+                up: if d.z.abs() > 0.9 {
+                    [0.0, 1.0, 0.0]
+                } else {
+                    [0.0, 0.0, 1.0]
+                },
+                fov_y_deg: 40.0,
+                near: 0.01 * r,
+                far: 100.0 * r,
+            }
+        })
+        .collect()
+}
+
+/// `mask` eroded by a disk of radius `r` pixels.
+pub fn erode(mask: &[bool], w: usize, h: usize, r: i64) -> Vec<bool> {
+    let offsets: Vec<(i64, i64)> = (-r..=r)
+        .flat_map(|y| (-r..=r).map(move |x| (x, y)))
+        .filter(|(x, y)| x * x + y * y <= r * r)
+        .collect();
+    let mut out = vec![false; mask.len()];
+    for y in 0..h as i64 {
+        for x in 0..w as i64 {
+            if !mask[(y * w as i64 + x) as usize] {
+                continue;
+            }
+            out[(y * w as i64 + x) as usize] = offsets.iter().all(|(dx, dy)| {
+                let (px, py) = (x + dx, y + dy);
+                px >= 0
+                    && py >= 0
+                    && px < w as i64
+                    && py < h as i64
+                    && mask[(py * w as i64 + px) as usize]
+            });
+        }
+    }
+    out
+}
+
+fn pixels(rgba: &[u8]) -> impl Iterator<Item = [u8; 4]> + '_ {
+    rgba.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]])
+}
+
+/// Pixels next to a jump in the reference's depth: occluding contours,
+/// where the nearer surface turns away and hides what lies behind it. An
+/// approximation within ε pixels may move such a contour by a pixel and
+/// uncover the farther surface without any crack.
+pub fn depth_edges(dist: &[f32], w: usize, h: usize) -> Vec<bool> {
+    let mut out = vec![false; dist.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let d = dist[y * w + x];
+            for (dx, dy) in [(1i64, 0i64), (0, 1), (1, 1), (1, -1)] {
+                let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let j = ny as usize * w + nx as usize;
+                let e = dist[j];
+                let jump = match (d.is_finite(), e.is_finite()) {
+                    (true, true) => (d - e).abs() > CONTOUR_JUMP * d.min(e),
+                    (false, false) => false,
+                    _ => true,
+                };
+                if jump {
+                    out[y * w + x] = true;
+                    out[j] = true;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Relative depth step between neighbouring reference pixels that marks an
+/// occluding contour ([`depth_edges`]).
+pub const CONTOUR_JUMP: f32 = 0.02;
+
+/// A view's images: key colours and coded distances.
+struct Shots {
+    key: Vec<u8>,
+    distance: Vec<f32>,
+}
+
+/// Decodes a `SHADE_DISTANCE` image (background white = infinitely far).
+fn distances(rgba: &[u8], scale: f32) -> Vec<f32> {
+    pixels(rgba)
+        .map(|p| {
+            if p == WHITE {
+                f32::INFINITY
+            } else {
+                let code = (p[0] as u32) << 16 | (p[1] as u32) << 8 | p[2] as u32;
+                code as f32 / 16_777_214.0 * scale
+            }
+        })
+        .collect()
+}
+
+/// Relative distance by which the subdivided surface must lie behind the
+/// reference surface for a key pixel to count as seeing *through* it.
+/// Cracks show the background or the far side of the model, many times
+/// farther; a surface approximated within ε pixels stays far closer.
+pub const SEE_THROUGH: f32 = 0.01;
+
+/// Runs the hole test for one model geometry with `renderer` (whose scene
+/// is replaced by `geo`), from every [`hole_cameras`] camera.
+///
+/// A pixel is a hole when the reference shows front surface there (away
+/// from silhouettes, see the module docs), the subdivided image shows the
+/// key colour (back side or background), and what it shows lies more than
+/// [`SEE_THROUGH`] farther than the reference surface. The last condition
+/// tells a crack from a contour that the approximation moved by a pixel
+/// (where the curvature is high the nearer surface can overhang and show
+/// its back, at the same depth).
+///
+/// When `debug_dir` is given, every view with holes leaves
+/// `<name>-cam<k>-{actual,nowedges,reference,holes}.png` there (holes in red
+/// over the actual image).
+#[allow(clippy::too_many_arguments)]
+pub fn run_model(
+    ctx: &Context,
+    renderer: &mut Renderer<'_>,
+    geo: &SceneGeometry,
+    size: (u32, u32),
+    eps: f64,
+    lambda: f64,
+    name: &str,
+    debug_dir: Option<&std::path::Path>,
+) -> VkResult<Vec<HoleView>> {
+    renderer.set_geometry(geo)?;
+    let (w, h) = size;
+    let words = dense_vertices(&geo.patches, reference_grid(geo.patches.len()));
+    let vertex_count = (words.len() / VERTEX_WORDS as usize) as u32;
+    let mut reference = FrameGpu::new(
+        ctx,
+        renderer.layout(),
+        renderer.scene(),
+        Capacities {
+            ready: vertex_count.div_ceil(VERTICES_PER_NODE),
+            queue: 16,
+            vertices: true,
+            capture: false,
+        },
+    )?;
+    reference.vertices.write(ctx, 0, &words)?;
+    let drawer = Drawer::new(ctx, renderer.layout(), DrawPath::Fallback)?;
+    let mut target = DrawTarget::new(ctx, w, h, REFERENCE_BACKGROUND)?;
+    let radius = (2.0 * eps).ceil() as i64 + 2;
+    let mut views = Vec::new();
+    for (k, cam) in hole_cameras(&geo.patches).iter().enumerate() {
+        let scale = cam.far as f32;
+        let mut view = View {
+            params: cam.view_params(w, h, eps, lambda),
+            view_proj: cam.view_proj(w, h),
+            light_dir: headlight(cam),
+            shade: SHADE_KEY,
+            distance_scale: scale,
+        };
+        let with = subdivided(ctx, renderer, &view)?;
+        view.params.flags &= !FLAG_WEDGES;
+        let without = subdivided(ctx, renderer, &view)?;
+        view.params.flags |= FLAG_WEDGES;
+
+        reference.set_view(ctx, &view.params)?;
+        let mut shoot = |shade: u32, background: [f32; 4]| -> VkResult<Vec<u8>> {
+            target.clear = background;
+            let mut pc = draw_push(
+                &view.view_proj,
+                view.light_dir,
+                shade,
+                &reference,
+                renderer.scene().count,
+            );
+            pc.light_dir[3] = scale;
+            let layout = renderer.layout();
+            ctx.one_shot(|cmd| {
+                drawer.record_vertices(ctx, cmd, layout, &reference, &target, &pc, vertex_count)
+            })??;
+            target.read_rgba(ctx)
+        };
+        let refimg = shoot(SHADE_KEY, REFERENCE_BACKGROUND)?;
+        let ref_dist = distances(&shoot(SHADE_DISTANCE, [1.0; 4])?, scale);
+
+        let edges = depth_edges(&ref_dist, w as usize, h as usize);
+        let good: Vec<bool> = pixels(&refimg)
+            .zip(&edges)
+            .map(|(p, &e)| p == WHITE && !e)
+            .collect();
+        let inside = erode(&good, w as usize, h as usize, radius);
+        let holes_in = |shot: &Shots| -> Vec<bool> {
+            pixels(&shot.key)
+                .enumerate()
+                .map(|(i, p)| {
+                    inside[i] && p == KEY && shot.distance[i] > ref_dist[i] * (1.0 + SEE_THROUGH)
+                })
+                .collect()
+        };
+        let mask_with = holes_in(&with);
+        let holes = mask_with.iter().filter(|&&x| x).count() as u64;
+        let holes_without = holes_in(&without).iter().filter(|&&x| x).count() as u64;
+        if let (Some(dir), true) = (debug_dir, holes > 0) {
+            let mut marked = with.key.clone();
+            for (i, &m) in mask_with.iter().enumerate() {
+                if m {
+                    marked[4 * i..4 * i + 4].copy_from_slice(&[255, 0, 0, 255]);
+                }
+            }
+            let _ = std::fs::create_dir_all(dir);
+            for (tag, img) in [
+                ("actual", &with.key),
+                ("nowedges", &without.key),
+                ("reference", &refimg),
+                ("holes", &marked),
+            ] {
+                let file = dir.join(format!("{name}-cam{k}-{tag}.png"));
+                if let Err(e) = crate::draw::write_png(&file, w, h, img) {
+                    log::warn!("{e}");
+                }
+            }
+        }
+        views.push(HoleView {
+            camera: k,
+            holes,
+            holes_without_wedges: holes_without,
+            checked_pixels: inside.iter().filter(|&&m| m).count() as u64,
+        });
+    }
+    Ok(views)
+}
+
+/// The subdivided image of `view` in key colours and coded distances.
+fn subdivided(ctx: &Context, renderer: &mut Renderer<'_>, view: &View) -> VkResult<Shots> {
+    renderer.set_background(KEY_BACKGROUND);
+    renderer.render(view, false)?;
+    let key = renderer.target().read_rgba(ctx)?;
+    renderer.set_background([1.0; 4]);
+    let coded = View {
+        shade: SHADE_DISTANCE,
+        ..*view
+    };
+    renderer.render(&coded, false)?;
+    let distance = distances(&renderer.target().read_rgba(ctx)?, view.distance_scale);
+    Ok(Shots { key, distance })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn erosion_shrinks_by_the_radius() {
+        let (w, h) = (21, 21);
+        let mask: Vec<bool> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as i64, (i / w) as i64);
+                (5..16).contains(&x) && (5..16).contains(&y)
+            })
+            .collect();
+        let e = erode(&mask, w, h, 2);
+        let n = e.iter().filter(|&&m| m).count();
+        assert_eq!(n, 7 * 7);
+        assert!(e[10 * w + 10] && !e[10 * w + 6] && e[10 * w + 7]);
+    }
+
+    #[test]
+    fn dense_mesh_has_two_triangles_per_cell() {
+        let p = BezierPatch {
+            pts: [Vec3::ONE; 16],
+        };
+        let words = dense_vertices(&[p, p], 4);
+        assert_eq!(words.len(), 2 * 4 * 4 * 6 * VERTEX_WORDS as usize);
+        // The last vertex of patch 1 is (u, v) = (0, 1) of the last cell... its id is 1.
+        assert_eq!(words[words.len() - 2], 1);
+    }
+}

@@ -1,0 +1,177 @@
+//! The checks behind `validate`: the GPU against the CPU oracle (ready set,
+//! vertex positions bit for bit), the paper's §4.4 reordering test on the
+//! GPU, and the hole test (`holes`).
+
+pub mod holes;
+
+use ash::vk;
+use glam::Vec3;
+
+use crate::constants::*;
+use crate::draw::DrawPath;
+use crate::gpu::{FrameGpu, PushConstants, SceneLayout};
+use crate::patch::bezier::BezierPatch;
+use crate::patch::oracle::node_positions;
+use crate::patch::quadnode::QuadNode;
+use crate::patch::wedge::node_mesh;
+use crate::vk::{Context, Pipeline, ShaderModule, VkResult};
+
+/// One line of the report.
+#[derive(Clone, Debug)]
+pub struct CheckResult {
+    /// What was checked.
+    pub check: String,
+    /// Keyframe, if the check is per frame.
+    pub frame: Option<usize>,
+    /// Passed?
+    pub ok: bool,
+    /// Figures.
+    pub detail: String,
+}
+
+/// Compares the GPU's ready list (any order) with the oracle's.
+pub fn compare_ready(gpu: &[QuadNode], oracle: &[QuadNode]) -> (bool, String) {
+    let mut a = gpu.to_vec();
+    let mut b = oracle.to_vec();
+    a.sort_unstable();
+    b.sort_unstable();
+    if a == b {
+        return (true, format!("{} nodes equal the oracle's", a.len()));
+    }
+    let only_gpu = a.iter().filter(|q| b.binary_search(q).is_err()).count();
+    let only_cpu = b.iter().filter(|q| a.binary_search(q).is_err()).count();
+    (
+        false,
+        format!(
+            "GPU {} nodes, oracle {}: {only_gpu} only on the GPU, {only_cpu} only in the oracle",
+            a.len(),
+            b.len()
+        ),
+    )
+}
+
+fn bits(p: Vec3) -> [u32; 3] {
+    p.to_array().map(f32::to_bits)
+}
+
+/// The vertex slots a node's mesh uses (corners, plus present pivots).
+fn used_slots(node: QuadNode, with_wedges: bool) -> (crate::patch::wedge::NodeMesh, Vec<usize>) {
+    let mesh = node_mesh(node, with_wedges);
+    let mut slots = vec![0, 1, 2, 3];
+    for t in &mesh.tris[2..mesh.tri_count] {
+        slots.push(t[2] as usize);
+    }
+    (mesh, slots)
+}
+
+/// Compares the captured world positions (`capture[6 i + slot]`, one vec4
+/// per slot, in the GPU's ready order) with the oracle's evaluation.
+/// Returns (vertices compared, mismatches).
+pub fn compare_capture(
+    patches: &[BezierPatch],
+    ready: &[QuadNode],
+    capture: &[[f32; 4]],
+    with_wedges: bool,
+) -> (u64, u64) {
+    let mut compared = 0;
+    let mut bad = 0;
+    for (i, &node) in ready.iter().enumerate() {
+        let (mesh, slots) = used_slots(node, with_wedges);
+        let want = node_positions(&patches[node.patch as usize], &mesh);
+        for s in slots {
+            let c = capture[6 * i + s];
+            compared += 1;
+            bad += (bits(Vec3::new(c[0], c[1], c[2])) != bits(want[s])) as u64;
+        }
+    }
+    (compared, bad)
+}
+
+/// Compares the fallback vertex buffer (`VERTICES_PER_NODE` vertices of
+/// `VERTEX_WORDS` words per node, in the GPU's ready order) with the
+/// oracle's triangles; a missing wedge must be a degenerate triangle (three
+/// copies of corner 0). Returns (vertices compared, mismatches).
+pub fn compare_vertices(
+    patches: &[BezierPatch],
+    ready: &[QuadNode],
+    words: &[u32],
+    with_wedges: bool,
+) -> (u64, u64) {
+    let per_node = (VERTICES_PER_NODE * VERTEX_WORDS) as usize;
+    let mut compared = 0;
+    let mut bad = 0;
+    for (i, &node) in ready.iter().enumerate() {
+        let mesh = node_mesh(node, with_wedges);
+        let pos = node_positions(&patches[node.patch as usize], &mesh);
+        // Triangle slots: 0, 1 quad; 2 wedge along u (pivot 4); 3 along v (5).
+        let mut slot_tris = [[0usize; 3]; 4];
+        slot_tris[0] = [0, 1, 2];
+        slot_tris[1] = [0, 2, 3];
+        for t in &mesh.tris[2..mesh.tri_count] {
+            let k = if t[2] == 4 { 2 } else { 3 };
+            slot_tris[k] = t.map(|x| x as usize);
+        }
+        for (t, tri) in slot_tris.iter().enumerate() {
+            for (k, &v) in tri.iter().enumerate() {
+                let o = i * per_node + (3 * t + k) * VERTEX_WORDS as usize;
+                let got = [words[o], words[o + 1], words[o + 2]];
+                compared += 1;
+                bad += (got != bits(pos[v])) as u64;
+            }
+        }
+    }
+    (compared, bad)
+}
+
+/// The §4.4 reordering test over every node of a frame's ready list.
+pub struct ReorderCheck {
+    pipeline: Pipeline,
+}
+
+impl ReorderCheck {
+    /// Creates the pipeline.
+    pub fn new(ctx: &Context, layout: &SceneLayout) -> VkResult<Self> {
+        let shader = ShaderModule::load(ctx, "reorder_check.comp")?;
+        Ok(Self {
+            pipeline: Pipeline::compute(ctx, "reorder check", &layout.layout, &shader, &[])?,
+        })
+    }
+
+    /// Runs over the `ready` nodes of `frame` (after a frame was rendered)
+    /// and returns (nodes checked, nodes failing).
+    pub fn run(
+        &self,
+        ctx: &Context,
+        layout: &SceneLayout,
+        frame: &FrameGpu,
+        ready: u32,
+    ) -> VkResult<(u32, u32)> {
+        let pc = PushConstants {
+            ready_capacity: frame.caps.ready,
+            queue_capacity: frame.caps.queue,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let groups = ready
+            .min(frame.caps.ready)
+            .div_ceil(EXPAND_GROUP_SIZE)
+            .max(1);
+        ctx.one_shot(|cmd| -> VkResult<()> {
+            crate::vk::memory_barrier(ctx, cmd, crate::vk::Access::ALL, crate::vk::Access::ALL);
+            self.pipeline.bind(cmd);
+            frame.bind(ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
+            layout.push(cmd, &pc)?;
+            unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
+            Ok(())
+        })??;
+        let c = frame.read_counters(ctx)?;
+        Ok((c[C_CHECK_NODES as usize], c[C_CHECK_FAILS as usize]))
+    }
+}
+
+/// Where the draw path keeps positions the validator can read.
+pub fn positions_source(path: DrawPath) -> &'static str {
+    match path {
+        DrawPath::Mesh => "mesh-shader capture",
+        DrawPath::Fallback => "fallback vertex buffer",
+    }
+}
