@@ -186,6 +186,21 @@ void write_indirect_args() {
     counters[C_DRAW_ARGS + 1u] = 1u;
     counters[C_DRAW_ARGS + 2u] = 0u;
     counters[C_DRAW_ARGS + 3u] = 0u;
+    // Sorting: the list padded to a power of two, at least one block.
+    uint len = SORT_BLOCK;
+    while (len < n) {
+        len *= 2u;
+    }
+    counters[C_SORT_LENGTH] = len;
+    counters[C_SORT_FILL_ARGS] = (len - n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE;
+    counters[C_SORT_FILL_ARGS + 1u] = 1u;
+    counters[C_SORT_FILL_ARGS + 2u] = 1u;
+    counters[C_SORT_GLOBAL_ARGS] = len / (2u * SORT_GROUP_SIZE);
+    counters[C_SORT_GLOBAL_ARGS + 1u] = 1u;
+    counters[C_SORT_GLOBAL_ARGS + 2u] = 1u;
+    counters[C_SORT_BLOCK_ARGS] = len / SORT_BLOCK;
+    counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
+    counters[C_SORT_BLOCK_ARGS + 2u] = 1u;
 }
 
 void main() {

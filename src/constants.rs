@@ -72,6 +72,12 @@ pub const C_MESH_ARGS: u32 = 32;
 pub const C_EXPAND_ARGS: u32 = 36;
 /// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
 pub const C_DRAW_ARGS: u32 = 40;
+// Sorting the ready list (sort.comp): the padded length, and dispatch
+// arguments for the padding fill, the global and the in-block passes.
+pub const C_SORT_LENGTH: u32 = 44;
+pub const C_SORT_FILL_ARGS: u32 = 48;
+pub const C_SORT_GLOBAL_ARGS: u32 = 52;
+pub const C_SORT_BLOCK_ARGS: u32 = 56;
 pub const COUNTER_WORDS: u32 = 64;
 
 // Error bits in counters[C_ERROR].
@@ -87,6 +93,12 @@ pub const EXPAND_GROUP_SIZE: u32 = 64;
 pub const MESH_NODES: u32 = 32;
 // Mesh workgroups launched by one task workgroup.
 pub const TASK_MESH_GROUPS: u32 = 32;
+
+// Sorting: threads per workgroup; a block of 2 * SORT_GROUP_SIZE entries is
+// sorted in shared memory. Ready-list capacities are powers of two and at
+// least one block.
+pub const SORT_GROUP_SIZE: u32 = 512;
+pub const SORT_BLOCK: u32 = 1024;
 
 // Depth-first stack of one invocation: a subtree of depth L_MAX needs at
 // most 3 * L_MAX + 1 entries.
@@ -110,6 +122,8 @@ pub const SHADE_WEDGES: u32 = 2;
 pub const SHADE_KEY: u32 = 3;
 // Hole test: distance from the eye / pc.light_dir.w as a 24-bit RGB code.
 pub const SHADE_DISTANCE: u32 = 4;
+// Tests: the rasterizer's facing (winding) as is: front white, back key.
+pub const SHADE_FACING: u32 = 5;
 
 /// Every constant above by name, for the test that compares them with the GLSL.
 pub const ALL: &[(&str, u32)] = &[
@@ -162,6 +176,10 @@ pub const ALL: &[(&str, u32)] = &[
     ("C_MESH_ARGS", C_MESH_ARGS),
     ("C_EXPAND_ARGS", C_EXPAND_ARGS),
     ("C_DRAW_ARGS", C_DRAW_ARGS),
+    ("C_SORT_LENGTH", C_SORT_LENGTH),
+    ("C_SORT_FILL_ARGS", C_SORT_FILL_ARGS),
+    ("C_SORT_GLOBAL_ARGS", C_SORT_GLOBAL_ARGS),
+    ("C_SORT_BLOCK_ARGS", C_SORT_BLOCK_ARGS),
     ("COUNTER_WORDS", COUNTER_WORDS),
     ("ERR_ITERATION_CAP", ERR_ITERATION_CAP),
     ("ERR_READY_FULL", ERR_READY_FULL),
@@ -170,6 +188,8 @@ pub const ALL: &[(&str, u32)] = &[
     ("EXPAND_GROUP_SIZE", EXPAND_GROUP_SIZE),
     ("MESH_NODES", MESH_NODES),
     ("TASK_MESH_GROUPS", TASK_MESH_GROUPS),
+    ("SORT_GROUP_SIZE", SORT_GROUP_SIZE),
+    ("SORT_BLOCK", SORT_BLOCK),
     ("STACK_SIZE", STACK_SIZE),
     ("VERTICES_PER_NODE", VERTICES_PER_NODE),
     ("VERTEX_WORDS", VERTEX_WORDS),
@@ -181,4 +201,5 @@ pub const ALL: &[(&str, u32)] = &[
     ("SHADE_WEDGES", SHADE_WEDGES),
     ("SHADE_KEY", SHADE_KEY),
     ("SHADE_DISTANCE", SHADE_DISTANCE),
+    ("SHADE_FACING", SHADE_FACING),
 ];

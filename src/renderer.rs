@@ -8,6 +8,7 @@ use glam::{DMat4, Vec3};
 use crate::constants::ERR_READY_FULL;
 use crate::draw::{draw_push, DrawPath, DrawTarget, Drawer};
 use crate::gpu::{Capacities, FrameGpu, SceneGpu, SceneLayout};
+use crate::methods::sort::ReadySort;
 use crate::methods::subdiv::{GpuSubdivStats, Subdivider};
 use crate::patch::view::ViewParams;
 use crate::scene::file::SceneGeometry;
@@ -24,6 +25,10 @@ pub struct Renderer<'a> {
     scene: SceneGpu,
     frame: FrameGpu,
     subdiv: Subdivider,
+    sort: ReadySort,
+    /// Sort the ready list before drawing (on by default: see
+    /// `methods::sort`; benchmarks may time the method without it).
+    pub sort_ready: bool,
     drawer: Drawer,
     target: DrawTarget,
     timer: GpuTimer,
@@ -70,8 +75,14 @@ impl<'a> Renderer<'a> {
         let layout = SceneLayout::new(ctx)?;
         let scene = SceneGpu::upload(ctx, &geo.patches, &geo.flags)?;
         caps.vertices = path == DrawPath::Fallback;
+        // The sort pass works on power-of-two lists of at least one block.
+        caps.ready = caps
+            .ready
+            .max(crate::constants::SORT_BLOCK)
+            .next_power_of_two();
         let frame = FrameGpu::new(ctx, &layout, &scene, caps)?;
         let subdiv = Subdivider::new(ctx, &layout, groups)?;
+        let sort = ReadySort::new(ctx, &layout)?;
         let drawer = Drawer::new(ctx, &layout, path)?;
         let target = DrawTarget::new(ctx, size.0, size.1, background)?;
         let timer = GpuTimer::new(ctx, 8)?;
@@ -81,6 +92,8 @@ impl<'a> Renderer<'a> {
             scene,
             frame,
             subdiv,
+            sort,
+            sort_ready: true,
             drawer,
             target,
             timer,
@@ -185,6 +198,7 @@ impl<'a> Renderer<'a> {
         );
         pc.capture_enabled = self.frame.caps.capture as u32;
         pc.light_dir[3] = view.distance_scale;
+        let sort = self.sort_ready.then_some(&self.sort);
         let (subdiv, drawer, layout, scene, frame, target, timer) = (
             &self.subdiv,
             &self.drawer,
@@ -198,6 +212,9 @@ impl<'a> Renderer<'a> {
             timer.reset(cmd);
             timer.begin(cmd, "frame")?;
             subdiv.record(ctx, cmd, layout, scene, frame, Some(&mut *timer))?;
+            if let Some(sort) = sort {
+                sort.record(ctx, cmd, layout, frame, Some(&mut *timer))?;
+            }
             drawer.record(ctx, cmd, layout, frame, target, &pc, Some(&mut *timer))?;
             timer.end(cmd, "frame")?;
             Ok(())

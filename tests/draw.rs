@@ -150,9 +150,9 @@ fn wedges_off_drops_the_wedges() {
     ctx.finish();
 }
 
-/// SHADE_KEY: a closed model with outward normals (checked on the CPU) shows
-/// front faces (white) from outside and back faces (green) from inside, with
-/// no background inside the outline, except on folded wedges: the
+/// SHADE_FACING: a closed model with outward normals (checked on the CPU)
+/// shows front faces (white) from outside and back faces (green) from inside,
+/// with no background inside the outline, except on folded wedges: the
 /// front-face setting matches the triangles' winding and there are no holes.
 #[test]
 fn key_shading_shows_the_winding() {
@@ -183,7 +183,7 @@ fn key_shading_shows_the_winding() {
             case.name
         );
         let wedges = both_paths(&ctx, &rig, case, SHADE_WEDGES);
-        let keys = both_paths(&ctx, &rig, case, SHADE_KEY);
+        let keys = both_paths(&ctx, &rig, case, SHADE_FACING);
         for (k, w) in keys.iter().zip(&wedges) {
             let (white, green) = (count_pixels(&k.rgba, WHITE), count_pixels(&k.rgba, GREEN));
             let bg = count_pixels(&k.rgba, BG_RGBA);

@@ -73,6 +73,12 @@ const uint IN_FLIGHT_TICK = 0x1000000;
 const uint C_MESH_ARGS = 32;      // vkCmdDrawMeshTasksIndirectEXT: x, y, z
 const uint C_EXPAND_ARGS = 36;    // vkCmdDispatchIndirect: x, y, z
 const uint C_DRAW_ARGS = 40;      // vkCmdDrawIndirect: vertices, instances, first vertex, first instance
+// Sorting the ready list (sort.comp): the padded length, and dispatch
+// arguments for the padding fill, the global and the in-block passes.
+const uint C_SORT_LENGTH = 44;
+const uint C_SORT_FILL_ARGS = 48;
+const uint C_SORT_GLOBAL_ARGS = 52;
+const uint C_SORT_BLOCK_ARGS = 56;
 const uint COUNTER_WORDS = 64;
 
 // Error bits in counters[C_ERROR].
@@ -88,6 +94,12 @@ const uint EXPAND_GROUP_SIZE = 64;
 const uint MESH_NODES = 32;
 // Mesh workgroups launched by one task workgroup.
 const uint TASK_MESH_GROUPS = 32;
+
+// Sorting: threads per workgroup; a block of 2 * SORT_GROUP_SIZE entries is
+// sorted in shared memory. Ready-list capacities are powers of two and at
+// least one block.
+const uint SORT_GROUP_SIZE = 512;
+const uint SORT_BLOCK = 1024;
 
 // Depth-first stack of one invocation: a subtree of depth L_MAX needs at
 // most 3 * L_MAX + 1 entries.
@@ -111,5 +123,7 @@ const uint SHADE_WEDGES = 2;
 const uint SHADE_KEY = 3;
 // Hole test: distance from the eye / pc.light_dir.w as a 24-bit RGB code.
 const uint SHADE_DISTANCE = 4;
+// Tests: the rasterizer's facing (winding) as is: front white, back key.
+const uint SHADE_FACING = 5;
 
 #endif

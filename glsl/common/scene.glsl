@@ -22,8 +22,12 @@ layout(std430, set = 0, binding = BIND_PATCH_FLAGS) readonly buffer PatchFlags {
     uint patch_flags[];
 };
 
-#ifdef USE_READY_WRITE
+#if defined(USE_READY_WRITE)
 layout(std430, set = 0, binding = BIND_READY) writeonly buffer Ready {
+    uvec2 ready[];
+};
+#elif defined(USE_READY_RW)
+layout(std430, set = 0, binding = BIND_READY) buffer Ready {
     uvec2 ready[];
 };
 #else
@@ -74,8 +78,10 @@ layout(push_constant) uniform Push {
     uint patch_count;      // base patches
     uint idle_poll_cap;    // subdivide: polls without progress before giving up
     uint capture_enabled;  // draw: write world positions to `capture`
+    uint sort_mode;        // sort.comp: which pass
+    uint sort_k;           // sort.comp: bitonic stage
+    uint sort_j;           // sort.comp: compare distance
     uint pad0;
-    uint pad1;
 } pc;
 
 // The base patch's 16 control points.

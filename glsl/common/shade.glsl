@@ -75,6 +75,9 @@ vec3 depth_color(uint depth) {
 }
 
 vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool front) {
+    if (pc.shade == SHADE_FACING) {
+        return vec4(front ? KEY_FRONT : KEY_BACK, 1.0);
+    }
     vec3 to_eye = view.eye.xyz - world;
     if (pc.shade == SHADE_DISTANCE) {
         float d = clamp(length(to_eye) / pc.light_dir.w, 0.0, 1.0);

@@ -478,7 +478,6 @@ pub fn draw_push(
         queue_capacity: frame.caps.queue,
         patch_count,
         idle_poll_cap: 0,
-        capture_enabled: 0,
-        pad: [0; 2],
+        ..bytemuck::Zeroable::zeroed()
     }
 }

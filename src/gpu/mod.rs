@@ -36,8 +36,14 @@ pub struct PushConstants {
     pub idle_poll_cap: u32,
     /// Draw: write world positions to the capture buffer.
     pub capture_enabled: u32,
+    /// Sort: which pass (`sort.comp`).
+    pub sort_mode: u32,
+    /// Sort: bitonic stage.
+    pub sort_k: u32,
+    /// Sort: compare distance.
+    pub sort_j: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 /// Bytes of [`PushConstants`].
@@ -135,6 +141,26 @@ pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
         (C_DRAW_ARGS + 1, 1),
         (C_DRAW_ARGS + 2, 0),
         (C_DRAW_ARGS + 3, 0),
+    ]
+    .into_iter()
+    .chain(sort_args(ready))
+    .collect()
+}
+
+/// The sort pass's arguments for `ready` nodes (see `glsl/sort.comp`).
+fn sort_args(ready: u32) -> Vec<(u32, u32)> {
+    let len = ready.max(SORT_BLOCK).next_power_of_two();
+    vec![
+        (C_SORT_LENGTH, len),
+        (C_SORT_FILL_ARGS, (len - ready).div_ceil(SORT_GROUP_SIZE)),
+        (C_SORT_FILL_ARGS + 1, 1),
+        (C_SORT_FILL_ARGS + 2, 1),
+        (C_SORT_GLOBAL_ARGS, len / (2 * SORT_GROUP_SIZE)),
+        (C_SORT_GLOBAL_ARGS + 1, 1),
+        (C_SORT_GLOBAL_ARGS + 2, 1),
+        (C_SORT_BLOCK_ARGS, len / SORT_BLOCK),
+        (C_SORT_BLOCK_ARGS + 1, 1),
+        (C_SORT_BLOCK_ARGS + 2, 1),
     ]
 }
 

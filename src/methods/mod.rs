@@ -4,6 +4,7 @@
 //! version of the paper), and, arriving later, `subdiv-indirect`, `tess`,
 //! `tess-reparam`, `cudatess`, `ground-truth`.
 
+pub mod sort;
 pub mod subdiv;
 
 /// A method the user can name.

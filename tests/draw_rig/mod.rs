@@ -404,7 +404,7 @@ pub fn signed_volume(case: &Case) -> f64 {
         .sum()
 }
 
-/// Pixels of `colour` in a SHADE_KEY image `key` that neither lie on a
+/// Pixels of `colour` in a SHADE_FACING image `key` that neither lie on a
 /// wedge (per the SHADE_WEDGES image `wedges` of the same view) nor touch the
 /// background. A wedge's facing says nothing about the winding: where the
 /// fine polyline dips below the coarse chord (saddles) the wedge folds over

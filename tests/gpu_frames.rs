@@ -1,0 +1,240 @@
+//! Whole GPU frames (subdivision kernel + draw) on lavapipe with the
+//! validation layer on: quads and vertex bits against the oracle over a grid
+//! of ε and λ on both draw paths, the two paths' images, determinism, a tiny
+//! queue, and hostile cameras. One device and one set of pipelines per path
+//! for the whole binary.
+
+mod common;
+
+use std::path::Path;
+
+use bezier_subdiv::constants::*;
+use bezier_subdiv::draw::{headlight, DrawPath};
+use bezier_subdiv::gpu::Capacities;
+use bezier_subdiv::patch::oracle::subdivide_parallel;
+use bezier_subdiv::patch::quadnode::QuadNode;
+use bezier_subdiv::renderer::{Renderer, View};
+use bezier_subdiv::scene::camera::Camera;
+use bezier_subdiv::scene::file::{Scene, SceneGeometry};
+use bezier_subdiv::validate::{compare_capture, compare_ready, compare_vertices};
+use bezier_subdiv::vk::Context;
+
+const SIZE: (u32, u32) = (320, 180);
+
+fn scene(name: &str) -> (Scene, SceneGeometry) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let s = Scene::load(&path).unwrap();
+    let g = s.geometry().unwrap();
+    (s, g)
+}
+
+fn view(cam: &Camera, eps: f64, lambda: f64, shade: u32) -> View {
+    View {
+        params: cam.view_params(SIZE.0, SIZE.1, eps, lambda),
+        view_proj: cam.view_proj(SIZE.0, SIZE.1),
+        light_dir: headlight(cam),
+        shade,
+        distance_scale: 0.0,
+    }
+}
+
+/// Renders `v` and checks quads and vertex bits against the oracle;
+/// returns the GPU ready list (in GPU order) and the image.
+fn check_frame(
+    ctx: &Context,
+    r: &mut Renderer<'_>,
+    geo: &SceneGeometry,
+    v: &View,
+    what: &str,
+) -> (Vec<QuadNode>, Vec<u8>) {
+    let report = r.render(v, true).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let ready = r.frame().read_ready(ctx, report.stats.ready_quads).unwrap();
+    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &v.params, 2);
+    let (ok, detail) = compare_ready(&ready, &oracle.ready);
+    assert!(ok, "{what}: {detail}");
+    let wedges = v.params.flags & FLAG_WEDGES != 0;
+    let capture: Vec<[f32; 4]> = r.frame().capture.read(ctx).unwrap();
+    let (n, bad) = compare_capture(&geo.patches, &ready, &capture, wedges);
+    assert_eq!(bad, 0, "{what}: {bad} of {n} captured positions differ");
+    if r.path() == DrawPath::Fallback {
+        let words: Vec<u32> = r.frame().vertices.read(ctx).unwrap();
+        let (n, bad) = compare_vertices(&geo.patches, &ready, &words, wedges);
+        assert_eq!(bad, 0, "{what}: {bad} of {n} fallback vertices differ");
+    }
+    let img = r.target().read_rgba(ctx).unwrap();
+    (ready, img)
+}
+
+fn differing_pixels(a: &[u8], b: &[u8]) -> usize {
+    a.chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .filter(|(x, y)| x != y)
+        .count()
+}
+
+#[test]
+fn grid_of_eps_and_lambda_on_both_paths() {
+    let gpu = common::gpu();
+    let (teapot, teapot_geo) = scene("teapot.toml");
+    let (kitchen, kitchen_geo) = scene("kitchen.toml");
+    let bg = [0.1, 0.1, 0.1, 1.0];
+    let mut mesh = Renderer::new(
+        &gpu,
+        &teapot_geo,
+        DrawPath::Mesh,
+        Capacities::default(),
+        SIZE,
+        bg,
+        None,
+    )
+    .unwrap();
+    let mut fallback = Renderer::new(
+        &gpu,
+        &teapot_geo,
+        DrawPath::Fallback,
+        Capacities::default(),
+        SIZE,
+        bg,
+        None,
+    )
+    .unwrap();
+    let total = (SIZE.0 * SIZE.1) as usize;
+    let mut worst = 0usize;
+    for (s, geo) in [(&teapot, &teapot_geo), (&kitchen, &kitchen_geo)] {
+        mesh.set_geometry(geo).unwrap();
+        fallback.set_geometry(geo).unwrap();
+        for frame in [0, s.frame_count() - 1] {
+            let cam = s.frame_camera(frame).unwrap();
+            for eps in [0.5, 1.0, 2.0] {
+                for lambda in [0.0, 0.5, 1.0] {
+                    let v = view(&cam, eps, lambda, SHADE_NORMAL);
+                    let what = format!("{} frame {frame} eps {eps} lambda {lambda}", s.name);
+                    let (_, a) = check_frame(&gpu, &mut mesh, geo, &v, &format!("{what} mesh"));
+                    let (_, b) =
+                        check_frame(&gpu, &mut fallback, geo, &v, &format!("{what} fallback"));
+                    let diff = differing_pixels(&a, &b);
+                    worst = worst.max(diff);
+                    assert!(
+                        diff * 1000 <= total,
+                        "{what}: paths differ in {diff} of {total} pixels"
+                    );
+                }
+            }
+        }
+    }
+    println!("mesh vs fallback images: at most {worst} of {total} pixels differ");
+    gpu.finish();
+}
+
+/// The same frame twice gives the same image, and a queue of a few dozen
+/// entries (stressed so that it overflows) gives the same ready set and
+/// image as the default budget.
+#[test]
+fn determinism_and_tiny_queue() {
+    let gpu = common::gpu();
+    let (s, geo) = scene("kitchen.toml");
+    let cam = s.frame_camera(0).unwrap();
+    let v = view(&cam, 1.0, 0.5, SHADE_NORMAL);
+    let bg = [0.1, 0.1, 0.1, 1.0];
+    let mut r = Renderer::new(
+        &gpu,
+        &geo,
+        DrawPath::Mesh,
+        Capacities::default(),
+        SIZE,
+        bg,
+        None,
+    )
+    .unwrap();
+    let (mut ready_a, img_a) = check_frame(&gpu, &mut r, &geo, &v, "first");
+    let (_, img_b) = check_frame(&gpu, &mut r, &geo, &v, "second");
+    assert_eq!(
+        differing_pixels(&img_a, &img_b),
+        0,
+        "the same frame rendered twice differs"
+    );
+
+    let tiny = Capacities {
+        queue: 24,
+        ..Capacities::default()
+    };
+    let mut small = Renderer::new(&gpu, &geo, DrawPath::Mesh, tiny, SIZE, bg, None).unwrap();
+    let mut stressed = v;
+    stressed.params.flags |= FLAG_QUEUE_STRESS;
+    let report = small.render(&stressed, true).unwrap();
+    assert!(report.stats.queue_spills > 0, "{:?}", report.stats);
+    assert!(report.stats.queue_peak_items <= 24);
+    let (mut ready_b, img_c) = check_frame(&gpu, &mut small, &geo, &stressed, "tiny queue");
+    ready_a.sort();
+    ready_b.sort();
+    assert!(ready_a == ready_b);
+    let diff = differing_pixels(&img_a, &img_c);
+    println!(
+        "tiny queue: {} spills, peak {}; image differs from the default budget in {diff} pixels",
+        report.stats.queue_spills, report.stats.queue_peak_items
+    );
+    assert_eq!(diff, 0);
+    gpu.finish();
+}
+
+/// Degenerate patches, a camera inside the model and a camera with patches
+/// behind it: no error, no NaN, the oracle's result.
+#[test]
+fn hostile_cameras() {
+    let gpu = common::gpu();
+    let (teapot, geo) = scene("teapot.toml");
+    let bg = [0.1, 0.1, 0.1, 1.0];
+    let mut r = Renderer::new(
+        &gpu,
+        &geo,
+        DrawPath::Mesh,
+        Capacities::default(),
+        SIZE,
+        bg,
+        None,
+    )
+    .unwrap();
+    let base = teapot.camera;
+    let cams = [
+        // Under the teapot, looking at the collapsed bottom edge.
+        Camera {
+            position: [0.3, -0.2, -3.0],
+            target: [0.0, 0.0, 0.0],
+            ..base
+        },
+        // Onto the lid's apex, where another edge collapses.
+        Camera {
+            position: [0.1, 0.2, 6.0],
+            target: [0.0, 0.0, 3.1],
+            up: [0.0, 1.0, 0.0],
+            ..base
+        },
+        // Inside the body.
+        Camera {
+            position: [0.0, 0.0, 1.2],
+            target: [1.0, 0.3, 1.3],
+            ..base
+        },
+        // In the spout's mouth, most patches behind or beside the camera.
+        Camera {
+            position: [3.2, 0.0, 2.3],
+            target: [-2.0, 0.0, 1.0],
+            near: 0.001,
+            ..base
+        },
+    ];
+    for (k, cam) in cams.iter().enumerate() {
+        let v = view(cam, 1.0, 0.5, SHADE_NORMAL);
+        let (ready, _) = check_frame(&gpu, &mut r, &geo, &v, &format!("camera {k}"));
+        let capture: Vec<[f32; 4]> = r.frame().capture.read(&gpu).unwrap();
+        let used = &capture[..6 * ready.len()];
+        assert!(
+            used.iter().flatten().all(|x| !x.is_nan()),
+            "camera {k}: NaN position"
+        );
+        println!("camera {k}: {} ready quads", ready.len());
+    }
+    gpu.finish();
+}
