@@ -8,6 +8,7 @@ pub mod draw;
 pub mod gpu;
 pub mod methods;
 pub mod patch;
+pub mod raster;
 pub mod renderer;
 pub mod scene;
 pub mod validate;

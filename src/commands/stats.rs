@@ -7,9 +7,15 @@ use anyhow::{anyhow, Context as _};
 use serde::Serialize;
 
 use super::thousands;
-use crate::patch::oracle::{subdivide_parallel, triangle_counts};
+use crate::patch::oracle::{subdivide_parallel, triangle_counts, triangulate};
 use crate::patch::view::{FLAGS_DEFAULT, FLAG_WEDGES};
+use crate::raster::{temp_sibling, PreviewShade, Raster};
 use crate::scene::file::Scene;
+
+/// Background of preview images.
+const PREVIEW_BACKGROUND: [u8; 4] = [38, 42, 50, 255];
+/// Ready nodes triangulated per batch while drawing a preview (bounds memory).
+const PREVIEW_BATCH: usize = 1 << 16;
 
 /// What `stats` is asked for.
 #[derive(Clone, Debug)]
@@ -26,6 +32,10 @@ pub struct StatsArgs {
     pub size: (u32, u32),
     /// `FLAG_*` bits for the view.
     pub flags: u32,
+    /// Write a CPU-rasterised preview of the ready nodes here (PNG).
+    pub preview: Option<PathBuf>,
+    /// What the preview's colours show.
+    pub preview_shade: PreviewShade,
 }
 
 impl StatsArgs {
@@ -38,6 +48,8 @@ impl StatsArgs {
             lambda: None,
             size: (1920, 1080),
             flags: FLAGS_DEFAULT,
+            preview: None,
+            preview_shade: PreviewShade::Normal,
         }
     }
 }
@@ -81,6 +93,8 @@ pub struct StatsReport {
     pub nodes_processed: u64,
     /// Wall time of the oracle run (CPU), seconds.
     pub oracle_seconds: f64,
+    /// The preview image written, if one was asked for.
+    pub preview: Option<String>,
 }
 
 impl StatsReport {
@@ -132,6 +146,9 @@ impl StatsReport {
 
 /// Runs the oracle for one view of a scene.
 pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
+    if let Some(p) = &args.preview {
+        check_writable(p)?;
+    }
     let scene = Scene::load(&args.scene)?;
     let camera = scene.frame_camera(args.frame).ok_or_else(|| {
         anyhow!(
@@ -155,6 +172,23 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, threads);
     let (triangles, wedge_triangles) = triangle_counts(&res.ready, vp.has(FLAG_WEDGES));
     let oracle_seconds = start.elapsed().as_secs_f64();
+    if let Some(path) = &args.preview {
+        let view_proj = camera.view_proj(w, h);
+        let mut img = Raster::new(w, h, PREVIEW_BACKGROUND);
+        for batch in res.ready.chunks(PREVIEW_BATCH) {
+            let tris = triangulate(&geo.patches, batch, vp.has(FLAG_WEDGES));
+            img.draw_triangles(
+                &tris,
+                &geo.patches,
+                &geo.flags,
+                &view_proj,
+                vp.eye.truncate(),
+                args.preview_shade,
+            );
+        }
+        img.save_png(path)
+            .with_context(|| format!("saving the preview {}", path.display()))?;
+    }
     let s = res.stats;
     Ok(StatsReport {
         scene: args.scene.display().to_string(),
@@ -175,7 +209,36 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
         nodes_at_lmax: s.nodes_at_lmax,
         nodes_processed: s.nodes_processed,
         oracle_seconds,
+        preview: args.preview.as_ref().map(|p| p.display().to_string()),
     })
+}
+
+/// Fails early, with the path in the message, when a file cannot be written
+/// at `path`: its directory must exist and accept a new file.
+pub fn check_writable(path: &std::path::Path) -> anyhow::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.is_dir() {
+        return Err(anyhow!(
+            "cannot write {}: the directory {} does not exist",
+            path.display(),
+            dir.display()
+        ));
+    }
+    if path.is_dir() {
+        return Err(anyhow!(
+            "cannot write {}: it is a directory",
+            path.display()
+        ));
+    }
+    let probe = temp_sibling(path);
+    std::fs::File::create(&probe)
+        .map(drop)
+        .with_context(|| format!("cannot write {} (directory not writable?)", path.display()))?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
 }
 
 /// Refuses ε ≤ 0 and λ outside [0, 1] with a sentence.

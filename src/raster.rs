@@ -1,0 +1,779 @@
+//! A small CPU z-buffer rasterizer for the oracle's triangles: a way to look
+//! at what the oracle produced without a GPU, and later a reference to
+//! compare GPU images with.
+//!
+//! Vertices go through the Vulkan-convention `view_proj` (clip space y down,
+//! depth in [0, 1]), are clipped in homogeneous space against the near plane
+//! (z ≥ 0) and a guard band (|x|, |y| ≤ 8w), then snapped to a fixed-point
+//! grid of 1/256 pixel. Coverage uses exact integer edge functions at pixel
+//! centres with a top-left fill rule, so two triangles sharing an edge cover
+//! each pixel centre on it exactly once. Depth test: LESS on z_ndc, buffer
+//! cleared to 1. Single-threaded and deterministic.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use anyhow::Context as _;
+use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
+
+use crate::constants::{PATCH_MODEL_SHIFT, PATCH_TWO_SIDED};
+use crate::patch::bezier::BezierPatch;
+use crate::patch::oracle::Triangle;
+
+/// Fixed-point subpixel bits of the snapped vertex positions.
+const SUB_BITS: u32 = 8;
+const SUB: i64 = 1 << SUB_BITS;
+/// Guard band in NDC units: triangles are clipped to |x|, |y| ≤ GUARD·w, which
+/// bounds snapped coordinates (and edge-function products) well inside i64.
+const GUARD: f64 = 8.0;
+
+/// What the preview colours encode.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PreviewShade {
+    /// Lambert + ambient with the base patch's true normal at each pixel's
+    /// (u, v), tinted per model. Two-sided patches are lit from the side the
+    /// viewer sees; a one-sided patch seen from behind is tinted dark red (it
+    /// should have been hidden or culled, so it shows orientation mistakes).
+    #[default]
+    Normal,
+    /// Heat map of the QuadNode depth, 0 (dark blue) … 10 (dark red), flat per
+    /// triangle with a little face shading to keep shapes readable.
+    Depth,
+    /// The depth map darkened, with crack-closing wedge triangles in magenta.
+    Wedges,
+}
+
+impl PreviewShade {
+    /// Every mode with its command-line name.
+    pub const ALL: [(PreviewShade, &'static str); 3] = [
+        (PreviewShade::Normal, "normal"),
+        (PreviewShade::Depth, "depth"),
+        (PreviewShade::Wedges, "wedges"),
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(s, _)| *s == self)
+            .map_or("?", |x| x.1)
+    }
+}
+
+impl fmt::Display for PreviewShade {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for PreviewShade {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .iter()
+            .find(|(_, n)| n.eq_ignore_ascii_case(s.trim()))
+            .map(|x| x.0)
+            .ok_or_else(|| format!("unknown preview shade '{s}': expected normal, depth or wedges"))
+    }
+}
+
+/// Per-model tints (linear RGB), cycled by model index.
+const PALETTE: [[f32; 3]; 12] = [
+    [0.62, 0.60, 0.56],
+    [0.55, 0.33, 0.18],
+    [0.85, 0.80, 0.68],
+    [0.22, 0.20, 0.22],
+    [0.92, 0.90, 0.86],
+    [0.86, 0.78, 0.60],
+    [0.28, 0.26, 0.30],
+    [0.80, 0.50, 0.30],
+    [0.20, 0.45, 0.80],
+    [0.80, 0.18, 0.15],
+    [0.60, 0.48, 0.30],
+    [0.35, 0.65, 0.40],
+];
+
+/// QuadNode depth 0..=10 as a turbo-like ramp (sRGB): dark blue, blue, cyan,
+/// green, yellow, orange, red, dark red.
+const DEPTH_RAMP: [[u8; 3]; 11] = [
+    [48, 18, 59],
+    [67, 85, 200],
+    [62, 150, 250],
+    [30, 200, 220],
+    [40, 235, 160],
+    [120, 250, 90],
+    [195, 240, 50],
+    [245, 200, 50],
+    [250, 135, 35],
+    [215, 60, 15],
+    [130, 10, 5],
+];
+
+/// The colour of QuadNode depth `l` in the depth ramp (clamped to 10).
+pub fn depth_color(l: u32) -> [u8; 3] {
+    DEPTH_RAMP[(l as usize).min(DEPTH_RAMP.len() - 1)]
+}
+
+const WEDGE_COLOR: [u8; 3] = [255, 0, 255];
+
+/// A colour image with a depth buffer.
+#[derive(Clone, Debug)]
+pub struct Raster {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// RGBA8 (sRGB) pixels, row-major from the top-left.
+    pub color: Vec<[u8; 4]>,
+    /// z_ndc of the nearest surface per pixel; 1 where nothing was drawn.
+    pub depth: Vec<f32>,
+}
+
+/// One vertex during clipping: clip position plus the attributes that are
+/// interpolated perspective-correctly.
+#[derive(Clone, Copy, Debug)]
+struct ClipVert {
+    pos: DVec4,
+    uv: DVec2,
+    world: DVec3,
+}
+
+impl ClipVert {
+    fn lerp(self, o: ClipVert, t: f64) -> ClipVert {
+        ClipVert {
+            pos: self.pos + (o.pos - self.pos) * t,
+            uv: self.uv + (o.uv - self.uv) * t,
+            world: self.world + (o.world - self.world) * t,
+        }
+    }
+}
+
+/// A convex polygon of at most 8 vertices (a triangle clipped by 5 planes).
+#[derive(Clone, Copy)]
+struct Poly {
+    v: [ClipVert; 8],
+    n: usize,
+}
+
+impl Poly {
+    fn push(&mut self, v: ClipVert) {
+        self.v[self.n] = v;
+        self.n += 1;
+    }
+}
+
+/// The signed distances of the clip planes: near (z ≥ 0) and the guard band.
+fn plane_distance(plane: usize, p: DVec4) -> f64 {
+    match plane {
+        0 => p.z,
+        1 => GUARD * p.w - p.x,
+        2 => GUARD * p.w + p.x,
+        3 => GUARD * p.w - p.y,
+        _ => GUARD * p.w + p.y,
+    }
+}
+
+/// Sutherland–Hodgman against one plane. The intersection is always
+/// computed from the inside vertex towards the outside one, so two triangles
+/// sharing a clipped edge get the same new vertex.
+fn clip_poly(src: &Poly, plane: usize) -> Poly {
+    let mut out = Poly { v: src.v, n: 0 };
+    for i in 0..src.n {
+        let a = src.v[i];
+        let b = src.v[(i + 1) % src.n];
+        let (da, db) = (plane_distance(plane, a.pos), plane_distance(plane, b.pos));
+        let (ia, ib) = (da >= 0.0, db >= 0.0);
+        if ia {
+            out.push(a);
+        }
+        if ia != ib {
+            let (inside, outside, di, dout) = if ia { (a, b, da, db) } else { (b, a, db, da) };
+            out.push(inside.lerp(outside, di / (di - dout)));
+        }
+    }
+    out
+}
+
+/// A vertex after the perspective divide, snapped to the subpixel grid.
+#[derive(Clone, Copy, Debug)]
+struct ScreenVert {
+    x: i64,
+    y: i64,
+    /// z_ndc.
+    z: f64,
+    /// 1 / w_clip.
+    inv_w: f64,
+    uv: DVec2,
+    world: DVec3,
+}
+
+fn to_screen(v: &ClipVert, width: u32, height: u32) -> ScreenVert {
+    let inv_w = 1.0 / v.pos.w;
+    let sx = (v.pos.x * inv_w * 0.5 + 0.5) * width as f64;
+    let sy = (v.pos.y * inv_w * 0.5 + 0.5) * height as f64;
+    ScreenVert {
+        x: (sx * SUB as f64).round() as i64,
+        y: (sy * SUB as f64).round() as i64,
+        z: v.pos.z * inv_w,
+        inv_w,
+        uv: v.uv,
+        world: v.world,
+    }
+}
+
+/// One covered pixel centre of a triangle.
+#[derive(Clone, Copy, Debug)]
+struct Fragment {
+    x: u32,
+    y: u32,
+    /// z_ndc (linear in screen space).
+    z: f64,
+    /// Perspective-correct parameter coordinates.
+    uv: DVec2,
+    /// Perspective-correct world position.
+    world: DVec3,
+}
+
+/// Edge function of edge a→b at p, in subpixel² units: positive on the
+/// interior side of a triangle with positive area.
+fn edge(a: &ScreenVert, b: &ScreenVert, px: i64, py: i64) -> i64 {
+    (b.x - a.x) * (py - a.y) - (b.y - a.y) * (px - a.x)
+}
+
+/// Top-left rule for the edge a→b of a positive-area triangle (screen y
+/// down): a left edge runs upwards, a top edge is horizontal running right.
+fn is_top_left(a: &ScreenVert, b: &ScreenVert) -> bool {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    dy < 0 || (dy == 0 && dx > 0)
+}
+
+/// Calls `frag` for every pixel centre a clip-space triangle covers, after
+/// near-plane and guard-band clipping. Either winding is drawn.
+fn rasterize(tri: [ClipVert; 3], width: u32, height: u32, mut frag: impl FnMut(Fragment)) {
+    // Finite input only: a NaN would survive every comparison below.
+    if !tri.iter().all(|v| v.pos.is_finite()) {
+        return;
+    }
+    let mut poly = Poly {
+        v: [tri[0]; 8],
+        n: 0,
+    };
+    for v in tri {
+        poly.push(v);
+    }
+    let all_inside = tri
+        .iter()
+        .all(|v| (0..5).all(|p| plane_distance(p, v.pos) >= 0.0));
+    if !all_inside {
+        for plane in 0..5 {
+            poly = clip_poly(&poly, plane);
+            if poly.n < 3 {
+                return;
+            }
+        }
+    }
+    // z ≥ 0 after clipping implies w ≥ near > 0 for a perspective projection;
+    // the check guards against other matrices.
+    if poly.v[..poly.n].iter().any(|v| v.pos.w <= 1e-12) {
+        return;
+    }
+    let s: Vec<ScreenVert> = poly.v[..poly.n]
+        .iter()
+        .map(|v| to_screen(v, width, height))
+        .collect();
+    for k in 1..poly.n - 1 {
+        raster_screen_triangle([s[0], s[k], s[k + 1]], width, height, &mut frag);
+    }
+}
+
+fn raster_screen_triangle(
+    mut t: [ScreenVert; 3],
+    width: u32,
+    height: u32,
+    frag: &mut impl FnMut(Fragment),
+) {
+    let mut area = edge(&t[0], &t[1], t[2].x, t[2].y);
+    if area == 0 {
+        return;
+    }
+    if area < 0 {
+        t.swap(1, 2);
+        area = -area;
+    }
+    // Pixel range whose centres (i + 1/2) can lie inside the bounding box.
+    let (half, last_x, last_y) = (SUB / 2, width as i64 - 1, height as i64 - 1);
+    let lo = |c: i64| (c - half).div_euclid(SUB) + ((c - half).rem_euclid(SUB) != 0) as i64;
+    let hi = |c: i64| (c - half).div_euclid(SUB);
+    let x0 = lo(t.iter().map(|v| v.x).min().unwrap()).max(0);
+    let x1 = hi(t.iter().map(|v| v.x).max().unwrap()).min(last_x);
+    let y0 = lo(t.iter().map(|v| v.y).min().unwrap()).max(0);
+    let y1 = hi(t.iter().map(|v| v.y).max().unwrap()).min(last_y);
+    if x0 > x1 || y0 > y1 {
+        return;
+    }
+    // Edge k is opposite vertex k; its bias makes "on the edge" count only
+    // for top and left edges.
+    let edges = [(1, 2), (2, 0), (0, 1)];
+    let bias = edges.map(|(a, b)| if is_top_left(&t[a], &t[b]) { 0 } else { -1 });
+    let inv_area = 1.0 / area as f64;
+    for py in y0..=y1 {
+        let cy = py * SUB + half;
+        for px in x0..=x1 {
+            let cx = px * SUB + half;
+            let w = edges.map(|(a, b)| edge(&t[a], &t[b], cx, cy));
+            if (0..3).any(|k| w[k] + bias[k] < 0) {
+                continue;
+            }
+            let b = w.map(|x| x as f64 * inv_area);
+            let z = b[0] * t[0].z + b[1] * t[1].z + b[2] * t[2].z;
+            let q = [0, 1, 2].map(|k| b[k] * t[k].inv_w);
+            let inv_sum = 1.0 / (q[0] + q[1] + q[2]);
+            let uv = (t[0].uv * q[0] + t[1].uv * q[1] + t[2].uv * q[2]) * inv_sum;
+            let world = (t[0].world * q[0] + t[1].world * q[1] + t[2].world * q[2]) * inv_sum;
+            frag(Fragment {
+                x: px as u32,
+                y: py as u32,
+                z,
+                uv,
+                world,
+            });
+        }
+    }
+}
+
+/// Linear [0, 1] → sRGB-ish 8 bit (gamma 2.2).
+fn to_srgb8(c: [f32; 3]) -> [u8; 4] {
+    let f = |x: f32| (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8;
+    [f(c[0]), f(c[1]), f(c[2]), 255]
+}
+
+fn scale_rgb(c: [u8; 3], k: f32) -> [u8; 4] {
+    let f = |x: u8| (x as f32 * k).clamp(0.0, 255.0).round() as u8;
+    [f(c[0]), f(c[1]), f(c[2]), 255]
+}
+
+/// World light direction (z up), from the front-left above.
+fn light_dir() -> DVec3 {
+    DVec3::new(0.35, -0.55, 1.0).normalize()
+}
+
+impl Raster {
+    /// A `width`×`height` image cleared to `background`, depth cleared to 1.
+    pub fn new(width: u32, height: u32, background: [u8; 4]) -> Self {
+        let n = width as usize * height as usize;
+        Raster {
+            width,
+            height,
+            color: vec![background; n],
+            depth: vec![1.0; n],
+        }
+    }
+
+    /// Draws the oracle's triangles. `patches` and `flags` are the scene's
+    /// base patches and per-patch flags (indexed by `Triangle::node.patch`);
+    /// `eye` is the camera position, used for shading only.
+    pub fn draw_triangles(
+        &mut self,
+        tris: &[Triangle],
+        patches: &[BezierPatch],
+        flags: &[u32],
+        view_proj: &DMat4,
+        eye: Vec3,
+        shade: PreviewShade,
+    ) {
+        let eye = eye.as_dvec3();
+        let light = light_dir();
+        let (w, h) = (self.width, self.height);
+        for t in tris {
+            let patch_id = t.node.patch as usize;
+            let clip = [0, 1, 2].map(|k| {
+                let p = t.v[k].as_dvec3();
+                ClipVert {
+                    pos: *view_proj * p.extend(1.0),
+                    uv: DVec2::new(t.uv[k].0 as f64, t.uv[k].1 as f64),
+                    world: p,
+                }
+            });
+            // Flat colour for the depth modes, with a little face shading.
+            let flat = match shade {
+                PreviewShade::Normal => [0; 4],
+                PreviewShade::Depth | PreviewShade::Wedges => {
+                    let base = if t.wedge && shade == PreviewShade::Wedges {
+                        WEDGE_COLOR
+                    } else {
+                        depth_color(t.node.depth())
+                    };
+                    let k = face_light(t, eye);
+                    let dim = if shade == PreviewShade::Wedges && !t.wedge {
+                        0.4
+                    } else {
+                        1.0
+                    };
+                    scale_rgb(base, k * dim)
+                }
+            };
+            let patch =
+                (shade == PreviewShade::Normal).then(|| (&patches[patch_id], flags[patch_id]));
+            let (color, depth) = (&mut self.color, &mut self.depth);
+            rasterize(clip, w, h, |f| {
+                let i = f.y as usize * w as usize + f.x as usize;
+                let z = f.z as f32;
+                // Depth test LESS (a NaN depth never passes).
+                if z.partial_cmp(&depth[i]) != Some(std::cmp::Ordering::Less) {
+                    return;
+                }
+                depth[i] = z;
+                color[i] = match patch {
+                    Some((base, flag)) => shade_normal(base, flag, &f, eye, light),
+                    None => flat,
+                };
+            });
+        }
+    }
+
+    /// Writes the image as PNG: to a temporary file in the same directory,
+    /// then renamed over `path`, so a failure never leaves half a file.
+    pub fn save_png(&self, path: &Path) -> anyhow::Result<()> {
+        let tmp = temp_sibling(path);
+        let bytes: &[u8] = bytemuck::cast_slice(&self.color);
+        let written = image::save_buffer_with_format(
+            &tmp,
+            bytes,
+            self.width,
+            self.height,
+            image::ExtendedColorType::Rgba8,
+            image::ImageFormat::Png,
+        )
+        .with_context(|| format!("writing {}", tmp.display()))
+        .and_then(|()| {
+            std::fs::rename(&tmp, path)
+                .with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
+        });
+        if written.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        written
+    }
+}
+
+/// `DIR/.NAME.tmpPID` next to `path`.
+pub fn temp_sibling(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map_or("preview".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.tmp{}", std::process::id()))
+}
+
+/// Shading factor from the geometric face normal: 0.6 (edge-on) … 1 (facing).
+fn face_light(t: &Triangle, eye: DVec3) -> f32 {
+    let [a, b, c] = t.v.map(|p| p.as_dvec3());
+    let n = (b - a).cross(c - a);
+    let to_eye = eye - (a + b + c) / 3.0;
+    let len = n.length() * to_eye.length();
+    if len > 0.0 && len.is_finite() {
+        (0.6 + 0.4 * (n.dot(to_eye) / len).abs()) as f32
+    } else {
+        1.0
+    }
+}
+
+fn shade_normal(base: &BezierPatch, flags: u32, f: &Fragment, eye: DVec3, light: DVec3) -> [u8; 4] {
+    let tint = PALETTE[((flags >> PATCH_MODEL_SHIFT) as usize) % PALETTE.len()];
+    let n = base.normal(f.uv.x as f32, f.uv.y as f32).as_dvec3();
+    let to_eye = (eye - f.world).normalize_or_zero();
+    let mut n = n.normalize_or_zero();
+    let mut tint = tint;
+    if n.dot(to_eye) < 0.0 {
+        n = -n;
+        if flags & PATCH_TWO_SIDED == 0 {
+            tint = [0.45, 0.05, 0.05];
+        }
+    }
+    let lambert = n.dot(light).max(0.0);
+    let head = n.dot(to_eye).max(0.0);
+    let k = (0.12 + 0.55 * lambert + 0.38 * head) as f32;
+    to_srgb8(tint.map(|c| c * k))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patch::quadnode::QuadNode;
+    use crate::scene::camera::Camera;
+    use rand::{rngs::SmallRng, Rng, SeedableRng};
+
+    fn cv(x: f64, y: f64, z: f64) -> ClipVert {
+        ClipVert {
+            pos: DVec4::new(x, y, z, 1.0),
+            uv: DVec2::ZERO,
+            world: DVec3::ZERO,
+        }
+    }
+
+    /// Pixel (px, py) of a `size`-pixel viewport as NDC (identity view_proj).
+    fn px(x: f64, y: f64, size: f64) -> (f64, f64) {
+        (x / size * 2.0 - 1.0, y / size * 2.0 - 1.0)
+    }
+
+    fn coverage(tris: &[[ClipVert; 3]], w: u32, h: u32) -> Vec<u32> {
+        let mut count = vec![0u32; (w * h) as usize];
+        for t in tris {
+            rasterize(*t, w, h, |f| count[(f.y * w + f.x) as usize] += 1);
+        }
+        count
+    }
+
+    fn tri_px(p: [(f64, f64); 3], size: f64) -> [ClipVert; 3] {
+        p.map(|(x, y)| {
+            let (a, b) = px(x, y, size);
+            cv(a, b, 0.5)
+        })
+    }
+
+    #[test]
+    fn triangle_covers_exactly_its_pixels_with_top_left_rule() {
+        // Right triangle with legs on pixel-centre-free lines x=1, y=1 and a
+        // hypotenuse x+y=8 through the centres with i+j=7; it is a bottom-right
+        // edge here, so those centres belong to the other half of the square.
+        let lower = tri_px([(1.0, 1.0), (7.0, 1.0), (1.0, 7.0)], 8.0);
+        let upper = tri_px([(7.0, 7.0), (1.0, 7.0), (7.0, 1.0)], 8.0);
+        let c = coverage(&[lower], 8, 8);
+        for j in 0..8 {
+            for i in 0..8 {
+                let want = (i >= 1 && j >= 1 && i + j <= 6) as u32;
+                assert_eq!(c[j * 8 + i], want, "pixel ({i}, {j})");
+            }
+        }
+        assert_eq!(c.iter().sum::<u32>(), 15);
+        // Together (either winding) they cover the 6×6 square exactly once.
+        let reversed = [upper[0], upper[2], upper[1]];
+        for pair in [[lower, upper], [lower, reversed]] {
+            let c = coverage(&pair, 8, 8);
+            for j in 0..8 {
+                for i in 0..8 {
+                    let inside = (1..7).contains(&i) && (1..7).contains(&j);
+                    assert_eq!(c[j * 8 + i], inside as u32, "pixel ({i}, {j})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn jittered_mesh_covers_every_pixel_exactly_once() {
+        // A grid mesh over more than the viewport, vertices jittered (some
+        // onto pixel centres; little enough that every quad stays convex)
+        // and triangles in random winding: every pixel is covered exactly
+        // once, with no gaps and no double coverage.
+        let mut rng = SmallRng::seed_from_u64(3);
+        let (w, h, n) = (37u32, 23u32, 6usize);
+        let mut grid = vec![vec![(0.0, 0.0); n + 1]; n + 1];
+        for (j, row) in grid.iter_mut().enumerate() {
+            for (i, p) in row.iter_mut().enumerate() {
+                let mut jitter = |k: usize| {
+                    // Border vertices and some inner ones stay on the grid.
+                    if k == 0 || k == n || rng.random_bool(0.3) {
+                        0.0
+                    } else {
+                        rng.random_range(-0.12..0.12)
+                    }
+                };
+                let x = -1.2 + 2.4 * (i as f64 + jitter(i)) / n as f64;
+                let y = -1.2 + 2.4 * (j as f64 + jitter(j)) / n as f64;
+                // Some vertices exactly on a pixel centre.
+                *p = if rng.random_bool(0.2) {
+                    let cx = ((x * 0.5 + 0.5) * w as f64).floor() + 0.5;
+                    let cy = ((y * 0.5 + 0.5) * h as f64).floor() + 0.5;
+                    (cx / w as f64 * 2.0 - 1.0, cy / h as f64 * 2.0 - 1.0)
+                } else {
+                    (x, y)
+                };
+            }
+        }
+        let mut tris = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let q = [
+                    grid[j][i],
+                    grid[j][i + 1],
+                    grid[j + 1][i + 1],
+                    grid[j + 1][i],
+                ];
+                let v = q.map(|(x, y)| cv(x, y, 0.5));
+                let (mut a, mut b) = if rng.random_bool(0.5) {
+                    ([v[0], v[1], v[2]], [v[0], v[2], v[3]])
+                } else {
+                    ([v[0], v[1], v[3]], [v[1], v[2], v[3]])
+                };
+                if rng.random_bool(0.5) {
+                    a.swap(0, 1);
+                }
+                if rng.random_bool(0.5) {
+                    b.swap(1, 2);
+                }
+                tris.push(a);
+                tris.push(b);
+            }
+        }
+        let c = coverage(&tris, w, h);
+        assert!(c.iter().all(|&k| k == 1), "{c:?}");
+    }
+
+    fn flat_patch() -> BezierPatch {
+        let mut pts = [Vec3::ZERO; 16];
+        for j in 0..4 {
+            for i in 0..4 {
+                pts[4 * j + i] = Vec3::new(i as f32 / 3.0, j as f32 / 3.0, 0.0);
+            }
+        }
+        BezierPatch { pts }
+    }
+
+    fn tri(v: [Vec3; 3], depth: u32) -> Triangle {
+        Triangle {
+            v,
+            uv: [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
+            node: QuadNode::new(0, depth, 0, 0, 0, 0),
+            wedge: false,
+        }
+    }
+
+    #[test]
+    fn near_plane_clipping_is_finite_and_bounded() {
+        let cam = Camera {
+            position: [0.0, -5.0, 1.0],
+            target: [0.0, 0.0, 1.0],
+            up: [0.0, 0.0, 1.0],
+            fov_y_deg: 60.0,
+            near: 0.1,
+            far: 100.0,
+        };
+        let vp = cam.view_proj(64, 48);
+        let eye = Vec3::new(0.0, -5.0, 1.0);
+        let patches = [flat_patch()];
+        let crossing = [
+            // Through the camera plane, one vertex behind the eye.
+            tri(
+                [
+                    Vec3::new(-1.0, 2.0, 0.5),
+                    Vec3::new(1.0, 2.0, 1.5),
+                    Vec3::new(0.5, -9.0, 0.2),
+                ],
+                3,
+            ),
+            // A vertex exactly at the eye (edge-on: nothing to draw, nothing to break).
+            tri(
+                [eye, Vec3::new(1.0, -5.0, 1.0), Vec3::new(0.0, 3.0, 0.0)],
+                3,
+            ),
+            // Wholly behind the camera.
+            tri(
+                [
+                    Vec3::new(0.0, -8.0, 0.0),
+                    Vec3::new(1.0, -8.0, 2.0),
+                    Vec3::new(-1.0, -7.0, 1.0),
+                ],
+                3,
+            ),
+        ];
+        for shade in PreviewShade::ALL.map(|x| x.0) {
+            let mut r = Raster::new(64, 48, [0, 0, 0, 255]);
+            r.draw_triangles(&crossing, &patches, &[0], &vp, eye, shade);
+            assert!(r
+                .depth
+                .iter()
+                .all(|z| z.is_finite() && (0.0..=1.0).contains(z)));
+            let drawn = r.depth.iter().filter(|&&z| z < 1.0).count();
+            assert!(drawn > 0, "the crossing triangles draw something");
+        }
+        // The one behind the camera alone draws nothing.
+        let mut r = Raster::new(64, 48, [0, 0, 0, 255]);
+        r.draw_triangles(
+            &crossing[2..],
+            &patches,
+            &[0],
+            &vp,
+            eye,
+            PreviewShade::Depth,
+        );
+        assert!(r.depth.iter().all(|&z| z == 1.0));
+        // A triangle with a vertex on the eye itself (w = 0) does not poison anything.
+        let c = coverage(
+            &[
+                [cv(0.0, 0.0, -0.1), cv(0.5, 0.0, 0.5), cv(0.0, 0.5, 0.5)].map(|mut v| {
+                    v.pos.w = v.pos.z.max(0.0);
+                    v
+                }),
+            ],
+            16,
+            16,
+        );
+        assert!(c.iter().all(|&k| k <= 1));
+    }
+
+    #[test]
+    fn depth_test_keeps_the_nearer_triangle() {
+        let cam = Camera {
+            position: [0.0, -5.0, 0.0],
+            target: [0.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+            fov_y_deg: 60.0,
+            near: 0.1,
+            far: 100.0,
+        };
+        let vp = cam.view_proj(32, 32);
+        let eye = Vec3::new(0.0, -5.0, 0.0);
+        let big = |y: f32, depth: u32| {
+            tri(
+                [
+                    Vec3::new(-3.0, y, -3.0),
+                    Vec3::new(3.0, y, -3.0),
+                    Vec3::new(0.0, y, 3.0),
+                ],
+                depth,
+            )
+        };
+        let (near, far) = (big(-1.0, 2), big(1.0, 8));
+        let patches = [flat_patch()];
+        let mut a = Raster::new(32, 32, [0, 0, 0, 255]);
+        a.draw_triangles(&[near, far], &patches, &[0], &vp, eye, PreviewShade::Depth);
+        let mut b = Raster::new(32, 32, [0, 0, 0, 255]);
+        b.draw_triangles(&[far, near], &patches, &[0], &vp, eye, PreviewShade::Depth);
+        assert_eq!(a.color, b.color);
+        assert_eq!(a.depth, b.depth);
+        let centre = 16 * 32 + 16;
+        assert_eq!(
+            a.color[centre],
+            scale_rgb(depth_color(2), face_light(&near, eye.as_dvec3()))
+        );
+        // The near plane is at view depth 4, the far one at 6.
+        let z_of = |d: f64| (vp * DVec4::new(0.0, -5.0 + d, 0.0, 1.0)).z / d;
+        assert!((a.depth[centre] as f64 - z_of(4.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn png_round_trips_and_leaves_no_temp_file() {
+        let dir = std::env::temp_dir().join(format!("raster-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("x.png");
+        let mut r = Raster::new(5, 3, [10, 20, 30, 255]);
+        r.color[7] = [200, 100, 50, 255];
+        r.save_png(&path).unwrap();
+        let img = image::open(&path).unwrap().to_rgba8();
+        assert_eq!(img.dimensions(), (5, 3));
+        assert_eq!(img.get_pixel(2, 1).0, [200, 100, 50, 255]);
+        assert!(!temp_sibling(&path).exists());
+        // A directory that does not exist: an error, and nothing left behind.
+        assert!(r.save_png(&dir.join("missing/x.png")).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn shade_names_parse() {
+        for (s, n) in PreviewShade::ALL {
+            assert_eq!(n.parse::<PreviewShade>(), Ok(s));
+            assert_eq!(s.to_string(), n);
+        }
+        assert!("heat".parse::<PreviewShade>().is_err());
+    }
+}
