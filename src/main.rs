@@ -2,14 +2,25 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::str::FromStr;
 
 use clap::{Parser, Subcommand};
 
+use bezier_subdiv::commands::render::{RenderArgs, Shade};
+use bezier_subdiv::commands::validate::ValidateArgs;
 use bezier_subdiv::commands::{self, parse_size, resolve_scene, stats::StatsArgs};
+use bezier_subdiv::draw::DrawRequest;
+use bezier_subdiv::raster::PreviewShade;
+use bezier_subdiv::vk::DeviceSelector;
 
 /// View-adaptive, crack-free recursive subdivision of bicubic Bézier surfaces
 /// (Tabaei, Kuth et al. 2026) on Vulkan, with a CPU reference of every
-/// decision. The GPU renderer is not built yet: `stats` runs the CPU oracle.
+/// decision.
+///
+/// `render` draws one frame offscreen to a PNG with its statistics as JSON;
+/// `validate` checks the GPU against the CPU reference and looks for holes;
+/// `stats` prints the CPU reference's figures; `import` converts models;
+/// `info` lists the Vulkan devices.
 #[derive(Parser)]
 #[command(name = "bezier-subdiv", version, about, long_about)]
 struct Cli {
@@ -44,6 +55,52 @@ enum Command {
         /// Print JSON instead of the table.
         #[arg(long)]
         json: bool,
+        /// Also rasterise the ready nodes on the CPU at --size and write the
+        /// picture here (PNG).
+        #[arg(long, value_name = "FILE.png")]
+        preview: Option<PathBuf>,
+        /// Preview colours: normal (shaded, one tint per model; a one-sided
+        /// surface seen from behind is dark red), depth (QuadNode depth 0 dark
+        /// blue … 10 dark red), wedges (depth darkened, wedges magenta).
+        #[arg(long, value_name = "MODE", default_value = "normal", value_parser = PreviewShade::from_str)]
+        preview_shade: PreviewShade,
+    },
+    /// Render one frame offscreen: a PNG plus its statistics as JSON.
+    ///
+    /// The stats file (same path, .json) holds the scene, device, draw path,
+    /// method, ε, λ, the subdivision counts, queue use, GPU time per pass
+    /// and memory per purpose. Output paths are checked before any GPU work;
+    /// a failed run leaves no file behind.
+    Render {
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Shading: normal (lit), depth (QuadNode depth heat map), wedges
+        /// (depth map with the crack-closing wedges highlighted).
+        #[arg(long, value_enum, default_value = "normal")]
+        shade: Shade,
+        /// Output PNG (default: out/<scene name>.png; out/ is created).
+        #[arg(long, value_name = "FILE.png")]
+        out: Option<PathBuf>,
+    },
+    /// Check the GPU against the CPU reference on every keyframe (or one):
+    /// the ready QuadNode set, vertex positions bit for bit, the paper's §4.4
+    /// reordering test on the GPU; then the hole test on every model.
+    /// Prints a table; exits non-zero if any check fails.
+    Validate {
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Skip the hole test.
+        #[arg(long)]
+        no_holes: bool,
+        /// Write the images of views where the hole test found holes here.
+        #[arg(long, value_name = "DIR")]
+        debug_dir: Option<PathBuf>,
+    },
+    /// List the Vulkan devices and what they support.
+    Info {
+        /// Also enable the Khronos validation layer (checks it is installed).
+        #[arg(long)]
+        vk_validation: bool,
     },
     /// Import a Catmull-Clark cage (.obj) or Bézier patch file (.bpt): print a
     /// summary and any warnings, optionally write the patches.
@@ -58,6 +115,42 @@ enum Command {
         #[arg(long, value_name = "PATCHES.bpt")]
         out: Option<PathBuf>,
     },
+}
+
+/// Flags shared by the commands that render.
+#[derive(clap::Args)]
+struct FrameArgs {
+    /// Scene file (TOML).
+    #[arg(long, default_value = commands::DEFAULT_SCENE)]
+    scene: PathBuf,
+    /// Camera keyframe: 0 is the scene camera, k ≥ 1 the path's key k
+    /// (validate: every keyframe when not given).
+    #[arg(long)]
+    frame: Option<usize>,
+    /// Method: subdiv (later: subdiv-indirect, tess, tess-reparam, cudatess,
+    /// ground-truth).
+    #[arg(long, default_value = "subdiv")]
+    method: String,
+    /// Pixel tolerance ε (default: the scene's, else 1).
+    #[arg(long, value_name = "PX")]
+    eps: Option<f64>,
+    /// Blend λ ∈ [0,1] of orthogonal (0) and parametric (1) distance
+    /// (default: the scene's, else 0.5).
+    #[arg(long, value_name = "L")]
+    lambda: Option<f64>,
+    /// Image size.
+    #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Draw path: auto (mesh shaders where available), mesh, fallback
+    /// (compute expansion + vertex shader).
+    #[arg(long, default_value = "auto")]
+    draw: DrawRequest,
+    /// Vulkan device: an index from `info`, or part of its name.
+    #[arg(long, value_name = "ID", default_value = "auto")]
+    device: DeviceSelector,
+    /// Enable the Khronos validation layer; any error fails the run.
+    #[arg(long)]
+    vk_validation: bool,
 }
 
 fn main() -> ExitCode {
@@ -81,19 +174,73 @@ fn run(command: Command) -> anyhow::Result<()> {
             lambda,
             size,
             json,
+            preview,
+            preview_shade,
         } => {
             let mut args = StatsArgs::new(resolve_scene(Some(&scene)));
             args.frame = frame;
             args.eps = eps;
             args.lambda = lambda;
             args.size = size;
+            args.preview = preview;
+            args.preview_shade = preview_shade;
             let report = commands::stats::run(&args)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&report)?);
             } else {
                 print!("{}", report.to_text());
-                println!("note: these are the CPU oracle's figures; the GPU renderer (`render`) is not built yet.");
+                if let Some(p) = &report.preview {
+                    println!("preview         {p} ({preview_shade})");
+                }
+                println!("note: these are the CPU reference's figures; `render` runs the GPU.");
             }
+            Ok(())
+        }
+        Command::Render { frame, shade, out } => {
+            let args = RenderArgs {
+                scene: resolve_scene(Some(&frame.scene)),
+                frame: frame.frame.unwrap_or(0),
+                method: frame.method,
+                eps: frame.eps,
+                lambda: frame.lambda,
+                size: frame.size,
+                draw: frame.draw,
+                shade,
+                device: frame.device,
+                validation: frame.vk_validation,
+                out,
+            };
+            print!("{}", commands::render::run(&args)?);
+            Ok(())
+        }
+        Command::Validate {
+            frame,
+            no_holes,
+            debug_dir,
+        } => {
+            let args = ValidateArgs {
+                scene: resolve_scene(Some(&frame.scene)),
+                frame: frame.frame,
+                method: frame.method,
+                eps: frame.eps,
+                lambda: frame.lambda,
+                size: frame.size,
+                draw: frame.draw,
+                device: frame.device,
+                validation: frame.vk_validation,
+                skip_holes: no_holes,
+                debug_dir,
+            };
+            let report = commands::validate::run(&args)?;
+            print!("{}", report.table);
+            if report.ok() {
+                Ok(())
+            } else {
+                Err(anyhow::anyhow!("validation failed"))
+            }
+        }
+        Command::Info { vk_validation } => {
+            print!("{}", commands::info::run(vk_validation)?);
             Ok(())
         }
         Command::Import { file, out } => {

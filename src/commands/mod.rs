@@ -1,6 +1,7 @@
 //! The command-line verbs, as library functions the binary and the tests call.
 
 pub mod import;
+pub mod info;
 pub mod render;
 pub mod stats;
 pub mod validate;

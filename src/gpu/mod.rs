@@ -227,6 +227,31 @@ impl FrameGpu {
                 "ready and queue capacities must be > 0".into(),
             ));
         }
+        // Every storage buffer must fit one binding's range on this device.
+        let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
+        let vertex_bytes = if caps.vertices {
+            u64::from(caps.ready) * u64::from(VERTICES_PER_NODE * VERTEX_WORDS * 4)
+        } else {
+            16
+        };
+        let capture_bytes = if caps.capture {
+            u64::from(caps.ready) * 96
+        } else {
+            16
+        };
+        for (what, bytes) in [
+            ("ready list", u64::from(caps.ready) * 8),
+            ("fallback vertex buffer", vertex_bytes),
+            ("position capture", capture_bytes),
+        ] {
+            if bytes > limit {
+                return Err(VkError::Usage(format!(
+                    "the {what} for {} ready nodes needs {bytes} bytes, more than this device's \
+                     storage-buffer range of {limit} bytes (raise ε or lower the resolution)",
+                    caps.ready
+                )));
+            }
+        }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let gpu = MemoryLocation::GpuOnly;
         let view = Buffer::new(
@@ -254,17 +279,7 @@ impl FrameGpu {
             vk::BufferUsageFlags::TRANSFER_SRC,
             gpu,
         )?;
-        let vertex_bytes = if caps.vertices {
-            caps.ready as u64 * (VERTICES_PER_NODE * VERTEX_WORDS * 4) as u64
-        } else {
-            16
-        };
         let vertices = Buffer::new(ctx, "fallback vertices", vertex_bytes, storage, gpu)?;
-        let capture_bytes = if caps.capture {
-            caps.ready as u64 * 6 * 16
-        } else {
-            16
-        };
         let capture = Buffer::new(ctx, "position capture", capture_bytes, storage, gpu)?;
         let pool = DescriptorPool::for_layout(ctx, "scene set pool", &layout.set_layout, 1)?;
         let set = pool.allocate(&layout.set_layout)?;

@@ -133,6 +133,7 @@ pub struct Context {
     mesh: Option<ash::ext::mesh_shader::Device>,
     info: DeviceInfo,
     validation: bool,
+    all_devices: String,
 }
 
 impl Context {
@@ -222,6 +223,7 @@ impl Context {
         }
 
         let candidates = device::enumerate(&instance)?;
+        let all_devices = device::device_list(&candidates);
         let chosen = device::choose(&candidates, &options.selector, options.require_mesh_shader)?;
         let candidate = &candidates[chosen];
         let (device, queue) = device::create_device(&instance, candidate)?;
@@ -303,7 +305,13 @@ impl Context {
             mesh,
             info,
             validation: options.validation,
+            all_devices,
         })
+    }
+
+    /// Every Vulkan device found, one line each (index, name, kind).
+    pub fn all_devices(&self) -> &str {
+        &self.all_devices
     }
 
     /// Identity, limits and enabled features of the device.
