@@ -1,0 +1,127 @@
+//! The command line as a user meets it: `import` with its sidecar, refusals
+//! that name the file and exit non-zero, and `render`'s checks that run
+//! before any GPU work.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_bezier-subdiv"))
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("bezier-subdiv-cli-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn model(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/models")
+        .join(name)
+}
+
+#[test]
+fn import_writes_patches_and_sidecar() {
+    let dir = temp_dir("import");
+    let out = dir.join("pawn.bpt");
+    let run = bin()
+        .arg("import")
+        .arg(model("catmark_pawn.obj"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(text.contains("patches         588"), "{text}");
+    assert!(
+        text.contains("`t` tag lines"),
+        "the ignored crease tags are reported: {text}"
+    );
+    // The written patches read back as the same model.
+    let again = bin().arg("import").arg(&out).output().unwrap();
+    assert!(again.status.success());
+    assert!(String::from_utf8_lossy(&again.stdout).contains("patches         588"));
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("pawn.bpt.json")).unwrap()).unwrap();
+    let entries = side["patches"].as_array().unwrap();
+    assert_eq!(entries.len(), 588);
+    assert_eq!(entries[0]["face"], 0);
+    assert_eq!(
+        entries[0]["corners_uv"],
+        serde_json::json!([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    );
+    assert_eq!(entries[587]["face"], 587);
+    // Nothing else left behind (no temporary files).
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn refused_files_name_themselves_and_fail() {
+    let dir = temp_dir("refuse");
+    let bad = dir.join("broken.bpt");
+    std::fs::write(&bad, "2\n1,2,3\n").unwrap();
+    for file in [bad.clone(), dir.join("missing.obj"), dir.join("model.stl")] {
+        let run = bin().arg("import").arg(&file).output().unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success());
+        assert!(err.contains(&*file.to_string_lossy()), "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let run = bin().arg("import").arg(&bad).output().unwrap();
+    assert!(
+        String::from_utf8_lossy(&run.stderr).contains("broken.bpt:2"),
+        "the line is named"
+    );
+}
+
+#[test]
+fn render_refuses_bad_requests_before_gpu_work() {
+    let dir = temp_dir("render");
+    let cases: [(&[&str], &str); 4] = [
+        (&["--method", "tess"], "not built yet"),
+        (&["--method", "magic"], "unknown method"),
+        (&["--out", "/nonexistent-dir/x.png"], "does not exist"),
+        (&["--frame", "99"], "frame 99 does not exist"),
+    ];
+    for (args, want) in cases {
+        let run = bin()
+            .arg("render")
+            .arg("--scene")
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml"))
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{args:?}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    let scene = dir.join("bad.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nposition = [1.0, 2.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\nfov = 3\n",
+    )
+    .unwrap();
+    let run = bin()
+        .arg("render")
+        .arg("--scene")
+        .arg(&scene)
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(err.contains("bad.toml:4"), "{err}");
+    assert!(!dir.join("out").exists(), "nothing written on failure");
+}
