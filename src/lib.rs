@@ -5,6 +5,7 @@
 pub mod commands;
 pub mod constants;
 pub mod draw;
+pub mod files;
 pub mod gpu;
 pub mod methods;
 pub mod patch;

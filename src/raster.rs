@@ -11,10 +11,9 @@
 //! cleared to 1. Single-threaded and deterministic.
 
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::str::FromStr;
 
-use anyhow::Context as _;
 use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
 
 use crate::constants::{PATCH_MODEL_SHIFT, PATCH_TWO_SIDED};
@@ -432,37 +431,12 @@ impl Raster {
         }
     }
 
-    /// Writes the image as PNG: to a temporary file in the same directory,
-    /// then renamed over `path`, so a failure never leaves half a file.
+    /// Writes the image as PNG, whole or not at all (`draw::write_png`).
     pub fn save_png(&self, path: &Path) -> anyhow::Result<()> {
-        let tmp = temp_sibling(path);
         let bytes: &[u8] = bytemuck::cast_slice(&self.color);
-        let written = image::save_buffer_with_format(
-            &tmp,
-            bytes,
-            self.width,
-            self.height,
-            image::ExtendedColorType::Rgba8,
-            image::ImageFormat::Png,
-        )
-        .with_context(|| format!("writing {}", tmp.display()))
-        .and_then(|()| {
-            std::fs::rename(&tmp, path)
-                .with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
-        });
-        if written.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        written
+        crate::draw::write_png(path, self.width, self.height, bytes)?;
+        Ok(())
     }
-}
-
-/// `DIR/.NAME.tmpPID` next to `path`.
-pub fn temp_sibling(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map_or("preview".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.tmp{}", std::process::id()))
 }
 
 /// Shading factor from the geometric face normal: 0.6 (edge-on) … 1 (facing).
@@ -762,7 +736,11 @@ mod tests {
         let img = image::open(&path).unwrap().to_rgba8();
         assert_eq!(img.dimensions(), (5, 3));
         assert_eq!(img.get_pixel(2, 1).0, [200, 100, 50, 255]);
-        assert!(!temp_sibling(&path).exists());
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "no temporary file left"
+        );
         // A directory that does not exist: an error, and nothing left behind.
         assert!(r.save_png(&dir.join("missing/x.png")).is_err());
         std::fs::remove_dir_all(&dir).unwrap();

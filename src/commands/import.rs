@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use glam::Vec3;
 
+use crate::files::temp_sibling;
 use crate::patch::ops::{max3, min3};
 use crate::scene::file::load_model;
 use crate::scene::{bpt, ImportedModel, PatchOrigin};
@@ -77,12 +78,12 @@ pub fn run(input: &Path, out: Option<&Path>) -> anyhow::Result<String> {
     let model = load_model(input)?;
     let mut text = summary(input, &model);
     if let Some(out) = out {
-        let tmp_bpt = temp_name(out);
+        let tmp_bpt = temp_sibling(out);
         bpt::write(&tmp_bpt, &model.patches)?;
         let mut renames = vec![(tmp_bpt, out.to_path_buf())];
         if !model.origins.is_empty() {
             let side = sidecar_path(out);
-            let tmp_side = temp_name(&side);
+            let tmp_side = temp_sibling(&side);
             let written = std::fs::File::create(&tmp_side)
                 .and_then(|mut f| f.write_all(sidecar_json(&model.origins).as_bytes()));
             if let Err(e) = written {
@@ -98,10 +99,4 @@ pub fn run(input: &Path, out: Option<&Path>) -> anyhow::Result<String> {
         }
     }
     Ok(text)
-}
-
-fn temp_name(path: &Path) -> PathBuf {
-    let mut s = path.as_os_str().to_owned();
-    s.push(format!(".tmp-{}", std::process::id()));
-    PathBuf::from(s)
 }

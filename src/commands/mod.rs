@@ -8,6 +8,11 @@ pub mod validate;
 
 use std::path::{Path, PathBuf};
 
+use anyhow::anyhow;
+
+use crate::scene::camera::Camera;
+use crate::scene::file::Scene;
+
 /// The scene used when `--scene` is not given.
 pub const DEFAULT_SCENE: &str = "scenes/kitchen.toml";
 
@@ -24,6 +29,38 @@ pub fn resolve_scene(path: Option<&Path>) -> PathBuf {
     } else {
         p
     }
+}
+
+/// Keyframe `k` of `scene` (read from `path`), or an error naming the
+/// frames there are.
+pub fn keyframe(scene: &Scene, path: &Path, k: usize) -> anyhow::Result<Camera> {
+    scene.frame_camera(k).ok_or_else(|| {
+        anyhow!(
+            "{}: frame {k} does not exist (the scene has frames 0..={})",
+            path.display(),
+            scene.frame_count() - 1
+        )
+    })
+}
+
+/// ε and λ: the overrides, else the scene's defaults; refused (with a
+/// sentence) when ε ≤ 0 or λ is outside [0, 1].
+pub fn eps_lambda(
+    scene: &Scene,
+    eps: Option<f64>,
+    lambda: Option<f64>,
+) -> anyhow::Result<(f64, f64)> {
+    let eps = eps.unwrap_or(scene.view.eps);
+    let lambda = lambda.unwrap_or(scene.view.lambda);
+    if !(eps.is_finite() && eps > 0.0) {
+        return Err(anyhow!(
+            "--eps must be a positive number of pixels (got {eps})"
+        ));
+    }
+    if !(0.0..=1.0).contains(&lambda) {
+        return Err(anyhow!("--lambda must be in [0, 1] (got {lambda})"));
+    }
+    Ok((eps, lambda))
 }
 
 /// Parses `WxH` (e.g. `1920x1080`).

@@ -3,12 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, bail, Context as _};
+use anyhow::{anyhow, Context as _};
 use serde_json::{json, Map, Value};
 
-use super::stats::check_eps_lambda;
+use super::{eps_lambda, keyframe};
 use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_WEDGES};
 use crate::draw::{choose, headlight, write_png, DrawRequest};
+use crate::files::{check_writable, temp_sibling, write_atomic};
 use crate::gpu::Capacities;
 use crate::methods::Method;
 use crate::renderer::{FrameReport, Renderer, View};
@@ -81,30 +82,6 @@ pub fn stats_path(png: &Path) -> PathBuf {
     png.with_extension("json")
 }
 
-/// Checks an output file can be created, before any GPU work: the
-/// directory exists and is writable. The default `out/` is created.
-pub fn check_output(path: &Path, create_dir: bool) -> anyhow::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    if create_dir {
-        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    if !dir.is_dir() {
-        bail!(
-            "{}: the directory {} does not exist",
-            path.display(),
-            dir.display()
-        );
-    }
-    let probe = dir.join(format!(".bezier-subdiv-write-test-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .with_context(|| format!("{}: cannot write into {}", path.display(), dir.display()))?;
-    let _ = std::fs::remove_file(&probe);
-    Ok(())
-}
-
 /// The current commit (short hash, `-dirty` with local changes), or
 /// "unknown" outside a git checkout.
 pub fn commit_id() -> String {
@@ -133,35 +110,17 @@ pub fn commit_id() -> String {
     }
 }
 
-/// Writes `text` to `path` through a temporary file and a rename.
-pub fn write_atomic(path: &Path, text: &str) -> anyhow::Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(format!(".tmp-{}", std::process::id()));
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
-}
-
 /// Renders and writes the PNG and its JSON; returns a short summary.
 pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let method = Method::parse(&args.method).map_err(|e| anyhow!(e))?;
     let scene = Scene::load(&args.scene)?;
-    let camera = scene.frame_camera(args.frame).ok_or_else(|| {
-        anyhow!(
-            "{}: frame {} does not exist (the scene has frames 0..={})",
-            args.scene.display(),
-            args.frame,
-            scene.frame_count() - 1
-        )
-    })?;
-    let eps = args.eps.unwrap_or(scene.view.eps);
-    let lambda = args.lambda.unwrap_or(scene.view.lambda);
-    check_eps_lambda(eps, lambda)?;
+    let camera = keyframe(&scene, &args.scene, args.frame)?;
+    let (eps, lambda) = eps_lambda(&scene, args.eps, args.lambda)?;
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
-    check_output(&out, args.out.is_none())?;
+    check_writable(&out, args.out.is_none()).map_err(|e| anyhow!(e))?;
     let json_path = stats_path(&out);
     let geo = scene
         .geometry()
@@ -199,13 +158,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let info = ctx.info();
     let stats = stats_json(args, &scene, method, eps, lambda, &renderer, &report, &ctx);
     // Both files under temporary names first, so a failure leaves neither.
-    let mut tmp_png = out.as_os_str().to_owned();
-    tmp_png.push(format!(".tmp-{}", std::process::id()));
-    let tmp_png = PathBuf::from(tmp_png);
+    let tmp_png = temp_sibling(&out);
     write_png(&tmp_png, w, h, &rgba)?;
-    if let Err(e) = write_atomic(&json_path, &(serde_json::to_string_pretty(&stats)? + "\n")) {
+    let json = serde_json::to_string_pretty(&stats)? + "\n";
+    if let Err(e) = write_atomic(&json_path, json.as_bytes()) {
         let _ = std::fs::remove_file(&tmp_png);
-        return Err(e);
+        return Err(e).with_context(|| format!("writing {}", json_path.display()));
     }
     std::fs::rename(&tmp_png, &out).with_context(|| format!("writing {}", out.display()))?;
     let s = &report.stats;

@@ -6,10 +6,10 @@ use std::time::Instant;
 use anyhow::{anyhow, Context as _};
 use serde::Serialize;
 
-use super::thousands;
+use super::{eps_lambda, keyframe, thousands};
 use crate::patch::oracle::{subdivide_parallel, triangle_counts, triangulate};
 use crate::patch::view::{FLAGS_DEFAULT, FLAG_WEDGES};
-use crate::raster::{temp_sibling, PreviewShade, Raster};
+use crate::raster::{PreviewShade, Raster};
 use crate::scene::file::Scene;
 
 /// Background of preview images.
@@ -147,20 +147,11 @@ impl StatsReport {
 /// Runs the oracle for one view of a scene.
 pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     if let Some(p) = &args.preview {
-        check_writable(p)?;
+        crate::files::check_writable(p, false).map_err(|e| anyhow!(e))?;
     }
     let scene = Scene::load(&args.scene)?;
-    let camera = scene.frame_camera(args.frame).ok_or_else(|| {
-        anyhow!(
-            "{}: frame {} does not exist (the scene has frames 0..={})",
-            args.scene.display(),
-            args.frame,
-            scene.frame_count() - 1
-        )
-    })?;
-    let eps = args.eps.unwrap_or(scene.view.eps);
-    let lambda = args.lambda.unwrap_or(scene.view.lambda);
-    check_eps_lambda(eps, lambda)?;
+    let camera = keyframe(&scene, &args.scene, args.frame)?;
+    let (eps, lambda) = eps_lambda(&scene, args.eps, args.lambda)?;
     let geo = scene
         .geometry()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
@@ -211,45 +202,4 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
         oracle_seconds,
         preview: args.preview.as_ref().map(|p| p.display().to_string()),
     })
-}
-
-/// Fails early, with the path in the message, when a file cannot be written
-/// at `path`: its directory must exist and accept a new file.
-pub fn check_writable(path: &std::path::Path) -> anyhow::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    if !dir.is_dir() {
-        return Err(anyhow!(
-            "cannot write {}: the directory {} does not exist",
-            path.display(),
-            dir.display()
-        ));
-    }
-    if path.is_dir() {
-        return Err(anyhow!(
-            "cannot write {}: it is a directory",
-            path.display()
-        ));
-    }
-    let probe = temp_sibling(path);
-    std::fs::File::create(&probe)
-        .map(drop)
-        .with_context(|| format!("cannot write {} (directory not writable?)", path.display()))?;
-    let _ = std::fs::remove_file(&probe);
-    Ok(())
-}
-
-/// Refuses ε ≤ 0 and λ outside [0, 1] with a sentence.
-pub fn check_eps_lambda(eps: f64, lambda: f64) -> anyhow::Result<()> {
-    if !(eps.is_finite() && eps > 0.0) {
-        return Err(anyhow!(
-            "--eps must be a positive number of pixels (got {eps})"
-        ));
-    }
-    if !(0.0..=1.0).contains(&lambda) {
-        return Err(anyhow!("--lambda must be in [0, 1] (got {lambda})"));
-    }
-    Ok(())
 }

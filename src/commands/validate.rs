@@ -9,8 +9,7 @@ use std::path::PathBuf;
 use anyhow::{anyhow, Context as _};
 
 use super::render::BACKGROUND;
-use super::stats::check_eps_lambda;
-use super::thousands;
+use super::{eps_lambda, keyframe, thousands};
 use crate::constants::SHADE_NORMAL;
 use crate::draw::{choose, headlight, DrawPath, DrawRequest};
 use crate::gpu::Capacities;
@@ -82,19 +81,13 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     let method = Method::parse(&args.method).map_err(|e| anyhow!(e))?;
     let scene = Scene::load(&args.scene)?;
     let frames: Vec<usize> = match args.frame {
-        Some(k) if k < scene.frame_count() => vec![k],
         Some(k) => {
-            return Err(anyhow!(
-                "{}: frame {k} does not exist (the scene has frames 0..={})",
-                args.scene.display(),
-                scene.frame_count() - 1
-            ))
+            keyframe(&scene, &args.scene, k)?;
+            vec![k]
         }
         None => (0..scene.frame_count()).collect(),
     };
-    let eps = args.eps.unwrap_or(scene.view.eps);
-    let lambda = args.lambda.unwrap_or(scene.view.lambda);
-    check_eps_lambda(eps, lambda)?;
+    let (eps, lambda) = eps_lambda(&scene, args.eps, args.lambda)?;
     let geo = scene
         .geometry()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
@@ -119,7 +112,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
 
     let mut results = Vec::new();
     for &k in &frames {
-        let cam = scene.frame_camera(k).expect("frame checked");
+        let cam = keyframe(&scene, &args.scene, k)?;
         let view = View {
             params: cam.view_params(w, h, eps, lambda),
             view_proj: cam.view_proj(w, h),

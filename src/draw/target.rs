@@ -6,9 +6,7 @@
 //! [`DrawTarget::end`] leaves the colour image in [`DrawTarget::FINAL_LAYOUT`]
 //! (TRANSFER_SRC_OPTIMAL), ready for a copy or a blit.
 
-use std::fs::File;
-use std::io::BufWriter;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use ash::vk;
@@ -212,45 +210,19 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()
             rgba.len()
         ))));
     }
-    let tmp = temp_path(path);
-    let written = (|| {
-        let file = File::create(&tmp).map_err(|source| DrawError::Io {
-            path: tmp.clone(),
-            source,
-        })?;
-        let mut out = BufWriter::new(file);
-        image::codecs::png::PngEncoder::new(&mut out)
-            .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
-            .map_err(|source| DrawError::Png {
-                path: path.to_path_buf(),
-                source,
-            })?;
-        let file = out.into_inner().map_err(|e| DrawError::Io {
-            path: tmp.clone(),
-            source: e.into_error(),
-        })?;
-        file.sync_all().map_err(|source| DrawError::Io {
-            path: tmp.clone(),
-            source,
-        })?;
-        std::fs::rename(&tmp, path).map_err(|source| DrawError::Io {
+    // Encoded in memory, then written through a temporary file and a
+    // rename (crate::files).
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+        .map_err(|source| DrawError::Png {
             path: path.to_path_buf(),
             source,
-        })
-    })();
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written
-}
-
-/// `dir/.name.<pid>.tmp`: same directory (so the rename stays on one file
-/// system), hidden, and unique per process.
-fn temp_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map_or_else(|| "image".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+        })?;
+    crate::files::write_atomic(path, &png).map_err(|source| DrawError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 #[cfg(test)]

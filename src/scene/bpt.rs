@@ -26,7 +26,6 @@
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
 
 use glam::Vec3;
@@ -185,32 +184,12 @@ pub fn write(path: &Path, patches: &[BezierPatch]) -> Result<(), SceneError> {
     write_atomically(path, text.as_bytes())
 }
 
-/// Writes `bytes` to a temporary file in `path`'s directory, then renames it
-/// over `path`. On failure the temporary file is removed.
+/// Writes `bytes` through a temporary file and a rename (see `files`).
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| SceneError::invalid(path, "not a file path"))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    // Unique per process and call, so concurrent writers never share a file.
-    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    tmp_name.push(format!(".tmp-{}-{call}", std::process::id()));
-    let tmp = path.with_file_name(tmp_name);
-
-    let result = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(SceneError::io(path, e));
+    if path.file_name().is_none() {
+        return Err(SceneError::invalid(path, "not a file path"));
     }
-    Ok(())
+    crate::files::write_atomic(path, bytes).map_err(|e| SceneError::io(path, e))
 }
 
 /// Non-empty lines with their 1-based numbers. Blank lines are only allowed
