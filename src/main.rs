@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use bezier_subdiv::commands::render::{RenderArgs, Shade};
 use bezier_subdiv::commands::validate::ValidateArgs;
-use bezier_subdiv::commands::{self, parse_size, resolve_scene, stats::StatsArgs};
+use bezier_subdiv::commands::{self, parse_size, resolve_scene, stats::StatsArgs, GpuRequest};
 use bezier_subdiv::draw::DrawRequest;
 use bezier_subdiv::raster::PreviewShade;
 use bezier_subdiv::vk::DeviceSelector;
@@ -153,6 +153,21 @@ struct FrameArgs {
     vk_validation: bool,
 }
 
+impl FrameArgs {
+    fn request(&self) -> GpuRequest {
+        GpuRequest {
+            scene: resolve_scene(Some(&self.scene)),
+            method: self.method.clone(),
+            eps: self.eps,
+            lambda: self.lambda,
+            size: self.size,
+            draw: self.draw,
+            device: self.device.clone(),
+            validation: self.vk_validation,
+        }
+    }
+}
+
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
@@ -198,16 +213,9 @@ fn run(command: Command) -> anyhow::Result<()> {
         }
         Command::Render { frame, shade, out } => {
             let args = RenderArgs {
-                scene: resolve_scene(Some(&frame.scene)),
                 frame: frame.frame.unwrap_or(0),
-                method: frame.method,
-                eps: frame.eps,
-                lambda: frame.lambda,
-                size: frame.size,
-                draw: frame.draw,
+                gpu: frame.request(),
                 shade,
-                device: frame.device,
-                validation: frame.vk_validation,
                 out,
             };
             print!("{}", commands::render::run(&args)?);
@@ -219,15 +227,8 @@ fn run(command: Command) -> anyhow::Result<()> {
             debug_dir,
         } => {
             let args = ValidateArgs {
-                scene: resolve_scene(Some(&frame.scene)),
                 frame: frame.frame,
-                method: frame.method,
-                eps: frame.eps,
-                lambda: frame.lambda,
-                size: frame.size,
-                draw: frame.draw,
-                device: frame.device,
-                validation: frame.vk_validation,
+                gpu: frame.request(),
                 skip_holes: no_holes,
                 debug_dir,
             };

@@ -5,22 +5,21 @@ mod common;
 use std::path::Path;
 
 use bezier_subdiv::commands::validate::{run, ValidateArgs};
+use bezier_subdiv::commands::GpuRequest;
 use bezier_subdiv::draw::DrawRequest;
-use bezier_subdiv::vk::DeviceSelector;
 
 fn args(scene: &str, draw: DrawRequest) -> ValidateArgs {
-    ValidateArgs {
-        scene: Path::new(env!("CARGO_MANIFEST_DIR"))
+    let mut gpu = GpuRequest::new(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("scenes")
             .join(scene),
+    );
+    gpu.size = (320, 180);
+    gpu.draw = draw;
+    gpu.validation = true;
+    ValidateArgs {
+        gpu,
         frame: None,
-        method: "subdiv".into(),
-        eps: None,
-        lambda: None,
-        size: (320, 180),
-        draw,
-        device: DeviceSelector::Auto,
-        validation: true,
         skip_holes: false,
         debug_dir: Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output/holes")),
     }
@@ -39,8 +38,7 @@ fn teapot_validates_on_both_paths() {
 #[test]
 fn kitchen_validates() {
     let _gpu = common::gpu();
-    let mut a = args("kitchen.toml", DrawRequest::Auto);
-    a.size = (320, 180);
+    let a = args("kitchen.toml", DrawRequest::Auto);
     let report = run(&a).unwrap();
     println!("{}", report.table);
     assert!(report.ok(), "{}", report.table);

@@ -31,6 +31,54 @@ pub fn resolve_scene(path: Option<&Path>) -> PathBuf {
     }
 }
 
+/// What every command that runs the GPU is asked for: the scene, the
+/// method and its tolerance, the image, the device.
+#[derive(Clone, Debug)]
+pub struct GpuRequest {
+    /// Scene file.
+    pub scene: PathBuf,
+    /// Method name.
+    pub method: String,
+    /// ε override.
+    pub eps: Option<f64>,
+    /// λ override.
+    pub lambda: Option<f64>,
+    /// Image size (the tolerance is measured in its pixels).
+    pub size: (u32, u32),
+    /// Draw path request.
+    pub draw: crate::draw::DrawRequest,
+    /// Device choice.
+    pub device: crate::vk::DeviceSelector,
+    /// Khronos validation layer on (any error fails the run).
+    pub validation: bool,
+}
+
+impl GpuRequest {
+    /// The defaults for `scene`: method subdiv, the scene's ε and λ,
+    /// 1920×1080, automatic draw path and device, no validation layer.
+    pub fn new(scene: PathBuf) -> Self {
+        GpuRequest {
+            scene,
+            method: "subdiv".into(),
+            eps: None,
+            lambda: None,
+            size: (1920, 1080),
+            draw: crate::draw::DrawRequest::Auto,
+            device: crate::vk::DeviceSelector::Auto,
+            validation: false,
+        }
+    }
+
+    /// A Vulkan context on the requested device.
+    pub fn context(&self) -> crate::vk::VkResult<crate::vk::Context> {
+        crate::vk::Context::new(&crate::vk::ContextOptions {
+            selector: self.device.clone(),
+            validation: self.validation,
+            ..crate::vk::ContextOptions::default()
+        })
+    }
+}
+
 /// Keyframe `k` of `scene` (read from `path`), or an error naming the
 /// frames there are.
 pub fn keyframe(scene: &Scene, path: &Path, k: usize) -> anyhow::Result<Camera> {

@@ -6,15 +6,15 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context as _};
 use serde_json::{json, Map, Value};
 
-use super::{eps_lambda, keyframe};
+use super::{eps_lambda, keyframe, GpuRequest};
 use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_WEDGES};
-use crate::draw::{choose, headlight, write_png, DrawRequest};
+use crate::draw::{choose, headlight, write_png};
 use crate::files::{check_writable, temp_sibling, write_atomic};
 use crate::gpu::Capacities;
 use crate::methods::Method;
 use crate::renderer::{FrameReport, Renderer, View};
 use crate::scene::file::Scene;
-use crate::vk::{Context, ContextOptions, DeviceSelector};
+use crate::vk::Context;
 
 /// The background of rendered images.
 pub const BACKGROUND: [f32; 4] = [0.09, 0.10, 0.12, 1.0];
@@ -53,26 +53,12 @@ impl Shade {
 /// What `render` is asked for.
 #[derive(Clone, Debug)]
 pub struct RenderArgs {
-    /// Scene file.
-    pub scene: PathBuf,
+    /// Scene, method, tolerance, image, device.
+    pub gpu: GpuRequest,
     /// Keyframe (0 = the scene camera).
     pub frame: usize,
-    /// Method name.
-    pub method: String,
-    /// ε override.
-    pub eps: Option<f64>,
-    /// λ override.
-    pub lambda: Option<f64>,
-    /// Image size.
-    pub size: (u32, u32),
-    /// Draw path request.
-    pub draw: DrawRequest,
     /// Shading.
     pub shade: Shade,
-    /// Device choice.
-    pub device: DeviceSelector,
-    /// Khronos validation layer on (any error fails the run).
-    pub validation: bool,
     /// Output PNG (`None`: `out/<scene name>.png`).
     pub out: Option<PathBuf>,
 }
@@ -112,10 +98,10 @@ pub fn commit_id() -> String {
 
 /// Renders and writes the PNG and its JSON; returns a short summary.
 pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
-    let method = Method::parse(&args.method).map_err(|e| anyhow!(e))?;
-    let scene = Scene::load(&args.scene)?;
-    let camera = keyframe(&scene, &args.scene, args.frame)?;
-    let (eps, lambda) = eps_lambda(&scene, args.eps, args.lambda)?;
+    let method = Method::parse(&args.gpu.method).map_err(|e| anyhow!(e))?;
+    let scene = Scene::load(&args.gpu.scene)?;
+    let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
+    let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
     let out = args
         .out
         .clone()
@@ -124,21 +110,17 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let json_path = stats_path(&out);
     let geo = scene
         .geometry()
-        .with_context(|| format!("loading the models of {}", args.scene.display()))?;
+        .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
 
-    let ctx = Context::new(&ContextOptions {
-        selector: args.device.clone(),
-        validation: args.validation,
-        ..ContextOptions::default()
-    })?;
-    let path = choose(&ctx, args.draw)?;
-    let (w, h) = args.size;
+    let ctx = args.gpu.context()?;
+    let path = choose(&ctx, args.gpu.draw)?;
+    let (w, h) = args.gpu.size;
     let mut renderer = Renderer::new(
         &ctx,
         &geo,
         path,
         Capacities::default(),
-        args.size,
+        args.gpu.size,
         super::render::BACKGROUND,
         None,
     )?;
@@ -151,7 +133,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     };
     let report = renderer.render(&view, false)?;
     let rgba = renderer.target().read_rgba(&ctx)?;
-    if args.validation {
+    if args.gpu.validation {
         ctx.check_validation()?;
     }
 
@@ -169,7 +151,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let s = &report.stats;
     Ok(format!(
         "{} ({}) on {}{}, {} path: {} ready quads, {} triangles ({:.1} % wedges), max depth {}, {:.2} ms GPU\nwrote {} and {}\n",
-        args.scene.display(),
+        args.gpu.scene.display(),
         method.name(),
         info.name,
         if info.is_cpu { " (CPU device)" } else { "" },
@@ -215,10 +197,10 @@ fn stats_json(
         memory.insert(name.into(), json!(bytes));
     }
     json!({
-        "scene": args.scene.display().to_string(),
+        "scene": args.gpu.scene.display().to_string(),
         "frame": args.frame,
-        "width": args.size.0,
-        "height": args.size.1,
+        "width": args.gpu.size.0,
+        "height": args.gpu.size.1,
         "device": info.name,
         "device_is_cpu": info.is_cpu,
         "driver": format!("{} {}", info.driver_name, info.driver_info),

@@ -9,9 +9,9 @@ use std::path::PathBuf;
 use anyhow::{anyhow, Context as _};
 
 use super::render::BACKGROUND;
-use super::{eps_lambda, keyframe, thousands};
+use super::{eps_lambda, keyframe, thousands, GpuRequest};
 use crate::constants::SHADE_NORMAL;
-use crate::draw::{choose, headlight, DrawPath, DrawRequest};
+use crate::draw::{choose, headlight, DrawPath};
 use crate::gpu::Capacities;
 use crate::methods::Method;
 use crate::patch::oracle::subdivide_parallel;
@@ -22,29 +22,15 @@ use crate::validate::holes::run_model;
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
 };
-use crate::vk::{Context, ContextOptions, DeviceSelector};
+use crate::vk::Context;
 
 /// What `validate` is asked for.
 #[derive(Clone, Debug)]
 pub struct ValidateArgs {
-    /// Scene file.
-    pub scene: PathBuf,
+    /// Scene, method, tolerance, image, device.
+    pub gpu: GpuRequest,
     /// One keyframe, or every keyframe.
     pub frame: Option<usize>,
-    /// Method name.
-    pub method: String,
-    /// ε override.
-    pub eps: Option<f64>,
-    /// λ override.
-    pub lambda: Option<f64>,
-    /// Image size the tolerance is measured in.
-    pub size: (u32, u32),
-    /// Draw path request.
-    pub draw: DrawRequest,
-    /// Device choice.
-    pub device: DeviceSelector,
-    /// Khronos validation layer on (any error fails the run).
-    pub validation: bool,
     /// Skip the hole test (it renders every model from six cameras).
     pub skip_holes: bool,
     /// Where the hole test leaves the images of views that found holes.
@@ -78,32 +64,28 @@ fn line(check: &str, frame: Option<usize>, ok: bool, detail: String) -> CheckRes
 
 /// Runs every check.
 pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
-    let method = Method::parse(&args.method).map_err(|e| anyhow!(e))?;
-    let scene = Scene::load(&args.scene)?;
+    let method = Method::parse(&args.gpu.method).map_err(|e| anyhow!(e))?;
+    let scene = Scene::load(&args.gpu.scene)?;
     let frames: Vec<usize> = match args.frame {
         Some(k) => {
-            keyframe(&scene, &args.scene, k)?;
+            keyframe(&scene, &args.gpu.scene, k)?;
             vec![k]
         }
         None => (0..scene.frame_count()).collect(),
     };
-    let (eps, lambda) = eps_lambda(&scene, args.eps, args.lambda)?;
+    let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
     let geo = scene
         .geometry()
-        .with_context(|| format!("loading the models of {}", args.scene.display()))?;
-    let ctx = Context::new(&ContextOptions {
-        selector: args.device.clone(),
-        validation: args.validation,
-        ..ContextOptions::default()
-    })?;
-    let path = choose(&ctx, args.draw)?;
-    let (w, h) = args.size;
+        .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
+    let ctx = args.gpu.context()?;
+    let path = choose(&ctx, args.gpu.draw)?;
+    let (w, h) = args.gpu.size;
     let mut renderer = Renderer::new(
         &ctx,
         &geo,
         path,
         Capacities::default(),
-        args.size,
+        args.gpu.size,
         BACKGROUND,
         None,
     )?;
@@ -112,7 +94,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
 
     let mut results = Vec::new();
     for &k in &frames {
-        let cam = keyframe(&scene, &args.scene, k)?;
+        let cam = keyframe(&scene, &args.gpu.scene, k)?;
         let view = View {
             params: cam.view_params(w, h, eps, lambda),
             view_proj: cam.view_proj(w, h),
@@ -173,13 +155,13 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             &ctx,
             &mut renderer,
             &geo,
-            args.size,
+            args.gpu.size,
             eps,
             lambda,
             debug,
         )?);
     }
-    if args.validation {
+    if args.gpu.validation {
         let errors = ctx.validation_errors();
         results.push(line(
             "validation layer",
@@ -196,7 +178,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     let info = ctx.info();
     let mut table = format!(
         "validate {} (method {}, {} path, {w}x{h}, eps {eps}, lambda {lambda}) on {}{}\n\n{:<24} {:>5}  {:<6} {}\n",
-        args.scene.display(),
+        args.gpu.scene.display(),
         method.name(),
         path.name(),
         info.name,
