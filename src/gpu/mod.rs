@@ -169,7 +169,8 @@ fn sort_args(ready: u32) -> Vec<(u32, u32)> {
 pub struct Capacities {
     /// Ready-list entries (8 bytes each).
     pub ready: u32,
-    /// Work-queue entries (12 bytes each: node + sequence number).
+    /// Work-queue entries (16 bytes each: node, sequence number, and the
+    /// copy the sequence numbers are reset from).
     pub queue: u32,
     /// Allocate the fallback path's vertex buffer (`VERTICES_PER_NODE`
     /// vertices per ready entry).
