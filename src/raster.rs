@@ -32,8 +32,9 @@ const GUARD: f64 = 8.0;
 pub enum PreviewShade {
     /// Lambert + ambient with the base patch's true normal at each pixel's
     /// (u, v), tinted per model. Two-sided patches are lit from the side the
-    /// viewer sees; a one-sided patch seen from behind is tinted dark red (it
-    /// should have been hidden or culled, so it shows orientation mistakes).
+    /// viewer sees; a one-sided patch seen clearly from behind is tinted dark
+    /// red (it should have been hidden or culled: it shows orientation
+    /// mistakes).
     #[default]
     Normal,
     /// Heat map of the QuadNode depth, 0 (dark blue) … 10 (dark red), flat per
@@ -87,9 +88,9 @@ const PALETTE: [[f32; 3]; 12] = [
     [0.86, 0.78, 0.60],
     [0.28, 0.26, 0.30],
     [0.80, 0.50, 0.30],
-    [0.20, 0.45, 0.80],
     [0.80, 0.18, 0.15],
-    [0.60, 0.48, 0.30],
+    [0.18, 0.18, 0.20],
+    [0.20, 0.45, 0.80],
     [0.35, 0.65, 0.40],
 ];
 
@@ -115,6 +116,9 @@ pub fn depth_color(l: u32) -> [u8; 3] {
 }
 
 const WEDGE_COLOR: [u8; 3] = [255, 0, 255];
+/// A one-sided surface seen clearly from behind (it should be hidden or
+/// culled): dark red.
+const BACK_FACE_TINT: [f32; 3] = [0.45, 0.05, 0.05];
 
 /// A colour image with a depth buffer.
 #[derive(Clone, Debug)]
@@ -458,10 +462,13 @@ fn shade_normal(base: &BezierPatch, flags: u32, f: &Fragment, eye: DVec3, light:
     let to_eye = (eye - f.world).normalize_or_zero();
     let mut n = n.normalize_or_zero();
     let mut tint = tint;
-    if n.dot(to_eye) < 0.0 {
+    let facing = n.dot(to_eye);
+    if facing < 0.0 {
         n = -n;
-        if flags & PATCH_TWO_SIDED == 0 {
-            tint = [0.45, 0.05, 0.05];
+        // Slightly back-facing pixels occur at any silhouette of a coarse
+        // tessellation; only a clearly back-facing one-sided surface is flagged.
+        if flags & PATCH_TWO_SIDED == 0 && facing < -0.25 {
+            tint = BACK_FACE_TINT;
         }
     }
     let lambert = n.dot(light).max(0.0);

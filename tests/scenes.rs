@@ -1,54 +1,186 @@
-//! The shipped scene files: they load, have the documented patch counts and
-//! valid keyframes, and the oracle sees every model from frame 0.
+//! Every shipped scene file: it loads, has the patch count it documents, every
+//! keyframe sees something, and the oracle draws every model from frame 0.
+//! Also the `stats --preview` path end to end.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use bezier_subdiv::constants::PATCH_MODEL_SHIFT;
+use bezier_subdiv::commands::stats::{self, StatsArgs};
 use bezier_subdiv::patch::oracle::subdivide_parallel;
-use bezier_subdiv::scene::file::Scene;
+use bezier_subdiv::raster::PreviewShade;
+use bezier_subdiv::scene::file::{Scene, SceneGeometry, PATCH_MODEL_SHIFT};
 
-fn check(name: &str, patches: usize, frames: usize) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
+/// The shipped scenes: file, base patches, keyframes (camera + path keys).
+/// The paper's kitchen has 35,940 base patches; ours is built to match.
+const SCENES: &[(&str, usize, usize)] = &[("teapot.toml", 32, 4), ("kitchen.toml", 35_940, 7)];
+
+/// Small viewport: enough for the culling and criterion to act, fast.
+const SIZE: (u32, u32) = (320, 180);
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")
+}
+
+fn load(name: &str) -> (Scene, SceneGeometry) {
+    let path = scenes_dir().join(name);
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(scene.frame_count(), frames, "{name}: keyframes");
-    for k in 0..scene.frame_count() {
-        scene.frame_camera(k).unwrap().check().unwrap();
-    }
-    let geo = scene.geometry().unwrap();
-    assert_eq!(geo.patches.len(), patches, "{name}: base patches");
+    let geo = scene.geometry().unwrap_or_else(|e| panic!("{e}"));
+    (scene, geo)
+}
+
+#[test]
+fn every_scene_file_is_listed_here() {
+    let mut found: Vec<String> = std::fs::read_dir(scenes_dir())
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().to_string_lossy().into_owned();
+            name.ends_with(".toml").then_some(name)
+        })
+        .collect();
+    found.sort();
+    let mut listed: Vec<String> = SCENES.iter().map(|s| s.0.to_string()).collect();
+    listed.sort();
     assert_eq!(
-        geo.models
+        found, listed,
+        "add new scenes to SCENES with their patch count"
+    );
+}
+
+#[test]
+fn scenes_have_their_documented_patch_counts() {
+    for &(name, patches, frames) in SCENES {
+        let (scene, geo) = load(name);
+        assert_eq!(scene.frame_count(), frames, "{name}: keyframes");
+        assert_eq!(geo.patches.len(), patches, "{name}");
+        assert_eq!(geo.flags.len(), patches, "{name}");
+        let sum: usize = geo
+            .models
             .iter()
             .map(|m| m.patches_per_instance * m.instances)
-            .sum::<usize>(),
-        patches
-    );
-    let vp = scene
-        .camera
-        .view_params(320, 180, scene.view.eps, scene.view.lambda);
-    let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
-    let mut seen = vec![0usize; geo.models.len()];
-    for q in &res.ready {
-        seen[(geo.flags[q.patch as usize] >> PATCH_MODEL_SHIFT) as usize] += 1;
+            .sum();
+        assert_eq!(sum, patches, "{name}");
     }
-    for (m, n) in geo.models.iter().zip(&seen) {
-        assert!(
-            *n > 0,
-            "{name}: model '{}' not visible from frame 0",
+}
+
+/// One row of a scene file's header table:
+/// `#   name   file   instances × patches = total`.
+struct TableRow {
+    name: String,
+    instances: usize,
+    per_instance: usize,
+    total: usize,
+}
+
+fn header_table(text: &str) -> Vec<TableRow> {
+    let num = |s: &str| s.replace(',', "").parse::<usize>().ok();
+    let mut rows = Vec::new();
+    for line in text.lines().take_while(|l| l.starts_with('#')) {
+        let t: Vec<&str> = line.trim_start_matches('#').split_whitespace().collect();
+        let Some(file) = t
+            .iter()
+            .position(|w| w.ends_with(".obj") || w.ends_with(".bpt"))
+        else {
+            continue;
+        };
+        if t.len() != file + 6 || t[file + 2] != "×" || t[file + 4] != "=" {
+            continue;
+        }
+        if let (Some(instances), Some(per_instance), Some(total)) =
+            (num(t[file + 1]), num(t[file + 3]), num(t[file + 5]))
+        {
+            rows.push(TableRow {
+                name: t[..file].join(" "),
+                instances,
+                per_instance,
+                total,
+            });
+        }
+    }
+    rows
+}
+
+#[test]
+fn the_kitchen_header_table_matches_the_geometry() {
+    let text = std::fs::read_to_string(scenes_dir().join("kitchen.toml")).unwrap();
+    let rows = header_table(&text);
+    let (_, geo) = load("kitchen.toml");
+    assert_eq!(rows.len(), geo.models.len(), "one table row per model");
+    for (row, m) in rows.iter().zip(&geo.models) {
+        assert_eq!(row.name, m.name);
+        assert_eq!(
+            (row.instances, row.per_instance, row.total),
+            (
+                m.instances,
+                m.patches_per_instance,
+                m.instances * m.patches_per_instance
+            ),
+            "{}",
             m.name
         );
     }
+    assert!(text.contains("35,940\n"), "the table's total line is stale");
 }
 
 #[test]
-fn teapot_scene() {
-    check("teapot.toml", 32, 4);
+fn every_keyframe_sees_something() {
+    for &(name, ..) in SCENES {
+        let (scene, geo) = load(name);
+        assert!(scene.frame_count() >= 1);
+        for k in 0..scene.frame_count() {
+            let cam = scene.frame_camera(k).unwrap();
+            cam.check()
+                .unwrap_or_else(|e| panic!("{name} frame {k}: {e}"));
+            let vp = cam.view_params(SIZE.0, SIZE.1, scene.view.eps, scene.view.lambda);
+            let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
+            assert!(res.stats.ready_quads > 0, "{name} frame {k} draws nothing");
+        }
+    }
 }
 
 #[test]
-fn kitchen_scene() {
-    // The paper's kitchen has 35,940 base patches; ours is built to match.
-    check("kitchen.toml", 35_940, 7);
+fn frame_zero_draws_every_model() {
+    for &(name, ..) in SCENES {
+        let (scene, geo) = load(name);
+        let cam = scene.frame_camera(0).unwrap();
+        let vp = cam.view_params(SIZE.0, SIZE.1, scene.view.eps, scene.view.lambda);
+        let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
+        let mut per_model = vec![0u64; geo.models.len()];
+        for q in &res.ready {
+            per_model[(geo.flags[q.patch as usize] >> PATCH_MODEL_SHIFT) as usize] += 1;
+        }
+        for (m, n) in geo.models.iter().zip(&per_model) {
+            assert!(
+                *n > 0,
+                "{name}: model '{}' is entirely culled in frame 0",
+                m.name
+            );
+        }
+    }
+}
+
+#[test]
+fn stats_writes_a_preview_and_refuses_a_bad_path_first() {
+    let dir = std::env::temp_dir().join(format!("scenes-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("teapot.png");
+    let mut args = StatsArgs::new(scenes_dir().join("teapot.toml"));
+    args.size = (160, 90);
+    args.preview = Some(png.clone());
+    args.preview_shade = PreviewShade::Depth;
+    let report = stats::run(&args).unwrap();
+    assert_eq!(report.preview.as_deref(), Some(png.to_str().unwrap()));
+    let img = image::open(&png).unwrap().to_rgba8();
+    assert_eq!(img.dimensions(), (160, 90));
+    let background = *img.get_pixel(0, 0);
+    let drawn = img.pixels().filter(|p| **p != background).count();
+    assert!(drawn > 500, "only {drawn} pixels drawn");
+
+    // A missing directory is refused, by name, before any work is done.
+    args.preview = Some(dir.join("no/such/dir/x.png"));
+    args.scene = dir.join("no-such-scene.toml");
+    let e = format!("{:#}", stats::run(&args).unwrap_err());
+    assert!(
+        e.contains("no/such/dir") && e.contains("does not exist"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
