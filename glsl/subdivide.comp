@@ -125,8 +125,25 @@ uint process(uvec2 q, out uvec2 kids[4]) {
     reconstruct(P, dom.x, dom.y, dom.z, dom.w, S);
     vec3 lo, hi;
     patch_bbox(S, lo, hi);
-    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view)) {
-        return OUT_CULLED;
+    vec2 pivot_u, pivot_v;
+    bvec2 pivots = wedge_pivots(q, pivot_u, pivot_v);
+    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
+        // The box must also hold the wedge pivots of the node's outer edges:
+        // its wedges and its descendants' reach them (see oracle::process).
+        vec3 clo = lo, chi = hi;
+        if (pivots.x) {
+            vec3 p = eval_patch(P, pivot_u.x, pivot_u.y);
+            clo = min3(clo, p);
+            chi = max3(chi, p);
+        }
+        if (pivots.y) {
+            vec3 p = eval_patch(P, pivot_v.x, pivot_v.y);
+            clo = min3(clo, p);
+            chi = max3(chi, p);
+        }
+        if (outside_frustum(clo, chi, view)) {
+            return OUT_CULLED;
+        }
     }
     uint l = node_depth(q);
     if (l < view.l_max) {
@@ -151,8 +168,11 @@ uint process(uvec2 q, out uvec2 kids[4]) {
             return OUT_SPLIT;
         }
     }
+    // A node with wedges is never back-face culled (see oracle::process).
     bool one_sided = (patch_flags[q.x] & PATCH_TWO_SIDED) == 0u;
-    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing(S, lo, hi, view.eye.xyz)) {
+    bool has_wedges = (view.flags & FLAG_WEDGES) != 0u && any(pivots);
+    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && !has_wedges
+        && back_facing(S, lo, hi, view.eye.xyz)) {
         return OUT_BACKFACE;
     }
     return OUT_READY;

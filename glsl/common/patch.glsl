@@ -341,6 +341,38 @@ struct NodeMesh {
     bvec2 wedge;  // x: along u (tris[2]), y: along v (tris[3])
 };
 
+// The pivots of the node's wedges along u and along v (twin of
+// wedge::wedge_pivots): the coordinate along an outer edge flat at a coarser
+// depth, rounded down to it; absent where that is the node's own corner.
+bvec2 wedge_pivots(uvec2 q, out vec2 pivot_u, out vec2 pivot_v) {
+    uint l = node_depth(q);
+    uint m = node_m(q);
+    uint n = node_n(q);
+    float s = pow2_neg(l);
+    bvec2 has = bvec2(false);
+    pivot_u = vec2(0.0);
+    pivot_v = vec2(0.0);
+    uint le = node_l0(q);
+    if (le < l) {
+        uint mp = (m >> (l - le)) << (l - le);
+        if (mp != m) {
+            uint ne = (n & 1u) == 0u ? n : n + 1u;
+            pivot_u = vec2(float(mp) * s, float(ne) * s);
+            has.x = true;
+        }
+    }
+    le = node_l1(q);
+    if (le < l) {
+        uint np = (n >> (l - le)) << (l - le);
+        if (np != n) {
+            uint me = (m & 1u) == 0u ? m : m + 1u;
+            pivot_v = vec2(float(me) * s, float(np) * s);
+            has.y = true;
+        }
+    }
+    return has;
+}
+
 NodeMesh node_mesh(uvec2 q, bool with_wedges) {
     uint l = node_depth(q);
     uint m = node_m(q);
@@ -363,25 +395,19 @@ NodeMesh node_mesh(uvec2 q, bool with_wedges) {
     if (!with_wedges) {
         return mesh;
     }
-    uint le = node_l0(q);
-    if (le < l) {
-        uint mp = (m >> (l - le)) << (l - le);
-        if (mp != m) {
-            bool bottom = (n & 1u) == 0u;
-            mesh.uv[4] = vec2(float(mp) * s, bottom ? c : d);
-            mesh.tris[2] = bottom ? uvec3(1, 0, 4) : uvec3(3, 2, 4);
-            mesh.wedge.x = true;
-        }
+    vec2 pivot_u, pivot_v;
+    bvec2 has = wedge_pivots(q, pivot_u, pivot_v);
+    if (has.x) {
+        bool bottom = (n & 1u) == 0u;
+        mesh.uv[4] = pivot_u;
+        mesh.tris[2] = bottom ? uvec3(1, 0, 4) : uvec3(3, 2, 4);
+        mesh.wedge.x = true;
     }
-    le = node_l1(q);
-    if (le < l) {
-        uint np = (n >> (l - le)) << (l - le);
-        if (np != n) {
-            bool left = (m & 1u) == 0u;
-            mesh.uv[5] = vec2(left ? a : b, float(np) * s);
-            mesh.tris[3] = left ? uvec3(0, 3, 5) : uvec3(2, 1, 5);
-            mesh.wedge.y = true;
-        }
+    if (has.y) {
+        bool left = (m & 1u) == 0u;
+        mesh.uv[5] = pivot_v;
+        mesh.tris[3] = left ? uvec3(0, 3, 5) : uvec3(2, 1, 5);
+        mesh.wedge.y = true;
     }
     return mesh;
 }

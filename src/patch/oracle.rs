@@ -12,9 +12,10 @@ use super::bezier::BezierPatch;
 use super::blossom::reconstruct;
 use super::criterion::{edge_flat, inner_flat};
 use super::cull::{back_facing, outside_frustum};
+use super::ops::{max3, min3};
 use super::quadnode::QuadNode;
-use super::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
-use super::wedge::{children, edge_depths, node_mesh, resolve_depths, NodeMesh};
+use super::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
+use super::wedge::{children, edge_depths, node_mesh, resolve_depths, wedge_pivots, NodeMesh};
 
 /// Per-patch flag: the model is open or thin; never back-face cull it.
 pub use crate::constants::PATCH_TWO_SIDED;
@@ -37,8 +38,21 @@ pub fn process(base: &BezierPatch, flags: u32, node: QuadNode, vp: &ViewParams) 
     let (a, b, c, d) = node.domain();
     let sub = reconstruct(base, a, b, c, d);
     let (lo, hi) = sub.bbox();
-    if vp.has(FLAG_FRUSTUM_CULL) && outside_frustum(lo, hi, vp) {
-        return Outcome::Culled;
+    let pivots = wedge_pivots(node);
+    if vp.has(FLAG_FRUSTUM_CULL) {
+        // The node's wedges, and those of every descendant along its outer
+        // edges, reach from its own edge to a pivot that may lie outside its
+        // control points' box: the box must hold the pivots too, or a wedge
+        // reaching into the view would be culled with the node.
+        let (mut clo, mut chi) = (lo, hi);
+        for (u, v) in pivots.into_iter().flatten() {
+            let p = base.eval(u, v);
+            clo = min3(clo, p);
+            chi = max3(chi, p);
+        }
+        if outside_frustum(clo, chi, vp) {
+            return Outcome::Culled;
+        }
     }
     let l = node.depth();
     if l < vp.l_max {
@@ -57,8 +71,15 @@ pub fn process(base: &BezierPatch, flags: u32, node: QuadNode, vp: &ViewParams) 
             return Outcome::Split(children(node, resolve_depths(node, depths, flat)));
         }
     }
+    // A node with wedges is never back-face culled: its wedges close cracks
+    // to a coarser neighbour that may be front-facing (at a silhouette).
     let one_sided = flags & PATCH_TWO_SIDED == 0;
-    if vp.has(FLAG_BACKFACE_CULL) && one_sided && back_facing(&sub, lo, hi, vp.eye.truncate()) {
+    let has_wedges = vp.has(FLAG_WEDGES) && pivots.iter().any(Option::is_some);
+    if vp.has(FLAG_BACKFACE_CULL)
+        && one_sided
+        && !has_wedges
+        && back_facing(&sub, lo, hi, vp.eye.truncate())
+    {
         return Outcome::BackFacing;
     }
     Outcome::Ready

@@ -94,6 +94,37 @@ impl NodeMesh {
     }
 }
 
+/// The pivots (u, v) of the node's wedges, along u (on the bottom or top
+/// outer edge) and along v (left or right): the node's coordinate along an
+/// outer edge flat at a coarser depth, rounded down to that depth; `None`
+/// where the edge is not flat at a coarser depth or the pivot is the node's
+/// own corner. Every descendant along that edge has the same pivot, which is
+/// why frustum culling must keep a node whose pivots are in view.
+pub fn wedge_pivots(node: QuadNode) -> [Option<(f32, f32)>; 2] {
+    let l = node.depth();
+    let s = pow2_neg(l);
+    let (m, n) = (node.m(), node.n());
+    let u = |k: u32| k as f32 * s;
+    let mut out = [None, None];
+    let le = node.l0();
+    if le < l {
+        let mp = (m >> (l - le)) << (l - le);
+        if mp != m {
+            let v_edge = if n & 1 == 0 { u(n) } else { u(n + 1) };
+            out[0] = Some((u(mp), v_edge));
+        }
+    }
+    let le = node.l1();
+    if le < l {
+        let np = (n >> (l - le)) << (l - le);
+        if np != n {
+            let u_edge = if m & 1 == 0 { u(m) } else { u(m + 1) };
+            out[1] = Some((u_edge, u(np)));
+        }
+    }
+    out
+}
+
 /// Builds the triangles of a ready node: two triangles split along the
 /// (0,0)–(1,1) diagonal, plus a wedge on each outer edge flat at a coarser
 /// depth whose pivot differs from the edge's end points.
@@ -112,29 +143,14 @@ pub fn node_mesh(node: QuadNode, with_wedges: bool) -> NodeMesh {
     if !with_wedges {
         return mesh;
     }
-    // Along u: the bottom edge if this is a lower child, else the top edge.
-    let le = node.l0();
-    if le < l {
-        let mp = (m >> (l - le)) << (l - le);
-        if mp != m {
-            let bottom = n & 1 == 0;
-            let (v_edge, tri) = if bottom {
-                (c, [1, 0, 4])
-            } else {
-                (d, [3, 2, 4])
-            };
-            push_wedge(&mut mesh, (u(mp), v_edge), tri);
-        }
+    let [along_u, along_v] = wedge_pivots(node);
+    if let Some(p) = along_u {
+        let bottom = n & 1 == 0;
+        push_wedge(&mut mesh, p, if bottom { [1, 0, 4] } else { [3, 2, 4] });
     }
-    // Along v: the left edge if this is a left child, else the right edge.
-    let le = node.l1();
-    if le < l {
-        let np = (n >> (l - le)) << (l - le);
-        if np != n {
-            let left = m & 1 == 0;
-            let (u_edge, tri) = if left { (a, [0, 3, 5]) } else { (b, [2, 1, 5]) };
-            push_wedge(&mut mesh, (u_edge, u(np)), tri);
-        }
+    if let Some(p) = along_v {
+        let left = m & 1 == 0;
+        push_wedge(&mut mesh, p, if left { [0, 3, 5] } else { [2, 1, 5] });
     }
     mesh
 }
