@@ -168,11 +168,12 @@ uint process(uvec2 q, out uvec2 kids[4]) {
             return OUT_SPLIT;
         }
     }
-    // A node with wedges is never back-face culled (see oracle::process).
+    // A back-facing node goes only if its wedges face away too (see
+    // cull::wedges_face_away).
     bool one_sided = (patch_flags[q.x] & PATCH_TWO_SIDED) == 0u;
-    bool has_wedges = (view.flags & FLAG_WEDGES) != 0u && any(pivots);
-    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && !has_wedges
-        && back_facing(S, lo, hi, view.eye.xyz)) {
+    bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
+    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing(S, lo, hi, view.eye.xyz)
+        && wedges_face_away(P, q, view.eye.xyz, with_wedges)) {
         return OUT_BACKFACE;
     }
     return OUT_READY;

@@ -14,7 +14,7 @@ use bezier_subdiv::patch::blossom::reconstruct;
 use bezier_subdiv::patch::criterion::{
     edge_flat, edge_samples, edge_tolerance2, line_sample_terms,
 };
-use bezier_subdiv::patch::ops::{affine_row, THIRD};
+use bezier_subdiv::patch::ops::{affine_row, cross3, dot3, THIRD};
 use bezier_subdiv::patch::oracle::{subdivide, subdivide_parallel, triangulate, Outcome, Triangle};
 use bezier_subdiv::patch::quadnode::{QuadNode, L_MAX};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
@@ -584,4 +584,38 @@ fn frustum_culling_leaves_no_visible_crack() {
         );
     }
     assert!(culled_total > 10_000, "the views must cull");
+}
+
+/// Back-face culling only removes triangles that face away from the eye,
+/// wedges included: on a closed, consistently wound mesh that cannot uncover
+/// anything.
+#[test]
+fn backface_culling_removes_only_triangles_facing_away() {
+    let mut culled = 0;
+    for name in ["catmark_torus.obj", "catmark_cube.obj", "catmark_pawn.obj"] {
+        let patches = model(name);
+        for cam in test_cameras(&patches) {
+            let vp = cam.view_params(640, 360, 1.0, 0.5);
+            let eye = vp.eye.truncate();
+            let mut stack: Vec<QuadNode> = (0..patches.len() as u32).map(QuadNode::root).collect();
+            while let Some(q) = stack.pop() {
+                let base = &patches[q.patch as usize];
+                match bezier_subdiv::patch::oracle::process(base, 0, q, &vp) {
+                    Outcome::Split(ch) => stack.extend(ch),
+                    Outcome::BackFacing => {
+                        culled += 1;
+                        for t in triangulate(&patches, &[q], true) {
+                            let n = cross3(t.v[1] - t.v[0], t.v[2] - t.v[0]);
+                            assert!(
+                                dot3(n, t.v[0] - eye) > 0.0,
+                                "{name}: a culled triangle faces the eye: {t:?}"
+                            );
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    assert!(culled > 1000, "the views must cull ({culled})");
 }

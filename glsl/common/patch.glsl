@@ -412,4 +412,23 @@ NodeMesh node_mesh(uvec2 q, bool with_wedges) {
     return mesh;
 }
 
+// Twin of cull::wedges_face_away: every wedge triangle of the ready node
+// faces away from the eye (positions as drawn, from the base patch P).
+bool wedges_face_away(vec3 P[16], uvec2 q, vec3 eye, bool with_wedges) {
+    NodeMesh mesh = node_mesh(q, with_wedges);
+    bool away = true;
+    for (uint t = 2u; t < 4u; ++t) {
+        if (!(t == 2u ? mesh.wedge.x : mesh.wedge.y)) {
+            continue;
+        }
+        uvec3 k = mesh.tris[t];
+        precise vec3 a = eval_patch(P, mesh.uv[k.x].x, mesh.uv[k.x].y);
+        precise vec3 b = eval_patch(P, mesh.uv[k.y].x, mesh.uv[k.y].y);
+        precise vec3 c = eval_patch(P, mesh.uv[k.z].x, mesh.uv[k.z].y);
+        precise vec3 n = cross3(b - a, c - a);
+        away = away && dot3(n, a - eye) > 0.0;
+    }
+    return away;
+}
+
 #endif

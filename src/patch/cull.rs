@@ -10,8 +10,10 @@
 use glam::Vec3;
 
 use super::bezier::BezierPatch;
-use super::ops::{affine_row, max3, min3};
+use super::ops::{affine_row, cross3, dot3, max3, min3};
+use super::quadnode::QuadNode;
 use super::view::ViewParams;
+use super::wedge::node_mesh;
 
 /// True when the box [lo, hi] lies entirely on the outer side of one of the
 /// frustum planes (tested at the box corner farthest along the plane normal).
@@ -101,6 +103,27 @@ pub fn back_facing(s: &BezierPatch, lo: Vec3, hi: Vec3, eye: Vec3) -> bool {
     let dy = imul(ny, Iv(wlo.y, whi.y));
     let dz = imul(nz, Iv(wlo.z, whi.z));
     (dx.0 + dy.0) + dz.0 > 0.0
+}
+
+/// True when every wedge triangle of a ready node faces away from the eye
+/// (or there are none). A back-facing node may only be dropped together
+/// with its wedges when they face away too: a wedge reaches from the node's
+/// edge to a pivot on a coarser edge, possibly where the surface already
+/// faces the eye, and on a closed, consistently wound, watertight mesh only
+/// triangles that face away can be removed without uncovering anything.
+/// Positions are the drawn ones ([`BezierPatch::eval`]).
+pub fn wedges_face_away(base: &BezierPatch, node: QuadNode, eye: Vec3, with_wedges: bool) -> bool {
+    let mesh = node_mesh(node, with_wedges);
+    let mut away = true;
+    for t in &mesh.tris[2..mesh.tri_count] {
+        let [a, b, c] = t.map(|k| {
+            let (u, v) = mesh.uv[k as usize];
+            base.eval(u, v)
+        });
+        let n = cross3(b - a, c - a);
+        away &= dot3(n, a - eye) > 0.0;
+    }
+    away
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@ use glam::Vec3;
 use super::bezier::BezierPatch;
 use super::blossom::reconstruct;
 use super::criterion::{edge_flat, inner_flat};
-use super::cull::{back_facing, outside_frustum};
+use super::cull::{back_facing, outside_frustum, wedges_face_away};
 use super::ops::{max3, min3};
 use super::quadnode::QuadNode;
 use super::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
@@ -71,14 +71,14 @@ pub fn process(base: &BezierPatch, flags: u32, node: QuadNode, vp: &ViewParams) 
             return Outcome::Split(children(node, resolve_depths(node, depths, flat)));
         }
     }
-    // A node with wedges is never back-face culled: its wedges close cracks
-    // to a coarser neighbour that may be front-facing (at a silhouette).
+    // A back-facing node goes only if its wedges face away too (see
+    // `wedges_face_away`): they may reach where the surface faces the eye.
     let one_sided = flags & PATCH_TWO_SIDED == 0;
-    let has_wedges = vp.has(FLAG_WEDGES) && pivots.iter().any(Option::is_some);
+    let eye = vp.eye.truncate();
     if vp.has(FLAG_BACKFACE_CULL)
         && one_sided
-        && !has_wedges
-        && back_facing(&sub, lo, hi, vp.eye.truncate())
+        && back_facing(&sub, lo, hi, eye)
+        && wedges_face_away(base, node, eye, vp.has(FLAG_WEDGES))
     {
         return Outcome::BackFacing;
     }
