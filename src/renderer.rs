@@ -6,11 +6,12 @@
 use glam::{DMat4, Vec3};
 
 use crate::constants::ERR_READY_FULL;
-use crate::draw::{draw_push, DrawPath, DrawTarget, Drawer};
+use crate::draw::{draw_push, headlight, DrawPath, DrawTarget, Drawer};
 use crate::gpu::{Capacities, FrameGpu, SceneGpu, SceneLayout};
 use crate::methods::sort::ReadySort;
 use crate::methods::subdiv::{GpuSubdivStats, Subdivider};
 use crate::patch::view::ViewParams;
+use crate::scene::camera::Camera;
 use crate::scene::file::SceneGeometry;
 use crate::vk::{Context, GpuTimer, VkError, VkResult};
 
@@ -58,6 +59,21 @@ pub struct View {
     pub shade: u32,
     /// `SHADE_DISTANCE`: the distance coded as 1.0 (0 for other modes).
     pub distance_scale: f32,
+}
+
+impl View {
+    /// The view of `camera` in a `size` image with tolerance `eps`, blend
+    /// `lambda`, shading `shade` and the default headlight.
+    pub fn new(camera: &Camera, size: (u32, u32), eps: f64, lambda: f64, shade: u32) -> Self {
+        let (w, h) = size;
+        View {
+            params: camera.view_params(w, h, eps, lambda),
+            view_proj: camera.view_proj(w, h),
+            light_dir: headlight(camera),
+            shade,
+            distance_scale: 0.0,
+        }
+    }
 }
 
 impl<'a> Renderer<'a> {

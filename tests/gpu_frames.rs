@@ -9,7 +9,7 @@ mod common;
 use std::path::Path;
 
 use bezier_subdiv::constants::*;
-use bezier_subdiv::draw::{headlight, DrawPath};
+use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::gpu::Capacities;
 use bezier_subdiv::patch::oracle::subdivide_parallel;
 use bezier_subdiv::patch::quadnode::QuadNode;
@@ -31,13 +31,7 @@ fn scene(name: &str) -> (Scene, SceneGeometry) {
 }
 
 fn view(cam: &Camera, eps: f64, lambda: f64, shade: u32) -> View {
-    View {
-        params: cam.view_params(SIZE.0, SIZE.1, eps, lambda),
-        view_proj: cam.view_proj(SIZE.0, SIZE.1),
-        light_dir: headlight(cam),
-        shade,
-        distance_scale: 0.0,
-    }
+    View::new(cam, SIZE, eps, lambda, shade)
 }
 
 /// Renders `v` and checks quads and vertex bits against the oracle;

@@ -69,6 +69,25 @@ impl GpuRequest {
         }
     }
 
+    /// The renderer for `geo` on `ctx`: the requested draw path, the default
+    /// buffer budget, the requested size, the render background.
+    pub fn renderer<'a>(
+        &self,
+        ctx: &'a crate::vk::Context,
+        geo: &crate::scene::file::SceneGeometry,
+    ) -> anyhow::Result<crate::renderer::Renderer<'a>> {
+        let path = crate::draw::choose(ctx, self.draw)?;
+        Ok(crate::renderer::Renderer::new(
+            ctx,
+            geo,
+            path,
+            crate::gpu::Capacities::default(),
+            self.size,
+            render::BACKGROUND,
+            None,
+        )?)
+    }
+
     /// A Vulkan context on the requested device.
     pub fn context(&self) -> crate::vk::VkResult<crate::vk::Context> {
         crate::vk::Context::new(&crate::vk::ContextOptions {

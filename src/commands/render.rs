@@ -8,9 +8,8 @@ use serde_json::{json, Map, Value};
 
 use super::{eps_lambda, keyframe, GpuRequest};
 use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_WEDGES};
-use crate::draw::{choose, headlight, write_png};
+use crate::draw::write_png;
 use crate::files::{check_writable, temp_sibling, write_atomic};
-use crate::gpu::Capacities;
 use crate::methods::Method;
 use crate::renderer::{FrameReport, Renderer, View};
 use crate::scene::file::Scene;
@@ -113,24 +112,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
 
     let ctx = args.gpu.context()?;
-    let path = choose(&ctx, args.gpu.draw)?;
+    let mut renderer = args.gpu.renderer(&ctx, &geo)?;
+    let path = renderer.path();
     let (w, h) = args.gpu.size;
-    let mut renderer = Renderer::new(
-        &ctx,
-        &geo,
-        path,
-        Capacities::default(),
-        args.gpu.size,
-        super::render::BACKGROUND,
-        None,
-    )?;
-    let view = View {
-        params: camera.view_params(w, h, eps, lambda),
-        view_proj: camera.view_proj(w, h),
-        light_dir: headlight(&camera),
-        shade: args.shade.code(),
-        distance_scale: 0.0,
-    };
+    let view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
     let report = renderer.render(&view, false)?;
     let rgba = renderer.target().read_rgba(&ctx)?;
     if args.gpu.validation {

@@ -8,11 +8,9 @@ use std::path::PathBuf;
 
 use anyhow::{anyhow, Context as _};
 
-use super::render::BACKGROUND;
 use super::{eps_lambda, keyframe, thousands, GpuRequest};
 use crate::constants::SHADE_NORMAL;
-use crate::draw::{choose, headlight, DrawPath};
-use crate::gpu::Capacities;
+use crate::draw::DrawPath;
 use crate::methods::Method;
 use crate::patch::oracle::subdivide_parallel;
 use crate::patch::view::FLAG_WEDGES;
@@ -78,30 +76,16 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         .geometry()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     let ctx = args.gpu.context()?;
-    let path = choose(&ctx, args.gpu.draw)?;
+    let mut renderer = args.gpu.renderer(&ctx, &geo)?;
+    let path = renderer.path();
     let (w, h) = args.gpu.size;
-    let mut renderer = Renderer::new(
-        &ctx,
-        &geo,
-        path,
-        Capacities::default(),
-        args.gpu.size,
-        BACKGROUND,
-        None,
-    )?;
     let reorder = ReorderCheck::new(&ctx, renderer.layout())?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
 
     let mut results = Vec::new();
     for &k in &frames {
         let cam = keyframe(&scene, &args.gpu.scene, k)?;
-        let view = View {
-            params: cam.view_params(w, h, eps, lambda),
-            view_proj: cam.view_proj(w, h),
-            light_dir: headlight(&cam),
-            shade: SHADE_NORMAL,
-            distance_scale: 0.0,
-        };
+        let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
         let report = renderer.render(&view, true)?;
         let frame = renderer.frame();
         let gpu_ready = frame.read_ready(&ctx, report.stats.ready_quads)?;

@@ -22,7 +22,7 @@
 use glam::Vec3;
 
 use crate::constants::*;
-use crate::draw::{draw_push, headlight, DrawPath, DrawTarget, Drawer};
+use crate::draw::{draw_push, DrawPath, DrawTarget, Drawer};
 use crate::gpu::{Capacities, FrameGpu};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::view::FLAG_WEDGES;
@@ -269,11 +269,8 @@ pub fn run_model(
     for (k, cam) in hole_cameras(&geo.patches).iter().enumerate() {
         let scale = cam.far as f32;
         let mut view = View {
-            params: cam.view_params(w, h, eps, lambda),
-            view_proj: cam.view_proj(w, h),
-            light_dir: headlight(cam),
-            shade: SHADE_KEY,
             distance_scale: scale,
+            ..View::new(cam, size, eps, lambda, SHADE_KEY)
         };
         let with = subdivided(ctx, renderer, &view)?;
         view.params.flags &= !FLAG_WEDGES;
