@@ -3,7 +3,7 @@
 #version 460
 
 #define USE_VERTICES
-#include "common/scene.glsl"
+#include "common/ready.glsl"
 #include "common/draw.glsl"
 
 layout(location = 0) out vec3 out_world;
@@ -16,7 +16,7 @@ void main() {
     uint index = uint(gl_VertexIndex);
     // Draw arguments larger than the buffer (a producer bug) must not read
     // past it: such vertices collapse to one point and draw nothing.
-    if (index >= pc.ready_capacity * VERTICES_PER_NODE) {
+    if (index >= pc.capacity * VERTICES_PER_NODE) {
         gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
         out_world = vec3(0.0);
         out_uv = vec2(0.0);

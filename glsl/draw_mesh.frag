@@ -3,6 +3,7 @@
 #extension GL_EXT_mesh_shader : require
 
 #include "common/scene.glsl"
+#include "common/draw.glsl"
 #include "common/shade.glsl"
 
 layout(location = 0) in vec3 in_world;

@@ -3,6 +3,7 @@
 #version 460
 
 #include "common/scene.glsl"
+#include "common/draw.glsl"
 #include "common/shade.glsl"
 
 layout(location = 0) in vec3 in_world;

@@ -8,7 +8,7 @@
 
 #define USE_VERTICES_WRITE
 #define USE_CAPTURE
-#include "common/scene.glsl"
+#include "common/ready.glsl"
 #include "common/draw.glsl"
 
 layout(local_size_x = EXPAND_GROUP_SIZE) in;
@@ -24,7 +24,7 @@ void write_vertex(uint index, vec3 p, uint patch_id, uint attrs) {
 
 void main() {
     uint node = gl_GlobalInvocationID.x;
-    if (node >= ready_count()) {
+    if (node >= ready_count(pc.capacity)) {
         return;
     }
     uvec2 q = ready[node];
@@ -32,13 +32,11 @@ void main() {
     vec3 P[16];
     load_patch(q.x, P);
 
-    // The same evaluation as the mesh path: one precise function, exact
-    // dyadic parameters.
+    // The same evaluation as the mesh path.
     vec3 pos[6];
+    node_positions(P, mesh, pos);
     for (uint s = 0u; s < 6u; ++s) {
-        bool used = s < 4u || (s == 4u && mesh.wedge.x) || (s == 5u && mesh.wedge.y);
-        pos[s] = used ? eval_patch(P, mesh.uv[s].x, mesh.uv[s].y) : pos[0];
-        if (used && pc.capture_enabled != 0u) {
+        if (slot_used(mesh, s) && pc.capture_enabled != 0u) {
             capture[6u * node + s] = vec4(pos[s], 1.0);
         }
     }

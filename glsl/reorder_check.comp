@@ -4,7 +4,8 @@
 // out as the same 16 points, bit for bit. Counts nodes checked and failed.
 #version 460
 
-#include "common/scene.glsl"
+#define USE_LIST_PUSH
+#include "common/ready.glsl"
 
 layout(local_size_x = EXPAND_GROUP_SIZE) in;
 
@@ -32,7 +33,7 @@ bool same_bits(vec3 a[16], vec3 b[16]) {
 
 void main() {
     uint idx = gl_GlobalInvocationID.x;
-    uint n = min(counters[C_READY_COUNT], pc.ready_capacity);
+    uint n = ready_count(pc.ready_capacity);
     if (idx >= n) {
         return;
     }

@@ -6,7 +6,7 @@
 // same frame give the same image every run. Sorting by patch also keeps a
 // patch's control points hot in caches while it is drawn.
 //
-// Passes (pc.sort_mode), each one dispatch, recorded by src/methods/sort.rs:
+// Passes (pc.mode), each one dispatch, recorded by src/draw/sort.rs:
 //   FILL:   entries [count, length) get the largest key;
 //   BLOCK:  each block of SORT_BLOCK entries runs the steps j < SORT_BLOCK of
 //           stage k in shared memory (k = 0: every stage up to SORT_BLOCK);
@@ -16,7 +16,8 @@
 #version 460
 
 #define USE_READY_RW
-#include "common/scene.glsl"
+#define USE_LIST_PUSH
+#include "common/ready.glsl"
 
 layout(local_size_x = SORT_GROUP_SIZE) in;
 
@@ -44,23 +45,23 @@ void order(inout uvec2 a, inout uvec2 b, uint i, uint k) {
 void main() {
     uint len = counters[C_SORT_LENGTH];
     uint t = gl_GlobalInvocationID.x;
-    if (pc.sort_mode == MODE_FILL) {
+    if (pc.mode == MODE_FILL) {
         uint i = min(counters[C_READY_COUNT], pc.ready_capacity) + t;
         if (i < len) {
             ready[i] = uvec2(0xffffffffu);
         }
         return;
     }
-    if (pc.sort_k > len) {
+    if (pc.k > len) {
         return;
     }
-    if (pc.sort_mode == MODE_GLOBAL) {
-        uint i = 2u * pc.sort_j * (t / pc.sort_j) + (t % pc.sort_j);
-        uint l = i + pc.sort_j;
+    if (pc.mode == MODE_GLOBAL) {
+        uint i = 2u * pc.j * (t / pc.j) + (t % pc.j);
+        uint l = i + pc.j;
         if (l < len) {
             uvec2 a = ready[i];
             uvec2 b = ready[l];
-            order(a, b, i, pc.sort_k);
+            order(a, b, i, pc.k);
             ready[i] = a;
             ready[l] = b;
         }
@@ -72,8 +73,8 @@ void main() {
     block[lt] = ready[base + lt];
     block[lt + SORT_GROUP_SIZE] = ready[base + lt + SORT_GROUP_SIZE];
     barrier();
-    uint k_first = pc.sort_k == 0u ? 2u : pc.sort_k;
-    uint k_last = pc.sort_k == 0u ? SORT_BLOCK : pc.sort_k;
+    uint k_first = pc.k == 0u ? 2u : pc.k;
+    uint k_last = pc.k == 0u ? SORT_BLOCK : pc.k;
     for (uint k = k_first; k <= k_last; k *= 2u) {
         for (uint j = min(k, SORT_BLOCK) / 2u; j > 0u; j /= 2u) {
             uint i = 2u * j * (lt / j) + (lt % j);

@@ -43,10 +43,25 @@
 #extension GL_KHR_shader_subgroup_vote : require
 
 #define USE_READY_WRITE
-#define USE_QUEUE
-#include "common/scene.glsl"
+#include "common/ready.glsl"
 
 layout(local_size_x = SUBDIV_GROUP_SIZE) in;
+
+// Set 2: the work queue (src/methods/subdiv.rs).
+layout(std430, set = SET_PRODUCER, binding = BIND_QUEUE_ITEMS) coherent buffer QueueItems {
+    uvec2 queue_items[];
+};
+layout(std430, set = SET_PRODUCER, binding = BIND_QUEUE_SEQS) coherent buffer QueueSeqs {
+    uint queue_seqs[];
+};
+
+// src/gpu/blocks.rs SubdivPush.
+layout(push_constant) uniform SubdivPush {
+    uint ready_capacity;  // entries in `ready`
+    uint queue_capacity;  // entries in the work queue
+    uint patch_count;     // base patches
+    uint idle_poll_cap;   // polls without progress before giving up
+} pc;
 
 const uint STACK_MASK = 31u;  // deque slots: 32 >= STACK_SIZE
 
@@ -194,205 +209,229 @@ void subgroup_max_counter(uint index, uint value) {
     }
 }
 
-void write_indirect_args() {
-    memoryBarrierBuffer();
-    uint n = min(atomic_load(C_READY_COUNT), pc.ready_capacity);
-    counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
-    counters[C_MESH_ARGS + 1u] = 1u;
-    counters[C_MESH_ARGS + 2u] = 1u;
-    counters[C_EXPAND_ARGS] = (n + EXPAND_GROUP_SIZE - 1u) / EXPAND_GROUP_SIZE;
-    counters[C_EXPAND_ARGS + 1u] = 1u;
-    counters[C_EXPAND_ARGS + 2u] = 1u;
-    counters[C_DRAW_ARGS] = n * VERTICES_PER_NODE;
-    counters[C_DRAW_ARGS + 1u] = 1u;
-    counters[C_DRAW_ARGS + 2u] = 0u;
-    counters[C_DRAW_ARGS + 3u] = 0u;
-    // Sorting: the list padded to a power of two, at least one block.
-    uint len = SORT_BLOCK;
-    while (len < n) {
-        len *= 2u;
+// One invocation's state across iterations: its depth-first deque
+// [lo, hi) (slot = index & STACK_MASK), whether base patches may be left,
+// its idle flag and stall count, and its statistics (summed per subgroup
+// at the end).
+struct Lane {
+    uint lo;
+    uint hi;
+    bool bases_left;
+    bool idle;
+    uint stalls;
+    uint last_in_flight;
+    uint processed;
+    uint culled;
+    uint backface;
+    uint at_lmax;
+    uint spills;
+    uint pushed;
+    uint tris;
+    uint wedges;
+    uint deepest;
+    uint iterations;
+};
+
+uvec2 stack[32];
+
+// The next item: the top of the own stack, else a base patch (one claim per
+// subgroup for all lanes that want one), else the global queue.
+bool take_item(inout Lane st, out uvec2 item) {
+    item = uvec2(0u);
+    bool have = false;
+    if (st.hi != st.lo) {
+        st.hi -= 1u;
+        item = stack[st.hi & STACK_MASK];
+        have = true;
     }
-    counters[C_SORT_LENGTH] = len;
-    counters[C_SORT_FILL_ARGS] = (len - n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE;
-    counters[C_SORT_FILL_ARGS + 1u] = 1u;
-    counters[C_SORT_FILL_ARGS + 2u] = 1u;
-    counters[C_SORT_GLOBAL_ARGS] = len / (2u * SORT_GROUP_SIZE);
-    counters[C_SORT_GLOBAL_ARGS + 1u] = 1u;
-    counters[C_SORT_GLOBAL_ARGS + 2u] = 1u;
-    counters[C_SORT_BLOCK_ARGS] = len / SORT_BLOCK;
-    counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
-    counters[C_SORT_BLOCK_ARGS + 2u] = 1u;
+    bool want_base = !have && st.bases_left;
+    uvec4 want = subgroupBallot(want_base);
+    uint n_want = subgroupBallotBitCount(want);
+    if (n_want > 0u) {
+        uint first = 0u;
+        if (subgroupElect()) {
+            first = atomicAdd(counters[C_NEXT_BASE], n_want);
+        }
+        first = subgroupBroadcastFirst(first);
+        if (want_base) {
+            uint id = first + subgroupBallotExclusiveBitCount(want);
+            if (id < pc.patch_count) {
+                item = uvec2(id, 0u);
+                have = true;
+            } else {
+                st.bases_left = false;
+            }
+        }
+    }
+    if (!have && !st.bases_left) {
+        have = queue_pop(item);
+    }
+    return have;
+}
+
+// Counts a processed item's outcome; a split pushes the children on the
+// own stack. Returns false when the stack would overflow.
+bool settle(inout Lane st, uvec2 item, uint outcome, uvec2 kids[4], bool with_wedges) {
+    st.processed += 1u;
+    if (outcome == OUT_SPLIT) {
+        if (st.hi - st.lo + 4u > 32u) {
+            atomicOr(counters[C_ERROR], ERR_STACK_OVERFLOW);
+            return false;
+        }
+        for (int k = 3; k >= 0; --k) {
+            stack[st.hi & STACK_MASK] = kids[k];
+            st.hi += 1u;
+        }
+    } else if (outcome == OUT_CULLED) {
+        st.culled += 1u;
+    } else if (outcome == OUT_BACKFACE) {
+        st.backface += 1u;
+    } else {
+        uint l = node_depth(item);
+        st.deepest = max(st.deepest, l);
+        st.at_lmax += l >= view.l_max ? 1u : 0u;
+        NodeMesh mesh = node_mesh(item, with_wedges);
+        uint w = (mesh.wedge.x ? 1u : 0u) + (mesh.wedge.y ? 1u : 0u);
+        st.tris += 2u + w;
+        st.wedges += w;
+    }
+    return true;
+}
+
+// Appends the subgroup's ready nodes with one atomic.
+void append_ready(bool is_ready, uvec2 item) {
+    uvec4 rb = subgroupBallot(is_ready);
+    uint n_ready = subgroupBallotBitCount(rb);
+    if (n_ready == 0u) {
+        return;
+    }
+    uint base = 0u;
+    if (subgroupElect()) {
+        base = atomicAdd(counters[C_READY_COUNT], n_ready);
+    }
+    base = subgroupBroadcastFirst(base);
+    if (is_ready) {
+        uint idx = base + subgroupBallotExclusiveBitCount(rb);
+        if (idx < pc.ready_capacity) {
+            ready[idx] = item;
+        } else {
+            atomicOr(counters[C_ERROR], ERR_READY_FULL);
+        }
+    }
+}
+
+// Donates the bottom of a deep stack while someone is idle: one donor per
+// subgroup and iteration (lanes of a subgroup run in lockstep, so several
+// would only race for the same queue slot).
+void donate(inout Lane st) {
+    uint idle_now = 0u;
+    if (subgroupElect()) {
+        idle_now = atomic_load(C_IDLE);
+    }
+    idle_now = subgroupBroadcastFirst(idle_now);
+    bool stress = (view.flags & FLAG_QUEUE_STRESS) != 0u;
+    bool can_donate = (idle_now > 0u || stress) && st.hi - st.lo >= 2u;
+    uvec4 donors = subgroupBallot(can_donate);
+    if (can_donate && gl_SubgroupInvocationID == subgroupBallotFindLSB(donors)) {
+        if (queue_push(stack[st.lo & STACK_MASK])) {
+            st.lo += 1u;
+            st.pushed += 1u;
+        } else {
+            st.spills += 1u;
+        }
+    }
+}
+
+// In-flight bookkeeping, after the children are on a stack or queued and
+// after the ready entries are written: +3 per split, -1 per finished item,
+// one atomic per subgroup that did any work, plus a progress tick in the
+// top byte so the idle pollers see progress even when the deltas cancel.
+void publish_progress(bool have, uint outcome) {
+    memoryBarrierBuffer();
+    int delta = have ? (outcome == OUT_SPLIT ? 3 : -1) : 0;
+    int sum = subgroupAdd(delta);
+    bool worked = subgroupAny(have);
+    if (subgroupElect() && worked) {
+        atomicAdd(counters[C_IN_FLIGHT], uint(sum) + IN_FLIGHT_TICK);
+    }
+}
+
+const uint POLL_WORK = 0u;   // keep going
+const uint POLL_DONE = 1u;   // nothing in flight anywhere: leave
+const uint POLL_STUCK = 2u;  // no progress for the whole cap: give up
+
+// An invocation without work: marks itself idle and polls the in-flight
+// counter once (never spinning inside an iteration).
+uint poll_idle(inout Lane st) {
+    if (!st.idle) {
+        st.idle = true;
+        atomicAdd(counters[C_IDLE], 1u);
+    }
+    uint in_flight = atomic_load(C_IN_FLIGHT);
+    if ((in_flight & IN_FLIGHT_MASK) == 0u) {
+        return POLL_DONE;
+    }
+    if (in_flight == st.last_in_flight) {
+        st.stalls += 1u;
+        if (st.stalls > pc.idle_poll_cap) {
+            atomicOr(counters[C_ERROR], ERR_ITERATION_CAP);
+            return POLL_STUCK;
+        }
+    } else {
+        st.stalls = 0u;
+        st.last_in_flight = in_flight;
+    }
+    return POLL_WORK;
+}
+
+// The invocation's statistics into the counters, one atomic per subgroup.
+void flush_stats(Lane st) {
+    subgroup_add_counter(C_PROCESSED, st.processed);
+    subgroup_add_counter(C_CULLED, st.culled);
+    subgroup_add_counter(C_BACKFACE, st.backface);
+    subgroup_add_counter(C_AT_LMAX, st.at_lmax);
+    subgroup_add_counter(C_SPILLS, st.spills);
+    subgroup_add_counter(C_QUEUE_PUSHED, st.pushed);
+    subgroup_add_counter(C_TRIANGLES, st.tris);
+    subgroup_add_counter(C_WEDGES, st.wedges);
+    subgroup_max_counter(C_MAX_DEPTH, st.deepest);
+    subgroup_max_counter(C_ITERATIONS_MAX, st.iterations);
 }
 
 void main() {
-    uvec2 stack[32];
-    uint lo = 0u;  // deque [lo, hi), slot = index & STACK_MASK
-    uint hi = 0u;
-    bool bases_left = true;
-    bool idle = false;
-    uint stalls = 0u;
-    uint last_in_flight = 0xffffffffu;
-    bool normal_exit = false;
+    Lane st = Lane(0u, 0u, true, false, 0u, 0xffffffffu, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
-
-    uint n_processed = 0u, n_culled = 0u, n_backface = 0u, n_at_lmax = 0u;
-    uint n_spills = 0u, n_pushed = 0u, n_tris = 0u, n_wedges = 0u;
-    uint deepest = 0u, iterations = 0u;
-
+    bool normal_exit = false;
     for (;;) {
-        iterations += 1u;
-        uvec2 item = uvec2(0u);
-        bool have = false;
-        if (hi != lo) {
-            hi -= 1u;
-            item = stack[hi & STACK_MASK];
-            have = true;
-        }
-
-        // Base patches, one claim per subgroup for all lanes that want one.
-        bool want_base = !have && bases_left;
-        uvec4 want = subgroupBallot(want_base);
-        uint n_want = subgroupBallotBitCount(want);
-        if (n_want > 0u) {
-            uint first = 0u;
-            if (subgroupElect()) {
-                first = atomicAdd(counters[C_NEXT_BASE], n_want);
-            }
-            first = subgroupBroadcastFirst(first);
-            if (want_base) {
-                uint id = first + subgroupBallotExclusiveBitCount(want);
-                if (id < pc.patch_count) {
-                    item = uvec2(id, 0u);
-                    have = true;
-                } else {
-                    bases_left = false;
-                }
-            }
-        }
-
-        if (!have && !bases_left) {
-            have = queue_pop(item);
-        }
-
+        st.iterations += 1u;
+        uvec2 item;
+        bool have = take_item(st, item);
         uint outcome = OUT_CULLED;
-        uvec2 kids[4];
         if (have) {
-            if (idle) {
-                idle = false;
+            if (st.idle) {
+                st.idle = false;
                 atomicAdd(counters[C_IDLE], 0xffffffffu);
             }
-            n_processed += 1u;
+            uvec2 kids[4];
             outcome = process(item, kids);
-            if (outcome == OUT_SPLIT) {
-                if (hi - lo + 4u > 32u) {
-                    atomicOr(counters[C_ERROR], ERR_STACK_OVERFLOW);
-                    break;
-                }
-                for (int k = 3; k >= 0; --k) {
-                    stack[hi & STACK_MASK] = kids[k];
-                    hi += 1u;
-                }
-            } else if (outcome == OUT_CULLED) {
-                n_culled += 1u;
-            } else if (outcome == OUT_BACKFACE) {
-                n_backface += 1u;
-            } else {
-                uint l = node_depth(item);
-                deepest = max(deepest, l);
-                n_at_lmax += l >= view.l_max ? 1u : 0u;
-                NodeMesh mesh = node_mesh(item, with_wedges);
-                uint w = (mesh.wedge.x ? 1u : 0u) + (mesh.wedge.y ? 1u : 0u);
-                n_tris += 2u + w;
-                n_wedges += w;
-            }
-        }
-
-        // Ready nodes: one atomic per subgroup.
-        bool is_ready = have && outcome == OUT_READY;
-        uvec4 rb = subgroupBallot(is_ready);
-        uint n_ready = subgroupBallotBitCount(rb);
-        if (n_ready > 0u) {
-            uint base = 0u;
-            if (subgroupElect()) {
-                base = atomicAdd(counters[C_READY_COUNT], n_ready);
-            }
-            base = subgroupBroadcastFirst(base);
-            if (is_ready) {
-                uint idx = base + subgroupBallotExclusiveBitCount(rb);
-                if (idx < pc.ready_capacity) {
-                    ready[idx] = item;
-                } else {
-                    atomicOr(counters[C_ERROR], ERR_READY_FULL);
-                }
-            }
-        }
-
-        // Donate the bottom of a deep stack while someone is idle.
-        uint idle_now = 0u;
-        if (subgroupElect()) {
-            idle_now = atomic_load(C_IDLE);
-        }
-        idle_now = subgroupBroadcastFirst(idle_now);
-        // One donor per subgroup and iteration: lanes of a subgroup run in
-        // lockstep, so several would only race for the same queue slot.
-        bool stress = (view.flags & FLAG_QUEUE_STRESS) != 0u;
-        bool can_donate = (idle_now > 0u || stress) && hi - lo >= 2u;
-        uvec4 donors = subgroupBallot(can_donate);
-        if (can_donate && gl_SubgroupInvocationID == subgroupBallotFindLSB(donors)) {
-            if (queue_push(stack[lo & STACK_MASK])) {
-                lo += 1u;
-                n_pushed += 1u;
-            } else {
-                n_spills += 1u;
-            }
-        }
-
-        // In-flight bookkeeping, after the children are on a stack or queued
-        // and after the ready entries are written.
-        // A subgroup that did any work also adds one progress tick in the top
-        // byte, so the idle pollers see progress even when the deltas cancel.
-        memoryBarrierBuffer();
-        int delta = have ? (outcome == OUT_SPLIT ? 3 : -1) : 0;
-        int sum = subgroupAdd(delta);
-        bool worked = subgroupAny(have);
-        if (subgroupElect() && worked) {
-            atomicAdd(counters[C_IN_FLIGHT], uint(sum) + IN_FLIGHT_TICK);
-        }
-
-        if (!have) {
-            if (!idle) {
-                idle = true;
-                atomicAdd(counters[C_IDLE], 1u);
-            }
-            uint in_flight = atomic_load(C_IN_FLIGHT);
-            if ((in_flight & IN_FLIGHT_MASK) == 0u) {
-                normal_exit = true;
+            if (!settle(st, item, outcome, kids, with_wedges)) {
                 break;
             }
-            if (in_flight == last_in_flight) {
-                stalls += 1u;
-                if (stalls > pc.idle_poll_cap) {
-                    atomicOr(counters[C_ERROR], ERR_ITERATION_CAP);
-                    break;
-                }
-            } else {
-                stalls = 0u;
-                last_in_flight = in_flight;
+        }
+        append_ready(have && outcome == OUT_READY, item);
+        donate(st);
+        publish_progress(have, outcome);
+        if (!have) {
+            uint poll = poll_idle(st);
+            if (poll != POLL_WORK) {
+                normal_exit = poll == POLL_DONE;
+                break;
             }
         }
     }
-
-    subgroup_add_counter(C_PROCESSED, n_processed);
-    subgroup_add_counter(C_CULLED, n_culled);
-    subgroup_add_counter(C_BACKFACE, n_backface);
-    subgroup_add_counter(C_AT_LMAX, n_at_lmax);
-    subgroup_add_counter(C_SPILLS, n_spills);
-    subgroup_add_counter(C_QUEUE_PUSHED, n_pushed);
-    subgroup_add_counter(C_TRIANGLES, n_tris);
-    subgroup_add_counter(C_WEDGES, n_wedges);
-    subgroup_max_counter(C_MAX_DEPTH, deepest);
-    subgroup_max_counter(C_ITERATIONS_MAX, iterations);
+    flush_stats(st);
     if (normal_exit && subgroupElect()) {
-        write_indirect_args();
+        memoryBarrierBuffer();
+        write_ready_args(min(atomic_load(C_READY_COUNT), pc.ready_capacity));
     }
 }

@@ -1,205 +1,300 @@
-//! Constants shared with the shaders: a mirror of `glsl/common/constants.glsl`,
-//! name for name and value for value (`tests/constants.rs` checks that they
-//! agree). The GLSL file explains each group.
+//! Constants shared with the shaders, declared once, here.
+//!
+//! `shared_constants!` turns each entry of the list below into a
+//! `pub const NAME: u32` and a row of [`ALL`]; `tools/compile-shaders`
+//! generates `glsl/common/constants.glsl` from [`ALL`] (comments included)
+//! and its `--check` fails while the committed header differs. To add or
+//! change a constant, edit the list and run
+//! `cargo run --release -p compile-shaders`; never edit the GLSL header.
+//!
+//! This file is also compiled into `tools/compile-shaders` by path, so it
+//! must not use anything from the rest of the crate.
 
-pub const L_MAX: u32 = 10;
+/// One constant shared with the shaders: a row of [`ALL`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SharedConst {
+    /// The name, the same in Rust and GLSL.
+    pub name: &'static str,
+    /// The value, the same in Rust and GLSL.
+    pub value: u32,
+    /// The constant's own doc comment, as the compiler hands it over: one
+    /// string per `///` line, each still starting with the space after `///`.
+    pub doc: &'static [&'static str],
+    /// Whether the GLSL spells the value in hex: it does when the list below does.
+    pub hex: bool,
+    /// `Some(comment)` on the first constant of each group: the GLSL puts a
+    /// blank line and the group's comment (lines as in `doc`) before it.
+    pub group: Option<&'static [&'static str]>,
+}
 
-// QuadNode word 1 layout: depth 4 | m 10 | n 10 | l0 4 | l1 4.
-pub const NODE_DEPTH_SHIFT: u32 = 0;
-pub const NODE_M_SHIFT: u32 = 4;
-pub const NODE_N_SHIFT: u32 = 14;
-pub const NODE_L0_SHIFT: u32 = 24;
-pub const NODE_L1_SHIFT: u32 = 28;
+/// Whether a literal, as `stringify!` spells it, is written in hex.
+const fn is_hex(literal: &str) -> bool {
+    let b = literal.as_bytes();
+    b.len() > 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X')
+}
 
-// f32(1/3) and f32(2/3) as bits: the literals cannot be misread.
-pub const THIRD_BITS: u32 = 0x3eaa_aaab;
-pub const TWO_THIRDS_BITS: u32 = 0x3f2a_aaab;
+/// Declares the shared constants. The input is a list of groups, each with
+/// its own doc comment:
+///
+/// ```text
+/// /// What the group is (written above it in the GLSL).
+/// group {
+///     NAME = 1;
+///     /// What this one is, when the group comment does not say.
+///     MASK = 0x00ff_ffff;   // hex here, hex in the GLSL
+/// }
+/// ```
+///
+/// Each constant becomes `pub const NAME: u32`, documented by its own
+/// comment followed by its group's, and a [`SharedConst`] row of [`ALL`].
+macro_rules! shared_constants {
+    // One group's items; the group comment comes as a single `[..]` token
+    // tree so that it can be repeated for every constant.
+    (@group $group_doc:tt $([$($doc:literal)*] $name:ident = $value:literal;)*) => {
+        $(shared_constants!(@item $group_doc [$($doc)*] $name = $value);)*
+    };
+    (@item [$($group_doc:literal)*] [] $name:ident = $value:literal) => {
+        $(#[doc = $group_doc])*
+        pub const $name: u32 = $value;
+    };
+    (@item [$($group_doc:literal)*] [$($doc:literal)+] $name:ident = $value:literal) => {
+        $(#[doc = $doc])*
+        #[doc = ""]
+        $(#[doc = $group_doc])*
+        pub const $name: u32 = $value;
+    };
+    ($(
+        $(#[doc = $group_doc:literal])*
+        group {
+            $(#[doc = $first_doc:literal])*
+            $first:ident = $first_value:literal;
+            $(
+                $(#[doc = $doc:literal])*
+                $name:ident = $value:literal;
+            )*
+        }
+    )*) => {
+        $(shared_constants!(@group [$($group_doc)*]
+            [$($first_doc)*] $first = $first_value;
+            $([$($doc)*] $name = $value;)*
+        );)*
 
-// ViewParams.flags.
-pub const FLAG_FRUSTUM_CULL: u32 = 1;
-pub const FLAG_BACKFACE_CULL: u32 = 2;
-pub const FLAG_WEDGES: u32 = 4;
-// Test-only: donate to the work queue on every split, not only when some
-// invocation is idle, to exercise the queue (and its overflow) hard.
-pub const FLAG_QUEUE_STRESS: u32 = 0x4000_0000;
+        /// Every shared constant in declaration order: the table
+        /// `tools/compile-shaders` writes `glsl/common/constants.glsl` from.
+        pub const ALL: &[SharedConst] = &[$(
+            SharedConst {
+                name: stringify!($first),
+                value: $first,
+                doc: &[$($first_doc),*],
+                hex: is_hex(stringify!($first_value)),
+                group: Some(&[$($group_doc),*]),
+            },
+            $(SharedConst {
+                name: stringify!($name),
+                value: $name,
+                doc: &[$($doc),*],
+                hex: is_hex(stringify!($value)),
+                group: None,
+            },)*
+        )*];
+    };
+}
 
-// Per-patch flags word.
-pub const PATCH_TWO_SIDED: u32 = 1;
-pub const PATCH_MODEL_SHIFT: u32 = 16;
+shared_constants! {
+    /// Quad-tree depth limit (10-bit m, n in the 8-byte QuadNode).
+    group {
+        L_MAX = 10;
+    }
 
-// Descriptor bindings of the one scene set every pass uses.
-pub const BIND_VIEW: u32 = 0;
-pub const BIND_PATCHES: u32 = 1;
-pub const BIND_PATCH_FLAGS: u32 = 2;
-pub const BIND_READY: u32 = 3;
-pub const BIND_COUNTERS: u32 = 4;
-pub const BIND_QUEUE_ITEMS: u32 = 5;
-pub const BIND_QUEUE_SEQS: u32 = 6;
-pub const BIND_VERTICES: u32 = 7;
-pub const BIND_CAPTURE: u32 = 8;
-pub const BIND_COUNT: u32 = 9;
+    /// QuadNode word 1 layout: depth 4 | m 10 | n 10 | l0 4 | l1 4.
+    group {
+        NODE_DEPTH_SHIFT = 0;
+        NODE_M_SHIFT = 4;
+        NODE_N_SHIFT = 14;
+        NODE_L0_SHIFT = 24;
+        NODE_L1_SHIFT = 28;
+    }
 
-// Indices into the counters buffer (uint words).
-pub const C_READY_COUNT: u32 = 0;
-pub const C_IN_FLIGHT: u32 = 1;
-pub const C_NEXT_BASE: u32 = 2;
-pub const C_QUEUE_HEAD: u32 = 3;
-pub const C_QUEUE_TAIL: u32 = 4;
-pub const C_IDLE: u32 = 5;
-pub const C_ERROR: u32 = 6;
-pub const C_PROCESSED: u32 = 7;
-pub const C_CULLED: u32 = 8;
-pub const C_BACKFACE: u32 = 9;
-pub const C_MAX_DEPTH: u32 = 10;
-pub const C_AT_LMAX: u32 = 11;
-pub const C_SPILLS: u32 = 12;
-pub const C_QUEUE_PEAK: u32 = 13;
-pub const C_QUEUE_PUSHED: u32 = 14;
-pub const C_TRIANGLES: u32 = 15;
-pub const C_WEDGES: u32 = 16;
-pub const C_ITERATIONS_MAX: u32 = 17;
-// Validation passes (reorder_check.comp): nodes checked, nodes failing.
-pub const C_CHECK_NODES: u32 = 18;
-pub const C_CHECK_FAILS: u32 = 19;
-// counters[C_IN_FLIGHT]: items in flight in the low 24 bits (so at most
-// 2^24 - 1 base patches), a wrapping progress tick in the top byte.
-pub const IN_FLIGHT_MASK: u32 = 0x00ff_ffff;
-pub const IN_FLIGHT_TICK: u32 = 0x0100_0000;
-// Indirect arguments, written by the subdivision pass.
-/// vkCmdDrawMeshTasksIndirectEXT: x, y, z
-pub const C_MESH_ARGS: u32 = 32;
-/// vkCmdDispatchIndirect: x, y, z
-pub const C_EXPAND_ARGS: u32 = 36;
-/// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
-pub const C_DRAW_ARGS: u32 = 40;
-// Sorting the ready list (sort.comp): the padded length, and dispatch
-// arguments for the padding fill, the global and the in-block passes.
-pub const C_SORT_LENGTH: u32 = 44;
-pub const C_SORT_FILL_ARGS: u32 = 48;
-pub const C_SORT_GLOBAL_ARGS: u32 = 52;
-pub const C_SORT_BLOCK_ARGS: u32 = 56;
-pub const COUNTER_WORDS: u32 = 64;
+    /// f32(1/3) and f32(2/3) as bits: the literals cannot be misread.
+    group {
+        THIRD_BITS = 0x3eaa_aaab;
+        TWO_THIRDS_BITS = 0x3f2a_aaab;
+    }
 
-// Error bits in counters[C_ERROR].
-pub const ERR_ITERATION_CAP: u32 = 1;
-pub const ERR_READY_FULL: u32 = 2;
-pub const ERR_STACK_OVERFLOW: u32 = 4;
+    /// ViewParams.flags.
+    group {
+        FLAG_FRUSTUM_CULL = 1;
+        FLAG_BACKFACE_CULL = 2;
+        FLAG_WEDGES = 4;
+        /// Test-only: donate to the work queue on every split, not only when some
+        /// invocation is idle, to exercise the queue (and its overflow) hard.
+        FLAG_QUEUE_STRESS = 0x4000_0000;
+    }
 
-// Workgroup sizes.
-pub const SUBDIV_GROUP_SIZE: u32 = 64;
-pub const EXPAND_GROUP_SIZE: u32 = 64;
-// Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:
-// at most 192 vertices and 128 primitives).
-pub const MESH_NODES: u32 = 32;
-// Mesh workgroups launched by one task workgroup.
-pub const TASK_MESH_GROUPS: u32 = 32;
+    /// Per-patch flags word.
+    group {
+        PATCH_TWO_SIDED = 1;
+        PATCH_MODEL_SHIFT = 16;
+    }
 
-// Sorting: threads per workgroup; a block of 2 * SORT_GROUP_SIZE entries is
-// sorted in shared memory. Ready-list capacities are powers of two and at
-// least one block.
-pub const SORT_GROUP_SIZE: u32 = 512;
-pub const SORT_BLOCK: u32 = 1024;
+    /// Descriptor set numbers: every pipeline layout starts with the scene
+    /// set, then the set of its pass family, then a producer's own.
+    group {
+        SET_SCENE = 0;
+        SET_PASS = 1;
+        SET_PRODUCER = 2;
+    }
+    /// Set 0, the scene (every pass): the view (a dynamic uniform buffer,
+    /// one ViewParams per frame slot), the base patches, their flags.
+    group {
+        BIND_VIEW = 0;
+        BIND_PATCHES = 1;
+        BIND_PATCH_FLAGS = 2;
+        SCENE_BINDINGS = 3;
+    }
+    /// Set 1 of the ready-list passes: the ready QuadNodes, the counters, the
+    /// fallback's vertices, the validation capture.
+    group {
+        BIND_READY = 0;
+        BIND_COUNTERS = 1;
+        BIND_VERTICES = 2;
+        BIND_CAPTURE = 3;
+        READY_BINDINGS = 4;
+    }
+    /// Set 2 of the persistent subdivision kernel: its work queue.
+    group {
+        BIND_QUEUE_ITEMS = 0;
+        BIND_QUEUE_SEQS = 1;
+        QUEUE_BINDINGS = 2;
+    }
+    /// Set 1 of the ground truth's grids: the visible patches and the counters
+    /// that hold its indexed indirect draw.
+    group {
+        BIND_GRID_VISIBLE = 0;
+        BIND_GRID_COUNTERS = 1;
+        GRID_BINDINGS = 2;
+    }
+    /// Words of the ground truth's counters: patches culled, and from
+    /// G_DRAW_ARGS the VkDrawIndexedIndirectCommand (index count, instance
+    /// count = visible patches, first index, vertex offset, first instance).
+    group {
+        G_CULLED = 0;
+        G_DRAW_ARGS = 4;
+        GRID_WORDS = 16;
+    }
 
-// Depth-first stack of one invocation: a subtree of depth L_MAX needs at
-// most 3 * L_MAX + 1 entries.
-pub const STACK_SIZE: u32 = 31;
+    /// Indices into the counters buffer (uint words).
+    group {
+        C_READY_COUNT = 0;
+        C_IN_FLIGHT = 1;
+        C_NEXT_BASE = 2;
+        C_QUEUE_HEAD = 3;
+        C_QUEUE_TAIL = 4;
+        C_IDLE = 5;
+        C_ERROR = 6;
+        C_PROCESSED = 7;
+        C_CULLED = 8;
+        C_BACKFACE = 9;
+        C_MAX_DEPTH = 10;
+        C_AT_LMAX = 11;
+        C_SPILLS = 12;
+        C_QUEUE_PEAK = 13;
+        C_QUEUE_PUSHED = 14;
+        C_TRIANGLES = 15;
+        C_WEDGES = 16;
+        C_ITERATIONS_MAX = 17;
+    }
+    /// Validation passes (reorder_check.comp): nodes checked, nodes failing.
+    group {
+        C_CHECK_NODES = 18;
+        C_CHECK_FAILS = 19;
+    }
+    /// counters[C_IN_FLIGHT]: items in flight in the low 24 bits (so at most
+    /// 2^24 - 1 base patches), a wrapping progress tick in the top byte.
+    group {
+        IN_FLIGHT_MASK = 0x00ff_ffff;
+        IN_FLIGHT_TICK = 0x0100_0000;
+    }
+    /// Indirect arguments in the counters buffer, written by the subdivision pass.
+    group {
+        /// vkCmdDrawMeshTasksIndirectEXT: x, y, z
+        C_MESH_ARGS = 32;
+        /// vkCmdDispatchIndirect: x, y, z
+        C_EXPAND_ARGS = 36;
+        /// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
+        C_DRAW_ARGS = 40;
+    }
+    /// Sorting the ready list (sort.comp): the padded length, and dispatch
+    /// arguments for the padding fill, the global and the in-block passes.
+    group {
+        C_SORT_LENGTH = 44;
+        C_SORT_FILL_ARGS = 48;
+        C_SORT_GLOBAL_ARGS = 52;
+        C_SORT_BLOCK_ARGS = 56;
+    }
+    /// Size of the counters buffer in uint words.
+    group {
+        COUNTER_WORDS = 64;
+    }
 
-// Fallback path: each ready node owns 4 triangle slots (12 vertices); a
-// missing wedge is written as a degenerate triangle.
-pub const VERTICES_PER_NODE: u32 = 12;
-// Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
-// bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26).
-pub const VERTEX_WORDS: u32 = 5;
-pub const PACK_V_SHIFT: u32 = 11;
-pub const PACK_DEPTH_SHIFT: u32 = 22;
-pub const PACK_WEDGE_SHIFT: u32 = 26;
+    /// Error bits in counters[C_ERROR].
+    group {
+        ERR_ITERATION_CAP = 1;
+        ERR_READY_FULL = 2;
+        ERR_STACK_OVERFLOW = 4;
+    }
 
-// Shading modes (push constant of the draw pipelines).
-pub const SHADE_NORMAL: u32 = 0;
-pub const SHADE_DEPTH: u32 = 1;
-pub const SHADE_WEDGES: u32 = 2;
-// Hole test: front faces white, back faces in the key colour.
-pub const SHADE_KEY: u32 = 3;
-// Hole test: distance from the eye / pc.light_dir.w as a 24-bit RGB code.
-pub const SHADE_DISTANCE: u32 = 4;
-// Tests: the rasterizer's facing (winding) as is: front white, back key.
-pub const SHADE_FACING: u32 = 5;
+    /// Workgroup sizes.
+    group {
+        SUBDIV_GROUP_SIZE = 64;
+        EXPAND_GROUP_SIZE = 64;
+        /// The ground truth's culling pass: one invocation per base patch.
+        GRID_CULL_GROUP_SIZE = 64;
+        /// Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:
+        /// at most 192 vertices and 128 primitives).
+        MESH_NODES = 32;
+        /// Mesh workgroups launched by one task workgroup.
+        TASK_MESH_GROUPS = 32;
+    }
 
-/// Every constant above by name, for the test that compares them with the GLSL.
-pub const ALL: &[(&str, u32)] = &[
-    ("L_MAX", L_MAX),
-    ("NODE_DEPTH_SHIFT", NODE_DEPTH_SHIFT),
-    ("NODE_M_SHIFT", NODE_M_SHIFT),
-    ("NODE_N_SHIFT", NODE_N_SHIFT),
-    ("NODE_L0_SHIFT", NODE_L0_SHIFT),
-    ("NODE_L1_SHIFT", NODE_L1_SHIFT),
-    ("THIRD_BITS", THIRD_BITS),
-    ("TWO_THIRDS_BITS", TWO_THIRDS_BITS),
-    ("FLAG_FRUSTUM_CULL", FLAG_FRUSTUM_CULL),
-    ("FLAG_BACKFACE_CULL", FLAG_BACKFACE_CULL),
-    ("FLAG_WEDGES", FLAG_WEDGES),
-    ("FLAG_QUEUE_STRESS", FLAG_QUEUE_STRESS),
-    ("PATCH_TWO_SIDED", PATCH_TWO_SIDED),
-    ("PATCH_MODEL_SHIFT", PATCH_MODEL_SHIFT),
-    ("BIND_VIEW", BIND_VIEW),
-    ("BIND_PATCHES", BIND_PATCHES),
-    ("BIND_PATCH_FLAGS", BIND_PATCH_FLAGS),
-    ("BIND_READY", BIND_READY),
-    ("BIND_COUNTERS", BIND_COUNTERS),
-    ("BIND_QUEUE_ITEMS", BIND_QUEUE_ITEMS),
-    ("BIND_QUEUE_SEQS", BIND_QUEUE_SEQS),
-    ("BIND_VERTICES", BIND_VERTICES),
-    ("BIND_CAPTURE", BIND_CAPTURE),
-    ("BIND_COUNT", BIND_COUNT),
-    ("C_READY_COUNT", C_READY_COUNT),
-    ("C_IN_FLIGHT", C_IN_FLIGHT),
-    ("C_NEXT_BASE", C_NEXT_BASE),
-    ("C_QUEUE_HEAD", C_QUEUE_HEAD),
-    ("C_QUEUE_TAIL", C_QUEUE_TAIL),
-    ("C_IDLE", C_IDLE),
-    ("C_ERROR", C_ERROR),
-    ("C_PROCESSED", C_PROCESSED),
-    ("C_CULLED", C_CULLED),
-    ("C_BACKFACE", C_BACKFACE),
-    ("C_MAX_DEPTH", C_MAX_DEPTH),
-    ("C_AT_LMAX", C_AT_LMAX),
-    ("C_SPILLS", C_SPILLS),
-    ("C_QUEUE_PEAK", C_QUEUE_PEAK),
-    ("C_QUEUE_PUSHED", C_QUEUE_PUSHED),
-    ("C_TRIANGLES", C_TRIANGLES),
-    ("C_WEDGES", C_WEDGES),
-    ("C_ITERATIONS_MAX", C_ITERATIONS_MAX),
-    ("C_CHECK_NODES", C_CHECK_NODES),
-    ("C_CHECK_FAILS", C_CHECK_FAILS),
-    ("IN_FLIGHT_MASK", IN_FLIGHT_MASK),
-    ("IN_FLIGHT_TICK", IN_FLIGHT_TICK),
-    ("C_MESH_ARGS", C_MESH_ARGS),
-    ("C_EXPAND_ARGS", C_EXPAND_ARGS),
-    ("C_DRAW_ARGS", C_DRAW_ARGS),
-    ("C_SORT_LENGTH", C_SORT_LENGTH),
-    ("C_SORT_FILL_ARGS", C_SORT_FILL_ARGS),
-    ("C_SORT_GLOBAL_ARGS", C_SORT_GLOBAL_ARGS),
-    ("C_SORT_BLOCK_ARGS", C_SORT_BLOCK_ARGS),
-    ("COUNTER_WORDS", COUNTER_WORDS),
-    ("ERR_ITERATION_CAP", ERR_ITERATION_CAP),
-    ("ERR_READY_FULL", ERR_READY_FULL),
-    ("ERR_STACK_OVERFLOW", ERR_STACK_OVERFLOW),
-    ("SUBDIV_GROUP_SIZE", SUBDIV_GROUP_SIZE),
-    ("EXPAND_GROUP_SIZE", EXPAND_GROUP_SIZE),
-    ("MESH_NODES", MESH_NODES),
-    ("TASK_MESH_GROUPS", TASK_MESH_GROUPS),
-    ("SORT_GROUP_SIZE", SORT_GROUP_SIZE),
-    ("SORT_BLOCK", SORT_BLOCK),
-    ("STACK_SIZE", STACK_SIZE),
-    ("VERTICES_PER_NODE", VERTICES_PER_NODE),
-    ("VERTEX_WORDS", VERTEX_WORDS),
-    ("PACK_V_SHIFT", PACK_V_SHIFT),
-    ("PACK_DEPTH_SHIFT", PACK_DEPTH_SHIFT),
-    ("PACK_WEDGE_SHIFT", PACK_WEDGE_SHIFT),
-    ("SHADE_NORMAL", SHADE_NORMAL),
-    ("SHADE_DEPTH", SHADE_DEPTH),
-    ("SHADE_WEDGES", SHADE_WEDGES),
-    ("SHADE_KEY", SHADE_KEY),
-    ("SHADE_DISTANCE", SHADE_DISTANCE),
-    ("SHADE_FACING", SHADE_FACING),
-];
+    /// Sorting: threads per workgroup; a block of 2 * SORT_GROUP_SIZE entries is
+    /// sorted in shared memory. Ready-list capacities are powers of two and at
+    /// least one block.
+    group {
+        SORT_GROUP_SIZE = 512;
+        SORT_BLOCK = 1024;
+    }
+
+    /// Depth-first stack of one invocation: a subtree of depth L_MAX needs at
+    /// most 3 * L_MAX + 1 entries.
+    group {
+        STACK_SIZE = 31;
+    }
+
+    /// Fallback path: each ready node owns 4 triangle slots (12 vertices); a
+    /// missing wedge is written as a degenerate triangle.
+    group {
+        VERTICES_PER_NODE = 12;
+    }
+    /// Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
+    /// bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26).
+    group {
+        VERTEX_WORDS = 5;
+        PACK_V_SHIFT = 11;
+        PACK_DEPTH_SHIFT = 22;
+        PACK_WEDGE_SHIFT = 26;
+    }
+
+    /// Shading modes (push constant of the draw pipelines).
+    group {
+        SHADE_NORMAL = 0;
+        SHADE_DEPTH = 1;
+        SHADE_WEDGES = 2;
+        /// Hole test: front faces white, back faces in the key colour.
+        SHADE_KEY = 3;
+        /// Hole test: distance from the eye / pc.light_dir.w as a 24-bit RGB code.
+        SHADE_DISTANCE = 4;
+        /// Tests: the rasterizer's facing (winding) as is: front white, back key.
+        SHADE_FACING = 5;
+    }
+}

@@ -20,18 +20,45 @@ pub fn temp_sibling(path: &Path) -> PathBuf {
 /// Writes `bytes` to `path` through a temporary sibling and a rename; on
 /// failure the temporary file is removed and `path` is untouched.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = stage(path, bytes)?;
+    commit(&[(tmp, path.to_path_buf())]).map_err(|(_, e)| e)
+}
+
+/// Writes `bytes` under a temporary sibling of `path` (flushed to disk) and
+/// returns its name, for a later [`commit`]; on failure nothing is left.
+pub fn stage(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
     let tmp = temp_sibling(path);
-    let result = (|| {
+    let written = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
+        f.sync_all()
     })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    match written {
+        Ok(()) => Ok(tmp),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
     }
-    result
+}
+
+/// Renames each staged temporary (`from`) onto its final name (`to`), in
+/// order. A set of outputs appears together or not at all: when a rename
+/// fails, the files this call already renamed and the temporaries not yet
+/// renamed are removed, and the error names the file that failed.
+pub fn commit(staged: &[(PathBuf, PathBuf)]) -> Result<(), (PathBuf, std::io::Error)> {
+    for (i, (from, to)) in staged.iter().enumerate() {
+        if let Err(e) = std::fs::rename(from, to) {
+            for (_, done) in &staged[..i] {
+                let _ = std::fs::remove_file(done);
+            }
+            for (left, _) in &staged[i..] {
+                let _ = std::fs::remove_file(left);
+            }
+            return Err((to.clone(), e));
+        }
+    }
+    Ok(())
 }
 
 /// Checks, before any expensive work, that `path` can be written: its
@@ -92,6 +119,43 @@ mod tests {
         let missing = dir.join("missing/out.txt");
         assert!(write_atomic(&missing, b"x").is_err());
         assert_eq!(std::fs::read_dir(dir.join("a/b")).unwrap().count(), 1);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A set of outputs whose second rename fails leaves nothing behind:
+    /// neither the first file (already renamed) nor any temporary.
+    #[test]
+    fn failed_commit_leaves_no_file() {
+        let dir = std::env::temp_dir().join(format!("bezier-subdiv-commit-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("blocked.json/inside")).unwrap();
+        let png = dir.join("out.png");
+        let json = dir.join("blocked.json");
+        let staged = vec![
+            (stage(&png, b"png").unwrap(), png.clone()),
+            (stage(&json, b"json").unwrap(), json.clone()),
+        ];
+        let (failed, _) = commit(&staged).unwrap_err();
+        assert_eq!(failed, json);
+        let mut names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        names.sort();
+        assert_eq!(
+            names,
+            ["blocked.json"],
+            "only the directory that blocked is left"
+        );
+        // The same set commits when nothing is in the way.
+        std::fs::remove_dir_all(&json).unwrap();
+        let staged = vec![
+            (stage(&png, b"png").unwrap(), png.clone()),
+            (stage(&json, b"json").unwrap(), json.clone()),
+        ];
+        commit(&staged).unwrap();
+        assert_eq!(std::fs::read(&png).unwrap(), b"png");
+        assert_eq!(std::fs::read(&json).unwrap(), b"json");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -6,6 +6,7 @@ pub mod commands;
 pub mod constants;
 pub mod draw;
 pub mod files;
+pub mod frame;
 pub mod gpu;
 pub mod methods;
 pub mod patch;

@@ -127,8 +127,9 @@ struct FrameArgs {
     /// (validate: every keyframe when not given).
     #[arg(long)]
     frame: Option<usize>,
-    /// Method: subdiv (later: subdiv-indirect, tess, tess-reparam, cudatess,
-    /// ground-truth).
+    /// Method: subdiv (recursive subdivision, persistent threads) or
+    /// ground-truth (a dense grid per patch, the reference images are
+    /// compared with). Planned: subdiv-indirect, tess, tess-reparam, cudatess.
     #[arg(long, default_value = "subdiv")]
     method: String,
     /// Pixel tolerance ε (default: the scene's, else 1).
@@ -141,10 +142,15 @@ struct FrameArgs {
     /// Image size.
     #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
     size: (u32, u32),
-    /// Draw path: auto (mesh shaders where available), mesh, fallback
-    /// (compute expansion + vertex shader).
+    /// Draw path of the subdivision methods: auto (mesh shaders where
+    /// available), mesh, fallback (compute expansion + vertex shader).
     #[arg(long, default_value = "auto")]
     draw: DrawRequest,
+    /// ground-truth: grid cells per patch side, a power of two up to 256
+    /// (64, the paper's tessellation factor, costs 8,192 triangles per
+    /// patch; lower it for quick references on a CPU device).
+    #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
+    grid: u32,
     /// Vulkan device: an index from `info`, or part of its name.
     #[arg(long, value_name = "ID", default_value = "auto")]
     device: DeviceSelector,
@@ -162,6 +168,7 @@ impl FrameArgs {
             lambda: self.lambda,
             size: self.size,
             draw: self.draw,
+            grid: self.grid,
             device: self.device.clone(),
             validation: self.vk_validation,
         }

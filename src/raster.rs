@@ -438,7 +438,7 @@ impl Raster {
     /// Writes the image as PNG, whole or not at all (`draw::write_png`).
     pub fn save_png(&self, path: &Path) -> anyhow::Result<()> {
         let bytes: &[u8] = bytemuck::cast_slice(&self.color);
-        crate::draw::write_png(path, self.width, self.height, bytes)?;
+        crate::gpu::write_png(path, self.width, self.height, bytes)?;
         Ok(())
     }
 }

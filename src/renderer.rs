@@ -1,129 +1,250 @@
-//! One GPU frame of a method: upload once, then per view record the
-//! subdivision pass and the draw into one command buffer, submit, and read
-//! back the counters and timestamps. Used by `render`, `validate` and
-//! `bench`.
+//! The renderer: one uploaded scene, any number of methods, frames in
+//! flight. Used by `render`, `validate` and the tests (and by `bench` and
+//! the window to come).
+//!
+//! - The scene is uploaded once; methods are made on first use and kept,
+//!   so switching methods, ε or λ reuses the scene, the shader modules and
+//!   each method's pipelines and buffers.
+//! - [`Renderer::submit`] records a frame into the next of N frame slots
+//!   (each with its own command buffer, fence, view constants, timestamp
+//!   queries and copy-out area) and returns without waiting;
+//!   [`Renderer::collect`] waits for that slot and reads its figures.
+//!   [`Renderer::render`] is both, repeated while the method asks to redo
+//!   the frame (a list that overflowed was grown).
+//! - Buffers a method replaces go to a deferred-release list and are freed
+//!   only after every frame submitted before the replacement has finished.
+//! - Dropping the renderer waits for its frames; work that never finishes
+//!   makes it leak instead of freeing memory the GPU may still use.
 
-use glam::{DMat4, Vec3};
+use std::any::Any;
+use std::sync::Arc;
 
-use crate::constants::ERR_READY_FULL;
-use crate::draw::{draw_push, headlight, DrawPath, DrawTarget, Drawer};
-use crate::gpu::{Capacities, FrameGpu, SceneGpu, SceneLayout};
-use crate::methods::sort::ReadySort;
-use crate::methods::subdiv::{GpuSubdivStats, Subdivider};
-use crate::patch::view::ViewParams;
-use crate::scene::camera::Camera;
+use ash::vk;
+
+use crate::frame::{FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
+use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, Shaders};
+use crate::methods::{
+    self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
+};
 use crate::scene::file::SceneGeometry;
-use crate::vk::{Context, GpuTimer, VkError, VkResult};
+use crate::vk::{
+    host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, VkError, VkResult,
+};
 
-/// Largest ready list the renderer grows to (8 bytes per entry, plus the
-/// fallback's 240 bytes of vertices per entry).
-pub const MAX_READY_CAPACITY: u32 = 1 << 24;
+/// Frames in flight unless told otherwise.
+pub const DEFAULT_FRAMES_IN_FLIGHT: usize = 2;
 
-/// Everything created once per scene and device.
-pub struct Renderer<'a> {
-    ctx: &'a Context,
-    layout: SceneLayout,
-    scene: SceneGpu,
-    frame: FrameGpu,
-    subdiv: Subdivider,
-    sort: ReadySort,
-    /// Sort the ready list before drawing (on by default: see
-    /// `methods::sort`; benchmarks may time the method without it).
-    pub sort_ready: bool,
-    drawer: Drawer,
-    target: DrawTarget,
-    timer: GpuTimer,
+/// Timestamp scopes per frame: the frame, and a method's passes.
+const MAX_SCOPES: u32 = 12;
+
+/// How a renderer is set up.
+#[derive(Clone, Debug)]
+pub struct RendererOptions {
+    /// Target size in pixels (the tolerance is measured in them).
+    pub size: (u32, u32),
+    /// Background the target is cleared to.
+    pub background: [f32; 4],
+    /// Frame slots (frames in flight).
+    pub frames_in_flight: usize,
+    /// The methods' knobs.
+    pub methods: MethodOptions,
 }
 
 /// What one frame reported.
 #[derive(Clone, Debug)]
 pub struct FrameReport {
-    /// The subdivision pass's counters.
-    pub stats: GpuSubdivStats,
-    /// GPU time per named pass, in milliseconds.
+    /// The method that drew it.
+    pub method: &'static str,
+    /// Its draw path, in words.
+    pub draw_path: &'static str,
+    /// The common keys and the method's own section.
+    pub stats: MethodStats,
+    /// GPU time per named scope, in milliseconds ("frame" is the whole).
     pub gpu_ms: Vec<(String, f64)>,
-    /// Times the ready list had to grow and the frame re-run.
-    pub regrown: u32,
+    /// Times the frame was drawn again after the method grew a buffer.
+    pub redone: u32,
 }
 
-/// One view: the criterion's constants plus what drawing needs.
-#[derive(Clone, Copy, Debug)]
-pub struct View {
-    /// Criterion and culling constants (flags included).
-    pub params: ViewParams,
-    /// World → clip.
-    pub view_proj: DMat4,
-    /// Direction towards the light.
-    pub light_dir: Vec3,
-    /// `SHADE_*`.
-    pub shade: u32,
-    /// `SHADE_DISTANCE`: the distance coded as 1.0 (0 for other modes).
-    pub distance_scale: f32,
-}
-
-impl View {
-    /// The view of `camera` in a `size` image with tolerance `eps`, blend
-    /// `lambda`, shading `shade` and the default headlight.
-    pub fn new(camera: &Camera, size: (u32, u32), eps: f64, lambda: f64, shade: u32) -> Self {
-        let (w, h) = size;
-        View {
-            params: camera.view_params(w, h, eps, lambda),
-            view_proj: camera.view_proj(w, h),
-            light_dir: headlight(camera),
-            shade,
-            distance_scale: 0.0,
-        }
+impl FrameReport {
+    /// GPU milliseconds of scope `name`, if it was timed.
+    pub fn ms(&self, name: &str) -> Option<f64> {
+        self.gpu_ms
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, ms)| *ms)
     }
 }
 
-impl<'a> Renderer<'a> {
-    /// Uploads `geo` and creates the passes for `path` and a
-    /// `width`×`height` target cleared to `background`.
+/// A submitted frame, to hand to [`Renderer::collect`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[must_use = "a submitted frame's figures are read by collect()"]
+pub struct FrameTicket {
+    slot: usize,
+    serial: u64,
+}
+
+/// Per frame slot: its timestamps, its copy-out area, and what it ran.
+struct SlotData {
+    timer: GpuTimer,
+    copy_out: Buffer,
+    /// (method index, serial) of the frame recorded here and not yet
+    /// collected.
+    frame: Option<(usize, u64)>,
+}
+
+/// The renderer.
+pub struct Renderer {
+    // Dropped first: waits for the frames still running (or declares the
+    // device hung) before anything they use is freed.
+    frames: FrameRing,
+    slots: Vec<SlotData>,
+    methods: Vec<Box<dyn Method>>,
+    active: usize,
+    options: MethodOptions,
+    target: DrawTarget,
+    scene: SceneGpu,
+    scene_layout: SceneLayout,
+    shaders: Shaders,
+    /// Released once the slot in `.0` has finished (see `collect`).
+    retired: Vec<(usize, Box<dyn Any>)>,
+    last_submitted: Option<usize>,
+    serial: u64,
+    /// Capture drawn positions for validation (ready-list methods).
+    pub capture: bool,
+    ctx: Arc<Context>,
+}
+
+impl Renderer {
+    /// Uploads `geo`, creates the frame slots and the target, and makes
+    /// method `method`.
     pub fn new(
-        ctx: &'a Context,
+        ctx: Arc<Context>,
         geo: &SceneGeometry,
-        path: DrawPath,
-        mut caps: Capacities,
-        size: (u32, u32),
-        background: [f32; 4],
-        groups: Option<u32>,
-    ) -> VkResult<Self> {
-        let layout = SceneLayout::new(ctx)?;
-        let scene = SceneGpu::upload(ctx, &geo.patches, &geo.flags)?;
-        caps.vertices = path == DrawPath::Fallback;
-        // The sort pass works on power-of-two lists of at least one block.
-        caps.ready = caps
-            .ready
-            .max(crate::constants::SORT_BLOCK)
-            .next_power_of_two();
-        let frame = FrameGpu::new(ctx, &layout, &scene, caps)?;
-        let subdiv = Subdivider::new(ctx, &layout, groups)?;
-        let sort = ReadySort::new(ctx, &layout)?;
-        let drawer = Drawer::new(ctx, &layout, path)?;
-        let target = DrawTarget::new(ctx, size.0, size.1, background)?;
-        let timer = GpuTimer::new(ctx, 8)?;
-        Ok(Self {
-            ctx,
-            layout,
-            scene,
-            frame,
-            subdiv,
-            sort,
-            sort_ready: true,
-            drawer,
+        method: &str,
+        options: RendererOptions,
+    ) -> Result<Self, RenderError> {
+        let n = options.frames_in_flight.max(1);
+        let scene_layout = SceneLayout::new(&ctx)?;
+        let scene = SceneGpu::new(&ctx, &scene_layout, &geo.patches, &geo.flags, n)?;
+        let (w, h) = options.size;
+        let target = DrawTarget::new(&ctx, w, h, options.background)?;
+        let frames = FrameRing::new(&ctx, n)?;
+        let slots = (0..n)
+            .map(|i| {
+                Ok(SlotData {
+                    timer: GpuTimer::new(&ctx, MAX_SCOPES)?,
+                    copy_out: Buffer::new(
+                        &ctx,
+                        &format!("copy-out of frame slot {i}"),
+                        u64::from(COPY_OUT_WORDS) * 4,
+                        vk::BufferUsageFlags::TRANSFER_DST,
+                        MemoryLocation::GpuToCpu,
+                    )?,
+                    frame: None,
+                })
+            })
+            .collect::<VkResult<Vec<_>>>()?;
+        let mut r = Self {
+            frames,
+            slots,
+            methods: Vec::new(),
+            active: 0,
+            options: options.methods,
             target,
-            timer,
-        })
+            scene,
+            scene_layout,
+            shaders: Shaders::default(),
+            retired: Vec::new(),
+            last_submitted: None,
+            serial: 0,
+            capture: false,
+            ctx,
+        };
+        r.set_method(method)?;
+        Ok(r)
     }
 
-    /// The draw path in use.
-    pub fn path(&self) -> DrawPath {
-        self.drawer.path()
+    /// The context.
+    pub fn context(&self) -> &Arc<Context> {
+        &self.ctx
     }
 
-    /// The per-view buffers (capacities, memory report, readbacks).
-    pub fn frame(&self) -> &FrameGpu {
-        &self.frame
+    /// Switches to method `name`, making it on first use.
+    pub fn set_method(&mut self, name: &str) -> Result<(), RenderError> {
+        let info = methods::find(name)?;
+        if let Some(i) = self.methods.iter().position(|m| m.name() == info.name) {
+            self.active = i;
+            return Ok(());
+        }
+        let method = (info.build)(&mut MethodSetup {
+            ctx: &self.ctx,
+            shaders: &mut self.shaders,
+            scene_layout: &self.scene_layout,
+            options: &self.options,
+        })?;
+        self.methods.push(method);
+        self.active = self.methods.len() - 1;
+        Ok(())
+    }
+
+    /// The active method.
+    pub fn method(&self) -> &dyn Method {
+        self.methods[self.active].as_ref()
+    }
+
+    /// The methods' knobs.
+    pub fn options(&self) -> &MethodOptions {
+        &self.options
+    }
+
+    /// Changes the methods' knobs. Each method made so far applies them in
+    /// place where it can and is made again otherwise (the active one right
+    /// away, the others on use).
+    pub fn set_options(&mut self, options: MethodOptions) -> Result<(), RenderError> {
+        if options == self.options {
+            return Ok(());
+        }
+        let name = self.method().name();
+        let mut retired = Retired::default();
+        let mut kept = Vec::new();
+        let mut result = Ok(());
+        for mut m in std::mem::take(&mut self.methods) {
+            let mut setup = MethodSetup {
+                ctx: &self.ctx,
+                shaders: &mut self.shaders,
+                scene_layout: &self.scene_layout,
+                options: &options,
+            };
+            match m.reconfigure(&mut setup, &mut retired) {
+                Ok(true) => kept.push(m),
+                Ok(false) => retired.push(m),
+                Err(e) => {
+                    retired.push(m);
+                    result = Err(e);
+                }
+            }
+        }
+        // Methods dropped here may have frames in flight.
+        self.defer(retired);
+        self.methods = kept;
+        self.options = options;
+        result?;
+        self.set_method(name)
+    }
+
+    /// Replaces the scene. The new patches are uploaded first, so a failure
+    /// leaves the renderer as it was and usable.
+    pub fn set_geometry(&mut self, geo: &SceneGeometry) -> Result<(), RenderError> {
+        let scene = SceneGpu::new(
+            &self.ctx,
+            &self.scene_layout,
+            &geo.patches,
+            &geo.flags,
+            self.frames.len(),
+        )?;
+        self.frames.wait_all()?;
+        self.scene = scene;
+        Ok(())
     }
 
     /// The uploaded scene.
@@ -131,21 +252,14 @@ impl<'a> Renderer<'a> {
         &self.scene
     }
 
-    /// The image of the last frame.
+    /// The scene's set layout (set 0 of every pipeline layout).
+    pub fn scene_layout(&self) -> &SceneLayout {
+        &self.scene_layout
+    }
+
+    /// The draw target.
     pub fn target(&self) -> &DrawTarget {
         &self.target
-    }
-
-    /// The shared scene layout.
-    pub fn layout(&self) -> &SceneLayout {
-        &self.layout
-    }
-
-    /// Replaces the scene (re-uploads the patches, rebuilds the per-view
-    /// buffers with the same capacities); the pipelines are kept.
-    pub fn set_geometry(&mut self, geo: &SceneGeometry) -> VkResult<()> {
-        self.scene = SceneGpu::upload(self.ctx, &geo.patches, &geo.flags)?;
-        self.rebuild(self.frame.caps)
     }
 
     /// The background the target is cleared to.
@@ -153,90 +267,178 @@ impl<'a> Renderer<'a> {
         self.target.clear = rgba;
     }
 
-    /// The subdivision pass (to adjust its cap in tests).
-    pub fn subdivider_mut(&mut self) -> &mut Subdivider {
-        &mut self.subdiv
+    /// The image of the last frame as RGBA8 rows (waits for the GPU).
+    pub fn read_image(&self) -> VkResult<Vec<u8>> {
+        self.target.read_rgba(&self.ctx)
     }
 
-    /// Renders one view; if the ready list overflowed, grows it and renders
-    /// again, so the image is always complete. Errors of the kernel
-    /// (iteration cap, stack) are returned as `VkError::Usage` sentences.
-    pub fn render(&mut self, view: &View, capture: bool) -> VkResult<FrameReport> {
-        let mut regrown = 0;
-        loop {
-            if capture != self.frame.caps.capture {
-                self.rebuild(Capacities {
-                    capture,
-                    ..self.frame.caps
-                })?;
-            }
-            let (stats, gpu_ms) = self.render_once(view)?;
-            if stats.errors & ERR_READY_FULL != 0 && self.frame.caps.ready < MAX_READY_CAPACITY {
-                let want = (stats.ready_quads as u64 * 5 / 4).next_power_of_two();
-                let ready = want.min(MAX_READY_CAPACITY as u64) as u32;
-                log::info!(
-                    "ready list of {} overflowed ({} nodes): growing to {ready}",
-                    self.frame.caps.ready,
-                    stats.ready_quads
-                );
-                self.rebuild(Capacities {
-                    ready,
-                    ..self.frame.caps
-                })?;
-                regrown += 1;
-                continue;
-            }
-            if let Some(msg) = stats.error_message() {
-                return Err(VkError::Usage(msg));
-            }
-            return Ok(FrameReport {
-                stats,
-                gpu_ms,
-                regrown,
-            });
+    /// GPU memory per purpose: the scene's and the active method's.
+    pub fn memory(&self) -> Vec<(&'static str, u64)> {
+        let mut v = vec![("base_patches", self.scene.bytes())];
+        v.extend(self.method().memory());
+        v
+    }
+
+    /// Records `view` with the active method into the next frame slot and
+    /// submits it (waiting first, bounded, for the frame that used the slot
+    /// before, whose figures are then lost unless it was collected). A
+    /// recording that fails is discarded, never submitted.
+    pub fn submit(&mut self, view: &View) -> Result<FrameTicket, RenderError> {
+        let slot = self.frames.next_slot();
+        // The slot's previous frame: its timestamps and copy-out area are
+        // about to be overwritten, and its garbage can go.
+        self.frames.wait(slot)?;
+        self.release_garbage(slot);
+        self.slots[slot].frame = None;
+        self.scene.set_view(&self.ctx, slot, &view.params)?;
+        let (slot, cmd) = self.frames.begin()?;
+        let mut retired = Retired::default();
+        let recorded = self.record(slot, cmd, view, &mut retired);
+        // Whatever was retired while recording may still be used by the
+        // frames submitted before this one.
+        self.defer(retired);
+        if let Err(e) = recorded {
+            self.frames.abandon(slot);
+            return Err(e);
         }
+        self.frames.submit(
+            &self.ctx,
+            slot,
+            &format!("frame ({})", self.method().name()),
+        )?;
+        self.serial += 1;
+        self.slots[slot].frame = Some((self.active, self.serial));
+        self.last_submitted = Some(slot);
+        Ok(FrameTicket {
+            slot,
+            serial: self.serial,
+        })
     }
 
-    fn rebuild(&mut self, caps: Capacities) -> VkResult<()> {
-        self.frame = FrameGpu::new(self.ctx, &self.layout, &self.scene, caps)?;
+    fn record(
+        &mut self,
+        slot: usize,
+        cmd: vk::CommandBuffer,
+        view: &View,
+        retired: &mut Retired,
+    ) -> Result<(), RenderError> {
+        let data = &mut self.slots[slot];
+        data.timer.reset(cmd);
+        data.timer.begin(cmd, "frame")?;
+        let mut f = FrameRec::new(
+            &self.ctx,
+            cmd,
+            slot,
+            &self.scene,
+            view,
+            &self.target,
+            self.capture,
+            retired,
+            &mut data.timer,
+            &data.copy_out,
+        );
+        self.methods[self.active].record(&mut f)?;
+        data.timer.end(cmd, "frame")?;
+        host_read_barrier(&self.ctx, cmd);
         Ok(())
     }
 
-    fn render_once(&mut self, view: &View) -> VkResult<(GpuSubdivStats, Vec<(String, f64)>)> {
-        let ctx = self.ctx;
-        self.frame.set_view(ctx, &view.params)?;
-        let mut pc = draw_push(
-            &view.view_proj,
-            view.light_dir,
-            view.shade,
-            &self.frame,
-            self.scene.count,
-        );
-        pc.capture_enabled = self.frame.caps.capture as u32;
-        pc.light_dir[3] = view.distance_scale;
-        let sort = self.sort_ready.then_some(&self.sort);
-        let (subdiv, drawer, layout, scene, frame, target, timer) = (
-            &self.subdiv,
-            &self.drawer,
-            &self.layout,
-            &self.scene,
-            &self.frame,
-            &self.target,
-            &mut self.timer,
-        );
-        ctx.one_shot_with("frame", ctx.fence_timeout(), |cmd| -> VkResult<()> {
-            timer.reset(cmd);
-            timer.begin(cmd, "frame")?;
-            subdiv.record(ctx, cmd, layout, scene, frame, Some(&mut *timer))?;
-            if let Some(sort) = sort {
-                sort.record(ctx, cmd, layout, frame, Some(&mut *timer))?;
+    /// Waits for the frame of `ticket` and reads its figures.
+    pub fn collect(&mut self, ticket: FrameTicket) -> Result<(FrameReport, bool), RenderError> {
+        let slot = ticket.slot;
+        let Some((method, serial)) = self.slots[slot].frame else {
+            return Err(RenderError::Request(
+                "that frame was already collected or overwritten".into(),
+            ));
+        };
+        if serial != ticket.serial {
+            return Err(RenderError::Request(
+                "that frame's slot was reused before it was collected".into(),
+            ));
+        }
+        self.frames.wait(slot)?;
+        self.release_garbage(slot);
+        self.slots[slot].frame = None;
+        let data = &self.slots[slot];
+        let gpu_ms = data.timer.read()?;
+        let words: Vec<u32> = data
+            .copy_out
+            .mapped()
+            .map(bytemuck::pod_collect_to_vec)
+            .ok_or_else(|| VkError::Usage("a frame's copy-out area is not mapped".into()))?;
+        let mut retired = Retired::default();
+        let finished =
+            self.methods[method].finish(&mut FrameOut::new(&self.ctx, &mut retired, &words));
+        self.defer(retired);
+        let (stats, redo) = match finished? {
+            Finished::Done(stats) => (stats, false),
+            Finished::Redo { reason } => {
+                log::info!(
+                    "{}: {reason}; drawing the frame again",
+                    self.methods[method].name()
+                );
+                (MethodStats::default(), true)
             }
-            drawer.record(ctx, cmd, layout, frame, target, &pc, Some(&mut *timer))?;
-            timer.end(cmd, "frame")?;
-            Ok(())
-        })??;
-        let stats = GpuSubdivStats::from_counters(&self.frame.read_counters(ctx)?);
-        let gpu_ms = self.timer.read()?;
-        Ok((stats, gpu_ms))
+        };
+        let m = &self.methods[method];
+        Ok((
+            FrameReport {
+                method: m.name(),
+                draw_path: m.draw_path(),
+                stats,
+                gpu_ms,
+                redone: 0,
+            },
+            redo,
+        ))
+    }
+
+    /// Renders `view` completely: submit and collect, again while the
+    /// method grows what overflowed.
+    pub fn render(&mut self, view: &View) -> Result<FrameReport, RenderError> {
+        let mut redone = 0;
+        loop {
+            let ticket = self.submit(view)?;
+            let (mut report, redo) = self.collect(ticket)?;
+            if !redo {
+                report.redone = redone;
+                return Ok(report);
+            }
+            redone += 1;
+            if redone > 8 {
+                return Err(RenderError::Method {
+                    method: report.method,
+                    message: "still incomplete after growing its buffers 8 times".into(),
+                });
+            }
+        }
+    }
+
+    /// Waits for every frame in flight and frees what they kept alive.
+    pub fn wait_idle(&mut self) -> VkResult<()> {
+        self.frames.wait_all()?;
+        self.collect_garbage_all();
+        Ok(())
+    }
+
+    /// Frees now, or after the last submitted frame, what `retired` holds.
+    fn defer(&mut self, mut retired: Retired) {
+        let items = retired.take();
+        match self.last_submitted {
+            Some(s) if self.frames.in_flight(s) => {
+                self.retired.extend(items.into_iter().map(|x| (s, x)));
+            }
+            _ => drop(items),
+        }
+    }
+
+    /// Frees what waited for slot `slot`'s frame (which has finished; every
+    /// earlier frame has too, the queue being in order).
+    fn release_garbage(&mut self, slot: usize) {
+        self.retired.retain(|(s, _)| *s != slot);
+    }
+
+    fn collect_garbage_all(&mut self) {
+        self.retired.clear();
     }
 }

@@ -1,50 +1,208 @@
-//! The GLSL constants header and its Rust mirror agree, name for name.
+//! The shared constants agree with what their comments promise.
+//!
+//! `src/constants.rs` is the one place they are declared; the GLSL header is
+//! generated from it, and `tools/compile-shaders` tests that the committed
+//! header is current (so is its `--check` in CI). What can still go wrong is
+//! a value changed without the values that depend on it: those relations are
+//! checked here.
 
-use std::collections::BTreeMap;
+use bezier_subdiv::constants::*;
 
-use bezier_subdiv::constants::ALL;
+/// Whether `value` fits in the low `bits` bits.
+fn fits(value: u32, bits: u32) -> bool {
+    u64::from(value) < 1 << bits
+}
 
-fn parse_consts(text: &str, prefix: &str, sep: &str) -> BTreeMap<String, u32> {
-    let mut out = BTreeMap::new();
-    for line in text.lines() {
-        let Some(rest) = line.trim().strip_prefix(prefix) else {
-            continue;
-        };
-        let Some((name, value)) = rest.split_once(sep) else {
-            continue;
-        };
-        let value = value.split("//").next().unwrap().trim();
-        let value = value.trim_end_matches(';').trim();
-        let value = value.replace('_', "");
-        let v = match value.strip_prefix("0x") {
-            Some(h) => u32::from_str_radix(h, 16),
-            None => value.parse(),
-        }
-        .unwrap_or_else(|_| panic!("bad value in: {line}"));
-        assert!(
-            out.insert(name.trim().to_string(), v).is_none(),
-            "duplicate {name}"
-        );
+/// The fields tile `0..end` in order, without gaps or overlaps.
+fn assert_packed(what: &str, fields: &[(&str, u32, u32)], end: u32) {
+    let mut at = 0;
+    for &(name, shift, width) in fields {
+        assert_eq!(shift, at, "{what}: {name} starts at bit {shift}, not {at}");
+        at += width;
     }
-    out
+    assert_eq!(at, end, "{what}: the fields end at bit {at}, not {end}");
 }
 
 #[test]
-fn glsl_and_rust_constants_agree() {
-    let root = env!("CARGO_MANIFEST_DIR");
-    let glsl = std::fs::read_to_string(format!("{root}/glsl/common/constants.glsl")).unwrap();
-    let rust_src = std::fs::read_to_string(format!("{root}/src/constants.rs")).unwrap();
-    let from_glsl = parse_consts(&glsl, "const uint ", "=");
-    let declared = parse_consts(&rust_src, "pub const ", ": u32 =");
-    let listed: BTreeMap<String, u32> = ALL.iter().map(|(n, v)| (n.to_string(), *v)).collect();
+fn quad_node_word_holds_depth_m_n_l0_l1() {
+    // depth 4 | m 10 | n 10 | l0 4 | l1 4, and m, n < 2^L_MAX.
+    let fields = [
+        ("depth", NODE_DEPTH_SHIFT, 4),
+        ("m", NODE_M_SHIFT, 10),
+        ("n", NODE_N_SHIFT, 10),
+        ("l0", NODE_L0_SHIFT, 4),
+        ("l1", NODE_L1_SHIFT, 4),
+    ];
+    assert_packed("QuadNode word 1", &fields, 32);
     assert!(
-        from_glsl.len() > 40,
-        "parsed {} GLSL constants",
-        from_glsl.len()
+        fits((1 << L_MAX) - 1, 10),
+        "m, n up to 2^L_MAX - 1 in 10 bits"
+    );
+    assert!(fits(L_MAX, 4), "depth up to L_MAX in 4 bits");
+}
+
+#[test]
+fn fallback_vertex_packing_fits() {
+    // u*1024: 11 bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26.
+    let fields = [
+        ("u", 0, 11),
+        ("v", PACK_V_SHIFT, 11),
+        ("depth", PACK_DEPTH_SHIFT, 4),
+        ("wedge", PACK_WEDGE_SHIFT, 1),
+    ];
+    assert_packed("packed vertex word", &fields, 27);
+    // u*1024 is exact for depths up to L_MAX <= 10: the QuadNode test.
+    assert_eq!(VERTICES_PER_NODE, 4 * 3, "4 triangle slots per node");
+}
+
+#[test]
+fn thirds_are_the_f32_bits_of_one_and_two_thirds() {
+    assert_eq!(f32::from_bits(THIRD_BITS), 1.0f32 / 3.0);
+    assert_eq!(f32::from_bits(TWO_THIRDS_BITS), 2.0f32 / 3.0);
+}
+
+#[test]
+fn sizes_derived_from_others() {
+    assert_eq!(
+        STACK_SIZE,
+        3 * L_MAX + 1,
+        "stack for a subtree of depth L_MAX"
     );
     assert_eq!(
-        from_glsl, declared,
-        "glsl/common/constants.glsl vs src/constants.rs"
+        SORT_BLOCK,
+        2 * SORT_GROUP_SIZE,
+        "a block is 2 * SORT_GROUP_SIZE"
     );
-    assert_eq!(declared, listed, "constants::ALL must list every constant");
+    assert!(SORT_BLOCK.is_power_of_two());
+    assert_eq!(IN_FLIGHT_MASK, (1 << 24) - 1, "in flight: the low 24 bits");
+    assert_eq!(
+        IN_FLIGHT_TICK,
+        IN_FLIGHT_MASK + 1,
+        "the tick: the top byte's unit"
+    );
+    // Per node 4 corners and 2 wedge pivots, 2 quad and 2 wedge triangles;
+    // VK_EXT_mesh_shader guarantees 256 output vertices and primitives.
+    let (vertices, primitives) = (MESH_NODES * 6, MESH_NODES * 4);
+    assert!(vertices <= 256, "{vertices} vertices per mesh workgroup");
+    assert!(
+        primitives <= 256,
+        "{primitives} primitives per mesh workgroup"
+    );
+}
+
+#[test]
+fn flags_and_error_bits_are_distinct_single_bits() {
+    for (what, bits) in [
+        (
+            "ViewParams.flags",
+            &[
+                FLAG_FRUSTUM_CULL,
+                FLAG_BACKFACE_CULL,
+                FLAG_WEDGES,
+                FLAG_QUEUE_STRESS,
+            ][..],
+        ),
+        (
+            "error bits",
+            &[ERR_ITERATION_CAP, ERR_READY_FULL, ERR_STACK_OVERFLOW][..],
+        ),
+    ] {
+        let mut seen = 0;
+        for &b in bits {
+            assert!(b.is_power_of_two() && seen & b == 0, "{what}: {b:#x}");
+            seen |= b;
+        }
+    }
+    assert!(
+        fits(PATCH_TWO_SIDED, PATCH_MODEL_SHIFT),
+        "patch flags lie below the model index"
+    );
+}
+
+#[test]
+fn bindings_number_each_set_from_zero() {
+    let sets: [(&str, Vec<u32>, u32); 4] = [
+        (
+            "scene",
+            vec![BIND_VIEW, BIND_PATCHES, BIND_PATCH_FLAGS],
+            SCENE_BINDINGS,
+        ),
+        (
+            "ready list",
+            vec![BIND_READY, BIND_COUNTERS, BIND_VERTICES, BIND_CAPTURE],
+            READY_BINDINGS,
+        ),
+        (
+            "queue",
+            vec![BIND_QUEUE_ITEMS, BIND_QUEUE_SEQS],
+            QUEUE_BINDINGS,
+        ),
+        (
+            "grid",
+            vec![BIND_GRID_VISIBLE, BIND_GRID_COUNTERS],
+            GRID_BINDINGS,
+        ),
+    ];
+    for (name, mut bindings, count) in sets {
+        bindings.sort();
+        assert_eq!(bindings, (0..count).collect::<Vec<_>>(), "{name} set");
+    }
+    let mut sets = [SET_SCENE, SET_PASS, SET_PRODUCER];
+    sets.sort();
+    assert_eq!(sets, [0, 1, 2]);
+}
+
+#[test]
+fn grid_counters_hold_the_indexed_draw() {
+    // VkDrawIndexedIndirectCommand is five words after G_DRAW_ARGS.
+    let (culled, args, words) = (G_CULLED, G_DRAW_ARGS, GRID_WORDS);
+    assert!(culled < args && args + 5 <= words, "{culled} {args} {words}");
+}
+
+#[test]
+fn counter_slots_do_not_overlap_and_fit_the_buffer() {
+    let scalars = [
+        C_READY_COUNT,
+        C_IN_FLIGHT,
+        C_NEXT_BASE,
+        C_QUEUE_HEAD,
+        C_QUEUE_TAIL,
+        C_IDLE,
+        C_ERROR,
+        C_PROCESSED,
+        C_CULLED,
+        C_BACKFACE,
+        C_MAX_DEPTH,
+        C_AT_LMAX,
+        C_SPILLS,
+        C_QUEUE_PEAK,
+        C_QUEUE_PUSHED,
+        C_TRIANGLES,
+        C_WEDGES,
+        C_ITERATIONS_MAX,
+        C_CHECK_NODES,
+        C_CHECK_FAILS,
+        C_SORT_LENGTH,
+    ];
+    // Indirect arguments: x, y, z for dispatches and mesh tasks, four words
+    // for vkCmdDrawIndirect.
+    let ranges = [
+        (C_MESH_ARGS, 3),
+        (C_EXPAND_ARGS, 3),
+        (C_DRAW_ARGS, 4),
+        (C_SORT_FILL_ARGS, 3),
+        (C_SORT_GLOBAL_ARGS, 3),
+        (C_SORT_BLOCK_ARGS, 3),
+    ];
+    let mut owner = vec![None; COUNTER_WORDS as usize];
+    let slots = scalars.iter().map(|&c| (c, 1)).chain(ranges);
+    for (i, (start, len)) in slots.enumerate() {
+        for word in start..start + len {
+            let slot = owner
+                .get_mut(word as usize)
+                .unwrap_or_else(|| panic!("word {word} is beyond COUNTER_WORDS"));
+            assert_eq!(*slot, None, "word {word} is used twice");
+            *slot = Some(i);
+        }
+    }
 }

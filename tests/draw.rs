@@ -11,14 +11,12 @@ use ash::vk;
 use glam::DVec3;
 
 use bezier_subdiv::constants::*;
-use bezier_subdiv::draw::{
-    choose, choose_for, draw_push, headlight, DrawPath, DrawRequest, DrawTarget, Drawer,
-};
-use bezier_subdiv::gpu::{Capacities, FrameGpu, PushConstants};
+use bezier_subdiv::draw::{choose, choose_for, DrawPath, DrawRequest};
+use bezier_subdiv::gpu::DrawTarget;
 use bezier_subdiv::patch::oracle::triangle_counts;
 use bezier_subdiv::patch::view::FLAG_BACKFACE_CULL;
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::vk::{GpuTimer, VkError};
+use bezier_subdiv::vk::VkError;
 
 use draw_rig::*;
 
@@ -72,7 +70,7 @@ fn choose_follows_the_device() {
 #[test]
 fn paths_match_the_oracle_and_each_other() {
     let ctx = common::gpu();
-    let rig = Rig::new(&ctx);
+    let mut rig = Rig::new(&ctx);
     let cases = [
         teapot(0, "teapot"),
         teapot(1, "teapot-spout"),
@@ -86,7 +84,7 @@ fn paths_match_the_oracle_and_each_other() {
             &[SHADE_NORMAL]
         };
         for &shade in shades {
-            both_paths(&ctx, &rig, case, shade);
+            both_paths(&mut rig, case, shade);
         }
     }
     // The close-up must subdivide deeper than the overview, or the depth
@@ -101,7 +99,7 @@ fn paths_match_the_oracle_and_each_other() {
 #[test]
 fn wedges_off_drops_the_wedges() {
     let ctx = common::gpu();
-    let rig = Rig::new(&ctx);
+    let mut rig = Rig::new(&ctx);
     for base in [teapot(1, "teapot-spout"), converted("catmark_torus.obj", 1)] {
         let (with_tris, with_wedges) = triangle_counts(&base.ready, true);
         let n = base.ready.len();
@@ -116,7 +114,7 @@ fn wedges_off_drops_the_wedges() {
         );
         let mut images = Vec::new();
         for case in [&base, &off] {
-            let [mesh, fallback] = both_paths(&ctx, &rig, case, SHADE_WEDGES);
+            let [mesh, fallback] = both_paths(&mut rig, case, SHADE_WEDGES);
             // Triangle slots whose three vertices are not one repeated vertex.
             let vw = VERTEX_WORDS as usize;
             let drawn = fallback.vertices[..n * 12 * vw]
@@ -157,7 +155,7 @@ fn wedges_off_drops_the_wedges() {
 #[test]
 fn key_shading_shows_the_winding() {
     let ctx = common::gpu();
-    let rig = Rig::new(&ctx);
+    let mut rig = Rig::new(&ctx);
     let (patches, flags) = model("catmark_cube.obj", 0);
     let (c, r) = bounds(&patches);
     // From the centre of the (convex) cube every visible point is the inside.
@@ -182,8 +180,8 @@ fn key_shading_shows_the_winding() {
             "{}: normals point inward ({volume})",
             case.name
         );
-        let wedges = both_paths(&ctx, &rig, case, SHADE_WEDGES);
-        let keys = both_paths(&ctx, &rig, case, SHADE_FACING);
+        let wedges = both_paths(&mut rig, case, SHADE_WEDGES);
+        let keys = both_paths(&mut rig, case, SHADE_FACING);
         for (k, w) in keys.iter().zip(&wedges) {
             let (white, green) = (count_pixels(&k.rgba, WHITE), count_pixels(&k.rgba, GREEN));
             let bg = count_pixels(&k.rgba, BG_RGBA);
@@ -210,38 +208,17 @@ fn key_shading_shows_the_winding() {
     ctx.finish();
 }
 
-/// Timer scopes, and misuse reported as errors rather than out-of-bounds
-/// shader access.
+/// Timer scopes, and misuse reported as an error rather than as an
+/// out-of-bounds shader access, with nothing submitted.
 #[test]
 fn timer_scopes_and_misuse() {
     let ctx = common::gpu();
-    let rig = Rig::new(&ctx);
+    let mut rig = Rig::new(&ctx);
     let case = converted("catmark_cube.obj", 2);
-    let (scene, frame) = rig.upload(&ctx, &case);
-    let pc = draw_push(
-        &case.camera.view_proj(W, H),
-        headlight(&case.camera),
-        SHADE_NORMAL,
-        &frame,
-        scene.count,
-    );
-    let mut timer = GpuTimer::new(&ctx, 4).expect("timer");
+    let scene = rig.scene(&case);
     for path in PATHS {
-        ctx.one_shot(|cmd| {
-            timer.reset(cmd);
-            rig.drawer(path).record(
-                &ctx,
-                cmd,
-                &rig.layout,
-                &frame,
-                &rig.target,
-                &pc,
-                Some(&mut timer),
-            )
-        })
-        .unwrap()
-        .unwrap();
-        let scopes = timer.read().unwrap();
+        let _ = render(&mut rig, &case, &scene, path, SHADE_NORMAL);
+        let scopes = rig.timer.read().unwrap();
         println!("{path}: {scopes:?}");
         let names: Vec<&str> = scopes.iter().map(|(n, _)| n.as_str()).collect();
         match path {
@@ -249,33 +226,17 @@ fn timer_scopes_and_misuse() {
             DrawPath::Fallback => assert_eq!(names, ["expand", "draw"]),
         }
     }
-    let lean = FrameGpu::new(
-        &ctx,
-        &rig.layout,
-        &scene,
-        Capacities {
-            ready: 4,
-            queue: 1,
-            vertices: false,
-            capture: false,
-        },
-    )
-    .unwrap();
-    let mut bad = pc;
-    bad.ready_capacity = 4;
-    let attempt = |drawer: &Drawer, pc: &PushConstants| {
-        ctx.one_shot(|cmd| drawer.record(&ctx, cmd, &rig.layout, &lean, &rig.target, pc, None))
-            .unwrap()
-    };
-    let err = attempt(rig.drawer(DrawPath::Fallback), &bad).unwrap_err();
-    assert!(err.to_string().contains("vertex buffer"), "{err}");
-    bad.capture_enabled = 1;
-    let err = attempt(rig.drawer(DrawPath::Mesh), &bad).unwrap_err();
+    // A capture asked of a list without a capture buffer.
+    let mut retired = bezier_subdiv::frame::Retired::default();
+    let stage = rig.stage(DrawPath::Mesh);
+    stage.ensure_capture(&ctx, false, &mut retired).unwrap();
+    let before = rig.target.read_rgba(&ctx).unwrap();
+    let err = rig
+        .draw(&scene, &case_view(&case, SHADE_DEPTH), DrawPath::Mesh, true)
+        .unwrap_err();
     assert!(err.to_string().contains("capture"), "{err}");
-    bad.capture_enabled = 0;
-    bad.ready_capacity = 5;
-    let err = attempt(rig.drawer(DrawPath::Mesh), &bad).unwrap_err();
-    assert!(err.to_string().contains("ready"), "{err}");
+    // The failed recording was not submitted: the image is unchanged.
+    assert_eq!(rig.target.read_rgba(&ctx).unwrap(), before);
     ctx.finish();
 }
 

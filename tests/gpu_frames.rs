@@ -6,28 +6,24 @@
 
 mod common;
 
-use std::path::Path;
-
 use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::DrawPath;
-use bezier_subdiv::gpu::Capacities;
+use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::patch::oracle::subdivide_parallel;
 use bezier_subdiv::patch::quadnode::QuadNode;
-use bezier_subdiv::renderer::{Renderer, View};
+use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::{Scene, SceneGeometry};
+use bezier_subdiv::scene::file::SceneGeometry;
 use bezier_subdiv::validate::{compare_capture, compare_ready, compare_vertices};
-use bezier_subdiv::vk::Context;
+use common::scene;
 
 const SIZE: (u32, u32) = (320, 180);
 
-fn scene(name: &str) -> (Scene, SceneGeometry) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    let s = Scene::load(&path).unwrap();
-    let g = s.geometry().unwrap();
-    (s, g)
+fn subdiv(gpu: &common::Gpu, geo: &SceneGeometry, path: DrawPath) -> Renderer {
+    let mut r = common::renderer(gpu, geo, "subdiv", SIZE, MethodOptions::new(path));
+    r.capture = true;
+    r
 }
 
 fn view(cam: &Camera, eps: f64, lambda: f64, shade: u32) -> View {
@@ -37,27 +33,30 @@ fn view(cam: &Camera, eps: f64, lambda: f64, shade: u32) -> View {
 /// Renders `v` and checks quads and vertex bits against the oracle;
 /// returns the GPU ready list (in GPU order) and the image.
 fn check_frame(
-    ctx: &Context,
-    r: &mut Renderer<'_>,
+    r: &mut Renderer,
     geo: &SceneGeometry,
     v: &View,
     what: &str,
 ) -> (Vec<QuadNode>, Vec<u8>) {
-    let report = r.render(v, true).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let ready = r.frame().read_ready(ctx, report.stats.ready_quads).unwrap();
+    let report = r.render(v).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let ctx = r.context().clone();
+    let stage = r.method().ready().unwrap();
+    let list = stage.list();
+    let count = report.stats.get_u64("ready_quads").unwrap() as u32;
+    let ready = list.read_ready(&ctx, count).unwrap();
     let oracle = subdivide_parallel(&geo.patches, &geo.flags, &v.params, 2);
     let (ok, detail) = compare_ready(&ready, &oracle.ready);
     assert!(ok, "{what}: {detail}");
     let wedges = v.params.flags & FLAG_WEDGES != 0;
-    let capture: Vec<[f32; 4]> = r.frame().capture.read(ctx).unwrap();
+    let capture: Vec<[f32; 4]> = list.capture.read(&ctx).unwrap();
     let (n, bad) = compare_capture(&geo.patches, &ready, &capture, wedges);
     assert_eq!(bad, 0, "{what}: {bad} of {n} captured positions differ");
-    if r.path() == DrawPath::Fallback {
-        let words: Vec<u32> = r.frame().vertices.read(ctx).unwrap();
+    if stage.path() == DrawPath::Fallback {
+        let words: Vec<u32> = list.vertices.read(&ctx).unwrap();
         let (n, bad) = compare_vertices(&geo.patches, &ready, &words, wedges);
         assert_eq!(bad, 0, "{what}: {bad} of {n} fallback vertices differ");
     }
-    let img = r.target().read_rgba(ctx).unwrap();
+    let img = r.read_image().unwrap();
     (ready, img)
 }
 
@@ -73,27 +72,8 @@ fn grid_of_eps_and_lambda_on_both_paths() {
     let gpu = common::gpu();
     let (teapot, teapot_geo) = scene("teapot.toml");
     let (kitchen, kitchen_geo) = scene("kitchen.toml");
-    let bg = [0.1, 0.1, 0.1, 1.0];
-    let mut mesh = Renderer::new(
-        &gpu,
-        &teapot_geo,
-        DrawPath::Mesh,
-        Capacities::default(),
-        SIZE,
-        bg,
-        None,
-    )
-    .unwrap();
-    let mut fallback = Renderer::new(
-        &gpu,
-        &teapot_geo,
-        DrawPath::Fallback,
-        Capacities::default(),
-        SIZE,
-        bg,
-        None,
-    )
-    .unwrap();
+    let mut mesh = subdiv(&gpu, &teapot_geo, DrawPath::Mesh);
+    let mut fallback = subdiv(&gpu, &teapot_geo, DrawPath::Fallback);
     let total = (SIZE.0 * SIZE.1) as usize;
     let mut worst = 0usize;
     for (s, geo) in [(&teapot, &teapot_geo), (&kitchen, &kitchen_geo)] {
@@ -105,9 +85,8 @@ fn grid_of_eps_and_lambda_on_both_paths() {
                 for lambda in [0.0, 0.5, 1.0] {
                     let v = view(&cam, eps, lambda, SHADE_NORMAL);
                     let what = format!("{} frame {frame} eps {eps} lambda {lambda}", s.name);
-                    let (_, a) = check_frame(&gpu, &mut mesh, geo, &v, &format!("{what} mesh"));
-                    let (_, b) =
-                        check_frame(&gpu, &mut fallback, geo, &v, &format!("{what} fallback"));
+                    let (_, a) = check_frame(&mut mesh, geo, &v, &format!("{what} mesh"));
+                    let (_, b) = check_frame(&mut fallback, geo, &v, &format!("{what} fallback"));
                     let diff = differing_pixels(&a, &b);
                     worst = worst.max(diff);
                     assert!(
@@ -131,43 +110,35 @@ fn determinism_and_tiny_queue() {
     let (s, geo) = scene("kitchen.toml");
     let cam = s.frame_camera(0).unwrap();
     let v = view(&cam, 1.0, 0.5, SHADE_NORMAL);
-    let bg = [0.1, 0.1, 0.1, 1.0];
-    let mut r = Renderer::new(
-        &gpu,
-        &geo,
-        DrawPath::Mesh,
-        Capacities::default(),
-        SIZE,
-        bg,
-        None,
-    )
-    .unwrap();
-    let (mut ready_a, img_a) = check_frame(&gpu, &mut r, &geo, &v, "first");
-    let (_, img_b) = check_frame(&gpu, &mut r, &geo, &v, "second");
+    let mut r = subdiv(&gpu, &geo, DrawPath::Mesh);
+    let (mut ready_a, img_a) = check_frame(&mut r, &geo, &v, "first");
+    let (_, img_b) = check_frame(&mut r, &geo, &v, "second");
     assert_eq!(
         differing_pixels(&img_a, &img_b),
         0,
         "the same frame rendered twice differs"
     );
 
-    let tiny = Capacities {
-        queue: 24,
-        ..Capacities::default()
+    let tiny = MethodOptions {
+        queue_capacity: 24,
+        ..MethodOptions::new(DrawPath::Mesh)
     };
-    let mut small = Renderer::new(&gpu, &geo, DrawPath::Mesh, tiny, SIZE, bg, None).unwrap();
+    let mut small = common::renderer(&gpu, &geo, "subdiv", SIZE, tiny);
+    small.capture = true;
     let mut stressed = v;
     stressed.params.flags |= FLAG_QUEUE_STRESS;
-    let report = small.render(&stressed, true).unwrap();
-    assert!(report.stats.queue_spills > 0, "{:?}", report.stats);
-    assert!(report.stats.queue_peak_items <= 24);
-    let (mut ready_b, img_c) = check_frame(&gpu, &mut small, &geo, &stressed, "tiny queue");
+    let report = small.render(&stressed).unwrap();
+    let spills = report.stats.get_u64("queue_spills").unwrap();
+    let peak = report.stats.get_u64("queue_peak_items").unwrap();
+    assert!(spills > 0, "{:?}", report.stats);
+    assert!(peak <= 24);
+    let (mut ready_b, img_c) = check_frame(&mut small, &geo, &stressed, "tiny queue");
     ready_a.sort();
     ready_b.sort();
     assert!(ready_a == ready_b);
     let diff = differing_pixels(&img_a, &img_c);
     println!(
-        "tiny queue: {} spills, peak {}; image differs from the default budget in {diff} pixels",
-        report.stats.queue_spills, report.stats.queue_peak_items
+        "tiny queue: {spills} spills, peak {peak}; image differs from the default budget in {diff} pixels"
     );
     assert_eq!(diff, 0);
     gpu.finish();
@@ -179,17 +150,7 @@ fn determinism_and_tiny_queue() {
 fn hostile_cameras() {
     let gpu = common::gpu();
     let (teapot, geo) = scene("teapot.toml");
-    let bg = [0.1, 0.1, 0.1, 1.0];
-    let mut r = Renderer::new(
-        &gpu,
-        &geo,
-        DrawPath::Mesh,
-        Capacities::default(),
-        SIZE,
-        bg,
-        None,
-    )
-    .unwrap();
+    let mut r = subdiv(&gpu, &geo, DrawPath::Mesh);
     let base = teapot.camera;
     let cams = [
         // Under the teapot, looking at the collapsed bottom edge.
@@ -221,8 +182,9 @@ fn hostile_cameras() {
     ];
     for (k, cam) in cams.iter().enumerate() {
         let v = view(cam, 1.0, 0.5, SHADE_NORMAL);
-        let (ready, _) = check_frame(&gpu, &mut r, &geo, &v, &format!("camera {k}"));
-        let capture: Vec<[f32; 4]> = r.frame().capture.read(&gpu).unwrap();
+        let (ready, _) = check_frame(&mut r, &geo, &v, &format!("camera {k}"));
+        let list = r.method().ready().unwrap().list();
+        let capture: Vec<[f32; 4]> = list.capture.read(&gpu).unwrap();
         let used = &capture[..6 * ready.len()];
         assert!(
             used.iter().flatten().all(|x| !x.is_nan()),

@@ -1,69 +1,44 @@
 //! The persistent subdivision kernel against the CPU oracle (lavapipe,
-//! validation on): identical ready sets, termination with a tiny queue, and
-//! the iteration cap catching a planted endless loop.
+//! validation on): identical ready sets and counters, termination with a
+//! tiny queue, and the iteration cap catching a planted endless loop.
 
 mod common;
 
-use std::path::Path;
-
 use bezier_subdiv::constants::*;
-use bezier_subdiv::gpu::{Capacities, FrameGpu, SceneGpu, SceneLayout};
-use bezier_subdiv::methods::subdiv::{GpuSubdivStats, Subdivider};
+use bezier_subdiv::draw::DrawPath;
+use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::subdiv::GpuSubdivStats;
+use bezier_subdiv::methods::{MethodOptions, RenderError};
 use bezier_subdiv::patch::oracle::{subdivide, triangle_counts};
 use bezier_subdiv::patch::quadnode::QuadNode;
-use bezier_subdiv::patch::view::ViewParams;
-use bezier_subdiv::scene::file::{Scene, SceneGeometry};
-use bezier_subdiv::vk::Context;
-
-fn scene(name: &str) -> (Scene, SceneGeometry) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    let s = Scene::load(&path).unwrap();
-    let g = s.geometry().unwrap();
-    (s, g)
-}
+use bezier_subdiv::renderer::Renderer;
+use bezier_subdiv::scene::camera::Camera;
+use bezier_subdiv::scene::file::SceneGeometry;
 
 struct Run {
     ready: Vec<QuadNode>,
     stats: GpuSubdivStats,
 }
 
-fn run_gpu(
-    ctx: &Context,
-    geo: &SceneGeometry,
-    vp: &ViewParams,
-    caps: Capacities,
-    plant: bool,
-    idle_poll_cap: Option<u32>,
-) -> Run {
-    let layout = SceneLayout::new(ctx).unwrap();
-    let scene = SceneGpu::upload(ctx, &geo.patches, &geo.flags).unwrap();
-    let mut frame = FrameGpu::new(ctx, &layout, &scene, caps).unwrap();
-    frame.set_view(ctx, vp).unwrap();
-    let mut sub = Subdivider::new(ctx, &layout, None).unwrap();
-    if let Some(cap) = idle_poll_cap {
-        sub.idle_poll_cap = cap;
-    }
-    sub.plant_endless_loop = plant;
-    ctx.one_shot(|cmd| sub.record(ctx, cmd, &layout, &scene, &frame, None))
-        .unwrap()
-        .unwrap();
-    let counters = frame.read_counters(ctx).unwrap();
-    let stats = GpuSubdivStats::from_counters(&counters);
-    let mut ready = frame.read_ready(ctx, stats.ready_quads).unwrap();
-    ready.sort();
-    Run { ready, stats }
+fn view(cam: &Camera, size: (u32, u32), eps: f64, lambda: f64) -> View {
+    View::new(cam, size, eps, lambda, SHADE_NORMAL)
 }
 
-fn check_against_oracle(
-    ctx: &Context,
-    geo: &SceneGeometry,
-    vp: &ViewParams,
-    caps: Capacities,
-) -> GpuSubdivStats {
-    let run = run_gpu(ctx, geo, vp, caps, false, None);
+/// Renders `v` and reads the ready list (sorted) and the raw counters.
+fn run_gpu(r: &mut Renderer, v: &View) -> Result<Run, RenderError> {
+    r.render(v)?;
+    let ctx = r.context().clone();
+    let list = r.method().ready().expect("subdiv has a ready list").list();
+    let stats = GpuSubdivStats::from_counters(&list.read_counters(&ctx)?);
+    let mut ready = list.read_ready(&ctx, stats.ready_quads)?;
+    ready.sort();
+    Ok(Run { ready, stats })
+}
+
+fn check_against_oracle(r: &mut Renderer, geo: &SceneGeometry, v: &View) -> GpuSubdivStats {
+    let run = run_gpu(r, v).unwrap();
     assert_eq!(run.stats.errors, 0, "{:?}", run.stats.error_message());
+    let vp = &v.params;
     let oracle = subdivide(&geo.patches, &geo.flags, vp);
     let mut want = oracle.ready.clone();
     want.sort();
@@ -89,9 +64,6 @@ fn check_against_oracle(
         (tris, wedges)
     );
     assert_eq!(g.in_flight_left, 0);
-    // The indirect arguments describe exactly the ready list.
-    let counters = g;
-    let _ = counters;
     run.stats
 }
 
@@ -99,12 +71,18 @@ fn check_against_oracle(
 fn ready_set_equals_oracle_on_teapot_and_kitchen() {
     let gpu = common::gpu();
     for (name, size) in [("teapot.toml", (640, 360)), ("kitchen.toml", (320, 180))] {
-        let (s, geo) = scene(name);
+        let (s, geo) = common::scene(name);
+        let mut r = common::renderer(
+            &gpu,
+            &geo,
+            "subdiv",
+            size,
+            MethodOptions::new(DrawPath::Mesh),
+        );
         for frame in 0..s.frame_count().min(3) {
             let cam = s.frame_camera(frame).unwrap();
             for (eps, lambda) in [(1.0, 0.5), (0.5, 0.0), (2.0, 1.0)] {
-                let vp = cam.view_params(size.0, size.1, eps, lambda);
-                let st = check_against_oracle(&gpu, &geo, &vp, Capacities::default());
+                let st = check_against_oracle(&mut r, &geo, &view(&cam, size, eps, lambda));
                 println!(
                     "{name} frame {frame} eps {eps} lambda {lambda}: {} ready, depth {}, queue pushed {} peak {} spills {}",
                     st.ready_quads, st.max_depth, st.queue_pushed, st.queue_peak_items, st.queue_spills
@@ -118,17 +96,18 @@ fn ready_set_equals_oracle_on_teapot_and_kitchen() {
 #[test]
 fn tiny_queue_terminates_with_the_same_result() {
     let gpu = common::gpu();
-    let (s, geo) = scene("teapot.toml");
-    let mut vp = s.camera.view_params(640, 360, 0.5, 0.5);
+    let (s, geo) = common::scene("teapot.toml");
+    let mut v = view(&s.camera, (640, 360), 0.5, 0.5);
     // Donate on every split so a queue of a few dozen entries overflows.
-    vp.flags |= FLAG_QUEUE_STRESS;
+    v.params.flags |= FLAG_QUEUE_STRESS;
     let mut spills = Vec::new();
     for queue in [24, 65536] {
-        let caps = Capacities {
-            queue,
-            ..Capacities::default()
+        let options = MethodOptions {
+            queue_capacity: queue,
+            ..MethodOptions::new(DrawPath::Mesh)
         };
-        let st = check_against_oracle(&gpu, &geo, &vp, caps);
+        let mut r = common::renderer(&gpu, &geo, "subdiv", (640, 360), options);
+        let st = check_against_oracle(&mut r, &geo, &v);
         println!(
             "queue of {queue} (stressed): pushed {}, peak {}, spills {}",
             st.queue_pushed, st.queue_peak_items, st.queue_spills
@@ -144,16 +123,40 @@ fn tiny_queue_terminates_with_the_same_result() {
 #[test]
 fn planted_endless_loop_hits_the_iteration_cap() {
     let gpu = common::gpu();
-    let (s, geo) = scene("teapot.toml");
-    let vp = s.camera.view_params(320, 180, 1.0, 0.5);
+    let (s, geo) = common::scene("teapot.toml");
+    let options = MethodOptions {
+        plant_endless_loop: true,
+        ..MethodOptions::new(DrawPath::Mesh)
+    };
+    let mut r = common::renderer(&gpu, &geo, "subdiv", (320, 180), options);
     let start = std::time::Instant::now();
-    let run = run_gpu(&gpu, &geo, &vp, Capacities::default(), true, None);
+    let err = run_gpu(&mut r, &view(&s.camera, (320, 180), 1.0, 0.5))
+        .err()
+        .expect("a planted endless loop must fail the frame");
     println!(
-        "planted loop caught after {:.2} s",
+        "planted loop caught after {:.2} s: {err}",
         start.elapsed().as_secs_f64()
     );
-    assert_ne!(run.stats.errors & ERR_ITERATION_CAP, 0, "{:?}", run.stats);
-    assert_eq!(run.stats.in_flight_left, 1);
-    println!("planted loop: {}", run.stats.error_message().unwrap());
+    let msg = err.to_string();
+    assert!(
+        matches!(
+            err,
+            RenderError::Method {
+                method: "subdiv",
+                ..
+            }
+        ),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("iteration cap") && msg.contains("1 items still in flight"),
+        "{msg}"
+    );
+    assert!(!msg.contains("invalid use"), "{msg}");
+    // The counters say the same.
+    let list = r.method().ready().unwrap().list();
+    let st = GpuSubdivStats::from_counters(&list.read_counters(&gpu).unwrap());
+    assert_ne!(st.errors & ERR_ITERATION_CAP, 0, "{st:?}");
+    assert_eq!(st.in_flight_left, 1);
     gpu.finish();
 }

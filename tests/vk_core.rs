@@ -5,9 +5,9 @@ mod common;
 
 use ash::vk;
 use bezier_subdiv::vk::{
-    buffer_barrier, describe, write_buffers, Access, Buffer, ComputePipeline, ComputePipelineDesc,
-    Context, ContextOptions, DescriptorPool, DeviceSelector, GpuTimer, Image, ImageDesc,
-    MemoryLocation, ShaderModule, VkError,
+    buffer_barrier, describe, Access, Buffer, BufferBinding, Context, ContextOptions,
+    DescriptorSet, DeviceSelector, GpuTimer, Image, ImageDesc, MemoryLocation, Pipeline,
+    PipelineLayout, SetLayout, ShaderModule, VkError,
 };
 use std::path::Path;
 use std::time::Duration;
@@ -160,7 +160,7 @@ fn one_shot_fill_and_copy() {
                 .dst_offset(32)
                 .size(64)];
             unsafe { d.cmd_copy_buffer(cmd, a.handle(), b.handle(), &region) };
-            42
+            Ok(42)
         })
         .unwrap();
     assert_eq!(value, 42, "one_shot returns the closure's value");
@@ -169,6 +169,38 @@ fn one_shot_fill_and_copy() {
         let want = if (8..24).contains(&i) { 0xDEAD_BEEF } else { 0 };
         assert_eq!(*v, want, "word {i}");
     }
+    ctx.finish();
+}
+
+/// A recording closure that fails submits nothing: its commands never run
+/// and its error comes back as is.
+#[test]
+fn failed_recording_submits_nothing() {
+    let ctx = common::gpu();
+    let a = Buffer::with_data(
+        &ctx,
+        "untouched",
+        &[7u32; 16],
+        STORAGE,
+        MemoryLocation::GpuOnly,
+    )
+    .unwrap();
+    let result: Result<(), VkError> = ctx.one_shot(|cmd| {
+        buffer_barrier(&ctx, cmd, &a, Access::ALL, Access::TRANSFER_WRITE);
+        unsafe {
+            ctx.device()
+                .cmd_fill_buffer(cmd, a.handle(), 0, vk::WHOLE_SIZE, 0)
+        };
+        Err(VkError::Usage("planted recording failure".into()))
+    });
+    let err = result.unwrap_err();
+    assert!(
+        err.to_string().contains("planted recording failure"),
+        "{err}"
+    );
+    let back: Vec<u32> = a.read(&ctx).unwrap();
+    assert_eq!(back, vec![7u32; 16], "the half-recorded fill ran");
+    assert_eq!(ctx.pending_count(), 0);
     ctx.finish();
 }
 
@@ -209,6 +241,7 @@ fn image_clear_and_read_pixels() {
                 &[image.full_range()],
             )
         };
+        Ok(())
     })
     .unwrap();
     let pixels = image.read_pixels(&ctx, layout).unwrap();
@@ -219,9 +252,10 @@ fn image_clear_and_read_pixels() {
 
 /// The buffers and pipeline of `glsl/selftest.comp`.
 struct SelfTest {
-    pipeline: ComputePipeline,
-    _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    _set_layout: SetLayout,
+    set: DescriptorSet,
     data: Buffer,
     counters: Buffer,
     _params: Buffer,
@@ -233,18 +267,22 @@ const LOCAL_SIZE: u32 = 64;
 impl SelfTest {
     fn new(ctx: &Context, count: u32) -> Self {
         let shader = ShaderModule::load(ctx, "selftest.comp").unwrap();
-        let pipeline = ComputePipeline::new(
+        let stage = vk::ShaderStageFlags::COMPUTE;
+        let set_layout = SetLayout::new(
             ctx,
-            &shader,
-            &ComputePipelineDesc {
-                name: "selftest",
-                storage_buffers: 2,
-                uniform_buffer: true,
-                push_constant_size: 12,
-                specialization: &[(0, LOCAL_SIZE)],
-            },
+            "selftest set",
+            &[
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::DescriptorType::UNIFORM_BUFFER,
+            ],
+            stage,
         )
         .unwrap();
+        let layout =
+            PipelineLayout::new(ctx, "selftest layout", &[&set_layout], 12, stage).unwrap();
+        let pipeline =
+            Pipeline::compute(ctx, "selftest", &layout, &shader, &[(0, LOCAL_SIZE)]).unwrap();
         let data = Buffer::new(
             ctx,
             "selftest data",
@@ -269,19 +307,12 @@ impl SelfTest {
             MemoryLocation::CpuToGpu,
         )
         .unwrap();
-        let pool =
-            DescriptorPool::for_layout(ctx, "selftest pool", pipeline.set_layout(), 1).unwrap();
-        let set = pool.allocate(pipeline.set_layout()).unwrap();
-        write_buffers(
-            ctx,
-            set,
-            pipeline.set_layout(),
-            &[&data, &counters, &params],
-        )
-        .unwrap();
+        let bound: [BufferBinding; 3] = [(&data).into(), (&counters).into(), (&params).into()];
+        let set = DescriptorSet::new(ctx, "selftest set", &set_layout, &bound).unwrap();
         Self {
             pipeline,
-            _pool: pool,
+            layout,
+            _set_layout: set_layout,
             set,
             data,
             counters,
@@ -311,9 +342,17 @@ impl SelfTest {
             .flat_map(|v| v.to_ne_bytes())
             .collect();
         let groups = self.count.div_ceil(LOCAL_SIZE);
-        self.pipeline
-            .dispatch(cmd, self.set, &push, [groups, 1, 1])
-            .unwrap();
+        self.pipeline.bind(cmd);
+        self.set.bind(
+            ctx,
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &self.layout,
+            0,
+            &[],
+        );
+        self.layout.push(cmd, &push).unwrap();
+        unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
     }
 
     fn check(&self, ctx: &Context, mul: u32) {
@@ -333,7 +372,11 @@ fn selftest_compute_pipeline() {
     let ctx = common::gpu();
     // Not a multiple of the workgroup size: exercises the bounds check.
     let t = SelfTest::new(&ctx, 1000);
-    ctx.one_shot(|cmd| t.record(&ctx, cmd, 3, 0)).unwrap();
+    ctx.one_shot(|cmd| {
+        t.record(&ctx, cmd, 3, 0);
+        Ok(())
+    })
+    .unwrap();
     t.check(&ctx, 3);
     ctx.finish();
 }
@@ -354,9 +397,8 @@ fn timestamps_measure_named_scopes() {
             timer.end(cmd, "never begun"),
             Err(VkError::Usage(_))
         ));
-        Ok::<(), VkError>(())
+        Ok(())
     })
-    .unwrap()
     .unwrap();
     let times = timer.read().unwrap();
     let names: Vec<&str> = times.iter().map(|(n, _)| n.as_str()).collect();
@@ -378,7 +420,8 @@ fn fence_timeout_returns_an_error() {
     // device, yet bounded, so the work does finish and the test cannot hang.
     let start = std::time::Instant::now();
     let result = ctx.one_shot_with("long selftest dispatch", Duration::from_millis(1), |cmd| {
-        t.record(&ctx, cmd, 2, 2_000_000)
+        t.record(&ctx, cmd, 2, 2_000_000);
+        Ok(())
     });
     let returned = start.elapsed();
     match result {
@@ -413,9 +456,10 @@ fn validation_errors_are_caught() {
         MemoryLocation::GpuOnly,
     )
     .unwrap();
-    ctx.one_shot(|cmd| unsafe {
+    ctx.one_shot(|cmd| {
         // dstOffset must be a multiple of 4 (VUID-vkCmdFillBuffer-dstOffset-00025).
-        ctx.device().cmd_fill_buffer(cmd, buf.handle(), 2, 4, 0);
+        unsafe { ctx.device().cmd_fill_buffer(cmd, buf.handle(), 2, 4, 0) };
+        Ok(())
     })
     .unwrap();
     assert!(ctx.validation_error_count() >= 1);
@@ -432,11 +476,14 @@ fn validation_errors_are_caught() {
     // Synchronization validation: a copy reading a fill's output with no
     // barrier in between is a read-after-write hazard.
     let dst = Buffer::new(&ctx, "hazard copy", 64, STORAGE, MemoryLocation::GpuOnly).unwrap();
-    ctx.one_shot(|cmd| unsafe {
+    ctx.one_shot(|cmd| {
         let d = ctx.device();
-        d.cmd_fill_buffer(cmd, buf.handle(), 0, vk::WHOLE_SIZE, 1);
         let region = [vk::BufferCopy::default().size(64)];
-        d.cmd_copy_buffer(cmd, buf.handle(), dst.handle(), &region);
+        unsafe {
+            d.cmd_fill_buffer(cmd, buf.handle(), 0, vk::WHOLE_SIZE, 1);
+            d.cmd_copy_buffer(cmd, buf.handle(), dst.handle(), &region);
+        }
+        Ok(())
     })
     .unwrap();
     let messages = ctx.validation_errors();
@@ -471,9 +518,9 @@ fn teardown_leaks_nothing() {
         .unwrap();
         ctx.one_shot(|cmd| {
             timer.reset(cmd);
-            timer.begin(cmd, "selftest").unwrap();
+            timer.begin(cmd, "selftest")?;
             t.record(&ctx, cmd, 1, 0);
-            timer.end(cmd, "selftest").unwrap();
+            timer.end(cmd, "selftest")
         })
         .unwrap();
         t.check(&ctx, 1);
@@ -506,8 +553,17 @@ fn spirv_checks_name_the_file_and_the_fix() {
     assert!(err.to_string().contains("magic"), "{err}");
     let err = bezier_subdiv::vk::load_spirv("does-not-exist.comp").unwrap_err();
     assert!(err.to_string().contains("does-not-exist.comp.spv"), "{err}");
+    let err = bezier_subdiv::vk::load_spirv_file(Path::new("/nonexistent/x.spv")).unwrap_err();
+    assert!(err.to_string().contains("/nonexistent/x.spv"), "{err}");
 
-    let good = std::fs::read(bezier_subdiv::vk::spirv_path("selftest.comp")).unwrap();
+    let good = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("spirv/selftest.comp.spv"))
+        .unwrap();
+    // The embedded copy is the file's.
+    let embedded = bezier_subdiv::vk::load_spirv("selftest.comp").unwrap();
+    assert_eq!(
+        embedded,
+        bezier_subdiv::vk::spirv_words(label, &good).unwrap()
+    );
     let words = bezier_subdiv::vk::spirv_words(label, &good).unwrap();
     assert_eq!(words[0], 0x0723_0203);
     // Byte-swapped SPIR-V is valid too.

@@ -1,7 +1,8 @@
-// Constants shared by the shaders and the host. Mirrored, name for name, by
-// src/constants.rs; tests/constants.rs checks that the two agree. Every
-// value here is a plain `const uint NAME = N;` line (decimal or hex), so the
-// test can read it without a GLSL parser.
+// Generated from src/constants.rs by tools/compile-shaders; do not edit.
+// Every number the shaders share with the host is declared there, once: add
+// or change a constant in src/constants.rs, then run
+// `cargo run --release -p compile-shaders`, which rewrites this file and the
+// SPIR-V. `--check` (CI) fails while this file differs from what it writes.
 #ifndef CONSTANTS_GLSL
 #define CONSTANTS_GLSL
 
@@ -31,17 +32,44 @@ const uint FLAG_QUEUE_STRESS = 0x40000000;
 const uint PATCH_TWO_SIDED = 1;
 const uint PATCH_MODEL_SHIFT = 16;
 
-// Descriptor bindings of the one scene set every pass uses.
+// Descriptor set numbers: every pipeline layout starts with the scene
+// set, then the set of its pass family, then a producer's own.
+const uint SET_SCENE = 0;
+const uint SET_PASS = 1;
+const uint SET_PRODUCER = 2;
+
+// Set 0, the scene (every pass): the view (a dynamic uniform buffer,
+// one ViewParams per frame slot), the base patches, their flags.
 const uint BIND_VIEW = 0;
 const uint BIND_PATCHES = 1;
 const uint BIND_PATCH_FLAGS = 2;
-const uint BIND_READY = 3;
-const uint BIND_COUNTERS = 4;
-const uint BIND_QUEUE_ITEMS = 5;
-const uint BIND_QUEUE_SEQS = 6;
-const uint BIND_VERTICES = 7;
-const uint BIND_CAPTURE = 8;
-const uint BIND_COUNT = 9;
+const uint SCENE_BINDINGS = 3;
+
+// Set 1 of the ready-list passes: the ready QuadNodes, the counters, the
+// fallback's vertices, the validation capture.
+const uint BIND_READY = 0;
+const uint BIND_COUNTERS = 1;
+const uint BIND_VERTICES = 2;
+const uint BIND_CAPTURE = 3;
+const uint READY_BINDINGS = 4;
+
+// Set 2 of the persistent subdivision kernel: its work queue.
+const uint BIND_QUEUE_ITEMS = 0;
+const uint BIND_QUEUE_SEQS = 1;
+const uint QUEUE_BINDINGS = 2;
+
+// Set 1 of the ground truth's grids: the visible patches and the counters
+// that hold its indexed indirect draw.
+const uint BIND_GRID_VISIBLE = 0;
+const uint BIND_GRID_COUNTERS = 1;
+const uint GRID_BINDINGS = 2;
+
+// Words of the ground truth's counters: patches culled, and from
+// G_DRAW_ARGS the VkDrawIndexedIndirectCommand (index count, instance
+// count = visible patches, first index, vertex offset, first instance).
+const uint G_CULLED = 0;
+const uint G_DRAW_ARGS = 4;
+const uint GRID_WORDS = 16;
 
 // Indices into the counters buffer (uint words).
 const uint C_READY_COUNT = 0;
@@ -62,23 +90,32 @@ const uint C_QUEUE_PUSHED = 14;
 const uint C_TRIANGLES = 15;
 const uint C_WEDGES = 16;
 const uint C_ITERATIONS_MAX = 17;
+
 // Validation passes (reorder_check.comp): nodes checked, nodes failing.
 const uint C_CHECK_NODES = 18;
 const uint C_CHECK_FAILS = 19;
+
 // counters[C_IN_FLIGHT]: items in flight in the low 24 bits (so at most
 // 2^24 - 1 base patches), a wrapping progress tick in the top byte.
 const uint IN_FLIGHT_MASK = 0xffffff;
 const uint IN_FLIGHT_TICK = 0x1000000;
-// Indirect arguments, written by the subdivision pass.
-const uint C_MESH_ARGS = 32;      // vkCmdDrawMeshTasksIndirectEXT: x, y, z
-const uint C_EXPAND_ARGS = 36;    // vkCmdDispatchIndirect: x, y, z
-const uint C_DRAW_ARGS = 40;      // vkCmdDrawIndirect: vertices, instances, first vertex, first instance
+
+// Indirect arguments in the counters buffer, written by the subdivision pass.
+// vkCmdDrawMeshTasksIndirectEXT: x, y, z
+const uint C_MESH_ARGS = 32;
+// vkCmdDispatchIndirect: x, y, z
+const uint C_EXPAND_ARGS = 36;
+// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
+const uint C_DRAW_ARGS = 40;
+
 // Sorting the ready list (sort.comp): the padded length, and dispatch
 // arguments for the padding fill, the global and the in-block passes.
 const uint C_SORT_LENGTH = 44;
 const uint C_SORT_FILL_ARGS = 48;
 const uint C_SORT_GLOBAL_ARGS = 52;
 const uint C_SORT_BLOCK_ARGS = 56;
+
+// Size of the counters buffer in uint words.
 const uint COUNTER_WORDS = 64;
 
 // Error bits in counters[C_ERROR].
@@ -89,6 +126,8 @@ const uint ERR_STACK_OVERFLOW = 4;
 // Workgroup sizes.
 const uint SUBDIV_GROUP_SIZE = 64;
 const uint EXPAND_GROUP_SIZE = 64;
+// The ground truth's culling pass: one invocation per base patch.
+const uint GRID_CULL_GROUP_SIZE = 64;
 // Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:
 // at most 192 vertices and 128 primitives).
 const uint MESH_NODES = 32;
@@ -108,6 +147,7 @@ const uint STACK_SIZE = 31;
 // Fallback path: each ready node owns 4 triangle slots (12 vertices); a
 // missing wedge is written as a degenerate triangle.
 const uint VERTICES_PER_NODE = 12;
+
 // Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
 // bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26).
 const uint VERTEX_WORDS = 5;

@@ -1,25 +1,28 @@
-// Geometry-side helpers of the two draw paths (task/mesh and the compute
-// expansion + pass-through vertex shader), so both turn a ready QuadNode
-// into the same clip-space positions and the same attributes. Include after
-// scene.glsl (uses the push constants).
+// What every draw shares: the DrawPush block (src/gpu/blocks.rs), the
+// world-to-clip transform, and the geometry helpers of the two ready-list
+// draw paths (task/mesh and the compute expansion + pass-through vertex
+// shader), so both turn a ready QuadNode into the same clip-space positions
+// and the same attributes. Include after scene.glsl.
 #ifndef DRAW_GLSL
 #define DRAW_GLSL
 
+layout(push_constant) uniform DrawPush {
+    mat4 view_proj;         // world -> Vulkan clip space
+    vec4 light_dir;         // direction towards the light (xyz); w: SHADE_DISTANCE scale
+    uint shade;             // SHADE_*
+    uint capacity;          // entries of the list being drawn
+    uint capture_enabled;   // write world positions to `capture`
+    uint grid;              // grid draws: cells per patch side
+} pc;
+
 // World -> clip with the sums written out in a fixed order: the mesh shader
-// and the vertex shader are compiled separately, and the image comparison
-// between the two paths should not depend on how each one happens to fuse
-// or reorder mat4 * vec4.
+// and the vertex shaders are compiled separately, and the image comparison
+// between the paths should not depend on how each one happens to fuse or
+// reorder mat4 * vec4.
 precise vec4 clip_position(vec3 p) {
     precise vec4 r = ((pc.view_proj[0] * p.x + pc.view_proj[1] * p.y) + pc.view_proj[2] * p.z)
         + pc.view_proj[3];
     return r;
-}
-
-// Ready nodes the subdivision pass published, never more than the list
-// holds (a full list sets ERR_READY_FULL but must not make us read past it).
-uint ready_count() {
-    uint n = counters[C_READY_COUNT];
-    return n < pc.ready_capacity ? n : pc.ready_capacity;
 }
 
 // Fallback vertex attributes in one word. Node parameters are dyadic with
@@ -50,6 +53,23 @@ bool mesh_tri(NodeMesh mesh, uint t, out uvec3 tri) {
     if (t == 2u) return mesh.wedge.x;
     if (t == 3u) return mesh.wedge.y;
     return true;
+}
+
+// Whether vertex slot s (0-3 corners, 4-5 wedge pivots) of a node mesh is
+// used.
+bool slot_used(NodeMesh mesh, uint s) {
+    return s < 4u || (s == 4u && mesh.wedge.x) || (s == 5u && mesh.wedge.y);
+}
+
+// The positions of a node mesh's six vertex slots. Every position, corner
+// or pivot, is the base patch evaluated by the one shared precise function
+// at exact dyadic parameters: bit-identical to the oracle and to the
+// neighbouring nodes that share it. Unused pivot slots get a copy of
+// corner 0, so every output stays defined.
+void node_positions(vec3 P[16], NodeMesh mesh, out vec3 pos[6]) {
+    for (uint s = 0u; s < 6u; ++s) {
+        pos[s] = slot_used(mesh, s) ? eval_patch(P, mesh.uv[s].x, mesh.uv[s].y) : pos[0];
+    }
 }
 
 #endif

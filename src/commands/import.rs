@@ -1,13 +1,12 @@
 //! `import`: read a cage or patch file, summarise it, optionally write the
 //! patches as `.bpt` plus a `.bpt.json` sidecar telling where each came from.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use glam::Vec3;
 
-use crate::files::temp_sibling;
+use crate::files::{commit, stage, temp_sibling};
 use crate::patch::ops::{max3, min3};
 use crate::scene::file::load_model;
 use crate::scene::{bpt, ImportedModel, PatchOrigin};
@@ -80,21 +79,21 @@ pub fn run(input: &Path, out: Option<&Path>) -> anyhow::Result<String> {
     if let Some(out) = out {
         let tmp_bpt = temp_sibling(out);
         bpt::write(&tmp_bpt, &model.patches)?;
-        let mut renames = vec![(tmp_bpt, out.to_path_buf())];
+        let mut staged = vec![(tmp_bpt, out.to_path_buf())];
         if !model.origins.is_empty() {
             let side = sidecar_path(out);
-            let tmp_side = temp_sibling(&side);
-            let written = std::fs::File::create(&tmp_side)
-                .and_then(|mut f| f.write_all(sidecar_json(&model.origins).as_bytes()));
-            if let Err(e) = written {
-                let _ = std::fs::remove_file(&tmp_side);
-                let _ = std::fs::remove_file(&renames[0].0);
-                return Err(e).with_context(|| format!("writing {}", side.display()));
+            match stage(&side, sidecar_json(&model.origins).as_bytes()) {
+                Ok(tmp) => staged.push((tmp, side)),
+                Err(e) => {
+                    let _ = std::fs::remove_file(&staged[0].0);
+                    return Err(e).with_context(|| format!("writing {}", side.display()));
+                }
             }
-            renames.push((tmp_side, side));
         }
-        for (from, to) in &renames {
-            std::fs::rename(from, to).with_context(|| format!("writing {}", to.display()))?;
+        commit(&staged).map_err(|(file, e)| {
+            anyhow::Error::new(e).context(format!("writing {}", file.display()))
+        })?;
+        for (_, to) in &staged {
             text += &format!("  wrote           {}\n", to.display());
         }
     }

@@ -7,9 +7,11 @@ pub mod stats;
 pub mod validate;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use anyhow::anyhow;
 
+use crate::renderer::{Renderer, RendererOptions};
 use crate::scene::camera::Camera;
 use crate::scene::file::Scene;
 
@@ -47,6 +49,8 @@ pub struct GpuRequest {
     pub size: (u32, u32),
     /// Draw path request.
     pub draw: crate::draw::DrawRequest,
+    /// `ground-truth`: grid cells per patch side.
+    pub grid: u32,
     /// Device choice.
     pub device: crate::vk::DeviceSelector,
     /// Khronos validation layer on (any error fails the run).
@@ -64,37 +68,48 @@ impl GpuRequest {
             lambda: None,
             size: (1920, 1080),
             draw: crate::draw::DrawRequest::Auto,
+            grid: crate::methods::ground_truth::DEFAULT_GRID,
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
         }
     }
 
-    /// The renderer for `geo` on `ctx`: the requested draw path, the default
-    /// buffer budget, the requested size, the render background.
-    pub fn renderer<'a>(
+    /// The method's registry entry, or the sentence why there is none
+    /// (checked before any GPU work).
+    pub fn method_info(&self) -> anyhow::Result<&'static crate::methods::MethodInfo> {
+        crate::methods::ground_truth::check_grid(self.grid).map_err(|e| anyhow!("--grid: {e}"))?;
+        Ok(crate::methods::find(&self.method)?)
+    }
+
+    /// The renderer for `geo` on `ctx`: the requested method and draw path,
+    /// the default buffer budget, the requested size, the render background.
+    pub fn renderer(
         &self,
-        ctx: &'a crate::vk::Context,
+        ctx: &Arc<crate::vk::Context>,
         geo: &crate::scene::file::SceneGeometry,
-    ) -> anyhow::Result<crate::renderer::Renderer<'a>> {
-        let path = crate::draw::choose(ctx, self.draw)?;
-        Ok(crate::renderer::Renderer::new(
-            ctx,
-            geo,
-            path,
-            crate::gpu::Capacities::default(),
-            self.size,
-            render::BACKGROUND,
-            None,
-        )?)
+    ) -> anyhow::Result<Renderer> {
+        let draw = crate::draw::choose(ctx, self.draw)?;
+        let methods = crate::methods::MethodOptions {
+            grid: self.grid,
+            ..crate::methods::MethodOptions::new(draw)
+        };
+        let options = RendererOptions {
+            size: self.size,
+            background: render::BACKGROUND,
+            frames_in_flight: crate::renderer::DEFAULT_FRAMES_IN_FLIGHT,
+            methods,
+        };
+        Ok(Renderer::new(Arc::clone(ctx), geo, &self.method, options)?)
     }
 
     /// A Vulkan context on the requested device.
-    pub fn context(&self) -> crate::vk::VkResult<crate::vk::Context> {
+    pub fn context(&self) -> crate::vk::VkResult<Arc<crate::vk::Context>> {
         crate::vk::Context::new(&crate::vk::ContextOptions {
             selector: self.device.clone(),
             validation: self.validation,
             ..crate::vk::ContextOptions::default()
         })
+        .map(Arc::new)
     }
 }
 

@@ -1,26 +1,26 @@
-//! `validate`: the GPU against the CPU oracle on every keyframe of a scene
-//! (ready set, vertex positions bit for bit, the §4.4 reordering test on the
-//! GPU), then the hole test on every model. Prints a table; the binary exits
-//! non-zero when any check fails.
+//! `validate`: the checks that apply to the method, on every keyframe of a
+//! scene (or one). Methods with a ready list are held against the CPU
+//! oracle (ready set, vertex positions bit for bit, the §4.4 reordering
+//! test on the GPU); every method gets the hole test on every model.
+//! Prints a table; the binary exits non-zero when any check fails.
 
 use std::collections::HashSet;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, Context as _};
+use anyhow::Context as _;
 
 use super::{eps_lambda, keyframe, thousands, GpuRequest};
 use crate::constants::SHADE_NORMAL;
-use crate::draw::DrawPath;
-use crate::methods::Method;
+use crate::draw::{DrawPath, ReadyStage};
+use crate::frame::View;
 use crate::patch::oracle::subdivide_parallel;
 use crate::patch::view::FLAG_WEDGES;
-use crate::renderer::{Renderer, View};
+use crate::renderer::Renderer;
 use crate::scene::file::{Scene, SceneGeometry};
 use crate::validate::holes::run_model;
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
 };
-use crate::vk::Context;
 
 /// What `validate` is asked for.
 #[derive(Clone, Debug)]
@@ -60,9 +60,9 @@ fn line(check: &str, frame: Option<usize>, ok: bool, detail: String) -> CheckRes
     }
 }
 
-/// Runs every check.
+/// Runs every check that applies to the method.
 pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
-    let method = Method::parse(&args.gpu.method).map_err(|e| anyhow!(e))?;
+    args.gpu.method_info()?;
     let scene = Scene::load(&args.gpu.scene)?;
     let frames: Vec<usize> = match args.frame {
         Some(k) => {
@@ -77,73 +77,20 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     let ctx = args.gpu.context()?;
     let mut renderer = args.gpu.renderer(&ctx, &geo)?;
-    let path = renderer.path();
-    let (w, h) = args.gpu.size;
-    let reorder = ReorderCheck::new(&ctx, renderer.layout())?;
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
 
     let mut results = Vec::new();
-    for &k in &frames {
-        let cam = keyframe(&scene, &args.gpu.scene, k)?;
-        let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
-        let report = renderer.render(&view, true)?;
-        let frame = renderer.frame();
-        let gpu_ready = frame.read_ready(&ctx, report.stats.ready_quads)?;
-        let oracle = subdivide_parallel(&geo.patches, &geo.flags, &view.params, threads);
-        let (ok, detail) = compare_ready(&gpu_ready, &oracle.ready);
-        results.push(line("ready set", Some(k), ok, detail));
-
-        let wedges = view.params.flags & FLAG_WEDGES != 0;
-        let (compared, bad) = match path {
-            DrawPath::Mesh => {
-                let capture: Vec<[f32; 4]> = frame.capture.read(&ctx)?;
-                compare_capture(&geo.patches, &gpu_ready, &capture, wedges)
-            }
-            DrawPath::Fallback => {
-                let words: Vec<u32> = frame.vertices.read(&ctx)?;
-                compare_vertices(&geo.patches, &gpu_ready, &words, wedges)
-            }
-        };
-        results.push(line(
-            "positions",
-            Some(k),
-            bad == 0 && compared > 0,
-            format!(
-                "{} of {} vertices bit-identical to the oracle ({})",
-                thousands(compared - bad),
-                thousands(compared),
-                positions_source(path)
-            ),
-        ));
-
-        let (checked, failed) = reorder.run(
-            &ctx,
-            renderer.layout(),
-            renderer.frame(),
-            report.stats.ready_quads,
-        )?;
-        results.push(line(
-            "reorder (§4.4)",
-            Some(k),
-            failed == 0 && checked == report.stats.ready_quads,
-            format!(
-                "{} nodes x 8 domain orderings on the GPU, {failed} differ",
-                thousands(checked as u64)
-            ),
-        ));
+    if renderer.method().ready().is_some() {
+        renderer.capture = true;
+        for &k in &frames {
+            let cam = keyframe(&scene, &args.gpu.scene, k)?;
+            let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
+            results.extend(oracle_checks(&mut renderer, &geo, &view, k)?);
+        }
+        renderer.capture = false;
     }
-
     if !args.skip_holes {
         let debug = args.debug_dir.as_deref();
-        results.extend(hole_checks(
-            &ctx,
-            &mut renderer,
-            &geo,
-            args.gpu.size,
-            eps,
-            lambda,
-            debug,
-        )?);
+        results.extend(hole_checks(&mut renderer, &geo, (eps, lambda), debug)?);
     }
     if args.gpu.validation {
         let errors = ctx.validation_errors();
@@ -151,54 +98,81 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             "validation layer",
             None,
             errors.is_empty(),
-            if errors.is_empty() {
-                "no errors".into()
-            } else {
-                format!("{} errors, first: {}", errors.len(), errors[0])
+            match errors.first() {
+                None => "no errors".into(),
+                Some(first) => format!("{} errors, first: {first}", errors.len()),
             },
         ));
     }
-
-    let info = ctx.info();
-    let mut table = format!(
-        "validate {} (method {}, {} path, {w}x{h}, eps {eps}, lambda {lambda}) on {}{}\n\n{:<24} {:>5}  {:<6} {}\n",
-        args.gpu.scene.display(),
-        method.name(),
-        path.name(),
-        info.name,
-        if info.is_cpu { " (CPU device)" } else { "" },
-        "check",
-        "frame",
-        "result",
-        "detail"
-    );
-    for r in &results {
-        table += &format!(
-            "{:<24} {:>5}  {:<6} {}\n",
-            r.check,
-            r.frame.map_or("-".into(), |f| f.to_string()),
-            if r.ok { "ok" } else { "FAIL" },
-            r.detail
-        );
-    }
-    let failed = results.iter().filter(|r| !r.ok).count();
-    table += &if failed == 0 {
-        format!("\nall {} checks passed\n", results.len())
-    } else {
-        format!("\n{failed} of {} checks FAILED\n", results.len())
-    };
+    let table = table(args, &renderer, (eps, lambda), &results);
     Ok(ValidateReport { results, table })
+}
+
+/// The oracle comparisons of one keyframe: the ready set, the drawn
+/// positions, the §4.4 test.
+fn oracle_checks(
+    renderer: &mut Renderer,
+    geo: &SceneGeometry,
+    view: &View,
+    k: usize,
+) -> anyhow::Result<Vec<CheckResult>> {
+    let report = renderer.render(view)?;
+    let ready_count = report.stats.get_u64("ready_quads").unwrap_or(0) as u32;
+    let ctx = renderer.context().clone();
+    let stage: &ReadyStage = renderer
+        .method()
+        .ready()
+        .context("the method has no ready list")?;
+    let list = stage.list();
+    let gpu_ready = list.read_ready(&ctx, ready_count)?;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &view.params, threads);
+    let (ok, detail) = compare_ready(&gpu_ready, &oracle.ready);
+    let mut out = vec![line("ready set", Some(k), ok, detail)];
+
+    let wedges = view.params.flags & FLAG_WEDGES != 0;
+    let (compared, bad) = match stage.path() {
+        DrawPath::Mesh => {
+            let capture: Vec<[f32; 4]> = list.capture.read(&ctx)?;
+            compare_capture(&geo.patches, &gpu_ready, &capture, wedges)
+        }
+        DrawPath::Fallback => {
+            let words: Vec<u32> = list.vertices.read(&ctx)?;
+            compare_vertices(&geo.patches, &gpu_ready, &words, wedges)
+        }
+    };
+    out.push(line(
+        "positions",
+        Some(k),
+        bad == 0 && compared > 0,
+        format!(
+            "{} of {} vertices bit-identical to the oracle ({})",
+            thousands(compared - bad),
+            thousands(compared),
+            positions_source(stage.path())
+        ),
+    ));
+
+    let reorder = ReorderCheck::new(&ctx, stage)?;
+    let (checked, failed) = reorder.run(renderer, ready_count)?;
+    out.push(line(
+        "reorder (§4.4)",
+        Some(k),
+        failed == 0 && checked == ready_count,
+        format!(
+            "{} nodes x 8 domain orderings on the GPU, {failed} differ",
+            thousands(u64::from(checked))
+        ),
+    ));
+    Ok(out)
 }
 
 /// The hole test for the first instance of every distinct model file.
 fn hole_checks(
-    ctx: &Context,
-    renderer: &mut Renderer<'_>,
+    renderer: &mut Renderer,
     geo: &SceneGeometry,
-    size: (u32, u32),
-    eps: f64,
-    lambda: f64,
-    debug_dir: Option<&std::path::Path>,
+    eps_lambda: (f64, f64),
+    debug_dir: Option<&Path>,
 ) -> anyhow::Result<Vec<CheckResult>> {
     let mut out = Vec::new();
     let mut seen = HashSet::new();
@@ -219,21 +193,67 @@ fn hole_checks(
             .file
             .file_name()
             .map_or("model".into(), |f| f.to_string_lossy().into_owned());
-        let views = run_model(ctx, renderer, &one, size, eps, lambda, &name, debug_dir)?;
+        let views = run_model(renderer, &one, eps_lambda, &name, debug_dir)?;
         let holes: u64 = views.iter().map(|v| v.holes).sum();
-        let without: u64 = views.iter().map(|v| v.holes_without_wedges).sum();
+        let without: Option<u64> = views.iter().map(|v| v.holes_without_wedges).sum();
         let checked: u64 = views.iter().map(|v| v.checked_pixels).sum();
         out.push(line(
             &format!("holes {name}"),
             None,
             holes == 0,
             format!(
-                "{holes} key pixels in {} views ({} px checked); wedges off: {}",
+                "{holes} key pixels in {} views ({} px checked){}",
                 views.len(),
                 thousands(checked),
-                thousands(without)
+                without.map_or(String::new(), |w| format!("; wedges off: {}", thousands(w)))
             ),
         ));
     }
     Ok(out)
+}
+
+/// The printed table, its first column as wide as the longest check name.
+fn table(
+    args: &ValidateArgs,
+    renderer: &Renderer,
+    (eps, lambda): (f64, f64),
+    results: &[CheckResult],
+) -> String {
+    let info = renderer.context().info();
+    let (w, h) = args.gpu.size;
+    let method = renderer.method();
+    let width = results
+        .iter()
+        .map(|r| r.check.chars().count())
+        .chain([5])
+        .max()
+        .unwrap_or(5);
+    let mut table = format!(
+        "validate {} (method {}, {} path, {w}x{h}, eps {eps}, lambda {lambda}) on {}{}\n\n{:<width$} {:>5}  {:<6} {}\n",
+        args.gpu.scene.display(),
+        method.name(),
+        method.draw_path(),
+        info.name,
+        if info.is_cpu { " (CPU device)" } else { "" },
+        "check",
+        "frame",
+        "result",
+        "detail"
+    );
+    for r in results {
+        table += &format!(
+            "{:<width$} {:>5}  {:<6} {}\n",
+            r.check,
+            r.frame.map_or("-".into(), |f| f.to_string()),
+            if r.ok { "ok" } else { "FAIL" },
+            r.detail
+        );
+    }
+    let failed = results.iter().filter(|r| !r.ok).count();
+    table += &if failed == 0 {
+        format!("\nall {} checks passed\n", results.len())
+    } else {
+        format!("\n{failed} of {} checks FAILED\n", results.len())
+    };
+    table
 }

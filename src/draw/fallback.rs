@@ -1,6 +1,6 @@
 //! Draw path B, for devices without mesh shaders: `glsl/expand.comp` writes
 //! `VERTICES_PER_NODE` = 12 vertices per ready node (4 triangle slots, a
-//! missing wedge as a degenerate triangle) into the frame's vertex buffer,
+//! missing wedge as a degenerate triangle) into the list's vertex buffer,
 //! then one non-indexed `vkCmdDrawIndirect` pulls them by `gl_VertexIndex`
 //! in `glsl/draw.vert` (no vertex input state) and shades with
 //! `glsl/draw_vert.frag`.
@@ -11,10 +11,13 @@
 
 use ash::vk;
 
-use super::{bind, graphics_pipeline};
+use super::ReadyStage;
 use crate::constants::{C_DRAW_ARGS, C_EXPAND_ARGS};
-use crate::gpu::{FrameGpu, PushConstants, SceneLayout};
-use crate::vk::{Context, Pipeline, ShaderModule, VkResult};
+use crate::frame::FrameRec;
+use crate::gpu::{DrawPush, Shaders, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::vk::{
+    buffer_barrier, Access, Context, GraphicsDesc, Pipeline, PipelineLayout, VkResult,
+};
 
 /// Bytes of one `VkDrawIndirectCommand`.
 const DRAW_ARGS_STRIDE: u32 = 16;
@@ -26,105 +29,77 @@ pub(super) struct FallbackDraw {
 }
 
 impl FallbackDraw {
-    /// Creates both pipelines.
-    pub(super) fn new(ctx: &Context, layout: &SceneLayout) -> VkResult<Self> {
-        let expand_shader = ShaderModule::load(ctx, "expand.comp")?;
-        let expand = Pipeline::compute(ctx, "expand", &layout.layout, &expand_shader, &[])?;
-        let vert = ShaderModule::load(ctx, "draw.vert")?;
-        let frag = ShaderModule::load(ctx, "draw_vert.frag")?;
-        let draw = graphics_pipeline(
-            ctx,
-            layout,
+    /// Creates both pipelines with the ready-list draw layout.
+    pub(super) fn new(
+        ctx: &Context,
+        shaders: &mut Shaders,
+        layout: &PipelineLayout,
+    ) -> VkResult<Self> {
+        let expand_shader = shaders.get(ctx, "expand.comp")?;
+        let expand = Pipeline::compute(ctx, "expand", layout, &expand_shader, &[])?;
+        let vert = shaders.get(ctx, "draw.vert")?;
+        let frag = shaders.get(ctx, "draw_vert.frag")?;
+        let desc = GraphicsDesc::new(
+            "draw (fallback)",
             &[
                 (vk::ShaderStageFlags::VERTEX, &vert),
                 (vk::ShaderStageFlags::FRAGMENT, &frag),
             ],
-            true,
-            "draw (fallback)",
-        )?;
+        )
+        .targets(&[COLOR_FORMAT], DEPTH_FORMAT);
+        let draw = Pipeline::graphics(ctx, layout, &desc)?;
         Ok(Self { expand, draw })
     }
 
-    /// Records the indirect expansion dispatch (outside rendering).
+    /// Records the indirect expansion dispatch (outside rendering) and the
+    /// barrier from its vertex writes to the vertex shader's reads.
     pub(super) fn record_expand(
         &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
-        layout: &SceneLayout,
-        frame: &FrameGpu,
-        pc: &PushConstants,
+        f: &FrameRec<'_>,
+        stage: &ReadyStage,
+        pc: &DrawPush,
     ) -> VkResult<()> {
-        bind(
-            ctx,
-            cmd,
-            &self.expand,
-            vk::PipelineBindPoint::COMPUTE,
-            layout,
-            frame,
-            pc,
-        )?;
+        self.expand.bind(f.cmd);
+        stage.bind_draw(f, vk::PipelineBindPoint::COMPUTE, pc)?;
+        let list = stage.list();
         unsafe {
-            ctx.device().cmd_dispatch_indirect(
-                cmd,
-                frame.counters.handle(),
+            f.ctx.device().cmd_dispatch_indirect(
+                f.cmd,
+                list.counters.handle(),
                 u64::from(C_EXPAND_ARGS) * 4,
             )
         };
+        buffer_barrier(
+            f.ctx,
+            f.cmd,
+            &list.vertices,
+            Access::COMPUTE_WRITE,
+            Access::new(
+                vk::PipelineStageFlags2::VERTEX_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+        );
         Ok(())
     }
 
     /// Records the indirect draw (inside rendering).
     pub(super) fn record_draw(
         &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
-        layout: &SceneLayout,
-        frame: &FrameGpu,
-        pc: &PushConstants,
+        f: &FrameRec<'_>,
+        stage: &ReadyStage,
+        pc: &DrawPush,
     ) -> VkResult<()> {
-        bind(
-            ctx,
-            cmd,
-            &self.draw,
-            vk::PipelineBindPoint::GRAPHICS,
-            layout,
-            frame,
-            pc,
-        )?;
+        self.draw.bind(f.cmd);
+        stage.bind_draw(f, vk::PipelineBindPoint::GRAPHICS, pc)?;
         unsafe {
-            ctx.device().cmd_draw_indirect(
-                cmd,
-                frame.counters.handle(),
+            f.ctx.device().cmd_draw_indirect(
+                f.cmd,
+                stage.list().counters.handle(),
                 u64::from(C_DRAW_ARGS) * 4,
                 1,
                 DRAW_ARGS_STRIDE,
             )
         };
-        Ok(())
-    }
-
-    /// Records a direct draw of the first `vertices` vertices of the frame's
-    /// vertex buffer (inside rendering): for meshes made on the CPU, such as
-    /// the hole test's dense reference.
-    pub(super) fn record_vertices(
-        &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
-        layout: &SceneLayout,
-        frame: &FrameGpu,
-        pc: &PushConstants,
-        vertices: u32,
-    ) -> VkResult<()> {
-        bind(
-            ctx,
-            cmd,
-            &self.draw,
-            vk::PipelineBindPoint::GRAPHICS,
-            layout,
-            frame,
-            pc,
-        )?;
-        unsafe { ctx.device().cmd_draw(cmd, vertices, 1, 0, 0) };
         Ok(())
     }
 }

@@ -1,72 +1,47 @@
-//! Drawing the ready QuadNodes (paper §3.4): 2 triangles + up to 2 wedges
-//! per node, every vertex the base patch evaluated by the one shared precise
-//! function, so positions equal the oracle's bit for bit.
+//! Drawing a ready list (paper §3.4): 2 triangles + up to 2 wedges per
+//! ready QuadNode, every vertex the base patch evaluated by the one shared
+//! precise function, so positions equal the oracle's bit for bit.
 //!
-//! Two paths share the scene layout, the push constants and the fragment
-//! shading (`glsl/common/shade.glsl`):
-//! - [`DrawPath::Mesh`]: task + mesh shaders (`glsl/draw.task`,
-//!   `glsl/draw.mesh`), one indirect `vkCmdDrawMeshTasksIndirectEXT` from
-//!   `counters[C_MESH_ARGS]`.
-//! - [`DrawPath::Fallback`], for devices without VK_EXT_mesh_shader: a compute
-//!   pass (`glsl/expand.comp`, indirect from `counters[C_EXPAND_ARGS]`) writes
-//!   12 vertices per node into the frame's vertex buffer, then one
-//!   `vkCmdDrawIndirect` from `counters[C_DRAW_ARGS]` pulls them in a
-//!   pass-through vertex shader.
+//! [`ReadyStage`] is what every ready-list producer (`subdiv`, later
+//! `subdiv-indirect`) shares: the list and its counters ([`ready`]), the
+//! sort that makes the draw order canonical ([`sort`]), and one of two draw
+//! paths sharing the push block and the fragment shading
+//! (`glsl/common/shade.glsl`):
+//! - [`DrawPath::Mesh`]: task + mesh shaders ([`mesh`]), one indirect
+//!   `vkCmdDrawMeshTasksIndirectEXT` from `counters[C_MESH_ARGS]`;
+//! - [`DrawPath::Fallback`], for devices without VK_EXT_mesh_shader
+//!   ([`fallback`]): a compute pass writes 12 vertices per node, then one
+//!   `vkCmdDrawIndirect` pulls them in a pass-through vertex shader.
 //!
-//! Barrier contract: [`Drawer::record`] starts with a global barrier from
-//! compute-shader storage writes (the subdivision pass's ready list and
+//! Barrier contract: [`ReadyStage::record_draw`] starts with a global
+//! barrier from compute-shader storage writes (the producer's ready list and
 //! counters, indirect arguments included) to indirect-command reads and to
 //! storage/uniform reads in the compute, task, mesh and vertex stages. A
 //! producer that writes these buffers some other way (e.g. a transfer in the
-//! same command buffer) must make the writes available to those stages
-//! itself.
+//! same command buffer) must make the writes available itself.
 
 pub mod fallback;
 pub mod mesh;
-pub mod target;
+pub mod ready;
+pub mod sort;
 
 use std::fmt;
-use std::path::PathBuf;
 use std::str::FromStr;
 
 use ash::vk;
-use glam::{DMat4, DVec3, Vec3};
 
-use crate::constants::{EXPAND_GROUP_SIZE, MESH_NODES, TASK_MESH_GROUPS};
-use crate::gpu::{FrameGpu, PushConstants, SceneLayout};
-use crate::scene::camera::Camera;
+use crate::constants::{
+    COUNTER_WORDS, C_ERROR, C_READY_COUNT, ERR_READY_FULL, EXPAND_GROUP_SIZE, MESH_NODES,
+    TASK_MESH_GROUPS,
+};
+use crate::frame::{FrameRec, Retired};
+use crate::gpu::{DrawPush, ListPush, SceneLayout, Shaders};
+use crate::patch::quadnode::QuadNode;
 use crate::vk::{
-    buffer_barrier, memory_barrier, Access, Context, DeviceInfo, GpuTimer, Pipeline, ShaderModule,
-    VkError, VkResult,
+    memory_barrier, Access, Context, DeviceInfo, PipelineLayout, SetLayout, VkError, VkResult,
 };
 
-pub use target::{write_png, DrawTarget, COLOR_FORMAT, DEPTH_FORMAT};
-
-/// Errors of saving images (drawing itself reports [`VkError`]).
-#[derive(Debug, thiserror::Error)]
-pub enum DrawError {
-    /// A Vulkan failure (readback).
-    #[error(transparent)]
-    Vk(#[from] VkError),
-    /// Creating, writing or renaming a file failed.
-    #[error("{}: {source}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        #[source]
-        source: std::io::Error,
-    },
-    /// PNG encoding failed.
-    #[error("encoding {} as PNG: {source}", path.display())]
-    Png {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        #[source]
-        source: image::ImageError,
-    },
-}
+pub use ready::{indirect_args, ReadyCaps, ReadyList};
 
 /// How ready nodes become triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -155,186 +130,286 @@ fn mesh_missing(info: &DeviceInfo) -> VkError {
     }
 }
 
-enum Inner {
+enum PathPipelines {
     Mesh(mesh::MeshDraw),
     Fallback(fallback::FallbackDraw),
 }
 
-/// The pipelines of one draw path, created once, recorded per frame.
-pub struct Drawer {
-    inner: Inner,
+/// The ready list with its sort and draw path: everything after a
+/// producer's passes.
+pub struct ReadyStage {
+    set_layout: SetLayout,
+    list: ReadyList,
+    draw_layout: PipelineLayout,
+    list_layout: PipelineLayout,
+    sort: sort::ReadySort,
+    path: PathPipelines,
 }
 
-impl Drawer {
-    /// Creates the path's pipelines against the scene layout.
-    pub fn new(ctx: &Context, layout: &SceneLayout, path: DrawPath) -> VkResult<Self> {
-        let inner = match path {
-            DrawPath::Mesh => {
-                if !ctx.info().has_mesh_shader() {
-                    return Err(mesh_missing(ctx.info()));
-                }
-                Inner::Mesh(mesh::MeshDraw::new(ctx, layout)?)
-            }
-            DrawPath::Fallback => Inner::Fallback(fallback::FallbackDraw::new(ctx, layout)?),
-        };
-        Ok(Self { inner })
-    }
-
-    /// Which path this is.
-    pub fn path(&self) -> DrawPath {
-        match self.inner {
-            Inner::Mesh(_) => DrawPath::Mesh,
-            Inner::Fallback(_) => DrawPath::Fallback,
-        }
-    }
-
-    /// Records the draw of `frame`'s ready list into `target`: the barrier
-    /// from the subdivision pass (module docs), for the fallback the
-    /// expansion dispatch and its barrier, then rendering with clears, the
-    /// indirect draw, and the colour image left in
-    /// [`DrawTarget::FINAL_LAYOUT`]. Scopes "expand" and "draw" go to
-    /// `timer` when given (the caller resets it).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(
-        &self,
+impl ReadyStage {
+    /// Creates the list for `caps` (vertices added for the fallback path),
+    /// the layouts and the pipelines of `path`.
+    pub fn new(
         ctx: &Context,
-        cmd: vk::CommandBuffer,
-        layout: &SceneLayout,
-        frame: &FrameGpu,
-        target: &DrawTarget,
-        pc: &PushConstants,
-        mut timer: Option<&mut GpuTimer>,
-    ) -> VkResult<()> {
-        self.check(ctx, frame, pc)?;
-        barrier_from_producers(ctx, cmd);
-        if let Inner::Fallback(f) = &self.inner {
-            if let Some(t) = timer.as_deref_mut() {
-                t.begin(cmd, "expand")?;
-            }
-            f.record_expand(ctx, cmd, layout, frame, pc)?;
-            if let Some(t) = timer.as_deref_mut() {
-                t.end(cmd, "expand")?;
-            }
-            buffer_barrier(
-                ctx,
-                cmd,
-                &frame.vertices,
-                Access::COMPUTE_WRITE,
-                Access::new(
-                    vk::PipelineStageFlags2::VERTEX_SHADER,
-                    vk::AccessFlags2::SHADER_STORAGE_READ,
-                ),
-            );
+        shaders: &mut Shaders,
+        scene: &SceneLayout,
+        path: DrawPath,
+        caps: ReadyCaps,
+    ) -> VkResult<Self> {
+        if path == DrawPath::Mesh && !ctx.info().has_mesh_shader() {
+            return Err(mesh_missing(ctx.info()));
         }
-        if let Some(t) = timer.as_deref_mut() {
-            t.begin(cmd, "draw")?;
-        }
-        target.begin(ctx, cmd);
-        let drawn = match &self.inner {
-            Inner::Mesh(m) => m.record_draw(ctx, cmd, layout, frame, pc),
-            Inner::Fallback(f) => f.record_draw(ctx, cmd, layout, frame, pc),
+        let set_layout = ready::ready_set_layout(ctx)?;
+        let caps = ReadyCaps {
+            vertices: path == DrawPath::Fallback,
+            ..caps
         };
-        // Rendering is closed even on error so the command buffer stays
-        // well formed for the caller's submit-and-discard.
-        target.end(ctx, cmd);
-        drawn?;
-        if let Some(t) = timer {
-            t.end(cmd, "draw")?;
+        let list = ReadyList::new(ctx, &set_layout, caps)?;
+        let draw_layout = scene.pipeline_layout::<DrawPush>(
+            ctx,
+            "ready-list draw layout",
+            &[&set_layout],
+            scene.stages(),
+        )?;
+        let list_layout = scene.pipeline_layout::<ListPush>(
+            ctx,
+            "ready-list pass layout",
+            &[&set_layout],
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let sort = sort::ReadySort::new(ctx, shaders, &list_layout)?;
+        let path = match path {
+            DrawPath::Mesh => PathPipelines::Mesh(mesh::MeshDraw::new(ctx, shaders, &draw_layout)?),
+            DrawPath::Fallback => {
+                PathPipelines::Fallback(fallback::FallbackDraw::new(ctx, shaders, &draw_layout)?)
+            }
+        };
+        Ok(Self {
+            set_layout,
+            list,
+            draw_layout,
+            list_layout,
+            sort,
+            path,
+        })
+    }
+
+    /// The layout of set 1, for producers' pipeline layouts.
+    pub fn set_layout(&self) -> &SetLayout {
+        &self.set_layout
+    }
+
+    /// The list and its counters.
+    pub fn list(&self) -> &ReadyList {
+        &self.list
+    }
+
+    /// The pipeline layout of the non-draw ready-list passes (scene set,
+    /// ready set, [`ListPush`]).
+    pub fn list_layout(&self) -> &PipelineLayout {
+        &self.list_layout
+    }
+
+    /// Which draw path this is.
+    pub fn path(&self) -> DrawPath {
+        match self.path {
+            PathPipelines::Mesh(_) => DrawPath::Mesh,
+            PathPipelines::Fallback(_) => DrawPath::Fallback,
         }
+    }
+
+    /// Makes sure the list has a capture buffer exactly when the frame
+    /// captures (the old list is retired).
+    pub fn ensure_capture(
+        &mut self,
+        ctx: &Context,
+        capture: bool,
+        retired: &mut Retired,
+    ) -> VkResult<()> {
+        if self.list.caps.capture == capture {
+            return Ok(());
+        }
+        self.replace_list(
+            ctx,
+            ReadyCaps {
+                capture,
+                ..self.list.caps
+            },
+            retired,
+        )
+    }
+
+    /// After a frame: if the producer found the list full, grows it to hold
+    /// the count it reached (plus a quarter) and says why; `None` if it fit.
+    pub fn grow_if_full(
+        &mut self,
+        ctx: &Context,
+        counters: &[u32],
+        limit: u32,
+        retired: &mut Retired,
+    ) -> VkResult<Option<String>> {
+        let wanted = counters[C_READY_COUNT as usize];
+        if counters[C_ERROR as usize] & ERR_READY_FULL == 0 || self.list.caps.ready >= limit {
+            return Ok(None);
+        }
+        let ready = (u64::from(wanted) * 5 / 4)
+            .next_power_of_two()
+            .min(u64::from(limit)) as u32;
+        let reason = format!(
+            "ready list of {} overflowed ({wanted} nodes): growing to {ready}",
+            self.list.caps.ready
+        );
+        self.replace_list(
+            ctx,
+            ReadyCaps {
+                ready,
+                ..self.list.caps
+            },
+            retired,
+        )?;
+        Ok(Some(reason))
+    }
+
+    fn replace_list(
+        &mut self,
+        ctx: &Context,
+        caps: ReadyCaps,
+        retired: &mut Retired,
+    ) -> VkResult<()> {
+        // Made first: a failure leaves the old list in place and usable.
+        let list = ReadyList::new(ctx, &self.set_layout, caps)?;
+        retired.push(std::mem::replace(&mut self.list, list));
         Ok(())
     }
 
-    /// Records, for the fallback path only, a draw of `vertices` vertices
-    /// already in `frame.vertices` (written by the host in the
-    /// `VERTEX_WORDS` format), into `target` with clears: how a mesh made on
-    /// the CPU, such as the hole test's dense reference, is drawn through the
-    /// same vertex and fragment shaders as the fallback path.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_vertices(
-        &self,
+    /// Fills the list with `nodes` made on the host (e.g. the CPU oracle's
+    /// ready list) and the counters with the indirect arguments a producer
+    /// would write, growing the list if needed (the old one is retired):
+    /// the draw paths then draw exactly these nodes.
+    pub fn upload(
+        &mut self,
         ctx: &Context,
-        cmd: vk::CommandBuffer,
-        layout: &SceneLayout,
-        frame: &FrameGpu,
-        target: &DrawTarget,
-        pc: &PushConstants,
-        vertices: u32,
+        nodes: &[QuadNode],
+        retired: &mut Retired,
     ) -> VkResult<()> {
-        let Inner::Fallback(f) = &self.inner else {
-            return Err(VkError::Usage(
-                "drawing a vertex buffer needs the fallback drawer".into(),
-            ));
-        };
-        let capacity = frame.vertices.size() / (4 * crate::constants::VERTEX_WORDS as u64);
-        if !frame.caps.vertices || u64::from(vertices) > capacity {
-            return Err(VkError::Usage(format!(
-                "{vertices} vertices do not fit the frame's vertex buffer ({capacity})"
-            )));
+        let n = u32::try_from(nodes.len())
+            .map_err(|_| VkError::Usage(format!("{} ready nodes", nodes.len())))?;
+        if n > self.list.caps.ready {
+            self.replace_list(
+                ctx,
+                ReadyCaps {
+                    ready: n,
+                    ..self.list.caps
+                },
+                retired,
+            )?;
         }
-        memory_barrier(ctx, cmd, Access::ALL, Access::ALL);
-        target.begin(ctx, cmd);
-        let drawn = f.record_vertices(ctx, cmd, layout, frame, pc, vertices);
-        target.end(ctx, cmd);
-        drawn
+        let mut counters = vec![0u32; COUNTER_WORDS as usize];
+        for (word, value) in indirect_args(n) {
+            counters[word as usize] = value;
+        }
+        self.list.ready.write(ctx, 0, nodes)?;
+        self.list.counters.write(ctx, 0, &counters)
+    }
+
+    /// Records zeroing the counters (the start of a producer's frame).
+    pub fn record_reset(&self, f: &FrameRec<'_>) {
+        self.list.record_reset(f.ctx, f.cmd);
+    }
+
+    /// Records binding sets 0 and 1 for a pipeline with `layout`.
+    pub fn bind_sets(
+        &self,
+        f: &FrameRec<'_>,
+        bind_point: vk::PipelineBindPoint,
+        layout: &PipelineLayout,
+    ) {
+        f.bind_scene(bind_point, layout);
+        self.list.bind(f.ctx, f.cmd, bind_point, layout);
+    }
+
+    /// Records binding sets 0 and 1 and pushing `pc` for a draw-path
+    /// pipeline (draw layout).
+    fn bind_draw(
+        &self,
+        f: &FrameRec<'_>,
+        bind_point: vk::PipelineBindPoint,
+        pc: &DrawPush,
+    ) -> VkResult<()> {
+        self.bind_sets(f, bind_point, &self.draw_layout);
+        self.draw_layout.push_block(f.cmd, pc)
+    }
+
+    /// Records the draw of the list into the frame's target: the barrier
+    /// from the producer (module docs), the sort (scope "sort") when asked,
+    /// for the fallback the expansion (scope "expand"), then rendering with
+    /// clears and the indirect draw (scope "draw"), leaving the colour image
+    /// in `DrawTarget::FINAL_LAYOUT`.
+    pub fn record_draw(&self, f: &mut FrameRec<'_>, sort: bool) -> VkResult<()> {
+        let pc = f.view.draw_push(self.list.caps.ready, f.capture, 0);
+        self.check(f.ctx, &pc)?;
+        barrier_from_producers(f.ctx, f.cmd);
+        if sort {
+            f.scoped("sort", |f| self.sort.record(f, self))?;
+        }
+        if let PathPipelines::Fallback(fb) = &self.path {
+            f.scoped("expand", |f| fb.record_expand(f, self, &pc))?;
+        }
+        f.scoped("draw", |f| {
+            f.target.begin(f.ctx, f.cmd);
+            let drawn = match &self.path {
+                PathPipelines::Mesh(m) => m.record_draw(f, self, &pc),
+                PathPipelines::Fallback(fb) => fb.record_draw(f, self, &pc),
+            };
+            // Rendering is closed even on error so the command buffer stays
+            // well formed until it is discarded.
+            f.target.end(f.ctx, f.cmd);
+            drawn
+        })
     }
 
     /// Misuse that would make the shaders read or write out of bounds.
-    fn check(&self, ctx: &Context, frame: &FrameGpu, pc: &PushConstants) -> VkResult<()> {
-        let caps = frame.caps;
+    fn check(&self, ctx: &Context, pc: &DrawPush) -> VkResult<()> {
+        let caps = self.list.caps;
         let usage = |msg: String| Err(VkError::Usage(msg));
-        if pc.ready_capacity > caps.ready {
-            return usage(format!(
-                "push constants claim {} ready entries but the ready list holds {}",
-                pc.ready_capacity, caps.ready
-            ));
-        }
         if pc.capture_enabled != 0 && !caps.capture {
             return usage(
-                "position capture requested but the frame has no capture buffer \
-                 (Capacities::capture)"
-                    .into(),
+                "position capture requested but the ready list has no capture buffer".into(),
             );
         }
-        match self.inner {
-            Inner::Mesh(_) => {
-                let groups = caps.ready.div_ceil(MESH_NODES * TASK_MESH_GROUPS);
-                let max = ctx
-                    .info()
+        let (groups, max, what) = match self.path {
+            PathPipelines::Mesh(_) => (
+                caps.ready.div_ceil(MESH_NODES * TASK_MESH_GROUPS),
+                ctx.info()
                     .mesh
-                    .map_or(0, |m| m.max_task_work_group_count[0]);
-                if groups > max {
-                    return usage(format!(
-                        "{} ready entries need {groups} task workgroups; the device allows {max}",
-                        caps.ready
-                    ));
-                }
-            }
-            Inner::Fallback(_) => {
-                if !caps.vertices {
-                    return usage(
-                        "the fallback draw path needs the frame's vertex buffer \
-                         (Capacities::vertices)"
-                            .into(),
-                    );
-                }
-                let groups = caps.ready.div_ceil(EXPAND_GROUP_SIZE);
-                let max = ctx.info().limits.max_compute_work_group_count[0];
-                if groups > max {
-                    return usage(format!(
-                        "{} ready entries need {groups} expansion workgroups; the device allows {max}",
-                        caps.ready
-                    ));
-                }
-            }
+                    .map_or(0, |m| m.max_task_work_group_count[0]),
+                "task",
+            ),
+            PathPipelines::Fallback(_) => (
+                caps.ready.div_ceil(EXPAND_GROUP_SIZE),
+                ctx.info().limits.max_compute_work_group_count[0],
+                "expansion",
+            ),
+        };
+        if groups > max {
+            return usage(format!(
+                "{} ready entries need {groups} {what} workgroups; the device allows {max}",
+                caps.ready
+            ));
         }
         Ok(())
+    }
+
+    /// Bytes per purpose.
+    pub fn memory_bytes(&self) -> Vec<(&'static str, u64)> {
+        self.list.memory_bytes()
     }
 }
 
 /// The barrier of the module docs' contract. Source: storage writes in
-/// compute (the subdivision pass) and in the draw stages (the previous
-/// frame's capture); destination: everything a draw reads or writes before
-/// the rasterizer. Earlier reads in the vertex stage are in the source scope
+/// compute (the producer) and in the draw stages (the previous frame's
+/// capture); destination: everything a draw reads or writes before the
+/// rasterizer. Earlier reads in the vertex stage are in the source scope
 /// too, so the expansion cannot overwrite vertices a previous draw in the
 /// same command buffer still reads.
 fn barrier_from_producers(ctx: &Context, cmd: vk::CommandBuffer) {
@@ -353,131 +428,4 @@ fn barrier_from_producers(ctx: &Context, cmd: vk::CommandBuffer) {
             | vk::AccessFlags2::UNIFORM_READ,
     );
     memory_barrier(ctx, cmd, src, dst);
-}
-
-/// Binds `pipeline` with the scene set and pushes `pc`.
-fn bind(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
-    pipeline: &Pipeline,
-    bind_point: vk::PipelineBindPoint,
-    layout: &SceneLayout,
-    frame: &FrameGpu,
-    pc: &PushConstants,
-) -> VkResult<()> {
-    pipeline.bind(cmd);
-    frame.bind(ctx, cmd, layout, bind_point);
-    layout.push(cmd, pc)
-}
-
-/// A graphics pipeline for the draw target: no culling (the teapot is open
-/// and SHADE_KEY shows back faces), counter-clockwise front faces (quad
-/// triangles wind counter-clockwise about dS/du × dS/dv, and the camera's
-/// y-flipped projection keeps that counter-clockwise on screen), depth test
-/// LESS with writes, dynamic viewport and scissor, dynamic rendering.
-/// `vertex_stage`: a vertex shader with no vertex input; otherwise task +
-/// mesh, whose pipelines leave vertex-input and input-assembly state null.
-fn graphics_pipeline(
-    ctx: &Context,
-    layout: &SceneLayout,
-    stages: &[(vk::ShaderStageFlags, &ShaderModule)],
-    vertex_stage: bool,
-    name: &str,
-) -> VkResult<Pipeline> {
-    let stage_infos: Vec<_> = stages
-        .iter()
-        .map(|(stage, module)| {
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(*stage)
-                .module(module.handle())
-                .name(c"main")
-        })
-        .collect();
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::NONE)
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
-        .depth_compare_op(vk::CompareOp::LESS);
-    let attachments = [vk::PipelineColorBlendAttachmentState::default()
-        .blend_enable(false)
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
-    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats = [COLOR_FORMAT];
-    let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&color_formats)
-        .depth_attachment_format(DEPTH_FORMAT);
-    let mut info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stage_infos)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .depth_stencil_state(&depth)
-        .color_blend_state(&blend)
-        .dynamic_state(&dynamic)
-        .layout(layout.layout.handle())
-        .push_next(&mut rendering);
-    if vertex_stage {
-        info = info
-            .vertex_input_state(&vertex_input)
-            .input_assembly_state(&assembly);
-    }
-    let handle = unsafe {
-        ctx.device()
-            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-    }
-    .map_err(|(_, result)| VkError::Call {
-        context: format!("vkCreateGraphicsPipelines({name})"),
-        result,
-    })?[0];
-    Ok(Pipeline::from_handle(
-        ctx,
-        handle,
-        vk::PipelineBindPoint::GRAPHICS,
-        name,
-    ))
-}
-
-/// Direction towards the light for `camera`: from above and to the left of
-/// the eye, so silhouettes get a shaded side.
-pub fn headlight(camera: &Camera) -> Vec3 {
-    let f = camera.forward();
-    let up = DVec3::from_array(camera.up);
-    let right = f.cross(up).normalize_or_zero();
-    let cam_up = right.cross(f).normalize_or_zero();
-    (-f + cam_up * 0.6 - right * 0.5).normalize().as_vec3()
-}
-
-/// Push constants for drawing `frame` seen by `view_proj` with `shade`
-/// (`SHADE_*`) and the light towards `light_dir`; capture off.
-pub fn draw_push(
-    view_proj: &DMat4,
-    light_dir: Vec3,
-    shade: u32,
-    frame: &FrameGpu,
-    patch_count: u32,
-) -> PushConstants {
-    PushConstants {
-        view_proj: view_proj.as_mat4().to_cols_array(),
-        light_dir: light_dir.extend(0.0).to_array(),
-        shade,
-        ready_capacity: frame.caps.ready,
-        queue_capacity: frame.caps.queue,
-        patch_count,
-        idle_poll_cap: 0,
-        ..bytemuck::Zeroable::zeroed()
-    }
 }

@@ -1,48 +1,233 @@
-//! The rendering methods, each a set of passes recorded into a frame.
+//! The rendering methods behind one interface, [`Method`], and the registry
+//! the command line picks them from ([`METHODS`]).
 //!
-//! Names on the command line: `subdiv` (this crate's persistent-threads
-//! version of the paper), and, arriving later, `subdiv-indirect`, `tess`,
-//! `tess-reparam`, `cudatess`, `ground-truth`.
+//! A method records everything between the start of a frame and a drawn
+//! image: its own passes and the draw into the frame's target. There are two
+//! kinds, and the interface fits both:
+//! - *ready-list producers* (`subdiv`; later `subdiv-indirect`) fill a list
+//!   of QuadNodes and hand it to the shared [`ReadyStage`] (sort, mesh or
+//!   fallback draw path), which is also what validation compares with the
+//!   CPU oracle;
+//! - *self-drawing* methods (`ground-truth`; later `tess`, `tess-reparam`,
+//!   `cudatess`) record their own draw with the same fragment shading.
+//!
+//! Adding a method means a new file here with a [`MethodInfo`] and one line
+//! in [`METHODS`].
 
-pub mod sort;
+pub mod ground_truth;
 pub mod subdiv;
 
-/// A method the user can name.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// Recursive subdivision, persistent threads (the paper's method).
-    Subdiv,
+use serde_json::Value;
+
+use crate::draw::{DrawPath, ReadyStage};
+use crate::frame::{FrameOut, FrameRec, Retired};
+use crate::gpu::{SceneLayout, Shaders};
+use crate::vk::{Context, VkError};
+
+/// What can go wrong while rendering with a method.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The Vulkan layer failed.
+    #[error(transparent)]
+    Vk(#[from] VkError),
+    /// A method's shaders reported a failure (iteration cap, overflow that
+    /// could not be fixed by growing buffers).
+    #[error("method `{method}`: {message}")]
+    Method {
+        /// The method.
+        method: &'static str,
+        /// What its shaders reported, as a sentence.
+        message: String,
+    },
+    /// The request cannot be served (unknown method, bad option).
+    #[error("{0}")]
+    Request(String),
 }
 
-/// Every method name the command line knows, built or not.
-pub const METHOD_NAMES: &[&str] = &[
-    "subdiv",
-    "subdiv-indirect",
-    "tess",
-    "tess-reparam",
-    "cudatess",
-    "ground-truth",
-];
+/// Knobs of the methods, fixed when a method is made (changing them makes
+/// the renderer rebuild its methods). Each method reads the ones it has.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MethodOptions {
+    /// Draw path of the ready-list methods.
+    pub draw: DrawPath,
+    /// Initial ready-list entries (grown on overflow).
+    pub ready_capacity: u32,
+    /// `subdiv`: work-queue entries.
+    pub queue_capacity: u32,
+    /// `subdiv`: persistent workgroups (`None`: the device's default).
+    pub groups: Option<u32>,
+    /// `subdiv`: polls without progress before the kernel gives up.
+    pub idle_poll_cap: u32,
+    /// Sort the ready list before drawing (deterministic images).
+    pub sort: bool,
+    /// `ground-truth`: grid cells per patch side.
+    pub grid: u32,
+    /// Test-only fault for `subdiv`: one phantom item in flight that never
+    /// completes, so the kernel can only end through its iteration cap.
+    pub plant_endless_loop: bool,
+}
 
-impl Method {
-    /// Parses a method name; known but unbuilt methods get their own message.
-    pub fn parse(name: &str) -> Result<Method, String> {
-        match name {
-            "subdiv" => Ok(Method::Subdiv),
-            n if METHOD_NAMES.contains(&n) => {
-                Err(format!("method '{n}' is not built yet; available: subdiv"))
-            }
-            n => Err(format!(
-                "unknown method '{n}'; methods: {}",
-                METHOD_NAMES.join(", ")
-            )),
+impl MethodOptions {
+    /// The defaults with draw path `draw`.
+    pub fn new(draw: DrawPath) -> Self {
+        Self {
+            draw,
+            ready_capacity: 1 << 18,
+            queue_capacity: 1 << 16,
+            groups: None,
+            idle_poll_cap: subdiv::DEFAULT_IDLE_POLL_CAP,
+            sort: true,
+            grid: ground_truth::DEFAULT_GRID,
+            plant_endless_loop: false,
         }
     }
+}
 
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Subdiv => "subdiv",
+/// What a method is made with.
+pub struct MethodSetup<'a> {
+    /// The context.
+    pub ctx: &'a Context,
+    /// The renderer's shader modules.
+    pub shaders: &'a mut Shaders,
+    /// Set 0, which every pipeline layout starts with.
+    pub scene_layout: &'a SceneLayout,
+    /// The knobs.
+    pub options: &'a MethodOptions,
+}
+
+/// A frame's figures: the keys every method reports, plus its own section.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MethodStats {
+    /// Triangles drawn (a wedge is a triangle).
+    pub triangles: u64,
+    /// Patches or sub-patches dropped by frustum culling.
+    pub culled_patches: u64,
+    /// The method's own figures, in a stable order (`method_stats` in the
+    /// stats JSON).
+    pub own: Vec<(&'static str, Value)>,
+}
+
+impl MethodStats {
+    /// One of the method's own figures as an integer.
+    pub fn get_u64(&self, key: &str) -> Option<u64> {
+        self.own
+            .iter()
+            .find(|(k, _)| *k == key)
+            .and_then(|(_, v)| v.as_u64())
+    }
+}
+
+/// How a frame ended for its method.
+pub enum Finished {
+    /// The frame is complete.
+    Done(MethodStats),
+    /// The frame is incomplete, the method has fixed the cause (e.g. grown
+    /// a list that overflowed) and the same view should be drawn again.
+    Redo {
+        /// Why, for the log.
+        reason: String,
+    },
+}
+
+/// A rendering method.
+pub trait Method {
+    /// The registry name.
+    fn name(&self) -> &'static str;
+
+    /// How it gets triangles to the rasterizer, in words (`mesh`,
+    /// `fallback`, `grid`).
+    fn draw_path(&self) -> &'static str;
+
+    /// Records the frame: the method's passes and its draw into
+    /// `f.target` (begun and ended by the method), and copies out what
+    /// [`Method::finish`] reads.
+    fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError>;
+
+    /// Reads the frame's figures once its fence has signalled; buffers it
+    /// replaces go to `out.retired`.
+    fn finish(&mut self, out: &mut FrameOut<'_>) -> Result<Finished, RenderError>;
+
+    /// Applies changed knobs in place where that is cheap (a new grid, a
+    /// flag), putting replaced resources in `retired`; returns false when
+    /// the method must be made again instead.
+    fn reconfigure(
+        &mut self,
+        _setup: &mut MethodSetup<'_>,
+        _retired: &mut Retired,
+    ) -> Result<bool, RenderError> {
+        Ok(false)
+    }
+
+    /// GPU memory the method holds, by purpose, in bytes.
+    fn memory(&self) -> Vec<(&'static str, u64)>;
+
+    /// The ready list and its draw stage, for methods that produce one (the
+    /// oracle comparisons of `validate` apply to exactly these).
+    fn ready(&self) -> Option<&ReadyStage> {
+        None
+    }
+
+    /// Whether the method draws the crack-closing wedges (the hole test
+    /// then also looks with them off, to show it can see cracks).
+    fn has_wedges(&self) -> bool {
+        false
+    }
+}
+
+/// A registry entry.
+pub struct MethodInfo {
+    /// Command-line name.
+    pub name: &'static str,
+    /// One line for `--help`.
+    pub about: &'static str,
+    /// Makes the method.
+    pub build: fn(&mut MethodSetup<'_>) -> Result<Box<dyn Method>, RenderError>,
+}
+
+/// Every method that is built, by command-line name.
+pub const METHODS: &[MethodInfo] = &[subdiv::INFO, ground_truth::INFO];
+
+/// Names reserved for the comparison methods still to come.
+pub const PLANNED: &[&str] = &["subdiv-indirect", "tess", "tess-reparam", "cudatess"];
+
+/// The registry entry named `name`; unknown and unbuilt names get their
+/// own sentences.
+pub fn find(name: &str) -> Result<&'static MethodInfo, RenderError> {
+    if let Some(m) = METHODS.iter().find(|m| m.name == name) {
+        return Ok(m);
+    }
+    let built: Vec<&str> = METHODS.iter().map(|m| m.name).collect();
+    Err(RenderError::Request(if PLANNED.contains(&name) {
+        format!(
+            "method `{name}` is not built yet; available: {}",
+            built.join(", ")
+        )
+    } else {
+        format!("unknown method `{name}`; methods: {}", built.join(", "))
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_found() {
+        for m in METHODS {
+            assert_eq!(find(m.name).unwrap().name, m.name);
+            assert!(
+                !PLANNED.contains(&m.name),
+                "{} is built and planned",
+                m.name
+            );
+            assert_eq!(METHODS.iter().filter(|x| x.name == m.name).count(), 1);
         }
+        let e = find("tess").err().unwrap().to_string();
+        assert!(e.contains("not built yet") && e.contains("subdiv"), "{e}");
+        let e = find("nope").err().unwrap().to_string();
+        assert!(
+            e.contains("unknown method") && e.contains("ground-truth"),
+            "{e}"
+        );
     }
 }

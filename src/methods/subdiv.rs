@@ -1,13 +1,27 @@
 //! Method `subdiv`: the paper's recursive subdivision in one dispatch of
 //! persistent workgroups (`glsl/subdivide.comp`), which also writes the
-//! indirect arguments of the draw.
+//! indirect arguments of the sort and the draw; then the shared ready-list
+//! stage (sort, mesh or fallback draw).
 
 use ash::vk;
+use serde_json::json;
 
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
 use crate::constants::*;
-use crate::gpu::{FrameGpu, PushConstants, SceneGpu, SceneLayout};
+use crate::draw::{ReadyCaps, ReadyStage};
+use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
+use crate::gpu::SubdivPush;
 use crate::vk::{
-    buffer_barrier, Access, Context, GpuTimer, Pipeline, ShaderModule, VkError, VkResult,
+    buffer_barrier, Access, Buffer, Context, DescriptorSet, MemoryLocation, Pipeline,
+    PipelineLayout, SetLayout, VkError, VkResult,
+};
+
+/// The registry entry.
+pub const INFO: MethodInfo = MethodInfo {
+    name: "subdiv",
+    about: "recursive subdivision, one dispatch of persistent workgroups (this project's \
+            stand-in for the paper's work graph)",
+    build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
 
 /// Polls without observed progress before the kernel gives up. One idle
@@ -16,17 +30,9 @@ use crate::vk::{
 /// resets it, so only a truly stuck kernel reaches it.
 pub const DEFAULT_IDLE_POLL_CAP: u32 = 1 << 18;
 
-/// The persistent subdivision pass.
-pub struct Subdivider {
-    pipeline: Pipeline,
-    /// Workgroups launched per dispatch.
-    pub groups: u32,
-    /// Polls without progress before `ERR_ITERATION_CAP`.
-    pub idle_poll_cap: u32,
-    /// Test-only fault: count one phantom item in flight that never
-    /// completes, so the kernel can only end through its iteration cap.
-    pub plant_endless_loop: bool,
-}
+/// Largest ready list the method grows to (8 bytes per entry, plus the
+/// fallback's 240 bytes of vertices per entry).
+pub const MAX_READY_CAPACITY: u32 = 1 << 24;
 
 /// How many workgroups to launch: about as many as the device keeps
 /// resident. On a CPU device that is one per worker thread (lavapipe runs
@@ -45,86 +51,260 @@ pub fn default_groups(ctx: &Context) -> u32 {
     }
 }
 
-impl Subdivider {
-    /// Creates the pipeline; `groups` overrides [`default_groups`].
-    pub fn new(ctx: &Context, layout: &SceneLayout, groups: Option<u32>) -> VkResult<Self> {
-        let shader = ShaderModule::load(ctx, "subdivide.comp")?;
-        let pipeline = Pipeline::compute(ctx, "subdivide", &layout.layout, &shader, &[])?;
+/// The work queue: nodes, their sequence numbers, and the sequence
+/// numbers' initial values (set 2 of the kernel).
+struct Queue {
+    items: Buffer,
+    seqs: Buffer,
+    seq_init: Buffer,
+    capacity: u32,
+    set: DescriptorSet,
+}
+
+impl Queue {
+    fn new(ctx: &Context, layout: &SetLayout, capacity: u32) -> VkResult<Self> {
+        if capacity == 0 {
+            return Err(VkError::Usage(
+                "the work queue needs at least one entry".into(),
+            ));
+        }
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let gpu = MemoryLocation::GpuOnly;
+        let items = Buffer::new(ctx, "queue items", u64::from(capacity) * 8, storage, gpu)?;
+        let seqs = Buffer::new(ctx, "queue seqs", u64::from(capacity) * 4, storage, gpu)?;
+        let init: Vec<u32> = (0..capacity).collect();
+        let seq_init = Buffer::with_data(
+            ctx,
+            "queue seq init",
+            &init,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            gpu,
+        )?;
+        let mut bound = [(&items).into(); QUEUE_BINDINGS as usize];
+        bound[BIND_QUEUE_ITEMS as usize] = (&items).into();
+        bound[BIND_QUEUE_SEQS as usize] = (&seqs).into();
+        let set = DescriptorSet::new(ctx, "queue set", layout, &bound)?;
         Ok(Self {
-            pipeline,
-            groups: groups.unwrap_or_else(|| default_groups(ctx)).max(1),
-            idle_poll_cap: DEFAULT_IDLE_POLL_CAP,
-            plant_endless_loop: false,
+            items,
+            seqs,
+            seq_init,
+            capacity,
+            set,
         })
     }
 
-    /// Records the reset of `frame`'s counters and queue, the subdivision
-    /// dispatch, and a barrier making its results (ready list, counters and
-    /// indirect arguments) visible to the draw and to transfers.
-    pub fn record(
-        &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
-        layout: &SceneLayout,
-        scene: &SceneGpu,
-        frame: &FrameGpu,
-        mut timer: Option<&mut GpuTimer>,
-    ) -> VkResult<()> {
-        if scene.count > IN_FLIGHT_MASK {
+    /// Records resetting the sequence numbers to 0, 1, 2, …
+    fn record_reset(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        buffer_barrier(ctx, cmd, &self.seqs, Access::ALL, Access::TRANSFER_WRITE);
+        let region = [vk::BufferCopy::default().size(u64::from(self.capacity) * 4)];
+        unsafe {
+            ctx.device()
+                .cmd_copy_buffer(cmd, self.seq_init.handle(), self.seqs.handle(), &region)
+        };
+        buffer_barrier(ctx, cmd, &self.seqs, Access::TRANSFER_WRITE, Access::ALL);
+    }
+
+    fn bytes(&self) -> u64 {
+        self.items.size() + self.seqs.size() + self.seq_init.size()
+    }
+}
+
+/// The persistent subdivision method.
+pub struct Subdiv {
+    stage: ReadyStage,
+    queue: Queue,
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+    groups: u32,
+    idle_poll_cap: u32,
+    plant_endless_loop: bool,
+    sort: bool,
+    counters: Option<CopyRange>,
+    // Kept alive for the queue set's layout.
+    _queue_layout: SetLayout,
+}
+
+impl Subdiv {
+    /// Creates the ready stage, the queue and the kernel's pipeline.
+    pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
+        let (ctx, o) = (setup.ctx, setup.options);
+        let caps = ReadyCaps {
+            ready: o.ready_capacity,
+            vertices: false,
+            capture: false,
+        };
+        let stage = ReadyStage::new(ctx, setup.shaders, setup.scene_layout, o.draw, caps)?;
+        let queue_layout = SetLayout::storage(
+            ctx,
+            "queue set",
+            QUEUE_BINDINGS as usize,
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let queue = Queue::new(ctx, &queue_layout, o.queue_capacity)?;
+        let layout = setup.scene_layout.pipeline_layout::<SubdivPush>(
+            ctx,
+            "subdivide layout",
+            &[stage.set_layout(), &queue_layout],
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let shader = setup.shaders.get(ctx, "subdivide.comp")?;
+        let pipeline = Pipeline::compute(ctx, "subdivide", &layout, &shader, &[])?;
+        Ok(Self {
+            stage,
+            queue,
+            layout,
+            pipeline,
+            groups: o.groups.unwrap_or_else(|| default_groups(ctx)).max(1),
+            idle_poll_cap: o.idle_poll_cap,
+            plant_endless_loop: o.plant_endless_loop,
+            sort: o.sort,
+            counters: None,
+            _queue_layout: queue_layout,
+        })
+    }
+
+    /// Workgroups launched per dispatch.
+    pub fn groups(&self) -> u32 {
+        self.groups
+    }
+
+    /// Records the reset of the counters and the queue, the in-flight
+    /// count, and the kernel's dispatch (scope "subdivide").
+    fn record_subdivide(&self, f: &mut FrameRec<'_>) -> VkResult<()> {
+        let count = f.scene.count;
+        if count > IN_FLIGHT_MASK {
             return Err(VkError::Usage(format!(
-                "{} base patches: the subdivision kernel counts at most {IN_FLIGHT_MASK}",
-                scene.count
+                "{count} base patches: the subdivision kernel counts at most {IN_FLIGHT_MASK}"
             )));
         }
-        frame.record_reset(ctx, cmd);
-        let in_flight = scene.count + self.plant_endless_loop as u32;
+        let list = self.stage.list();
+        self.stage.record_reset(f);
+        self.queue.record_reset(f.ctx, f.cmd);
+        let in_flight = count + self.plant_endless_loop as u32;
         unsafe {
-            ctx.device().cmd_update_buffer(
-                cmd,
-                frame.counters.handle(),
-                C_IN_FLIGHT as u64 * 4,
+            f.ctx.device().cmd_update_buffer(
+                f.cmd,
+                list.counters.handle(),
+                u64::from(C_IN_FLIGHT) * 4,
                 &in_flight.to_le_bytes(),
             )
         };
         buffer_barrier(
-            ctx,
-            cmd,
-            &frame.counters,
+            f.ctx,
+            f.cmd,
+            &list.counters,
             Access::TRANSFER_WRITE,
             Access::ALL,
         );
-        let pc = PushConstants {
-            ready_capacity: frame.caps.ready,
-            queue_capacity: frame.caps.queue,
-            patch_count: scene.count,
+        let pc = SubdivPush {
+            ready_capacity: list.caps.ready,
+            queue_capacity: self.queue.capacity,
+            patch_count: count,
             idle_poll_cap: self.idle_poll_cap,
-            ..bytemuck::Zeroable::zeroed()
         };
-        self.pipeline.bind(cmd);
-        frame.bind(ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
-        layout.push(cmd, &pc)?;
-        if let Some(t) = timer.as_deref_mut() {
-            t.begin(cmd, "subdivide")?;
-        }
-        unsafe { ctx.device().cmd_dispatch(cmd, self.groups, 1, 1) };
-        if let Some(t) = timer {
-            t.end(cmd, "subdivide")?;
-        }
+        self.pipeline.bind(f.cmd);
+        let bind = vk::PipelineBindPoint::COMPUTE;
+        self.stage.bind_sets(f, bind, &self.layout);
+        self.queue
+            .set
+            .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
+        self.layout.push_block(f.cmd, &pc)?;
+        let groups = self.groups;
+        f.scoped("subdivide", |f| {
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
+            Ok(())
+        })?;
         buffer_barrier(
-            ctx,
-            cmd,
-            &frame.counters,
+            f.ctx,
+            f.cmd,
+            &list.counters,
             Access::COMPUTE_READ_WRITE,
             Access::ALL,
         );
         buffer_barrier(
-            ctx,
-            cmd,
-            &frame.ready,
+            f.ctx,
+            f.cmd,
+            &list.ready,
             Access::COMPUTE_READ_WRITE,
             Access::ALL,
         );
         Ok(())
+    }
+}
+
+impl Method for Subdiv {
+    fn name(&self) -> &'static str {
+        INFO.name
+    }
+
+    fn draw_path(&self) -> &'static str {
+        self.stage.path().name()
+    }
+
+    fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError> {
+        self.stage.ensure_capture(f.ctx, f.capture, f.retired)?;
+        self.record_subdivide(f)?;
+        self.stage.record_draw(f, self.sort)?;
+        self.counters = Some(f.copy_out(&self.stage.list().counters, COUNTER_WORDS)?);
+        Ok(())
+    }
+
+    fn finish(&mut self, out: &mut FrameOut<'_>) -> Result<Finished, RenderError> {
+        let range = self
+            .counters
+            .ok_or_else(|| RenderError::Request("finish() before any frame was recorded".into()))?;
+        let words = out.words(range);
+        let stats = GpuSubdivStats::from_counters(words);
+        if let Some(reason) =
+            self.stage
+                .grow_if_full(out.ctx, words, MAX_READY_CAPACITY, out.retired)?
+        {
+            return Ok(Finished::Redo { reason });
+        }
+        if let Some(message) = stats.error_message() {
+            return Err(RenderError::Method {
+                method: INFO.name,
+                message,
+            });
+        }
+        Ok(Finished::Done(
+            stats.method_stats(self.stage.list().caps.ready),
+        ))
+    }
+
+    fn reconfigure(
+        &mut self,
+        setup: &mut MethodSetup<'_>,
+        _retired: &mut Retired,
+    ) -> Result<bool, RenderError> {
+        let o = setup.options;
+        // Buffer sizes and the draw path need a new method; the rest are
+        // values recorded per frame.
+        if o.draw != self.stage.path()
+            || o.queue_capacity != self.queue.capacity
+            || o.ready_capacity > self.stage.list().caps.ready
+        {
+            return Ok(false);
+        }
+        self.groups = o.groups.unwrap_or_else(|| default_groups(setup.ctx)).max(1);
+        self.idle_poll_cap = o.idle_poll_cap;
+        self.plant_endless_loop = o.plant_endless_loop;
+        self.sort = o.sort;
+        Ok(true)
+    }
+
+    fn memory(&self) -> Vec<(&'static str, u64)> {
+        let mut v = vec![("queue", self.queue.bytes())];
+        v.extend(self.stage.memory_bytes());
+        v
+    }
+
+    fn ready(&self) -> Option<&ReadyStage> {
+        Some(&self.stage)
+    }
+
+    fn has_wedges(&self) -> bool {
+        true
     }
 }
 
@@ -183,6 +363,27 @@ impl GpuSubdivStats {
         }
     }
 
+    /// The common keys plus the method's own section.
+    pub fn method_stats(&self, ready_capacity: u32) -> MethodStats {
+        MethodStats {
+            triangles: u64::from(self.triangles),
+            culled_patches: u64::from(self.culled_patches),
+            own: vec![
+                ("ready_quads", json!(self.ready_quads)),
+                ("wedge_triangles", json!(self.wedge_triangles)),
+                ("backface_culled", json!(self.backface_culled)),
+                ("max_depth", json!(self.max_depth)),
+                ("nodes_at_lmax", json!(self.nodes_at_lmax)),
+                ("nodes_processed", json!(self.nodes_processed)),
+                ("queue_peak_items", json!(self.queue_peak_items)),
+                ("queue_spills", json!(self.queue_spills)),
+                ("queue_pushed", json!(self.queue_pushed)),
+                ("iterations_max", json!(self.iterations_max)),
+                ("ready_capacity_items", json!(ready_capacity)),
+            ],
+        }
+    }
+
     /// The error bits as a sentence, or `None`.
     pub fn error_message(&self) -> Option<String> {
         if self.errors == 0 {
@@ -198,7 +399,7 @@ impl GpuSubdivStats {
         }
         if self.errors & ERR_READY_FULL != 0 {
             parts.push(format!(
-                "the ready list overflowed ({} ready nodes)",
+                "the ready list overflowed ({} ready nodes) and cannot grow further",
                 self.ready_quads
             ));
         }

@@ -1,8 +1,7 @@
-//! The hole test. A model is rendered alone, subdivided, with SHADE_KEY
-//! (front faces white, back faces in the key colour) over a key-coloured
-//! background; a reference is drawn from an independent dense uniform
-//! evaluation (a grid of points per patch, evaluated on the CPU and drawn
-//! through the fallback vertex path) over a different background. Wherever
+//! The hole test. A model is rendered alone by the method under test, with
+//! SHADE_KEY (front faces white, back faces in the key colour) over a
+//! key-coloured background; a reference is drawn by the `ground-truth`
+//! method (a dense uniform grid per patch) over a different background. Wherever
 //! the reference shows front surface, more than ⌈2ε⌉+2 pixels away from
 //! its silhouettes, the subdivided image must not show the key colour: such
 //! a pixel is a crack through which the background or the inside of the
@@ -19,17 +18,14 @@
 //! reference's own front region keeps open models honest too: where the
 //! reference itself sees into the model, nothing is counted.
 
-use glam::Vec3;
-
 use crate::constants::*;
-use crate::draw::{draw_push, DrawPath, DrawTarget, Drawer};
-use crate::gpu::{Capacities, FrameGpu};
+use crate::frame::View;
+use crate::methods::{ground_truth, MethodOptions, RenderError};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::view::FLAG_WEDGES;
-use crate::renderer::{Renderer, View};
+use crate::renderer::Renderer;
 use crate::scene::camera::Camera;
 use crate::scene::file::SceneGeometry;
-use crate::vk::{Context, VkResult};
 
 /// Background of the subdivided image: the key colour.
 pub const KEY_BACKGROUND: [f32; 4] = [0.0, 1.0, 0.0, 1.0];
@@ -45,53 +41,23 @@ pub struct HoleView {
     pub camera: usize,
     /// Key pixels inside the eroded front region, wedges on (must be 0).
     pub holes: u64,
-    /// The same with wedges off (shows the test can see cracks).
-    pub holes_without_wedges: u64,
+    /// The same with wedges off (shows the test can see cracks), for
+    /// methods with wedges.
+    pub holes_without_wedges: Option<u64>,
     /// Pixels in the eroded front region (the test's reach).
     pub checked_pixels: u64,
 }
 
 /// Grid cells per patch side of the reference: fine for small models,
-/// coarser for big ones to keep the vertex buffer reasonable.
+/// coarser for big ones to keep the reference quick on a CPU device.
 pub fn reference_grid(patches: usize) -> u32 {
     if patches <= 64 {
         32
     } else if patches <= 800 {
-        24
+        16
     } else {
-        12
+        8
     }
-}
-
-/// The reference mesh in the fallback vertex format: every patch evaluated
-/// on a `grid`×`grid` lattice with the shared evaluation function, two
-/// triangles per cell (counter-clockwise in (u, v), like the quads).
-pub fn dense_vertices(patches: &[BezierPatch], grid: u32) -> Vec<u32> {
-    let n = grid as usize;
-    let mut out = Vec::with_capacity(patches.len() * n * n * 6 * VERTEX_WORDS as usize);
-    for (id, p) in patches.iter().enumerate() {
-        let t = |k: usize| k as f32 / grid as f32;
-        let pts: Vec<Vec3> = (0..=n)
-            .flat_map(|j| (0..=n).map(move |i| (i, j)))
-            .map(|(i, j)| p.eval(t(i), t(j)))
-            .collect();
-        let mut vertex = |i: usize, j: usize| {
-            let q = pts[j * (n + 1) + i];
-            out.extend(q.to_array().map(f32::to_bits));
-            out.push(id as u32);
-            let u = (i as u32 * 1024) / grid;
-            let v = (j as u32 * 1024) / grid;
-            out.push(u | (v << PACK_V_SHIFT));
-        };
-        for j in 0..n {
-            for i in 0..n {
-                for (a, b) in [(0, 0), (1, 0), (1, 1), (0, 0), (1, 1), (0, 1)] {
-                    vertex(i + a, j + b);
-                }
-            }
-        }
-    }
-    out
 }
 
 /// Cameras all around the model's bounding box, outside it.
@@ -222,49 +188,37 @@ fn distances(rgba: &[u8], scale: f32) -> Vec<f32> {
 pub const SEE_THROUGH: f32 = 0.01;
 
 /// Runs the hole test for one model geometry with `renderer` (whose scene
-/// is replaced by `geo`), from every [`hole_cameras`] camera.
+/// is replaced by `geo`) and its active method, from every
+/// [`hole_cameras`] camera; the reference is the `ground-truth` method at
+/// [`reference_grid`].
 ///
 /// A pixel is a hole when the reference shows front surface there (away
-/// from silhouettes, see the module docs), the subdivided image shows the
-/// key colour (back side or background), and what it shows lies more than
+/// from silhouettes, see the module docs), the tested image shows the key
+/// colour (back side or background), and what it shows lies more than
 /// [`SEE_THROUGH`] farther than the reference surface. The last condition
 /// tells a crack from a contour that the approximation moved by a pixel
 /// (where the curvature is high the nearer surface can overhang and show
-/// its back, at the same depth).
+/// its back, at the same depth). Methods with wedges are also drawn with
+/// them off, which must show the cracks they close.
 ///
 /// When `debug_dir` is given, every view with holes leaves
 /// `<name>-cam<k>-{actual,nowedges,reference,holes}.png` there (holes in red
 /// over the actual image).
-#[allow(clippy::too_many_arguments)]
 pub fn run_model(
-    ctx: &Context,
-    renderer: &mut Renderer<'_>,
+    renderer: &mut Renderer,
     geo: &SceneGeometry,
-    size: (u32, u32),
-    eps: f64,
-    lambda: f64,
+    view_setup: (f64, f64),
     name: &str,
     debug_dir: Option<&std::path::Path>,
-) -> VkResult<Vec<HoleView>> {
+) -> Result<Vec<HoleView>, RenderError> {
+    let (eps, lambda) = view_setup;
     renderer.set_geometry(geo)?;
-    let (w, h) = size;
-    let words = dense_vertices(&geo.patches, reference_grid(geo.patches.len()));
-    let vertex_count = (words.len() / VERTEX_WORDS as usize) as u32;
-    let mut reference = FrameGpu::new(
-        ctx,
-        renderer.layout(),
-        renderer.scene(),
-        Capacities {
-            ready: vertex_count.div_ceil(VERTICES_PER_NODE),
-            queue: 16,
-            vertices: true,
-            capture: false,
-        },
-    )?;
-    reference.vertices.write(ctx, 0, &words)?;
-    let drawer = Drawer::new(ctx, renderer.layout(), DrawPath::Fallback)?;
-    let mut target = DrawTarget::new(ctx, w, h, REFERENCE_BACKGROUND)?;
+    let tested = renderer.method().name();
+    let with_wedges_too = renderer.method().has_wedges();
+    let (w, h) = renderer.target().size();
+    let size = (w, h);
     let radius = (2.0 * eps).ceil() as i64 + 2;
+    let grid = reference_grid(geo.patches.len());
     let mut views = Vec::new();
     for (k, cam) in hole_cameras(&geo.patches).iter().enumerate() {
         let scale = cam.far as f32;
@@ -272,33 +226,19 @@ pub fn run_model(
             distance_scale: scale,
             ..View::new(cam, size, eps, lambda, SHADE_KEY)
         };
-        let with = subdivided(ctx, renderer, &view)?;
-        view.params.flags &= !FLAG_WEDGES;
-        let without = subdivided(ctx, renderer, &view)?;
-        view.params.flags |= FLAG_WEDGES;
-
-        reference.set_view(ctx, &view.params)?;
-        let mut shoot = |shade: u32, background: [f32; 4]| -> VkResult<Vec<u8>> {
-            target.clear = background;
-            let mut pc = draw_push(
-                &view.view_proj,
-                view.light_dir,
-                shade,
-                &reference,
-                renderer.scene().count,
-            );
-            pc.light_dir[3] = scale;
-            let layout = renderer.layout();
-            ctx.one_shot(|cmd| {
-                drawer.record_vertices(ctx, cmd, layout, &reference, &target, &pc, vertex_count)
-            })??;
-            target.read_rgba(ctx)
+        let with = shots(renderer, &view, KEY_BACKGROUND)?;
+        let without = if with_wedges_too {
+            view.params.flags &= !FLAG_WEDGES;
+            let s = shots(renderer, &view, KEY_BACKGROUND)?;
+            view.params.flags |= FLAG_WEDGES;
+            Some(s)
+        } else {
+            None
         };
-        let refimg = shoot(SHADE_KEY, REFERENCE_BACKGROUND)?;
-        let ref_dist = distances(&shoot(SHADE_DISTANCE, [1.0; 4])?, scale);
+        let reference = reference_shots(renderer, &view, grid, tested)?;
 
-        let edges = depth_edges(&ref_dist, w as usize, h as usize);
-        let good: Vec<bool> = pixels(&refimg)
+        let edges = depth_edges(&reference.distance, w as usize, h as usize);
+        let good: Vec<bool> = pixels(&reference.key)
             .zip(&edges)
             .map(|(p, &e)| p == WHITE && !e)
             .collect();
@@ -307,56 +247,102 @@ pub fn run_model(
             pixels(&shot.key)
                 .enumerate()
                 .map(|(i, p)| {
-                    inside[i] && p == KEY && shot.distance[i] > ref_dist[i] * (1.0 + SEE_THROUGH)
+                    inside[i]
+                        && p == KEY
+                        && shot.distance[i] > reference.distance[i] * (1.0 + SEE_THROUGH)
                 })
                 .collect()
         };
         let mask_with = holes_in(&with);
-        let holes = mask_with.iter().filter(|&&x| x).count() as u64;
-        let holes_without = holes_in(&without).iter().filter(|&&x| x).count() as u64;
+        let count = |m: &[bool]| m.iter().filter(|&&x| x).count() as u64;
+        let holes = count(&mask_with);
+        let holes_without = without.as_ref().map(|s| count(&holes_in(s)));
         if let (Some(dir), true) = (debug_dir, holes > 0) {
-            let mut marked = with.key.clone();
-            for (i, &m) in mask_with.iter().enumerate() {
-                if m {
-                    marked[4 * i..4 * i + 4].copy_from_slice(&[255, 0, 0, 255]);
-                }
-            }
-            let _ = std::fs::create_dir_all(dir);
-            for (tag, img) in [
-                ("actual", &with.key),
-                ("nowedges", &without.key),
-                ("reference", &refimg),
-                ("holes", &marked),
-            ] {
-                let file = dir.join(format!("{name}-cam{k}-{tag}.png"));
-                if let Err(e) = crate::draw::write_png(&file, w, h, img) {
-                    log::warn!("{e}");
-                }
-            }
+            let images = DebugImages {
+                with: &with,
+                without: without.as_ref(),
+                reference: &reference,
+                holes: &mask_with,
+            };
+            images.write(dir, name, k, size);
         }
         views.push(HoleView {
             camera: k,
             holes,
             holes_without_wedges: holes_without,
-            checked_pixels: inside.iter().filter(|&&m| m).count() as u64,
+            checked_pixels: count(&inside),
         });
     }
     Ok(views)
 }
 
-/// The subdivided image of `view` in key colours and coded distances.
-fn subdivided(ctx: &Context, renderer: &mut Renderer<'_>, view: &View) -> VkResult<Shots> {
-    renderer.set_background(KEY_BACKGROUND);
-    renderer.render(view, false)?;
-    let key = renderer.target().read_rgba(ctx)?;
+/// The images of a view with holes, for `--debug-dir`.
+struct DebugImages<'a> {
+    with: &'a Shots,
+    without: Option<&'a Shots>,
+    reference: &'a Shots,
+    holes: &'a [bool],
+}
+
+impl DebugImages<'_> {
+    fn write(&self, dir: &std::path::Path, name: &str, k: usize, (w, h): (u32, u32)) {
+        let mut marked = self.with.key.clone();
+        for (i, &m) in self.holes.iter().enumerate() {
+            if m {
+                marked[4 * i..4 * i + 4].copy_from_slice(&[255, 0, 0, 255]);
+            }
+        }
+        let _ = std::fs::create_dir_all(dir);
+        let mut images = vec![
+            ("actual", &self.with.key),
+            ("reference", &self.reference.key),
+            ("holes", &marked),
+        ];
+        if let Some(s) = self.without {
+            images.push(("nowedges", &s.key));
+        }
+        for (tag, img) in images {
+            let file = dir.join(format!("{name}-cam{k}-{tag}.png"));
+            if let Err(e) = crate::gpu::write_png(&file, w, h, img) {
+                log::warn!("{e}");
+            }
+        }
+    }
+}
+
+/// The image of `view` in key colours and coded distances, drawn by the
+/// renderer's active method over `background`.
+fn shots(renderer: &mut Renderer, view: &View, background: [f32; 4]) -> Result<Shots, RenderError> {
+    renderer.set_background(background);
+    renderer.render(view)?;
+    let key = renderer.read_image()?;
     renderer.set_background([1.0; 4]);
     let coded = View {
         shade: SHADE_DISTANCE,
         ..*view
     };
-    renderer.render(&coded, false)?;
-    let distance = distances(&renderer.target().read_rgba(ctx)?, view.distance_scale);
+    renderer.render(&coded)?;
+    let distance = distances(&renderer.read_image()?, view.distance_scale);
     Ok(Shots { key, distance })
+}
+
+/// The reference shots: `ground-truth` at `grid`, then back to `tested`.
+fn reference_shots(
+    renderer: &mut Renderer,
+    view: &View,
+    grid: u32,
+    tested: &str,
+) -> Result<Shots, RenderError> {
+    let options = renderer.options().clone();
+    renderer.set_options(MethodOptions {
+        grid,
+        ..options.clone()
+    })?;
+    renderer.set_method(ground_truth::INFO.name)?;
+    let shot = shots(renderer, view, REFERENCE_BACKGROUND);
+    renderer.set_options(options)?;
+    renderer.set_method(tested)?;
+    shot
 }
 
 #[cfg(test)]
@@ -376,16 +362,5 @@ mod tests {
         let n = e.iter().filter(|&&m| m).count();
         assert_eq!(n, 7 * 7);
         assert!(e[10 * w + 10] && !e[10 * w + 6] && e[10 * w + 7]);
-    }
-
-    #[test]
-    fn dense_mesh_has_two_triangles_per_cell() {
-        let p = BezierPatch {
-            pts: [Vec3::ONE; 16],
-        };
-        let words = dense_vertices(&[p, p], 4);
-        assert_eq!(words.len(), 2 * 4 * 4 * 6 * VERTEX_WORDS as usize);
-        // The last vertex of patch 1 is (u, v) = (0, 1) of the last cell... its id is 1.
-        assert_eq!(words[words.len() - 2], 1);
     }
 }

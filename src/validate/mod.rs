@@ -8,13 +8,14 @@ use ash::vk;
 use glam::Vec3;
 
 use crate::constants::*;
-use crate::draw::DrawPath;
-use crate::gpu::{FrameGpu, PushConstants, SceneLayout};
+use crate::draw::{DrawPath, ReadyStage};
+use crate::gpu::ListPush;
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::node_positions;
 use crate::patch::quadnode::QuadNode;
 use crate::patch::wedge::node_mesh;
-use crate::vk::{Context, Pipeline, ShaderModule, VkResult};
+use crate::renderer::Renderer;
+use crate::vk::{Context, Pipeline, ShaderModule, VkError, VkResult};
 
 /// One line of the report.
 #[derive(Clone, Debug)]
@@ -129,41 +130,44 @@ pub struct ReorderCheck {
 }
 
 impl ReorderCheck {
-    /// Creates the pipeline.
-    pub fn new(ctx: &Context, layout: &SceneLayout) -> VkResult<Self> {
+    /// Creates the pipeline for `stage`'s ready-list pass layout.
+    pub fn new(ctx: &Context, stage: &ReadyStage) -> VkResult<Self> {
         let shader = ShaderModule::load(ctx, "reorder_check.comp")?;
         Ok(Self {
-            pipeline: Pipeline::compute(ctx, "reorder check", &layout.layout, &shader, &[])?,
+            pipeline: Pipeline::compute(ctx, "reorder check", stage.list_layout(), &shader, &[])?,
         })
     }
 
-    /// Runs over the `ready` nodes of `frame` (after a frame was rendered)
-    /// and returns (nodes checked, nodes failing).
-    pub fn run(
-        &self,
-        ctx: &Context,
-        layout: &SceneLayout,
-        frame: &FrameGpu,
-        ready: u32,
-    ) -> VkResult<(u32, u32)> {
-        let pc = PushConstants {
-            ready_capacity: frame.caps.ready,
-            queue_capacity: frame.caps.queue,
+    /// Runs over the `ready` nodes of the renderer's ready list (after a
+    /// frame was rendered) and returns (nodes checked, nodes failing).
+    pub fn run(&self, renderer: &Renderer, ready: u32) -> VkResult<(u32, u32)> {
+        let ctx = renderer.context();
+        let Some(stage) = renderer.method().ready() else {
+            return Err(VkError::Usage(
+                "the reordering test needs a method with a ready list".into(),
+            ));
+        };
+        let list = stage.list();
+        let layout = stage.list_layout();
+        let pc = ListPush {
+            ready_capacity: list.caps.ready,
             ..bytemuck::Zeroable::zeroed()
         };
         let groups = ready
-            .min(frame.caps.ready)
+            .min(list.caps.ready)
             .div_ceil(EXPAND_GROUP_SIZE)
             .max(1);
-        ctx.one_shot(|cmd| -> VkResult<()> {
+        ctx.one_shot(|cmd| {
             crate::vk::memory_barrier(ctx, cmd, crate::vk::Access::ALL, crate::vk::Access::ALL);
             self.pipeline.bind(cmd);
-            frame.bind(ctx, cmd, layout, vk::PipelineBindPoint::COMPUTE);
-            layout.push(cmd, &pc)?;
+            let bind = vk::PipelineBindPoint::COMPUTE;
+            renderer.scene().bind(ctx, cmd, bind, layout, 0);
+            list.bind(ctx, cmd, bind, layout);
+            layout.push_block(cmd, &pc)?;
             unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
             Ok(())
-        })??;
-        let c = frame.read_counters(ctx)?;
+        })?;
+        let c = list.read_counters(ctx)?;
         Ok((c[C_CHECK_NODES as usize], c[C_CHECK_FAILS as usize]))
     }
 }

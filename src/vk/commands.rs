@@ -154,8 +154,9 @@ pub fn image_barrier(
 
 impl Context {
     /// Records `f` into a fresh command buffer, submits it and waits for it
-    /// with the default fence timeout.
-    pub fn one_shot<R>(&self, f: impl FnOnce(vk::CommandBuffer) -> R) -> VkResult<R> {
+    /// with the default fence timeout. When `f` fails, nothing is submitted:
+    /// the half-recorded command buffer is discarded and `f`'s error returned.
+    pub fn one_shot<R>(&self, f: impl FnOnce(vk::CommandBuffer) -> VkResult<R>) -> VkResult<R> {
         self.one_shot_with("one-shot command buffer", self.fence_timeout, f)
     }
 
@@ -164,87 +165,69 @@ impl Context {
         &self,
         label: &str,
         timeout: Duration,
-        f: impl FnOnce(vk::CommandBuffer) -> R,
+        f: impl FnOnce(vk::CommandBuffer) -> VkResult<R>,
     ) -> VkResult<R> {
-        self.submit_keeping(label, timeout, Vec::new(), f)
+        let (out, _) = self.one_shot_keeping(label, timeout, Vec::new(), |cmd, _| f(cmd))?;
+        Ok(out)
     }
 
-    /// One-shot submission that keeps `keep_alive` alive until the GPU is
-    /// done with it, even when the wait times out.
-    pub(crate) fn submit_keeping<R>(
+    /// One-shot submission of commands that use `keep` (e.g. a staging
+    /// buffer): the buffers are handed back once the GPU is done with them,
+    /// and kept alive in the pending list if the wait times out, so they are
+    /// never freed under the GPU.
+    pub(crate) fn one_shot_keeping<R>(
         &self,
         label: &str,
         timeout: Duration,
-        keep_alive: Vec<Buffer>,
-        f: impl FnOnce(vk::CommandBuffer) -> R,
-    ) -> VkResult<R> {
+        keep: Vec<Buffer>,
+        f: impl FnOnce(vk::CommandBuffer, &[Buffer]) -> VkResult<R>,
+    ) -> VkResult<(R, Vec<Buffer>)> {
         let device = self.device();
-        // Held throughout: the pool, its command buffers and the queue all
-        // need external synchronisation.
-        let mut state = self.lock_submit();
-        reclaim_finished(device, &mut state);
-
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(state.pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        let cmd =
-            unsafe { device.allocate_command_buffers(&alloc) }.ctx("vkAllocateCommandBuffers")?[0];
-        let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
-            Ok(fence) => fence,
-            Err(e) => {
-                unsafe { device.free_command_buffers(state.pool, &[cmd]) };
+        // The pool and its command buffers need external synchronisation
+        // while allocating, recording and freeing, the queue while
+        // submitting; the wait itself holds no lock.
+        let (cmd, fence, out) = {
+            let mut state = self.lock_submit();
+            reclaim_finished(device, &mut state);
+            let (cmd, fence) = begin_one_shot(self, &state, label)?;
+            let recorded = f(cmd, &keep).and_then(|out| {
+                unsafe { device.end_command_buffer(cmd) }
+                    .ctx(&format!("vkEndCommandBuffer({label})"))?;
+                Ok(out)
+            });
+            let out = match recorded {
+                Ok(out) => out,
+                Err(e) => {
+                    // Never submit what was only partly recorded.
+                    free_one_shot(device, &state, cmd, fence);
+                    return Err(e);
+                }
+            };
+            let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+            let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
+            if let Err(e) = unsafe { device.queue_submit2(self.queue, &submit, fence) } {
+                free_one_shot(device, &state, cmd, fence);
                 return Err(VkError::Call {
-                    context: String::from("vkCreateFence"),
+                    context: format!("submitting `{label}`"),
                     result: e,
                 });
             }
+            (cmd, fence, out)
         };
-        self.set_name(cmd, label);
-        self.set_name(fence, label);
-        let cleanup = |state: &SubmitState| unsafe {
-            device.destroy_fence(fence, None);
-            device.free_command_buffers(state.pool, &[cmd]);
-        };
-
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        if let Err(e) = unsafe { device.begin_command_buffer(cmd, &begin) } {
-            cleanup(&state);
-            return Err(VkError::Call {
-                context: format!("vkBeginCommandBuffer({label})"),
-                result: e,
-            });
-        }
-        let out = f(cmd);
-        let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
-        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
-        let submitted = unsafe {
-            device
-                .end_command_buffer(cmd)
-                .and_then(|()| device.queue_submit2(self.queue, &submit, fence))
-        };
-        if let Err(e) = submitted {
-            cleanup(&state);
-            return Err(VkError::Call {
-                context: format!("submitting `{label}`"),
-                result: e,
-            });
-        }
 
         match unsafe { device.wait_for_fences(&[fence], true, duration_ns(timeout)) } {
             Ok(()) => {
-                cleanup(&state);
-                Ok(out)
+                free_one_shot(device, &self.lock_submit(), cmd, fence);
+                Ok((out, keep))
             }
             Err(vk::Result::TIMEOUT) => {
                 // Still executing: its command buffer, fence and resources
                 // must survive until it ends; later calls reclaim them.
-                state.pending.push(Pending {
+                self.lock_submit().pending.push(Pending {
                     label: label.to_owned(),
                     fence,
                     cmd,
-                    keep_alive,
+                    keep_alive: keep,
                 });
                 Err(VkError::FenceTimeout {
                     label: label.to_owned(),
@@ -252,17 +235,24 @@ impl Context {
                 })
             }
             Err(vk::Result::ERROR_DEVICE_LOST) => {
-                self.core
-                    .hung
-                    .store(true, std::sync::atomic::Ordering::SeqCst);
+                self.mark_hung();
                 Err(VkError::DeviceLost {
                     label: label.to_owned(),
                 })
             }
-            Err(e) => Err(VkError::Call {
-                context: format!("vkWaitForFences({label})"),
-                result: e,
-            }),
+            Err(e) => {
+                // Unknown state: keep everything alive as if it still ran.
+                self.lock_submit().pending.push(Pending {
+                    label: label.to_owned(),
+                    fence,
+                    cmd,
+                    keep_alive: keep,
+                });
+                Err(VkError::Call {
+                    context: format!("vkWaitForFences({label})"),
+                    result: e,
+                })
+            }
         }
     }
 
@@ -315,4 +305,55 @@ fn reclaim_finished(device: &ash::Device, state: &mut SubmitState) {
         }
         !done
     });
+}
+
+/// Allocates a primary command buffer from the one-shot pool and a fence,
+/// names both `label` and begins recording.
+fn begin_one_shot(
+    ctx: &Context,
+    state: &SubmitState,
+    label: &str,
+) -> VkResult<(vk::CommandBuffer, vk::Fence)> {
+    let device = ctx.device();
+    let alloc = vk::CommandBufferAllocateInfo::default()
+        .command_pool(state.pool)
+        .level(vk::CommandBufferLevel::PRIMARY)
+        .command_buffer_count(1);
+    let cmd =
+        unsafe { device.allocate_command_buffers(&alloc) }.ctx("vkAllocateCommandBuffers")?[0];
+    let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
+        Ok(fence) => fence,
+        Err(e) => {
+            unsafe { device.free_command_buffers(state.pool, &[cmd]) };
+            return Err(VkError::Call {
+                context: String::from("vkCreateFence"),
+                result: e,
+            });
+        }
+    };
+    ctx.set_name(cmd, label);
+    ctx.set_name(fence, label);
+    let begin =
+        vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+    if let Err(e) = unsafe { device.begin_command_buffer(cmd, &begin) } {
+        free_one_shot(device, state, cmd, fence);
+        return Err(VkError::Call {
+            context: format!("vkBeginCommandBuffer({label})"),
+            result: e,
+        });
+    }
+    Ok((cmd, fence))
+}
+
+/// Frees a one-shot command buffer and its fence (the pool lock is held).
+fn free_one_shot(
+    device: &ash::Device,
+    state: &SubmitState,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+) {
+    unsafe {
+        device.destroy_fence(fence, None);
+        device.free_command_buffers(state.pool, &[cmd]);
+    }
 }

@@ -413,6 +413,20 @@ impl Context {
         }
     }
 
+    /// Declares the device's submitted work unfinishable (a fence wait timed
+    /// out for good, or the device was lost): from now on nothing is
+    /// destroyed or freed, since the GPU may still use it, and the device is
+    /// leaked at teardown instead of waited for.
+    pub fn mark_hung(&self) {
+        self.core.hung.store(true, Ordering::SeqCst);
+    }
+
+    /// Whether [`Context::mark_hung`] was called (or a wait found the device
+    /// lost).
+    pub fn is_hung(&self) -> bool {
+        self.core.hung.load(Ordering::SeqCst)
+    }
+
     pub(crate) fn lock_submit(&self) -> MutexGuard<'_, SubmitState> {
         self.submit.lock().unwrap_or_else(|e| e.into_inner())
     }

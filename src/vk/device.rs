@@ -261,6 +261,7 @@ fn limits_from(l: &vk::PhysicalDeviceLimits) -> DeviceLimits {
         max_uniform_buffer_range: l.max_uniform_buffer_range,
         max_push_constants_size: l.max_push_constants_size,
         min_storage_buffer_offset_alignment: l.min_storage_buffer_offset_alignment,
+        min_uniform_buffer_offset_alignment: l.min_uniform_buffer_offset_alignment,
         max_draw_indirect_count: l.max_draw_indirect_count,
         max_tessellation_generation_level: l.max_tessellation_generation_level,
     }

@@ -111,6 +111,8 @@ pub struct DeviceLimits {
     pub max_push_constants_size: u32,
     /// `minStorageBufferOffsetAlignment` in bytes.
     pub min_storage_buffer_offset_alignment: u64,
+    /// `minUniformBufferOffsetAlignment`.
+    pub min_uniform_buffer_offset_alignment: u64,
     /// `maxDrawIndirectCount`.
     pub max_draw_indirect_count: u32,
     /// `maxTessellationGenerationLevel` (0 without tessellation).

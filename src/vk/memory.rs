@@ -188,9 +188,9 @@ impl Buffer {
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
         )?;
-        let (dst, staging_handle, len) = (self.handle, staging.handle, bytes.len() as u64);
+        let (dst, len) = (self.handle, bytes.len() as u64);
         let label = format!("upload to `{}`", self.name);
-        ctx.submit_keeping(&label, ctx.fence_timeout, vec![staging], |cmd| {
+        ctx.one_shot_keeping(&label, ctx.fence_timeout, vec![staging], |cmd, kept| {
             // Earlier submissions may still read or write the destination.
             buffer_barrier(ctx, cmd, self, Access::ALL, Access::TRANSFER_WRITE);
             let region = [vk::BufferCopy::default()
@@ -199,10 +199,12 @@ impl Buffer {
                 .size(len)];
             unsafe {
                 ctx.device()
-                    .cmd_copy_buffer(cmd, staging_handle, dst, &region)
+                    .cmd_copy_buffer(cmd, kept[0].handle, dst, &region)
             };
             buffer_barrier(ctx, cmd, self, Access::TRANSFER_WRITE, Access::ALL);
-        })
+            Ok(())
+        })?;
+        Ok(())
     }
 
     /// Reads the whole buffer back, waiting for all earlier GPU work.
@@ -213,6 +215,7 @@ impl Buffer {
             // ones; the fence then makes them visible to the host.
             ctx.one_shot_with(&label, ctx.fence_timeout, |cmd| {
                 buffer_barrier(ctx, cmd, self, Access::ALL, Access::HOST_READ);
+                Ok(())
             })?;
             let map = self.mapped().ok_or_else(|| {
                 VkError::Usage(format!(
@@ -229,22 +232,21 @@ impl Buffer {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        ctx.one_shot_with(&label, ctx.fence_timeout, |cmd| {
-            buffer_barrier(ctx, cmd, self, Access::ALL, Access::TRANSFER_READ);
-            let region = [vk::BufferCopy::default().size(self.size)];
-            unsafe {
-                ctx.device()
-                    .cmd_copy_buffer(cmd, self.handle, staging.handle, &region)
-            };
-            buffer_barrier(
-                ctx,
-                cmd,
-                &staging,
-                Access::TRANSFER_WRITE,
-                Access::HOST_READ,
-            );
-        })?;
-        staging
+        // The staging buffer travels with the submission, so a timed-out
+        // wait cannot free it under the GPU.
+        let (_, kept) =
+            ctx.one_shot_keeping(&label, ctx.fence_timeout, vec![staging], |cmd, kept| {
+                let staging = &kept[0];
+                buffer_barrier(ctx, cmd, self, Access::ALL, Access::TRANSFER_READ);
+                let region = [vk::BufferCopy::default().size(self.size)];
+                unsafe {
+                    ctx.device()
+                        .cmd_copy_buffer(cmd, self.handle, staging.handle, &region)
+                };
+                buffer_barrier(ctx, cmd, staging, Access::TRANSFER_WRITE, Access::HOST_READ);
+                Ok(())
+            })?;
+        kept[0]
             .mapped()
             .map(<[u8]>::to_vec)
             .ok_or_else(|| VkError::Usage(String::from("readback staging buffer is not mapped")))
@@ -487,10 +489,12 @@ impl Image {
             MemoryLocation::GpuToCpu,
         )?;
         let src_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-        ctx.one_shot_with(
+        let (_, kept) = ctx.one_shot_keeping(
             &format!("read pixels of `{}`", self.name),
             ctx.fence_timeout,
-            |cmd| {
+            vec![staging],
+            |cmd, kept| {
+                let staging = &kept[0];
                 image_barrier(
                     ctx,
                     cmd,
@@ -531,16 +535,11 @@ impl Image {
                     Access::TRANSFER_READ,
                     Access::ALL,
                 );
-                buffer_barrier(
-                    ctx,
-                    cmd,
-                    &staging,
-                    Access::TRANSFER_WRITE,
-                    Access::HOST_READ,
-                );
+                buffer_barrier(ctx, cmd, staging, Access::TRANSFER_WRITE, Access::HOST_READ);
+                Ok(())
             },
         )?;
-        staging
+        kept[0]
             .mapped()
             .map(<[u8]>::to_vec)
             .ok_or_else(|| VkError::Usage(String::from("pixel staging buffer is not mapped")))

@@ -1,12 +1,14 @@
 //! The Vulkan core: context and device selection, memory, commands and
-//! barriers, timestamps, shaders and compute pipelines.
+//! barriers, frames in flight, timestamps, shaders, layouts and pipelines.
 
 pub mod commands;
 pub mod context;
 pub mod debug;
 pub mod device;
 pub mod error;
+pub mod frames;
 pub mod info;
+pub mod layout;
 pub mod memory;
 pub mod pipeline;
 pub mod query;
@@ -16,11 +18,13 @@ pub use commands::{buffer_barrier, host_read_barrier, image_barrier, memory_barr
 pub use context::{Context, ContextOptions, DEFAULT_FENCE_TIMEOUT};
 pub use device::DeviceSelector;
 pub use error::{VkError, VkResult};
+pub use frames::FrameRing;
 pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, OptionalFeatures};
+pub use layout::{BufferBinding, DescriptorSet, PipelineLayout, SetLayout};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
-pub use pipeline::{
-    write_buffers, ComputePipeline, ComputePipelineDesc, DescriptorPool, Pipeline, PipelineLayout,
-    SetLayout, Specialization,
-};
+pub use pipeline::{DepthState, GraphicsDesc, Pipeline, Specialization};
 pub use query::GpuTimer;
-pub use shader::{load_spirv, spirv_dir, spirv_path, spirv_words, ShaderModule, SPIRV_DIR_ENV};
+pub use shader::{
+    embedded_shaders, load_spirv, load_spirv_file, spirv_override_dir, spirv_words, ShaderModule,
+    SPIRV_DIR_ENV,
+};

@@ -1,146 +1,15 @@
-//! Descriptor set layouts, pipeline layouts, descriptor pools and compute
-//! pipelines. The layout helpers are shared with the graphics and mesh
-//! pipelines.
+//! Compute and graphics pipelines built against a [`PipelineLayout`] owned
+//! elsewhere, with specialization constants; graphics state comes from a
+//! [`GraphicsDesc`] with room for every kind of draw the renderer has:
+//! vertex pulling, task + mesh, tessellation.
 
 use super::context::{Context, Core};
-use super::error::{VkError, VkResult, VkResultExt};
-use super::memory::Buffer;
+use super::error::{VkError, VkResult};
+use super::layout::PipelineLayout;
 use super::shader::ShaderModule;
 use ash::vk;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
-
-/// A descriptor set layout whose binding `i` is `types[i]` (one descriptor each).
-pub struct SetLayout {
-    core: Arc<Core>,
-    handle: vk::DescriptorSetLayout,
-    types: Vec<vk::DescriptorType>,
-}
-
-impl SetLayout {
-    /// Creates the layout, visible to `stages`.
-    pub fn new(
-        ctx: &Context,
-        name: &str,
-        types: &[vk::DescriptorType],
-        stages: vk::ShaderStageFlags,
-    ) -> VkResult<Self> {
-        let bindings: Vec<_> = types
-            .iter()
-            .enumerate()
-            .map(|(i, &ty)| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(i as u32)
-                    .descriptor_type(ty)
-                    .descriptor_count(1)
-                    .stage_flags(stages)
-            })
-            .collect();
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-        let handle = unsafe { ctx.device().create_descriptor_set_layout(&info, None) }
-            .ctx(&format!("vkCreateDescriptorSetLayout({name})"))?;
-        ctx.set_name(handle, name);
-        Ok(Self {
-            core: ctx.core.clone(),
-            handle,
-            types: types.to_vec(),
-        })
-    }
-
-    /// The Vulkan handle.
-    pub fn handle(&self) -> vk::DescriptorSetLayout {
-        self.handle
-    }
-
-    /// Descriptor type per binding.
-    pub fn types(&self) -> &[vk::DescriptorType] {
-        &self.types
-    }
-}
-
-impl Drop for SetLayout {
-    fn drop(&mut self) {
-        unsafe {
-            self.core
-                .device
-                .destroy_descriptor_set_layout(self.handle, None)
-        };
-    }
-}
-
-/// A pipeline layout: set layouts plus one push-constant range at offset 0.
-pub struct PipelineLayout {
-    core: Arc<Core>,
-    handle: vk::PipelineLayout,
-    push_size: u32,
-    push_stages: vk::ShaderStageFlags,
-}
-
-impl PipelineLayout {
-    /// Creates the layout; `push_size` 0 means no push constants.
-    pub fn new(
-        ctx: &Context,
-        name: &str,
-        sets: &[&SetLayout],
-        push_size: u32,
-        push_stages: vk::ShaderStageFlags,
-    ) -> VkResult<Self> {
-        let limit = ctx.info().limits.max_push_constants_size;
-        if push_size % 4 != 0 || push_size > limit {
-            return Err(VkError::Usage(format!(
-                "push constants of `{name}` are {push_size} bytes; they must be a multiple of 4 \
-                 and at most {limit} on this device"
-            )));
-        }
-        let set_handles: Vec<_> = sets.iter().map(|s| s.handle).collect();
-        let ranges = [vk::PushConstantRange::default()
-            .stage_flags(push_stages)
-            .offset(0)
-            .size(push_size)];
-        let info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&set_handles)
-            .push_constant_ranges(if push_size > 0 { &ranges } else { &[] });
-        let handle = unsafe { ctx.device().create_pipeline_layout(&info, None) }
-            .ctx(&format!("vkCreatePipelineLayout({name})"))?;
-        ctx.set_name(handle, name);
-        Ok(Self {
-            core: ctx.core.clone(),
-            handle,
-            push_size,
-            push_stages,
-        })
-    }
-
-    /// The Vulkan handle.
-    pub fn handle(&self) -> vk::PipelineLayout {
-        self.handle
-    }
-
-    /// Records push constants; `data` must be exactly the declared size.
-    pub fn push(&self, cmd: vk::CommandBuffer, data: &[u8]) -> VkResult<()> {
-        if data.len() != self.push_size as usize {
-            return Err(VkError::Usage(format!(
-                "pushing {} bytes into a {}-byte push-constant range",
-                data.len(),
-                self.push_size
-            )));
-        }
-        if !data.is_empty() {
-            unsafe {
-                self.core
-                    .device
-                    .cmd_push_constants(cmd, self.handle, self.push_stages, 0, data)
-            };
-        }
-        Ok(())
-    }
-}
-
-impl Drop for PipelineLayout {
-    fn drop(&mut self) {
-        unsafe { self.core.device.destroy_pipeline_layout(self.handle, None) };
-    }
-}
 
 /// Specialization data: one 32-bit value per constant id.
 pub struct Specialization {
@@ -173,256 +42,189 @@ impl Specialization {
             .map_entries(&self.entries)
             .data(&self.data)
     }
+
+    fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
 }
 
-/// What a compute pipeline binds: set 0 holds `storage_buffers` storage
-/// buffers at bindings 0.., then (optionally) one uniform buffer.
-#[derive(Debug, Clone, Copy)]
-pub struct ComputePipelineDesc<'a> {
+/// One shader stage of a pipeline: `main` of `module`, specialized by
+/// `spec` when it has constants.
+fn stage_info<'a>(
+    stage: vk::ShaderStageFlags,
+    module: &ShaderModule,
+    spec: &'a vk::SpecializationInfo<'a>,
+    specialized: bool,
+) -> vk::PipelineShaderStageCreateInfo<'a> {
+    let info = vk::PipelineShaderStageCreateInfo::default()
+        .stage(stage)
+        .module(module.handle())
+        .name(c"main");
+    if specialized {
+        info.specialization_info(spec)
+    } else {
+        info
+    }
+}
+
+/// Depth test and write settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DepthState {
+    /// Test against the depth attachment.
+    pub test: bool,
+    /// Write the depth attachment.
+    pub write: bool,
+    /// The comparison.
+    pub compare: vk::CompareOp,
+}
+
+impl DepthState {
+    /// Test LESS and write: opaque surfaces.
+    pub const OPAQUE: Self = Self {
+        test: true,
+        write: true,
+        compare: vk::CompareOp::LESS,
+    };
+    /// No depth at all.
+    pub const NONE: Self = Self {
+        test: false,
+        write: false,
+        compare: vk::CompareOp::ALWAYS,
+    };
+}
+
+/// Everything a graphics pipeline is made of besides its layout. Built with
+/// [`GraphicsDesc::new`] and the chained setters; viewport and scissor are
+/// always dynamic, rendering is always dynamic rendering.
+#[derive(Clone)]
+pub struct GraphicsDesc<'a> {
     /// Debug name.
     pub name: &'a str,
-    /// Number of storage buffers (bindings 0..n).
-    pub storage_buffers: u32,
-    /// A uniform buffer at binding `storage_buffers`.
-    pub uniform_buffer: bool,
-    /// Push-constant bytes (multiple of 4; 0 for none).
-    pub push_constant_size: u32,
-    /// (constant_id, value) specialization constants.
-    pub specialization: &'a [(u32, u32)],
+    /// Stages and their modules: vertex (+ tessellation control and
+    /// evaluation) or task + mesh, and fragment.
+    pub stages: Vec<(vk::ShaderStageFlags, &'a ShaderModule)>,
+    /// (constant_id, value) pairs given to every stage.
+    pub specialization: Vec<(u32, u32)>,
+    /// Input topology (vertex pipelines; PATCH_LIST with tessellation).
+    pub topology: vk::PrimitiveTopology,
+    /// Control points per patch; non-zero adds tessellation state.
+    pub patch_control_points: u32,
+    /// Fill or lines (wireframe needs `fillModeNonSolid`).
+    pub polygon_mode: vk::PolygonMode,
+    /// Which faces the rasterizer drops.
+    pub cull_mode: vk::CullModeFlags,
+    /// Winding of front faces.
+    pub front_face: vk::FrontFace,
+    /// Depth test and write.
+    pub depth: DepthState,
+    /// Colour attachment formats.
+    pub color_formats: Vec<vk::Format>,
+    /// Depth attachment format (`UNDEFINED`: none).
+    pub depth_format: vk::Format,
+    /// Rasterization samples.
+    pub samples: vk::SampleCountFlags,
 }
 
-impl ComputePipelineDesc<'_> {
-    /// Descriptor types of set 0 in binding order.
-    pub fn descriptor_types(&self) -> Vec<vk::DescriptorType> {
-        let mut types = vec![vk::DescriptorType::STORAGE_BUFFER; self.storage_buffers as usize];
-        if self.uniform_buffer {
-            types.push(vk::DescriptorType::UNIFORM_BUFFER);
+impl<'a> GraphicsDesc<'a> {
+    /// Triangle lists, filled, no culling, counter-clockwise front faces,
+    /// opaque depth, one sample, no attachments yet.
+    pub fn new(name: &'a str, stages: &[(vk::ShaderStageFlags, &'a ShaderModule)]) -> Self {
+        Self {
+            name,
+            stages: stages.to_vec(),
+            specialization: Vec::new(),
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            patch_control_points: 0,
+            polygon_mode: vk::PolygonMode::FILL,
+            cull_mode: vk::CullModeFlags::NONE,
+            front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+            depth: DepthState::OPAQUE,
+            color_formats: Vec::new(),
+            depth_format: vk::Format::UNDEFINED,
+            samples: vk::SampleCountFlags::TYPE_1,
         }
-        types
-    }
-}
-
-/// A compute pipeline with its own set-0 layout and pipeline layout.
-pub struct ComputePipeline {
-    core: Arc<Core>,
-    handle: vk::Pipeline,
-    // Dropped after the pipeline (field order), which is what Vulkan wants.
-    layout: PipelineLayout,
-    set_layout: SetLayout,
-}
-
-impl ComputePipeline {
-    /// Creates the pipeline from `shader`'s `main`.
-    pub fn new(
-        ctx: &Context,
-        shader: &ShaderModule,
-        desc: &ComputePipelineDesc<'_>,
-    ) -> VkResult<Self> {
-        let stage = vk::ShaderStageFlags::COMPUTE;
-        let set_layout = SetLayout::new(
-            ctx,
-            &format!("{} set 0", desc.name),
-            &desc.descriptor_types(),
-            stage,
-        )?;
-        let layout = PipelineLayout::new(
-            ctx,
-            &format!("{} layout", desc.name),
-            &[&set_layout],
-            desc.push_constant_size,
-            stage,
-        )?;
-        let spec = Specialization::new(desc.specialization);
-        let spec_info = spec.info();
-        let mut stage_info = vk::PipelineShaderStageCreateInfo::default()
-            .stage(stage)
-            .module(shader.handle())
-            .name(c"main");
-        if !desc.specialization.is_empty() {
-            stage_info = stage_info.specialization_info(&spec_info);
-        }
-        let info = [vk::ComputePipelineCreateInfo::default()
-            .stage(stage_info)
-            .layout(layout.handle())];
-        let handle = unsafe {
-            ctx.device()
-                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
-        }
-        .map_err(|(_, result)| VkError::Call {
-            context: format!("vkCreateComputePipelines({})", desc.name),
-            result,
-        })?[0];
-        ctx.set_name(handle, desc.name);
-        Ok(Self {
-            core: ctx.core.clone(),
-            handle,
-            layout,
-            set_layout,
-        })
     }
 
-    /// The Vulkan handle.
-    pub fn handle(&self) -> vk::Pipeline {
-        self.handle
+    /// The attachment formats drawn into.
+    pub fn targets(mut self, color: &[vk::Format], depth: vk::Format) -> Self {
+        self.color_formats = color.to_vec();
+        self.depth_format = depth;
+        self
     }
 
-    /// The pipeline layout.
-    pub fn layout(&self) -> &PipelineLayout {
-        &self.layout
+    /// Patch lists of `control_points` points through tessellation stages.
+    pub fn tessellation(mut self, control_points: u32) -> Self {
+        self.topology = vk::PrimitiveTopology::PATCH_LIST;
+        self.patch_control_points = control_points;
+        self
     }
 
-    /// The layout of descriptor set 0.
-    pub fn set_layout(&self) -> &SetLayout {
-        &self.set_layout
+    /// The input topology.
+    pub fn topology(mut self, topology: vk::PrimitiveTopology) -> Self {
+        self.topology = topology;
+        self
     }
 
-    /// Binds the pipeline and `set`, pushes `push` and dispatches `groups`.
-    pub fn dispatch(
-        &self,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        push: &[u8],
-        groups: [u32; 3],
-    ) -> VkResult<()> {
-        let device = &self.core.device;
-        unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.handle);
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout.handle(),
-                0,
-                &[set],
-                &[],
-            );
-        }
-        self.layout.push(cmd, push)?;
-        unsafe { device.cmd_dispatch(cmd, groups[0], groups[1], groups[2]) };
-        Ok(())
+    /// Specialization constants for every stage.
+    pub fn specialize(mut self, constants: &[(u32, u32)]) -> Self {
+        self.specialization = constants.to_vec();
+        self
     }
-}
 
-impl Drop for ComputePipeline {
-    fn drop(&mut self) {
-        if self.core.hung.load(Ordering::SeqCst) {
-            return;
-        }
-        unsafe { self.core.device.destroy_pipeline(self.handle, None) };
+    /// Rasterizer polygon mode.
+    pub fn polygon_mode(mut self, mode: vk::PolygonMode) -> Self {
+        self.polygon_mode = mode;
+        self
     }
-}
 
-/// A descriptor pool; its sets are freed with it.
-pub struct DescriptorPool {
-    core: Arc<Core>,
-    handle: vk::DescriptorPool,
-}
+    /// Face culling.
+    pub fn cull(mut self, mode: vk::CullModeFlags) -> Self {
+        self.cull_mode = mode;
+        self
+    }
 
-impl DescriptorPool {
-    /// A pool for `max_sets` sets drawing on `sizes` (type, descriptor count).
-    pub fn new(
-        ctx: &Context,
-        name: &str,
-        max_sets: u32,
-        sizes: &[(vk::DescriptorType, u32)],
-    ) -> VkResult<Self> {
-        let sizes: Vec<_> = sizes
+    /// Depth state.
+    pub fn depth(mut self, depth: DepthState) -> Self {
+        self.depth = depth;
+        self
+    }
+
+    /// Rasterization samples.
+    pub fn samples(mut self, samples: vk::SampleCountFlags) -> Self {
+        self.samples = samples;
+        self
+    }
+
+    fn is_mesh(&self) -> bool {
+        self.stages
             .iter()
-            .filter(|(_, n)| *n > 0)
-            .map(|&(ty, n)| vk::DescriptorPoolSize::default().ty(ty).descriptor_count(n))
-            .collect();
-        let info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(max_sets)
-            .pool_sizes(&sizes);
-        let handle = unsafe { ctx.device().create_descriptor_pool(&info, None) }
-            .ctx(&format!("vkCreateDescriptorPool({name})"))?;
-        ctx.set_name(handle, name);
-        Ok(Self {
-            core: ctx.core.clone(),
-            handle,
-        })
+            .any(|(s, _)| s.contains(vk::ShaderStageFlags::MESH_EXT))
     }
 
-    /// A pool sized for `count` sets of `layout`.
-    pub fn for_layout(ctx: &Context, name: &str, layout: &SetLayout, count: u32) -> VkResult<Self> {
-        let mut sizes: Vec<(vk::DescriptorType, u32)> = Vec::new();
-        for &ty in layout.types() {
-            match sizes.iter_mut().find(|(t, _)| *t == ty) {
-                Some((_, n)) => *n += count,
-                None => sizes.push((ty, count)),
-            }
+    fn check(&self) -> VkResult<()> {
+        let has = |s: vk::ShaderStageFlags| self.stages.iter().any(|(x, _)| *x == s);
+        let tess = has(vk::ShaderStageFlags::TESSELLATION_CONTROL)
+            || has(vk::ShaderStageFlags::TESSELLATION_EVALUATION);
+        let problem = if self.is_mesh() && has(vk::ShaderStageFlags::VERTEX) {
+            Some("mixes mesh and vertex stages")
+        } else if !self.is_mesh() && !has(vk::ShaderStageFlags::VERTEX) {
+            Some("has neither a vertex nor a mesh stage")
+        } else if tess != (self.patch_control_points > 0) {
+            Some("needs tessellation stages and patch control points together")
+        } else {
+            None
+        };
+        match problem {
+            Some(p) => Err(VkError::Usage(format!(
+                "graphics pipeline `{}` {p}",
+                self.name
+            ))),
+            None => Ok(()),
         }
-        Self::new(ctx, name, count, &sizes)
-    }
-
-    /// The Vulkan handle.
-    pub fn handle(&self) -> vk::DescriptorPool {
-        self.handle
-    }
-
-    /// Allocates one set of `layout`.
-    pub fn allocate(&self, layout: &SetLayout) -> VkResult<vk::DescriptorSet> {
-        let layouts = [layout.handle()];
-        let info = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(self.handle)
-            .set_layouts(&layouts);
-        let sets = unsafe { self.core.device.allocate_descriptor_sets(&info) }
-            .ctx("vkAllocateDescriptorSets")?;
-        Ok(sets[0])
     }
 }
 
-impl Drop for DescriptorPool {
-    fn drop(&mut self) {
-        if self.core.hung.load(Ordering::SeqCst) {
-            return;
-        }
-        unsafe { self.core.device.destroy_descriptor_pool(self.handle, None) };
-    }
-}
-
-/// Points binding `i` of `set` at the whole of `buffers[i]`, with the
-/// descriptor types `layout` declares.
-pub fn write_buffers(
-    ctx: &Context,
-    set: vk::DescriptorSet,
-    layout: &SetLayout,
-    buffers: &[&Buffer],
-) -> VkResult<()> {
-    if buffers.len() != layout.types().len() {
-        return Err(VkError::Usage(format!(
-            "the set layout has {} bindings but {} buffers were given",
-            layout.types().len(),
-            buffers.len()
-        )));
-    }
-    // One info per write, built first: each write points into this vector.
-    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
-        .iter()
-        .map(|b| {
-            [vk::DescriptorBufferInfo::default()
-                .buffer(b.handle())
-                .offset(0)
-                .range(vk::WHOLE_SIZE)]
-        })
-        .collect();
-    let writes: Vec<_> = infos
-        .iter()
-        .zip(layout.types())
-        .enumerate()
-        .map(|(i, (info, &ty))| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(i as u32)
-                .descriptor_type(ty)
-                .buffer_info(info)
-        })
-        .collect();
-    unsafe { ctx.device().update_descriptor_sets(&writes, &[]) };
-    Ok(())
-}
-
-/// A pipeline (compute or graphics) built against a layout owned elsewhere,
-/// e.g. the one scene layout every pass shares. Destroyed on drop.
+/// A compute or graphics pipeline, destroyed on drop.
 pub struct Pipeline {
     core: Arc<Core>,
     handle: vk::Pipeline,
@@ -430,8 +232,7 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// Takes ownership of a pipeline created by the caller.
-    pub fn from_handle(
+    fn from_handle(
         ctx: &Context,
         handle: vk::Pipeline,
         bind_point: vk::PipelineBindPoint,
@@ -455,13 +256,12 @@ impl Pipeline {
     ) -> VkResult<Self> {
         let spec = Specialization::new(specialization);
         let spec_info = spec.info();
-        let mut stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(shader.handle())
-            .name(c"main");
-        if !specialization.is_empty() {
-            stage = stage.specialization_info(&spec_info);
-        }
+        let stage = stage_info(
+            vk::ShaderStageFlags::COMPUTE,
+            shader,
+            &spec_info,
+            !spec.is_empty(),
+        );
         let info = [vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.handle())];
@@ -481,9 +281,96 @@ impl Pipeline {
         ))
     }
 
+    /// A graphics pipeline as `desc` describes it, with `layout`.
+    pub fn graphics(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        desc: &GraphicsDesc<'_>,
+    ) -> VkResult<Self> {
+        desc.check()?;
+        let spec = Specialization::new(&desc.specialization);
+        let spec_info = spec.info();
+        let stages: Vec<_> = desc
+            .stages
+            .iter()
+            .map(|(stage, module)| stage_info(*stage, module, &spec_info, !spec.is_empty()))
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+        let tessellation = vk::PipelineTessellationStateCreateInfo::default()
+            .patch_control_points(desc.patch_control_points);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(desc.polygon_mode)
+            .cull_mode(desc.cull_mode)
+            .front_face(desc.front_face)
+            .line_width(1.0);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth.test)
+            .depth_write_enable(desc.depth.write)
+            .depth_compare_op(desc.depth.compare);
+        let attachments: Vec<_> = desc
+            .color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .blend_enable(false)
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&desc.color_formats)
+            .depth_attachment_format(desc.depth_format);
+        let mut info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout.handle())
+            .push_next(&mut rendering);
+        // Mesh pipelines leave vertex input and input assembly null.
+        if !desc.is_mesh() {
+            info = info
+                .vertex_input_state(&vertex_input)
+                .input_assembly_state(&assembly);
+        }
+        if desc.patch_control_points > 0 {
+            info = info.tessellation_state(&tessellation);
+        }
+        let handle = unsafe {
+            ctx.device()
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| VkError::Call {
+            context: format!("vkCreateGraphicsPipelines({})", desc.name),
+            result,
+        })?[0];
+        Ok(Self::from_handle(
+            ctx,
+            handle,
+            vk::PipelineBindPoint::GRAPHICS,
+            desc.name,
+        ))
+    }
+
     /// The Vulkan handle.
     pub fn handle(&self) -> vk::Pipeline {
         self.handle
+    }
+
+    /// Compute or graphics.
+    pub fn bind_point(&self) -> vk::PipelineBindPoint {
+        self.bind_point
     }
 
     /// Records `vkCmdBindPipeline` at the pipeline's bind point.

@@ -16,9 +16,9 @@
 
 use bezier_subdiv::vk::{Context, ContextOptions};
 use std::ops::Deref;
-use std::sync::{Mutex, MutexGuard, OnceLock};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 
-static GPU: OnceLock<Result<Mutex<Context>, String>> = OnceLock::new();
+static GPU: OnceLock<Result<Mutex<Arc<Context>>, String>> = OnceLock::new();
 
 /// Options every test context uses: validation on, automatic device choice.
 pub fn test_options() -> ContextOptions {
@@ -40,7 +40,7 @@ pub fn init_logging() {
 /// Dropping it (or calling [`Gpu::finish`]) fails the test if the validation
 /// layer reported an error while it was held.
 pub struct Gpu {
-    guard: MutexGuard<'static, Context>,
+    guard: MutexGuard<'static, Arc<Context>>,
     checked: bool,
 }
 
@@ -49,7 +49,7 @@ pub fn gpu() -> Gpu {
     init_logging();
     let shared = GPU.get_or_init(|| {
         Context::new(&test_options())
-            .map(Mutex::new)
+            .map(|c| Mutex::new(Arc::new(c)))
             .map_err(|e| e.to_string())
     });
     let mutex = match shared {
@@ -76,6 +76,13 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// The shared context as an `Arc`, for renderers.
+    pub fn arc(&self) -> Arc<Context> {
+        Arc::clone(&self.guard)
+    }
+}
+
 impl Deref for Gpu {
     type Target = Context;
 
@@ -94,4 +101,42 @@ impl Drop for Gpu {
             panic!("{e}");
         }
     }
+}
+
+/// A scene of `scenes/` and its geometry.
+pub fn scene(
+    name: &str,
+) -> (
+    bezier_subdiv::scene::file::Scene,
+    bezier_subdiv::scene::file::SceneGeometry,
+) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let s = bezier_subdiv::scene::file::Scene::load(&path).unwrap();
+    let g = s.geometry().unwrap();
+    (s, g)
+}
+
+/// A renderer on the shared context for `geo` with `method`, `size` and
+/// the knobs `options` (a dark background, two frames in flight).
+pub fn renderer(
+    gpu: &Gpu,
+    geo: &bezier_subdiv::scene::file::SceneGeometry,
+    method: &str,
+    size: (u32, u32),
+    options: bezier_subdiv::methods::MethodOptions,
+) -> bezier_subdiv::renderer::Renderer {
+    bezier_subdiv::renderer::Renderer::new(
+        gpu.arc(),
+        geo,
+        method,
+        bezier_subdiv::renderer::RendererOptions {
+            size,
+            background: [0.1, 0.1, 0.1, 1.0],
+            frames_in_flight: 2,
+            methods: options,
+        },
+    )
+    .unwrap_or_else(|e| panic!("renderer for {method}: {e}"))
 }

@@ -4,12 +4,15 @@
 //! drawn positions against the oracle.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
+use ash::vk;
 use glam::{DVec3, Vec3};
 
 use bezier_subdiv::constants::*;
-use bezier_subdiv::draw::{draw_push, headlight, write_png, DrawPath, DrawTarget, Drawer};
-use bezier_subdiv::gpu::{indirect_args, Capacities, FrameGpu, SceneGpu, SceneLayout};
+use bezier_subdiv::draw::{DrawPath, ReadyCaps, ReadyStage};
+use bezier_subdiv::frame::{headlight, FrameRec, Retired, View};
+use bezier_subdiv::gpu::{write_png, DrawTarget, SceneGpu, SceneLayout, Shaders};
 use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::patch::oracle::{node_positions, subdivide, triangulate};
 use bezier_subdiv::patch::quadnode::QuadNode;
@@ -17,7 +20,9 @@ use bezier_subdiv::patch::view::ViewParams;
 use bezier_subdiv::patch::wedge::node_mesh;
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::file::{load_model, Scene};
-use bezier_subdiv::vk::Context;
+use bezier_subdiv::vk::{Buffer, Context, GpuTimer, MemoryLocation};
+
+use super::common;
 
 pub const W: u32 = 320;
 pub const H: u32 = 240;
@@ -137,52 +142,113 @@ pub fn converted(file: &str, model_index: u32) -> Case {
     Case::new(file.trim_end_matches(".obj"), patches, flags, camera, 0)
 }
 
-/// Everything a test needs on the GPU, made once per test.
+/// Everything a test needs on the GPU, made once per test: a ready stage
+/// per draw path (with a capture buffer), the target, and the pieces of a
+/// frame recording.
 pub struct Rig {
-    pub layout: SceneLayout,
-    pub drawers: Vec<Drawer>,
+    pub ctx: Arc<Context>,
+    pub scene_layout: SceneLayout,
+    pub stages: Vec<ReadyStage>,
     pub target: DrawTarget,
+    pub timer: GpuTimer,
+    copy_out: Buffer,
 }
 
 impl Rig {
-    pub fn new(ctx: &Context) -> Self {
-        let layout = SceneLayout::new(ctx).expect("scene layout");
-        let drawers = PATHS
-            .iter()
-            .map(|&p| Drawer::new(ctx, &layout, p).expect("draw pipelines"))
-            .collect();
-        let target = DrawTarget::new(ctx, W, H, BG).expect("draw target");
-        Rig {
-            layout,
-            drawers,
-            target,
-        }
-    }
-
-    pub fn drawer(&self, path: DrawPath) -> &Drawer {
-        self.drawers.iter().find(|d| d.path() == path).unwrap()
-    }
-
-    /// Uploads the case: patches, view, its ready list and the indirect
-    /// arguments the subdivision pass would have written.
-    pub fn upload(&self, ctx: &Context, case: &Case) -> (SceneGpu, FrameGpu) {
-        let scene = SceneGpu::upload(ctx, &case.patches, &case.flags).expect("upload scene");
-        let n = case.ready.len() as u32;
-        let caps = Capacities {
-            ready: n,
-            queue: 1,
+    pub fn new(gpu: &common::Gpu) -> Self {
+        let ctx = gpu.arc();
+        let scene_layout = SceneLayout::new(&ctx).expect("scene layout");
+        let mut shaders = Shaders::default();
+        let caps = ReadyCaps {
+            ready: 1,
             vertices: true,
             capture: true,
         };
-        let mut frame = FrameGpu::new(ctx, &self.layout, &scene, caps).expect("frame buffers");
-        frame.set_view(ctx, &case.vp).expect("view");
-        frame.ready.write(ctx, 0, &case.ready).expect("ready list");
-        let mut counters = vec![0u32; COUNTER_WORDS as usize];
-        for (word, value) in indirect_args(n) {
-            counters[word as usize] = value;
+        let stages = PATHS
+            .iter()
+            .map(|&p| {
+                ReadyStage::new(&ctx, &mut shaders, &scene_layout, p, caps).expect("ready stage")
+            })
+            .collect();
+        let target = DrawTarget::new(&ctx, W, H, BG).expect("draw target");
+        let timer = GpuTimer::new(&ctx, 8).expect("timer");
+        let copy_out = Buffer::new(
+            &ctx,
+            "rig copy-out",
+            4096,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )
+        .expect("copy-out");
+        Rig {
+            ctx,
+            scene_layout,
+            stages,
+            target,
+            timer,
+            copy_out,
         }
-        frame.counters.write(ctx, 0, &counters).expect("counters");
-        (scene, frame)
+    }
+
+    pub fn stage(&mut self, path: DrawPath) -> &mut ReadyStage {
+        self.stages.iter_mut().find(|s| s.path() == path).unwrap()
+    }
+
+    /// Uploads the case's patches (one frame slot, with its view).
+    pub fn scene(&self, case: &Case) -> SceneGpu {
+        let mut scene = SceneGpu::new(&self.ctx, &self.scene_layout, &case.patches, &case.flags, 1)
+            .expect("upload scene");
+        scene.set_view(&self.ctx, 0, &case.vp).expect("view");
+        scene
+    }
+
+    /// Records `path`'s draw of what its stage holds into the target with a
+    /// fresh frame recorder (slot 0, `capture` as given).
+    pub fn draw(
+        &mut self,
+        scene: &SceneGpu,
+        view: &View,
+        path: DrawPath,
+        capture: bool,
+    ) -> Result<(), bezier_subdiv::methods::RenderError> {
+        let ctx = Arc::clone(&self.ctx);
+        let Rig {
+            stages,
+            target,
+            timer,
+            copy_out,
+            ..
+        } = self;
+        let stage = stages.iter().find(|s| s.path() == path).unwrap();
+        let mut retired = Retired::default();
+        ctx.one_shot(|cmd| {
+            timer.reset(cmd);
+            let mut f = FrameRec::new(
+                &ctx,
+                cmd,
+                0,
+                scene,
+                view,
+                target,
+                capture,
+                &mut retired,
+                timer,
+                copy_out,
+            );
+            stage.record_draw(&mut f, false)
+        })?;
+        Ok(())
+    }
+}
+
+/// The case's view in `shade`.
+pub fn case_view(case: &Case, shade: u32) -> View {
+    View {
+        params: case.vp,
+        view_proj: case.camera.view_proj(W, H),
+        light_dir: headlight(&case.camera),
+        shade,
+        distance_scale: 0.0,
     }
 }
 
@@ -193,39 +259,36 @@ pub struct Render {
     pub capture: Vec<u32>,
 }
 
-pub fn render(
-    ctx: &Context,
-    rig: &Rig,
-    case: &Case,
-    gpu: &mut (SceneGpu, FrameGpu),
-    path: DrawPath,
-    shade: u32,
-) -> Render {
-    let (scene, frame) = gpu;
-    // Stale results of the other path must not pass for this one's.
-    let fill = |n: u64| vec![SENTINEL; (n / 4) as usize];
-    let (vsize, csize) = (frame.vertices.size(), frame.capture.size());
-    frame.vertices.write(ctx, 0, &fill(vsize)).unwrap();
-    frame.capture.write(ctx, 0, &fill(csize)).unwrap();
-    let mut pc = draw_push(
-        &case.camera.view_proj(W, H),
-        headlight(&case.camera),
-        shade,
-        frame,
-        scene.count,
-    );
-    pc.capture_enabled = 1;
-    let frame: &FrameGpu = frame;
-    ctx.one_shot(|cmd| {
-        rig.drawer(path)
-            .record(ctx, cmd, &rig.layout, frame, &rig.target, &pc, None)
-    })
-    .expect("submit")
-    .expect("record");
+/// Uploads the case's ready list to `path`'s stage, clears its vertex and
+/// capture buffers to the sentinel, draws, and reads everything back.
+pub fn render(rig: &mut Rig, case: &Case, scene: &SceneGpu, path: DrawPath, shade: u32) -> Render {
+    let ctx = Arc::clone(&rig.ctx);
+    let mut retired = Retired::default();
+    rig.stage(path)
+        .upload(&ctx, &case.ready, &mut retired)
+        .expect("upload ready list");
+    {
+        // Stale results of an earlier draw must not pass for this one's.
+        let list = rig.stage(path).list();
+        ctx.one_shot(|cmd| {
+            for b in [&list.vertices, &list.capture] {
+                unsafe {
+                    ctx.device()
+                        .cmd_fill_buffer(cmd, b.handle(), 0, vk::WHOLE_SIZE, SENTINEL)
+                };
+            }
+            Ok(())
+        })
+        .expect("clear");
+    }
+    rig.draw(scene, &case_view(case, shade), path, true)
+        .expect("draw");
+    let rgba = rig.target.read_rgba(&ctx).expect("read image");
+    let list = rig.stage(path).list();
     Render {
-        rgba: rig.target.read_rgba(ctx).expect("read image"),
-        vertices: frame.vertices.read(ctx).expect("read vertices"),
-        capture: frame.capture.read(ctx).expect("read capture"),
+        rgba,
+        vertices: list.vertices.read(&ctx).expect("read vertices"),
+        capture: list.capture.read(&ctx).expect("read capture"),
     }
 }
 
@@ -356,9 +419,9 @@ pub fn save(name: &str, rgba: &[u8]) {
 
 /// Draws `case` with both paths in `shade`; checks positions against the
 /// oracle and the two images against each other. Returns the two renders.
-pub fn both_paths(ctx: &Context, rig: &Rig, case: &Case, shade: u32) -> [Render; 2] {
-    let mut gpu = rig.upload(ctx, case);
-    let [mesh, fallback] = PATHS.map(|p| render(ctx, rig, case, &mut gpu, p, shade));
+pub fn both_paths(rig: &mut Rig, case: &Case, shade: u32) -> [Render; 2] {
+    let scene = rig.scene(case);
+    let [mesh, fallback] = PATHS.map(|p| render(rig, case, &scene, p, shade));
     check_vertices(case, &fallback.vertices).unwrap_or_else(|e| panic!("{e}"));
     let pivots =
         check_capture(case, &mesh.capture, DrawPath::Mesh).unwrap_or_else(|e| panic!("{e}"));

@@ -7,24 +7,33 @@
 //! `#include "common/foo.glsl"` resolves against the including file's
 //! directory, then against `glsl/`.
 //!
+//! It also writes one include file: `glsl/common/constants.glsl`, generated
+//! from the table of shared constants in `src/constants.rs` (compiled into
+//! this tool by path, so the tool does not build the renderer). That file is
+//! written first, since the shaders include it, and never edited by hand;
+//! the shaders are compiled with the generated text whatever the file holds.
+//!
 //! ```text
-//! cargo run --release -p compile-shaders            # regenerate spirv/
-//! cargo run --release -p compile-shaders -- --check # CI: fail if spirv/ is stale
+//! cargo run --release -p compile-shaders            # regenerate the header and spirv/
+//! cargo run --release -p compile-shaders -- --check # CI: fail if either is stale
 //! ```
 //!
 //! Every module is built the same way: Vulkan 1.3 environment (SPIR-V 1.6),
 //! GLSL 460, no optimisation (the `precise`/NoContraction decorations stay
 //! exactly as written; drivers optimise anyway) and no debug info, so the
 //! bytes depend only on the source text and the shaderc/glslang version.
-//! A run writes nothing unless every shader compiles; each file is written
-//! to a temporary name and renamed into place, and `.spv` files without a
-//! source are removed.
+//! A run writes the constants header if it changed, then writes no SPIR-V
+//! unless every shader compiles; each file is written to a temporary name and
+//! renamed into place, and `.spv` files without a source are removed.
 //!
-//! `--check` compiles in memory, compares with `spirv/`, lists every stale,
-//! missing or orphaned file and exits 1 if there is one. CI runs it so that
-//! a GLSL change committed without its SPIR-V fails the build. The bytes come
-//! from the glslang in Debian 12's packages; another glslang version may
-//! produce different (equally valid) modules, so regenerate on that setup.
+//! `--check` writes nothing: it compares the constants header with what it
+//! would generate, compiles in memory (with the generated header), compares
+//! with `spirv/`, lists every stale, missing or orphaned file (exactly the
+//! files a run would change) and exits 1 if there is one. CI runs it so that
+//! a GLSL or constants change committed without its generated files, or a
+//! hand edit of the header, fails the build. The bytes come from the glslang
+//! in Debian 12's packages; another glslang version may produce different
+//! (equally valid) modules, so regenerate on that setup.
 //!
 //! ## Why static linking, configured in `.cargo/config.toml`
 //!
@@ -38,6 +47,11 @@
 //! is a link error in seconds instead of a silent source build. All archives
 //! end up in one rlib, so their order does not matter to GNU ld either.
 
+// The renderer's constants module, for its table `ALL`; the tool reads
+// nothing else of the renderer and does not depend on its crate.
+#[path = "../../../src/constants.rs"]
+mod constants;
+mod header;
 mod shaders;
 
 use std::path::{Path, PathBuf};
@@ -46,14 +60,17 @@ use std::process::ExitCode;
 use shaders::{show, Error, State};
 
 const USAGE: &str = "\
-Compiles glsl/*.{comp,task,mesh,vert,tesc,tese,geom,frag} to spirv/<name>.spv.
+Writes glsl/common/constants.glsl from src/constants.rs, then compiles
+glsl/*.{comp,task,mesh,vert,tesc,tese,geom,frag} to spirv/<name>.spv.
 
 Usage: compile-shaders [--check] [--glsl DIR] [--spirv DIR]
 
 Options:
-  --check       compile in memory and compare with the SPIR-V directory; list
-                stale, missing and orphaned files and exit 1 if there are any
-  --glsl DIR    GLSL sources (default: glsl/ in the workspace root)
+  --check       write nothing: compare the constants header and the SPIR-V
+                directory with what would be written; list stale, missing
+                and orphaned files and exit 1 if there are any
+  --glsl DIR    GLSL sources, with the header in DIR/common/ (default: glsl/
+                in the workspace root)
   --spirv DIR   compiled modules (default: spirv/ in the workspace root)
   -h, --help    print this help
 
@@ -134,8 +151,37 @@ fn run(args: impl IntoIterator<Item = String>) -> Result<u8, Error> {
     let root = workspace_root();
     let glsl = args.glsl.unwrap_or_else(|| root.join("glsl"));
     let spirv = args.spirv.unwrap_or_else(|| root.join("spirv"));
+    shaders::require_glsl_dir(&glsl)?;
 
-    let batch = shaders::compile_all(&glsl)?;
+    // The header first: the shaders include it. A run writes it; either way
+    // the shaders are compiled with the generated text, so `--check` compiles
+    // what a run would even while the file on disk is stale or missing.
+    let header_path = header::path(&glsl);
+    let header_text = header::generate(constants::ALL)?;
+    let header_state = if args.check {
+        header::compare(&header_path, &header_text)?
+    } else {
+        header::write(&header_path, &header_text)?
+    };
+    let header_label = match (args.check, header_state) {
+        (_, State::Current) => None,
+        (true, state) => Some(state.label()),
+        (false, State::Missing) => Some("created"),
+        (false, _) => Some("updated"),
+    };
+    if let Some(label) = header_label {
+        println!(
+            "{:<9} {} (generated from src/constants.rs)",
+            format!("{label}:"),
+            show(&header_path)
+        );
+    }
+
+    let generated = shaders::Generated {
+        path: header_path.clone(),
+        text: header_text,
+    };
+    let batch = shaders::compile_all(&glsl, &[generated])?;
     for (_, compiled) in &batch.modules {
         // glslang's warnings already start with `file:line: warning:`.
         if !compiled.warnings.is_empty() {
@@ -148,9 +194,9 @@ fn run(args: impl IntoIterator<Item = String>) -> Result<u8, Error> {
         }
         let n = batch.failures.len();
         let what = if args.check {
-            "nothing compared"
+            "no SPIR-V compared"
         } else {
-            "nothing written"
+            "no SPIR-V written"
         };
         return Err(Error(format!(
             "{n} shader{} failed to compile; {what}",
@@ -159,13 +205,20 @@ fn run(args: impl IntoIterator<Item = String>) -> Result<u8, Error> {
     }
 
     if args.check {
-        check(&spirv, &batch.modules)
+        let header_stale = header_state != State::Current;
+        check(&header_path, header_stale, &spirv, &batch.modules)
     } else {
         write(&glsl, &spirv, &batch.modules)
     }
 }
 
-fn check(spirv: &Path, modules: &[(shaders::Source, shaders::Compiled)]) -> Result<u8, Error> {
+/// Reports the SPIR-V's state (the header's is printed already) and the verdict.
+fn check(
+    header: &Path,
+    header_stale: bool,
+    spirv: &Path,
+    modules: &[(shaders::Source, shaders::Compiled)],
+) -> Result<u8, Error> {
     let states = shaders::compare(spirv, modules)?;
     let bad: Vec<_> = states
         .iter()
@@ -178,9 +231,11 @@ fn check(spirv: &Path, modules: &[(shaders::Source, shaders::Compiled)]) -> Resu
             show(&spirv.join(name))
         );
     }
-    if bad.is_empty() {
+    let n_bad = bad.len() + usize::from(header_stale);
+    if n_bad == 0 {
         println!(
-            "all {} SPIR-V module{} in {} are current",
+            "{} and all {} SPIR-V module{} in {} are current",
+            show(header),
             modules.len(),
             if modules.len() == 1 { "" } else { "s" },
             show(spirv)
@@ -188,10 +243,8 @@ fn check(spirv: &Path, modules: &[(shaders::Source, shaders::Compiled)]) -> Resu
         Ok(0)
     } else {
         println!(
-            "{} is out of date ({} file{}); run `cargo run --release -p compile-shaders` and commit the result",
-            show(spirv),
-            bad.len(),
-            if bad.len() == 1 { "" } else { "s" }
+            "{n_bad} generated file{} out of date; run `cargo run --release -p compile-shaders` and commit the result",
+            if n_bad == 1 { " is" } else { "s are" }
         );
         Ok(EXIT_STALE)
     }

@@ -149,8 +149,26 @@ fn same_dir(a: &Path, b: &Path) -> bool {
     }
 }
 
+/// Whether two paths name the same file, which need not exist.
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.parent(), b.parent()) {
+        (Some(da), Some(db)) => a.file_name() == b.file_name() && same_dir(da, db),
+        _ => a == b,
+    }
+}
+
+/// An include file this tool writes itself (the constants header). Includes
+/// of its path read `text`, whatever the file on disk holds, so that `--check`
+/// compiles exactly what a run would.
+#[derive(Debug, Clone)]
+pub struct Generated {
+    pub path: PathBuf,
+    pub text: String,
+}
+
 fn resolve_include(
     glsl_dir: &Path,
+    generated: &[Generated],
     requested: &str,
     includer: &str,
     depth: usize,
@@ -162,6 +180,12 @@ fn resolve_include(
     }
     let candidates = include_candidates(glsl_dir, requested, includer);
     for path in &candidates {
+        if let Some(file) = generated.iter().find(|g| same_file(path, &g.path)) {
+            return Ok(ResolvedInclude {
+                resolved_name: show(path),
+                content: file.text.clone(),
+            });
+        }
         if path.is_file() {
             let content = fs::read_to_string(path)
                 .map_err(|e| format!("cannot read include file {}: {e}", show(path)))?;
@@ -199,8 +223,9 @@ impl ShaderCompiler<'_> {
     /// GLSL 460, no optimisation and no debug info. Optimising here could
     /// only lose `precise`/NoContraction intent; the driver optimises anyway.
     /// Without debug info no file name or path enters the module, so the
-    /// output depends on the source text alone.
-    pub fn new(glsl_dir: &Path) -> Result<Self, Error> {
+    /// output depends on the source text alone. Includes of a `generated`
+    /// file read its text instead of the disk.
+    pub fn new(glsl_dir: &Path, generated: &[Generated]) -> Result<Self, Error> {
         let init = |e: shaderc::Error| Error(format!("cannot initialise shaderc: {e}"));
         let compiler = Compiler::new().map_err(init)?;
         let mut options = CompileOptions::new().map_err(init)?;
@@ -210,8 +235,9 @@ impl ShaderCompiler<'_> {
         options.set_forced_version_profile(460, GlslProfile::None);
         options.set_optimization_level(OptimizationLevel::Zero);
         let root = glsl_dir.to_path_buf();
+        let generated = generated.to_vec();
         options.set_include_callback(move |requested, _kind, includer, depth| {
-            resolve_include(&root, requested, includer, depth)
+            resolve_include(&root, &generated, requested, includer, depth)
         });
         Ok(Self { compiler, options })
     }
@@ -257,17 +283,24 @@ pub struct Batch {
     pub failures: Vec<Error>,
 }
 
-/// Compiles every shader in `glsl_dir`, continuing past failures so that one
-/// run reports all of them.
-pub fn compile_all(glsl_dir: &Path) -> Result<Batch, Error> {
-    if !glsl_dir.is_dir() {
-        return Err(Error(format!(
+/// An error unless `glsl_dir` is a directory.
+pub fn require_glsl_dir(glsl_dir: &Path) -> Result<(), Error> {
+    if glsl_dir.is_dir() {
+        Ok(())
+    } else {
+        Err(Error(format!(
             "GLSL directory {} does not exist",
             show(glsl_dir)
-        )));
+        )))
     }
+}
+
+/// Compiles every shader in `glsl_dir`, continuing past failures so that one
+/// run reports all of them. Includes of a `generated` file read its text.
+pub fn compile_all(glsl_dir: &Path, generated: &[Generated]) -> Result<Batch, Error> {
+    require_glsl_dir(glsl_dir)?;
     let sources = find_sources(glsl_dir)?;
-    let compiler = ShaderCompiler::new(glsl_dir)?;
+    let compiler = ShaderCompiler::new(glsl_dir, generated)?;
     let mut batch = Batch {
         modules: Vec::new(),
         failures: Vec::new(),
@@ -377,11 +410,15 @@ pub fn write_all(spirv_dir: &Path, modules: &[(Source, Compiled)]) -> Result<Wri
     Ok(written)
 }
 
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let file_name = path
-        .file_name()
-        .and_then(|n| n.to_str())
-        .expect("output names come from UTF-8 source names");
+/// Writes `bytes` to a temporary file beside `path` and renames it into
+/// place, so a reader sees the old file or the new one, never half of one.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let file_name = path.file_name().and_then(|n| n.to_str()).ok_or_else(|| {
+        Error(format!(
+            "cannot write {}: not a UTF-8 file name",
+            show(path)
+        ))
+    })?;
     let tmp = path.with_file_name(format!(".{file_name}.tmp{}", std::process::id()));
     let result = fs::write(&tmp, bytes)
         .map_err(|e| io_error("cannot write", &tmp, e))

@@ -40,6 +40,11 @@ impl TempDir {
     fn spv(&self, name: &str) -> PathBuf {
         self.0.join("spirv").join(name)
     }
+
+    /// The generated constants header.
+    fn header(&self) -> PathBuf {
+        self.0.join("glsl/common/constants.glsl")
+    }
 }
 
 impl Drop for TempDir {
@@ -137,6 +142,77 @@ fn a_compile_error_names_the_file_and_writes_nothing() {
     }
     assert!(!dir.spv("good.comp.spv").exists());
     assert!(dir.spv("orphan.comp.spv").exists());
+    // The constants header does not depend on the shaders: it is written.
+    assert!(dir.header().exists());
+}
+
+#[test]
+fn a_run_writes_the_constants_header_first_and_check_catches_a_hand_edit() {
+    let dir = TempDir::new("header");
+    // The shader needs the header, which does not exist yet: a run must
+    // write it before compiling.
+    dir.put(
+        "glsl/uses.comp",
+        "#version 460\n#include \"common/constants.glsl\"\n\
+         layout(local_size_x = 1) in;\n\
+         layout(std430, binding = 0) buffer B { uint v[]; };\n\
+         void main() { v[0] = STACK_SIZE; }\n",
+    );
+
+    // --check compiles with the generated header, so the shader compiles
+    // although the file is missing.
+    let out = dir.run(&["--check"]);
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{log}");
+    assert!(
+        log.contains("missing:  glsl/common/constants.glsl"),
+        "{log}"
+    );
+    assert!(log.contains("missing:  spirv/uses.comp.spv"), "{log}");
+    assert!(!dir.header().exists(), "--check never writes");
+
+    let out = dir.run(&[]);
+    let log = text(&out);
+    assert!(out.status.success(), "{log}");
+    assert!(
+        log.contains("created:  glsl/common/constants.glsl"),
+        "{log}"
+    );
+    let generated = fs::read_to_string(dir.header()).unwrap();
+    assert!(generated.starts_with("// Generated from src/constants.rs"));
+    let out = dir.run(&["--check"]);
+    let log = text(&out);
+    assert!(out.status.success(), "{log}");
+    assert!(
+        log.contains("glsl/common/constants.glsl and all 1 SPIR-V module in spirv are current"),
+        "{log}"
+    );
+
+    // A hand edit: one wrong value. Only the header is stale: --check compiles
+    // with the generated text, as a run would.
+    let line = "const uint STACK_SIZE = 31;\n";
+    assert!(generated.contains(line), "{generated}");
+    let edited = generated.replace(line, "const uint STACK_SIZE = 30;\n");
+    fs::write(dir.header(), &edited).unwrap();
+    let out = dir.run(&["--check"]);
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{log}");
+    assert!(
+        log.contains("stale:    glsl/common/constants.glsl"),
+        "{log}"
+    );
+    assert!(log.contains("1 generated file is out of date"), "{log}");
+    assert_eq!(fs::read_to_string(dir.header()).unwrap(), edited);
+
+    let out = dir.run(&[]);
+    let log = text(&out);
+    assert!(out.status.success(), "{log}");
+    assert!(
+        log.contains("updated:  glsl/common/constants.glsl"),
+        "{log}"
+    );
+    assert_eq!(fs::read_to_string(dir.header()).unwrap(), generated);
+    assert!(dir.run(&["--check"]).status.success());
 }
 
 #[test]

@@ -49,7 +49,7 @@ fn compile_one(glsl: &Path, name: &str) -> Result<Compiled, Error> {
         .into_iter()
         .find(|s| s.name == name)
         .expect("source exists");
-    ShaderCompiler::new(glsl)?.compile(&source)
+    ShaderCompiler::new(glsl, &[])?.compile(&source)
 }
 
 #[test]
@@ -60,7 +60,7 @@ fn compiles_a_shader_with_an_include() {
     let glsl = dir.0.join("glsl");
     let spirv = dir.0.join("spirv");
 
-    let batch = compile_all(&glsl).unwrap();
+    let batch = compile_all(&glsl, &[]).unwrap();
     assert!(batch.failures.is_empty(), "{:?}", batch.failures);
     assert_eq!(
         batch.modules.len(),
@@ -208,7 +208,7 @@ fn a_syntax_error_names_the_file_and_line() {
         "glsl/broken.vert",
         "#version 460\nvoid main() {\n  gl_Position = vec4(1.0)\n}\n",
     );
-    let batch = compile_all(&dir.0.join("glsl")).unwrap();
+    let batch = compile_all(&dir.0.join("glsl"), &[]).unwrap();
     assert!(batch.modules.is_empty());
     let err = &batch.failures[0].0;
     assert!(err.contains("broken.vert:"), "{err}");
@@ -240,7 +240,7 @@ fn mesh_and_task_shaders_compile() {
              gl_PrimitiveTriangleIndicesEXT[gl_LocalInvocationIndex] = uvec3(0, 1, 2) + gl_LocalInvocationIndex;\n\
            }\n}\n",
     );
-    let batch = compile_all(&dir.0.join("glsl")).unwrap();
+    let batch = compile_all(&dir.0.join("glsl"), &[]).unwrap();
     assert!(batch.failures.is_empty(), "{:?}", batch.failures);
     let names: Vec<&str> = batch.modules.iter().map(|(s, _)| s.name.as_str()).collect();
     assert_eq!(names, ["quad.mesh", "quad.task"]);
@@ -261,7 +261,7 @@ fn compare_and_write_track_stale_missing_and_orphaned_files() {
     let glsl = dir.0.join("glsl");
     let spirv = dir.0.join("spirv");
 
-    let batch = compile_all(&glsl).unwrap();
+    let batch = compile_all(&glsl, &[]).unwrap();
     let states = compare(&spirv, &batch.modules).unwrap();
     assert_eq!(
         states,
@@ -298,9 +298,43 @@ fn compare_and_write_track_stale_missing_and_orphaned_files() {
 fn an_empty_glsl_directory_is_fine() {
     let dir = TempDir::new("empty");
     fs::create_dir_all(dir.0.join("glsl/common")).unwrap();
-    let batch = compile_all(&dir.0.join("glsl")).unwrap();
+    let batch = compile_all(&dir.0.join("glsl"), &[]).unwrap();
     assert!(batch.modules.is_empty() && batch.failures.is_empty());
     assert!(compare(&dir.0.join("spirv"), &batch.modules)
         .unwrap()
         .is_empty());
+}
+
+#[test]
+fn a_generated_include_is_read_from_memory_not_from_disk() {
+    let dir = TempDir::new("generated");
+    // Stale on disk; reached from the root by one shader and, through
+    // common/inner.glsl, from the includer's directory by the other.
+    dir.put("glsl/common/k.glsl", "const uint K = 1;\n");
+    dir.put("glsl/common/inner.glsl", "#include \"k.glsl\"\n");
+    let body = "layout(local_size_x = 1) in;\nuint check[(K == 2u) ? 1 : -1];\nvoid main() {}\n";
+    dir.put(
+        "glsl/root.comp",
+        &format!("#version 460\n#include \"common/k.glsl\"\n{body}"),
+    );
+    dir.put(
+        "glsl/nested.comp",
+        &format!("#version 460\n#include \"common/inner.glsl\"\n{body}"),
+    );
+    let glsl = dir.0.join("glsl");
+    // Spelled differently from the include paths on purpose.
+    let generated = [Generated {
+        path: glsl.join("common/../common/k.glsl"),
+        text: "const uint K = 2;\n".to_owned(),
+    }];
+
+    let batch = compile_all(&glsl, &generated).unwrap();
+    assert!(batch.failures.is_empty(), "{:?}", batch.failures);
+    assert_eq!(batch.modules.len(), 2);
+    let batch = compile_all(&glsl, &[]).unwrap();
+    assert_eq!(batch.failures.len(), 2, "the disk says K = 1");
+
+    fs::remove_file(glsl.join("common/k.glsl")).unwrap();
+    let batch = compile_all(&glsl, &generated).unwrap();
+    assert!(batch.failures.is_empty(), "{:?}", batch.failures);
 }

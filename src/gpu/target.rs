@@ -12,8 +12,33 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use ash::vk;
 use image::ImageEncoder;
 
-use super::DrawError;
 use crate::vk::{image_barrier, Access, Context, Image, ImageDesc, VkError, VkResult};
+
+/// Errors of saving images (drawing itself reports [`VkError`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// A Vulkan failure (readback).
+    #[error(transparent)]
+    Vk(#[from] VkError),
+    /// Creating, writing or renaming a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// PNG encoding failed.
+    #[error("encoding {} as PNG: {source}", path.display())]
+    Png {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The cause.
+        #[source]
+        source: image::ImageError,
+    },
+}
 
 /// Colour format of every draw pipeline.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
@@ -73,6 +98,11 @@ impl DrawTarget {
     /// Height in pixels.
     pub fn height(&self) -> u32 {
         self.color.extent().height
+    }
+
+    /// (width, height) in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width(), self.height())
     }
 
     /// Size in pixels.
@@ -193,7 +223,7 @@ impl DrawTarget {
 
     /// Reads the colour image back and writes it to `path` as PNG (see
     /// [`write_png`]).
-    pub fn save_png(&self, ctx: &Context, path: &Path) -> Result<(), DrawError> {
+    pub fn save_png(&self, ctx: &Context, path: &Path) -> Result<(), ImageError> {
         let rgba = self.read_rgba(ctx)?;
         write_png(path, self.width(), self.height(), &rgba)
     }
@@ -202,10 +232,10 @@ impl DrawTarget {
 /// Writes RGBA8 pixels to `path` as PNG: first to a temporary file in the
 /// same directory, then renamed over `path`, so a reader never sees a half
 /// written image and a failure leaves nothing behind.
-pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<(), DrawError> {
+pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<(), ImageError> {
     let expected = width as usize * height as usize * 4;
     if rgba.len() != expected {
-        return Err(DrawError::Vk(VkError::Usage(format!(
+        return Err(ImageError::Vk(VkError::Usage(format!(
             "{} bytes of pixels for a {width}x{height} RGBA8 image ({expected} expected)",
             rgba.len()
         ))));
@@ -215,11 +245,11 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()
     let mut png = Vec::new();
     image::codecs::png::PngEncoder::new(&mut png)
         .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
-        .map_err(|source| DrawError::Png {
+        .map_err(|source| ImageError::Png {
             path: path.to_path_buf(),
             source,
         })?;
-    crate::files::write_atomic(path, &png).map_err(|source| DrawError::Io {
+    crate::files::write_atomic(path, &png).map_err(|source| ImageError::Io {
         path: path.to_path_buf(),
         source,
     })

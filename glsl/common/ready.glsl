@@ -1,0 +1,99 @@
+// Descriptor set 1 of the ready-list passes (producers, sort, draw paths,
+// validation): the ready QuadNodes, the counters with every indirect
+// argument, the fallback's vertices and the validation capture. A shader
+// declares what it touches by defining USE_<NAME> before including this
+// file (USE_READY_WRITE / USE_READY_RW / USE_VERTICES_WRITE make the
+// writable variants; USE_LIST_PUSH declares the ListPush block of the
+// non-draw passes). The Rust side is src/draw/ready.rs.
+#ifndef READY_GLSL
+#define READY_GLSL
+
+#include "scene.glsl"
+
+#if defined(USE_READY_WRITE)
+layout(std430, set = SET_PASS, binding = BIND_READY) writeonly buffer Ready {
+    uvec2 ready[];
+};
+#elif defined(USE_READY_RW)
+layout(std430, set = SET_PASS, binding = BIND_READY) buffer Ready {
+    uvec2 ready[];
+};
+#else
+layout(std430, set = SET_PASS, binding = BIND_READY) readonly buffer Ready {
+    uvec2 ready[];
+};
+#endif
+
+layout(std430, set = SET_PASS, binding = BIND_COUNTERS) coherent buffer Counters {
+    uint counters[];
+};
+
+// Fallback vertices, VERTEX_WORDS words each (see constants.glsl): written
+// by the expansion pass, read by the vertex shader (which may not write
+// storage buffers without vertexPipelineStoresAndAtomics).
+#if defined(USE_VERTICES_WRITE)
+layout(std430, set = SET_PASS, binding = BIND_VERTICES) writeonly buffer Vertices {
+    uint vertex_words[];
+};
+#elif defined(USE_VERTICES)
+layout(std430, set = SET_PASS, binding = BIND_VERTICES) readonly buffer Vertices {
+    uint vertex_words[];
+};
+#endif
+
+#ifdef USE_CAPTURE
+// Debug capture of world positions (validation): one vec4 per vertex slot.
+layout(std430, set = SET_PASS, binding = BIND_CAPTURE) writeonly buffer Capture {
+    vec4 capture[];
+};
+#endif
+
+#ifdef USE_LIST_PUSH
+// src/gpu/blocks.rs ListPush.
+layout(push_constant) uniform ListPush {
+    uint ready_capacity;  // entries in `ready`
+    uint mode;            // sort: which pass
+    uint k;               // sort: bitonic stage
+    uint j;               // sort: compare distance
+} pc;
+#endif
+
+// Ready nodes a producer published, never more than the list holds (a full
+// list sets ERR_READY_FULL but must not make anyone read past it).
+uint ready_count(uint capacity) {
+    uint n = counters[C_READY_COUNT];
+    return n < capacity ? n : capacity;
+}
+
+// The indirect arguments of everything after a producer, for n ready
+// nodes: the mesh draw, the fallback's expansion and draw, and the sort's
+// passes over the list padded to a power of two of at least one block.
+// src/draw/ready.rs `indirect_args` is the host's copy.
+void write_ready_args(uint n) {
+    counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
+    counters[C_MESH_ARGS + 1u] = 1u;
+    counters[C_MESH_ARGS + 2u] = 1u;
+    counters[C_EXPAND_ARGS] = (n + EXPAND_GROUP_SIZE - 1u) / EXPAND_GROUP_SIZE;
+    counters[C_EXPAND_ARGS + 1u] = 1u;
+    counters[C_EXPAND_ARGS + 2u] = 1u;
+    counters[C_DRAW_ARGS] = n * VERTICES_PER_NODE;
+    counters[C_DRAW_ARGS + 1u] = 1u;
+    counters[C_DRAW_ARGS + 2u] = 0u;
+    counters[C_DRAW_ARGS + 3u] = 0u;
+    uint len = SORT_BLOCK;
+    while (len < n) {
+        len *= 2u;
+    }
+    counters[C_SORT_LENGTH] = len;
+    counters[C_SORT_FILL_ARGS] = (len - n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE;
+    counters[C_SORT_FILL_ARGS + 1u] = 1u;
+    counters[C_SORT_FILL_ARGS + 2u] = 1u;
+    counters[C_SORT_GLOBAL_ARGS] = len / (2u * SORT_GROUP_SIZE);
+    counters[C_SORT_GLOBAL_ARGS + 1u] = 1u;
+    counters[C_SORT_GLOBAL_ARGS + 2u] = 1u;
+    counters[C_SORT_BLOCK_ARGS] = len / SORT_BLOCK;
+    counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
+    counters[C_SORT_BLOCK_ARGS + 2u] = 1u;
+}
+
+#endif

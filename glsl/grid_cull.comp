@@ -1,0 +1,37 @@
+// Ground truth, pass 1: one invocation per base patch. A patch whose control
+// points lie wholly outside the view frustum cannot draw a pixel (the patch
+// lies in their convex hull) and is counted as culled; the others are
+// appended to the visible list, their count going straight into the
+// instance count of the indexed indirect draw that follows.
+#version 460
+
+#include "common/grid.glsl"
+
+layout(local_size_x = GRID_CULL_GROUP_SIZE) in;
+
+// src/gpu/blocks.rs GridPush.
+layout(push_constant) uniform GridPush {
+    uint patch_count;        // base patches
+    uint indices_per_patch;  // 6 per grid cell (the host sets the draw's index count)
+    uint pad0;
+    uint pad1;
+} pc;
+
+void main() {
+    uint id = gl_GlobalInvocationID.x;
+    if (id >= pc.patch_count) {
+        return;
+    }
+    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
+        vec3 P[16];
+        load_patch(id, P);
+        vec3 lo, hi;
+        patch_bbox(P, lo, hi);
+        if (outside_frustum(lo, hi, view)) {
+            atomicAdd(grid_counters[G_CULLED], 1u);
+            return;
+        }
+    }
+    uint slot = atomicAdd(grid_counters[G_DRAW_ARGS + 1u], 1u);
+    visible[slot] = id;
+}

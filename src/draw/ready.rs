@@ -1,0 +1,223 @@
+//! The ready list and what travels with it (descriptor set 1 of every
+//! ready-list pass, `glsl/common/ready.glsl`): the ready QuadNodes, the
+//! counters (statistics, producer state and every indirect argument), the
+//! fallback path's vertices and the validation capture of positions.
+
+use ash::vk;
+
+use crate::constants::*;
+use crate::patch::quadnode::QuadNode;
+use crate::vk::{
+    buffer_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation,
+    PipelineLayout, SetLayout, VkError, VkResult,
+};
+
+/// Sizes of the ready-list buffers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadyCaps {
+    /// Ready-list entries (8 bytes each; a power of two of at least
+    /// `SORT_BLOCK`, which the sort needs).
+    pub ready: u32,
+    /// Allocate the fallback path's vertex buffer (`VERTICES_PER_NODE`
+    /// vertices per ready entry).
+    pub vertices: bool,
+    /// Allocate the capture of world positions (6 per ready entry).
+    pub capture: bool,
+}
+
+impl ReadyCaps {
+    /// `ready` rounded up to what the sort needs.
+    pub fn rounded(self) -> Self {
+        Self {
+            ready: self.ready.max(SORT_BLOCK).next_power_of_two(),
+            ..self
+        }
+    }
+
+    fn vertex_bytes(&self) -> u64 {
+        if self.vertices {
+            u64::from(self.ready) * u64::from(VERTICES_PER_NODE * VERTEX_WORDS * 4)
+        } else {
+            16
+        }
+    }
+
+    fn capture_bytes(&self) -> u64 {
+        if self.capture {
+            u64::from(self.ready) * 96
+        } else {
+            16
+        }
+    }
+
+    /// Refuses sizes beyond one storage-buffer binding of this device.
+    fn check(&self, ctx: &Context) -> VkResult<()> {
+        let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
+        for (what, bytes) in [
+            ("ready list", u64::from(self.ready) * 8),
+            ("fallback vertex buffer", self.vertex_bytes()),
+            ("position capture", self.capture_bytes()),
+        ] {
+            if bytes > limit {
+                return Err(VkError::Usage(format!(
+                    "the {what} for {} ready nodes needs {bytes} bytes, more than this device's \
+                     storage-buffer range of {limit} bytes (raise ε or lower the resolution)",
+                    self.ready
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The layout of set 1 for ready-list passes: ready, counters, vertices,
+/// capture, visible to compute and the geometry stages.
+pub fn ready_set_layout(ctx: &Context) -> VkResult<SetLayout> {
+    let mut stages = vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::VERTEX;
+    if ctx.info().has_mesh_shader() {
+        stages |= vk::ShaderStageFlags::TASK_EXT | vk::ShaderStageFlags::MESH_EXT;
+    }
+    SetLayout::storage(ctx, "ready-list set", READY_BINDINGS as usize, stages)
+}
+
+/// The ready-list buffers and set 1 pointing at them.
+pub struct ReadyList {
+    /// Ready QuadNodes.
+    pub ready: Buffer,
+    /// `COUNTER_WORDS` counters, including the indirect arguments.
+    pub counters: Buffer,
+    /// Fallback vertices (or a 16-byte placeholder).
+    pub vertices: Buffer,
+    /// Capture of world positions (or a 16-byte placeholder).
+    pub capture: Buffer,
+    /// What was allocated.
+    pub caps: ReadyCaps,
+    set: DescriptorSet,
+}
+
+impl ReadyList {
+    /// Allocates the buffers for `caps` (rounded, see [`ReadyCaps::rounded`])
+    /// and writes set 1.
+    pub fn new(ctx: &Context, layout: &SetLayout, caps: ReadyCaps) -> VkResult<Self> {
+        let caps = caps.rounded();
+        caps.check(ctx)?;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let gpu = MemoryLocation::GpuOnly;
+        let ready = Buffer::new(ctx, "ready list", u64::from(caps.ready) * 8, storage, gpu)?;
+        let counters = Buffer::new(
+            ctx,
+            "counters",
+            u64::from(COUNTER_WORDS) * 4,
+            storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            gpu,
+        )?;
+        let vertices = Buffer::new(ctx, "fallback vertices", caps.vertex_bytes(), storage, gpu)?;
+        let capture = Buffer::new(ctx, "position capture", caps.capture_bytes(), storage, gpu)?;
+        let mut bound = [BufferBinding::from(&ready); READY_BINDINGS as usize];
+        bound[BIND_READY as usize] = (&ready).into();
+        bound[BIND_COUNTERS as usize] = (&counters).into();
+        bound[BIND_VERTICES as usize] = (&vertices).into();
+        bound[BIND_CAPTURE as usize] = (&capture).into();
+        let set = DescriptorSet::new(ctx, "ready-list set", layout, &bound)?;
+        Ok(Self {
+            ready,
+            counters,
+            vertices,
+            capture,
+            caps,
+            set,
+        })
+    }
+
+    /// Records binding set 1 for `layout`.
+    pub fn bind(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        bind_point: vk::PipelineBindPoint,
+        layout: &PipelineLayout,
+    ) {
+        self.set.bind(ctx, cmd, bind_point, layout, SET_PASS, &[]);
+    }
+
+    /// Records zeroing the counters, with barriers from any earlier use and
+    /// towards every later one.
+    pub fn record_reset(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        buffer_barrier(
+            ctx,
+            cmd,
+            &self.counters,
+            Access::ALL,
+            Access::TRANSFER_WRITE,
+        );
+        unsafe {
+            ctx.device()
+                .cmd_fill_buffer(cmd, self.counters.handle(), 0, vk::WHOLE_SIZE, 0)
+        };
+        buffer_barrier(
+            ctx,
+            cmd,
+            &self.counters,
+            Access::TRANSFER_WRITE,
+            Access::ALL,
+        );
+    }
+
+    /// The counters (waits for all submitted work).
+    pub fn read_counters(&self, ctx: &Context) -> VkResult<Vec<u32>> {
+        self.counters.read(ctx)
+    }
+
+    /// The first `count` ready nodes (waits for all submitted work).
+    pub fn read_ready(&self, ctx: &Context, count: u32) -> VkResult<Vec<QuadNode>> {
+        let all: Vec<QuadNode> = self.ready.read(ctx)?;
+        Ok(all[..(count.min(self.caps.ready)) as usize].to_vec())
+    }
+
+    /// Bytes per purpose, for the stats file.
+    pub fn memory_bytes(&self) -> Vec<(&'static str, u64)> {
+        let mut v = vec![
+            ("ready_list", self.ready.size()),
+            ("counters", self.counters.size()),
+        ];
+        if self.caps.vertices {
+            v.push(("fallback_vertices", self.vertices.size()));
+        }
+        if self.caps.capture {
+            v.push(("position_capture", self.capture.size()));
+        }
+        v
+    }
+}
+
+/// The indirect arguments a producer writes for `ready` nodes, as `(word
+/// index in the counters buffer, value)` pairs. The shaders compute the
+/// same (`write_ready_args` in `glsl/common/ready.glsl`); tests that feed a
+/// CPU-made ready list use this.
+pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
+    let per_task = MESH_NODES * TASK_MESH_GROUPS;
+    let len = ready.max(SORT_BLOCK).next_power_of_two();
+    vec![
+        (C_READY_COUNT, ready),
+        (C_MESH_ARGS, ready.div_ceil(per_task)),
+        (C_MESH_ARGS + 1, 1),
+        (C_MESH_ARGS + 2, 1),
+        (C_EXPAND_ARGS, ready.div_ceil(EXPAND_GROUP_SIZE)),
+        (C_EXPAND_ARGS + 1, 1),
+        (C_EXPAND_ARGS + 2, 1),
+        (C_DRAW_ARGS, ready * VERTICES_PER_NODE),
+        (C_DRAW_ARGS + 1, 1),
+        (C_DRAW_ARGS + 2, 0),
+        (C_DRAW_ARGS + 3, 0),
+        (C_SORT_LENGTH, len),
+        (C_SORT_FILL_ARGS, (len - ready).div_ceil(SORT_GROUP_SIZE)),
+        (C_SORT_FILL_ARGS + 1, 1),
+        (C_SORT_FILL_ARGS + 2, 1),
+        (C_SORT_GLOBAL_ARGS, len / (2 * SORT_GROUP_SIZE)),
+        (C_SORT_GLOBAL_ARGS + 1, 1),
+        (C_SORT_GLOBAL_ARGS + 2, 1),
+        (C_SORT_BLOCK_ARGS, len / SORT_BLOCK),
+        (C_SORT_BLOCK_ARGS + 1, 1),
+        (C_SORT_BLOCK_ARGS + 2, 1),
+    ]
+}

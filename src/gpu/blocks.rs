@@ -1,0 +1,168 @@
+//! The constant blocks the host hands to shaders: one push-constant block
+//! per pass family, each the twin of a GLSL block of the same name, plus the
+//! criterion's [`ViewParams`] uniform block. [`GpuBlock`] lists each Rust
+//! struct's fields with their offsets so a test can hold them against the
+//! blocks reflected from the compiled SPIR-V (`tests/blocks.rs`).
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::patch::view::ViewParams;
+
+/// One field of a block as the host lays it out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlockField {
+    /// Field name (the GLSL member has the same name).
+    pub name: &'static str,
+    /// Byte offset.
+    pub offset: u32,
+    /// Byte size.
+    pub size: u32,
+}
+
+/// A host struct that mirrors a GLSL block member for member.
+pub trait GpuBlock: Pod {
+    /// The GLSL block (type) name it mirrors.
+    const GLSL_NAME: &'static str;
+    /// Every field in declaration order.
+    fn fields() -> Vec<BlockField>;
+}
+
+/// `size_of` the field a projection closure points at.
+#[doc(hidden)]
+pub fn field_size<T, F>(_: fn(&T) -> &F) -> u32 {
+    std::mem::size_of::<F>() as u32
+}
+
+/// Implements [`GpuBlock`] for `$ty`, mirroring GLSL block `$glsl`, from
+/// its field list.
+macro_rules! gpu_block {
+    ($ty:ty, $glsl:literal, [$($field:ident),* $(,)?]) => {
+        impl GpuBlock for $ty {
+            const GLSL_NAME: &'static str = $glsl;
+            fn fields() -> Vec<BlockField> {
+                vec![$(BlockField {
+                    name: stringify!($field),
+                    offset: std::mem::offset_of!($ty, $field) as u32,
+                    size: field_size(|b: &$ty| &b.$field),
+                }),*]
+            }
+        }
+    };
+}
+
+/// Push constants of every draw: the ready-list paths (mesh, fallback
+/// expansion and vertex stages) and the self-drawing methods' grids; the
+/// fragment stage reads the shading fields (`DrawPush` in
+/// `glsl/common/draw.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct DrawPush {
+    /// World → Vulkan clip space, column-major.
+    pub view_proj: [f32; 16],
+    /// Direction towards the light (xyz); w: for `SHADE_DISTANCE` the
+    /// distance coded as 1.0.
+    pub light_dir: [f32; 4],
+    /// `SHADE_*`.
+    pub shade: u32,
+    /// Entries the list being drawn can hold (ready list, visible patches).
+    pub capacity: u32,
+    /// Write world positions to the capture buffer (validation).
+    pub capture_enabled: u32,
+    /// Grid cells per patch side (grid draws; 0 otherwise).
+    pub grid: u32,
+}
+gpu_block!(
+    DrawPush,
+    "DrawPush",
+    [view_proj, light_dir, shade, capacity, capture_enabled, grid]
+);
+
+/// Push constants of the persistent subdivision kernel (`SubdivPush` in
+/// `glsl/subdivide.comp`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct SubdivPush {
+    /// Entries in the ready list.
+    pub ready_capacity: u32,
+    /// Entries in the work queue.
+    pub queue_capacity: u32,
+    /// Base patches.
+    pub patch_count: u32,
+    /// Polls without any progress anywhere before the kernel gives up with
+    /// `ERR_ITERATION_CAP`.
+    pub idle_poll_cap: u32,
+}
+gpu_block!(
+    SubdivPush,
+    "SubdivPush",
+    [ready_capacity, queue_capacity, patch_count, idle_poll_cap]
+);
+
+/// Push constants of the ready-list passes that are not draws: the sort
+/// (`glsl/sort.comp`) and the §4.4 check (`glsl/reorder_check.comp`)
+/// (`ListPush` in `glsl/common/ready.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ListPush {
+    /// Entries in the ready list.
+    pub ready_capacity: u32,
+    /// Sort: which pass.
+    pub mode: u32,
+    /// Sort: bitonic stage.
+    pub k: u32,
+    /// Sort: compare distance.
+    pub j: u32,
+}
+gpu_block!(ListPush, "ListPush", [ready_capacity, mode, k, j]);
+
+/// Push constants of the ground truth's culling pass (`GridPush` in
+/// `glsl/grid_cull.comp`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GridPush {
+    /// Base patches.
+    pub patch_count: u32,
+    /// Indices per patch (6 per grid cell).
+    pub indices_per_patch: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 2],
+}
+gpu_block!(GridPush, "GridPush", [patch_count, indices_per_patch, pad]);
+
+gpu_block!(
+    ViewParams,
+    "ViewParams",
+    [depth_row, planes, eye, eps_k, near, w_orth, w_par, l_max, flags, pad]
+);
+
+/// Every host block with its GLSL name and fields, for the reflection test.
+pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
+    fn entry<T: GpuBlock>() -> (&'static str, u32, Vec<BlockField>) {
+        (T::GLSL_NAME, std::mem::size_of::<T>() as u32, T::fields())
+    }
+    vec![
+        entry::<DrawPush>(),
+        entry::<SubdivPush>(),
+        entry::<ListPush>(),
+        entry::<GridPush>(),
+        entry::<ViewParams>(),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_cover_each_block_without_gaps() {
+        for (name, size, fields) in all_blocks() {
+            let mut end = 0;
+            for f in &fields {
+                assert_eq!(f.offset, end, "{name}.{} starts after a gap", f.name);
+                end = f.offset + f.size;
+            }
+            assert_eq!(end, size, "{name}: fields do not fill the struct");
+            assert_eq!(size % 16, 0, "{name}: not a 16-byte multiple");
+        }
+    }
+}

@@ -1,0 +1,182 @@
+//! The scene on the GPU, shared by every method and pass: the base patches
+//! and their flags, uploaded once, and one `ViewParams` per frame slot, all
+//! behind descriptor set 0 (`glsl/common/scene.glsl`).
+
+use ash::vk;
+
+use crate::constants::{BIND_PATCHES, BIND_PATCH_FLAGS, BIND_VIEW, SET_SCENE};
+use crate::patch::bezier::BezierPatch;
+use crate::patch::view::ViewParams;
+use crate::vk::{
+    Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout, SetLayout,
+    VkError, VkResult,
+};
+
+/// Every shader stage the device has: set 0 and the push blocks are
+/// visible to all of them.
+pub fn all_stages(ctx: &Context) -> vk::ShaderStageFlags {
+    let info = ctx.info();
+    let mut s = vk::ShaderStageFlags::COMPUTE
+        | vk::ShaderStageFlags::VERTEX
+        | vk::ShaderStageFlags::FRAGMENT;
+    if info.has_mesh_shader() {
+        s |= vk::ShaderStageFlags::TASK_EXT | vk::ShaderStageFlags::MESH_EXT;
+    }
+    if info.features.tessellation_shader {
+        s |= vk::ShaderStageFlags::TESSELLATION_CONTROL
+            | vk::ShaderStageFlags::TESSELLATION_EVALUATION;
+    }
+    s
+}
+
+/// The layout of set 0: the view (a uniform buffer with a dynamic offset
+/// per frame slot), the patches, their flags. Made once per renderer;
+/// every pipeline layout starts with it.
+pub struct SceneLayout {
+    set: SetLayout,
+    stages: vk::ShaderStageFlags,
+}
+
+impl SceneLayout {
+    /// Creates the set layout.
+    pub fn new(ctx: &Context) -> VkResult<Self> {
+        let mut types = [vk::DescriptorType::STORAGE_BUFFER; 3];
+        types[BIND_VIEW as usize] = vk::DescriptorType::UNIFORM_BUFFER_DYNAMIC;
+        let stages = all_stages(ctx);
+        Ok(Self {
+            set: SetLayout::new(ctx, "scene set", &types, stages)?,
+            stages,
+        })
+    }
+
+    /// The set layout (set 0 of every pipeline layout).
+    pub fn set_layout(&self) -> &SetLayout {
+        &self.set
+    }
+
+    /// The stages that see it.
+    pub fn stages(&self) -> vk::ShaderStageFlags {
+        self.stages
+    }
+
+    /// A pipeline layout of set 0, then `sets` (sets 1, 2, …), then a push
+    /// block of type `P` visible to `push_stages`.
+    pub fn pipeline_layout<P: bytemuck::Pod>(
+        &self,
+        ctx: &Context,
+        name: &str,
+        sets: &[&SetLayout],
+        push_stages: vk::ShaderStageFlags,
+    ) -> VkResult<PipelineLayout> {
+        let mut all = vec![&self.set];
+        all.extend_from_slice(sets);
+        PipelineLayout::new(
+            ctx,
+            name,
+            &all,
+            std::mem::size_of::<P>() as u32,
+            push_stages,
+        )
+    }
+}
+
+/// The uploaded scene: patches, flags, the per-slot views and set 0.
+pub struct SceneGpu {
+    /// 48 floats per patch.
+    pub patches: Buffer,
+    /// One flags word per patch.
+    pub flags: Buffer,
+    /// Number of base patches.
+    pub count: u32,
+    /// `ViewParams` per frame slot, `view_stride` bytes apart.
+    views: Buffer,
+    view_stride: u64,
+    slots: usize,
+    set: DescriptorSet,
+}
+
+impl SceneGpu {
+    /// Uploads `patches` and `flags` and makes room for `slots` views.
+    pub fn new(
+        ctx: &Context,
+        layout: &SceneLayout,
+        patches: &[BezierPatch],
+        flags: &[u32],
+        slots: usize,
+    ) -> VkResult<Self> {
+        if patches.is_empty() || patches.len() != flags.len() {
+            return Err(VkError::Usage(format!(
+                "{} patches with {} flag words",
+                patches.len(),
+                flags.len()
+            )));
+        }
+        let floats: Vec<f32> = patches
+            .iter()
+            .flat_map(|p| p.pts.iter().flat_map(|q| q.to_array()))
+            .collect();
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let gpu = MemoryLocation::GpuOnly;
+        let patches = Buffer::with_data(ctx, "base patches", &floats, storage, gpu)?;
+        let flags = Buffer::with_data(ctx, "patch flags", flags, storage, gpu)?;
+        let size = std::mem::size_of::<ViewParams>() as u64;
+        let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
+        let view_stride = size.div_ceil(align) * align;
+        let views = Buffer::new(
+            ctx,
+            "view params (per frame slot)",
+            view_stride * slots.max(1) as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut bound = [BufferBinding::from(&patches); 3];
+        bound[BIND_VIEW as usize] = BufferBinding {
+            buffer: &views,
+            range: size,
+        };
+        bound[BIND_PATCHES as usize] = BufferBinding::from(&patches);
+        bound[BIND_PATCH_FLAGS as usize] = BufferBinding::from(&flags);
+        let set = DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)?;
+        Ok(Self {
+            count: floats.len() as u32 / 48,
+            patches,
+            flags,
+            views,
+            view_stride,
+            slots: slots.max(1),
+            set,
+        })
+    }
+
+    /// Writes slot `slot`'s view constants (host-visible memory; the slot's
+    /// previous frame must have finished).
+    pub fn set_view(&mut self, ctx: &Context, slot: usize, vp: &ViewParams) -> VkResult<()> {
+        if slot >= self.slots {
+            return Err(VkError::Usage(format!(
+                "view slot {slot} of {}",
+                self.slots
+            )));
+        }
+        let offset = slot as u64 * self.view_stride;
+        self.views.write(ctx, offset, std::slice::from_ref(vp))
+    }
+
+    /// Records binding set 0 for `layout` with slot `slot`'s view.
+    pub fn bind(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        bind_point: vk::PipelineBindPoint,
+        layout: &PipelineLayout,
+        slot: usize,
+    ) {
+        let offset = (slot.min(self.slots - 1) as u64 * self.view_stride) as u32;
+        self.set
+            .bind(ctx, cmd, bind_point, layout, SET_SCENE, &[offset]);
+    }
+
+    /// Bytes of the patches and their flags.
+    pub fn bytes(&self) -> u64 {
+        self.patches.size() + self.flags.size()
+    }
+}
