@@ -63,7 +63,10 @@ layout(push_constant) uniform SubdivPush {
     uint idle_poll_cap;   // polls without progress before giving up
 } pc;
 
-const uint STACK_MASK = 31u;  // deque slots: 32 >= STACK_SIZE
+// Deque slots: STACK_SIZE (3 * L_MAX + 1) rounded up to a power of two, so
+// that index & STACK_MASK wraps the deque.
+const uint STACK_SLOTS = STACK_SIZE + 1u;
+const uint STACK_MASK = STACK_SLOTS - 1u;
 
 const uint OUT_CULLED = 0u;
 const uint OUT_BACKFACE = 1u;
@@ -232,7 +235,7 @@ struct Lane {
     uint iterations;
 };
 
-uvec2 stack[32];
+uvec2 stack[STACK_SLOTS];
 
 // The next item: the top of the own stack, else a base patch (one claim per
 // subgroup for all lanes that want one), else the global queue.
@@ -274,7 +277,7 @@ bool take_item(inout Lane st, out uvec2 item) {
 bool settle(inout Lane st, uvec2 item, uint outcome, uvec2 kids[4], bool with_wedges) {
     st.processed += 1u;
     if (outcome == OUT_SPLIT) {
-        if (st.hi - st.lo + 4u > 32u) {
+        if (st.hi - st.lo + 4u > STACK_SLOTS) {
             atomicOr(counters[C_ERROR], ERR_STACK_OVERFLOW);
             return false;
         }

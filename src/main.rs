@@ -36,22 +36,11 @@ enum Command {
     /// triangles and the wedge share, the deepest level reached and how many
     /// nodes hit the depth limit l_max = 10.
     Stats {
-        /// Scene file (TOML).
-        #[arg(long, default_value = commands::DEFAULT_SCENE)]
-        scene: PathBuf,
+        #[command(flatten)]
+        view: ViewArgs,
         /// Camera keyframe: 0 is the scene camera, k ≥ 1 the path's key k.
         #[arg(long, default_value_t = 0)]
         frame: usize,
-        /// Pixel tolerance ε (default: the scene's, else 1).
-        #[arg(long, value_name = "PX")]
-        eps: Option<f64>,
-        /// Blend λ ∈ [0,1] of orthogonal (0) and parametric (1) distance
-        /// (default: the scene's, else 0.5).
-        #[arg(long, value_name = "L")]
-        lambda: Option<f64>,
-        /// Viewport size the tolerance is measured in.
-        #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
-        size: (u32, u32),
         /// Print JSON instead of the table.
         #[arg(long)]
         json: bool,
@@ -67,10 +56,12 @@ enum Command {
     },
     /// Render one frame offscreen: a PNG plus its statistics as JSON.
     ///
-    /// The stats file (same path, .json) holds the scene, device, draw path,
-    /// method, ε, λ, the subdivision counts, queue use, GPU time per pass
-    /// and memory per purpose. Output paths are checked before any GPU work;
-    /// a failed run leaves no file behind.
+    /// The stats file (same path, .json) holds the scene, device, method,
+    /// draw path, ε, λ, the commit the binary was built from, the keys every
+    /// method reports (triangles, culled patches), GPU time per pass, memory
+    /// per purpose, and the method's own figures under `method_stats`
+    /// (subdiv: ready quads, wedges, depth, queue use). Output paths are
+    /// checked before any GPU work; a failed run leaves no file behind.
     Render {
         #[command(flatten)]
         frame: FrameArgs,
@@ -117,12 +108,29 @@ enum Command {
     },
 }
 
-/// Flags shared by the commands that render.
+/// What a view is made of: the scene and the tolerance in an image size.
 #[derive(clap::Args)]
-struct FrameArgs {
+struct ViewArgs {
     /// Scene file (TOML).
     #[arg(long, default_value = commands::DEFAULT_SCENE)]
     scene: PathBuf,
+    /// Pixel tolerance ε (default: the scene's, else 1).
+    #[arg(long, value_name = "PX")]
+    eps: Option<f64>,
+    /// Blend λ ∈ [0,1] of orthogonal (0) and parametric (1) distance
+    /// (default: the scene's, else 0.5).
+    #[arg(long, value_name = "L")]
+    lambda: Option<f64>,
+    /// Image size; ε is measured in its pixels.
+    #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
+    size: (u32, u32),
+}
+
+/// Flags shared by the commands that render.
+#[derive(clap::Args)]
+struct FrameArgs {
+    #[command(flatten)]
+    view: ViewArgs,
     /// Camera keyframe: 0 is the scene camera, k ≥ 1 the path's key k
     /// (validate: every keyframe when not given).
     #[arg(long)]
@@ -132,16 +140,6 @@ struct FrameArgs {
     /// compared with). Planned: subdiv-indirect, tess, tess-reparam, cudatess.
     #[arg(long, default_value = "subdiv")]
     method: String,
-    /// Pixel tolerance ε (default: the scene's, else 1).
-    #[arg(long, value_name = "PX")]
-    eps: Option<f64>,
-    /// Blend λ ∈ [0,1] of orthogonal (0) and parametric (1) distance
-    /// (default: the scene's, else 0.5).
-    #[arg(long, value_name = "L")]
-    lambda: Option<f64>,
-    /// Image size.
-    #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
-    size: (u32, u32),
     /// Draw path of the subdivision methods: auto (mesh shaders where
     /// available), mesh, fallback (compute expansion + vertex shader).
     #[arg(long, default_value = "auto")]
@@ -162,11 +160,11 @@ struct FrameArgs {
 impl FrameArgs {
     fn request(&self) -> GpuRequest {
         GpuRequest {
-            scene: resolve_scene(Some(&self.scene)),
+            scene: resolve_scene(Some(&self.view.scene)),
             method: self.method.clone(),
-            eps: self.eps,
-            lambda: self.lambda,
-            size: self.size,
+            eps: self.view.eps,
+            lambda: self.view.lambda,
+            size: self.view.size,
             draw: self.draw,
             grid: self.grid,
             device: self.device.clone(),
@@ -190,20 +188,17 @@ fn main() -> ExitCode {
 fn run(command: Command) -> anyhow::Result<()> {
     match command {
         Command::Stats {
-            scene,
+            view,
             frame,
-            eps,
-            lambda,
-            size,
             json,
             preview,
             preview_shade,
         } => {
-            let mut args = StatsArgs::new(resolve_scene(Some(&scene)));
+            let mut args = StatsArgs::new(resolve_scene(Some(&view.scene)));
             args.frame = frame;
-            args.eps = eps;
-            args.lambda = lambda;
-            args.size = size;
+            args.eps = view.eps;
+            args.lambda = view.lambda;
+            args.size = view.size;
             args.preview = preview;
             args.preview_shade = preview_shade;
             let report = commands::stats::run(&args)?;

@@ -247,6 +247,16 @@ impl Renderer {
         Ok(())
     }
 
+    /// How many shader modules are loaded (each once per renderer).
+    pub fn shaders_loaded(&self) -> usize {
+        self.shaders.loaded()
+    }
+
+    /// How many methods are made and kept.
+    pub fn methods_made(&self) -> usize {
+        self.methods.len()
+    }
+
     /// The uploaded scene.
     pub fn scene(&self) -> &SceneGpu {
         &self.scene

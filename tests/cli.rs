@@ -125,3 +125,71 @@ fn render_refuses_bad_requests_before_gpu_work() {
     assert!(err.contains("bad.toml:4"), "{err}");
     assert!(!dir.join("out").exists(), "nothing written on failure");
 }
+
+/// A copy of the binary, run from an unrelated directory without the SPIR-V
+/// override, renders with both kinds of method and records the commit it
+/// was built from.
+#[test]
+fn copied_binary_renders_anywhere() {
+    let dir = temp_dir("copied");
+    let copy = dir.join("bezier-subdiv");
+    std::fs::copy(env!("CARGO_BIN_EXE_bezier-subdiv"), &copy).unwrap();
+    let elsewhere = dir.join("cwd");
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml");
+    for method in ["subdiv", "ground-truth"] {
+        let out = dir.join(format!("{method}.png"));
+        let run = Command::new(&copy)
+            .args([
+                "render", "--size", "96x64", "--grid", "8", "--method", method,
+            ])
+            .arg("--scene")
+            .arg(&scene)
+            .arg("--out")
+            .arg(&out)
+            .env_remove("BEZIER_SUBDIV_SPIRV_DIR")
+            .current_dir(&elsewhere)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{method}: {err}");
+        let stats: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
+        assert_eq!(stats["method"], method);
+        assert!(stats["triangles"].as_u64().unwrap() > 0, "{stats}");
+        let commit = stats["commit"].as_str().unwrap();
+        let head = Command::new("git")
+            .args(["rev-parse", "--short=12", "HEAD"])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string());
+        if let Some(head) = head {
+            assert!(
+                commit.starts_with(&head),
+                "built from {commit}, HEAD is {head}"
+            );
+        }
+    }
+    assert!(
+        !elsewhere.join("out").exists(),
+        "nothing written beside the cwd"
+    );
+}
+
+#[test]
+fn ground_truth_grid_must_be_a_power_of_two() {
+    let run = bin()
+        .args(["render", "--method", "ground-truth", "--grid", "48"])
+        .arg("--scene")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(
+        err.contains("--grid") && err.contains("power of two"),
+        "{err}"
+    );
+}

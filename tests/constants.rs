@@ -156,7 +156,10 @@ fn bindings_number_each_set_from_zero() {
 fn grid_counters_hold_the_indexed_draw() {
     // VkDrawIndexedIndirectCommand is five words after G_DRAW_ARGS.
     let (culled, args, words) = (G_CULLED, G_DRAW_ARGS, GRID_WORDS);
-    assert!(culled < args && args + 5 <= words, "{culled} {args} {words}");
+    assert!(
+        culled < args && args + 5 <= words,
+        "{culled} {args} {words}"
+    );
 }
 
 #[test]

@@ -276,12 +276,7 @@ fn shared_edges(patches: &[BezierPatch]) -> Vec<SharedEdge> {
 }
 
 fn test_cameras(patches: &[BezierPatch]) -> Vec<Camera> {
-    let (mut lo, mut hi) = patches[0].bbox();
-    for p in patches {
-        let (a, b) = p.bbox();
-        lo = lo.min(a);
-        hi = hi.max(b);
-    }
+    let (lo, hi) = BezierPatch::bounds(patches).unwrap();
     let c = ((lo + hi) * 0.5).as_dvec3();
     let r = ((hi - lo).length() as f64).max(1e-3);
     [

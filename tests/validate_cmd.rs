@@ -43,3 +43,23 @@ fn kitchen_validates() {
     println!("{}", report.table);
     assert!(report.ok(), "{}", report.table);
 }
+
+/// `validate --method ground-truth` runs the checks that apply: the hole
+/// test on every model, nothing against the oracle.
+#[test]
+fn ground_truth_gets_the_hole_test() {
+    let _gpu = common::gpu();
+    let mut a = args("teapot.toml", DrawRequest::Auto);
+    a.gpu.method = "ground-truth".into();
+    a.gpu.grid = 16;
+    let report = run(&a).unwrap();
+    println!("{}", report.table);
+    assert!(report.ok(), "{}", report.table);
+    let checks: Vec<&str> = report.results.iter().map(|r| r.check.as_str()).collect();
+    assert_eq!(checks, ["holes teapot.bpt", "validation layer"]);
+    assert!(
+        report.table.contains("method ground-truth, grid path"),
+        "{}",
+        report.table
+    );
+}

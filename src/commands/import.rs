@@ -7,7 +7,7 @@ use anyhow::Context as _;
 use glam::Vec3;
 
 use crate::files::{commit, stage, temp_sibling};
-use crate::patch::ops::{max3, min3};
+use crate::patch::bezier::BezierPatch;
 use crate::scene::file::load_model;
 use crate::scene::{bpt, ImportedModel, PatchOrigin};
 
@@ -32,13 +32,7 @@ pub fn summary(path: &Path, model: &ImportedModel) -> String {
         }
     }
     s += &format!("  patches         {}\n", model.patches.len());
-    if let Some(first) = model.patches.first() {
-        let (mut lo, mut hi) = first.bbox();
-        for p in &model.patches {
-            let (a, b) = p.bbox();
-            lo = min3(lo, a);
-            hi = max3(hi, b);
-        }
+    if let Some((lo, hi)) = BezierPatch::bounds(&model.patches) {
         let f = |v: Vec3| format!("[{:.4}, {:.4}, {:.4}]", v.x, v.y, v.z);
         s += &format!("  control box     {} .. {}\n", f(lo), f(hi));
     }

@@ -14,10 +14,8 @@ use ash::vk;
 use super::ReadyStage;
 use crate::constants::{C_DRAW_ARGS, C_EXPAND_ARGS};
 use crate::frame::FrameRec;
-use crate::gpu::{DrawPush, Shaders, COLOR_FORMAT, DEPTH_FORMAT};
-use crate::vk::{
-    buffer_barrier, Access, Context, GraphicsDesc, Pipeline, PipelineLayout, VkResult,
-};
+use crate::gpu::{DrawPush, Shaders};
+use crate::vk::{buffer_barrier, Access, Context, Pipeline, PipelineLayout, VkResult};
 
 /// Bytes of one `VkDrawIndirectCommand`.
 const DRAW_ARGS_STRIDE: u32 = 16;
@@ -35,19 +33,16 @@ impl FallbackDraw {
         shaders: &mut Shaders,
         layout: &PipelineLayout,
     ) -> VkResult<Self> {
-        let expand_shader = shaders.get(ctx, "expand.comp")?;
-        let expand = Pipeline::compute(ctx, "expand", layout, &expand_shader, &[])?;
-        let vert = shaders.get(ctx, "draw.vert")?;
-        let frag = shaders.get(ctx, "draw_vert.frag")?;
-        let desc = GraphicsDesc::new(
+        let expand = shaders.compute(ctx, layout, "expand", "expand.comp")?;
+        let draw = shaders.draw_pipeline(
+            ctx,
+            layout,
             "draw (fallback)",
             &[
-                (vk::ShaderStageFlags::VERTEX, &vert),
-                (vk::ShaderStageFlags::FRAGMENT, &frag),
+                (vk::ShaderStageFlags::VERTEX, "draw.vert"),
+                (vk::ShaderStageFlags::FRAGMENT, "draw_vert.frag"),
             ],
-        )
-        .targets(&[COLOR_FORMAT], DEPTH_FORMAT);
-        let draw = Pipeline::graphics(ctx, layout, &desc)?;
+        )?;
         Ok(Self { expand, draw })
     }
 

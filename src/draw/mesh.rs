@@ -14,8 +14,8 @@ use ash::vk;
 use super::ReadyStage;
 use crate::constants::C_MESH_ARGS;
 use crate::frame::FrameRec;
-use crate::gpu::{DrawPush, Shaders, COLOR_FORMAT, DEPTH_FORMAT};
-use crate::vk::{Context, GraphicsDesc, Pipeline, PipelineLayout, VkError, VkResult};
+use crate::gpu::{DrawPush, Shaders};
+use crate::vk::{Context, Pipeline, PipelineLayout, VkError, VkResult};
 
 /// Bytes of one `VkDrawMeshTasksIndirectCommandEXT` (x, y, z).
 const MESH_ARGS_STRIDE: u32 = 12;
@@ -32,21 +32,17 @@ impl MeshDraw {
         shaders: &mut Shaders,
         layout: &PipelineLayout,
     ) -> VkResult<Self> {
-        let task = shaders.get(ctx, "draw.task")?;
-        let mesh = shaders.get(ctx, "draw.mesh")?;
-        let frag = shaders.get(ctx, "draw_mesh.frag")?;
-        let desc = GraphicsDesc::new(
+        let pipeline = shaders.draw_pipeline(
+            ctx,
+            layout,
             "draw (task + mesh)",
             &[
-                (vk::ShaderStageFlags::TASK_EXT, &task),
-                (vk::ShaderStageFlags::MESH_EXT, &mesh),
-                (vk::ShaderStageFlags::FRAGMENT, &frag),
+                (vk::ShaderStageFlags::TASK_EXT, "draw.task"),
+                (vk::ShaderStageFlags::MESH_EXT, "draw.mesh"),
+                (vk::ShaderStageFlags::FRAGMENT, "draw_mesh.frag"),
             ],
-        )
-        .targets(&[COLOR_FORMAT], DEPTH_FORMAT);
-        Ok(Self {
-            pipeline: Pipeline::graphics(ctx, layout, &desc)?,
-        })
+        )?;
+        Ok(Self { pipeline })
     }
 
     /// Records the indirect mesh draw (inside rendering).

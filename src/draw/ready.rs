@@ -8,8 +8,8 @@ use ash::vk;
 use crate::constants::*;
 use crate::patch::quadnode::QuadNode;
 use crate::vk::{
-    buffer_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation,
-    PipelineLayout, SetLayout, VkError, VkResult,
+    fill_buffer, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout,
+    SetLayout, VkError, VkResult,
 };
 
 /// Sizes of the ready-list buffers.
@@ -143,24 +143,7 @@ impl ReadyList {
     /// Records zeroing the counters, with barriers from any earlier use and
     /// towards every later one.
     pub fn record_reset(&self, ctx: &Context, cmd: vk::CommandBuffer) {
-        buffer_barrier(
-            ctx,
-            cmd,
-            &self.counters,
-            Access::ALL,
-            Access::TRANSFER_WRITE,
-        );
-        unsafe {
-            ctx.device()
-                .cmd_fill_buffer(cmd, self.counters.handle(), 0, vk::WHOLE_SIZE, 0)
-        };
-        buffer_barrier(
-            ctx,
-            cmd,
-            &self.counters,
-            Access::TRANSFER_WRITE,
-            Access::ALL,
-        );
+        fill_buffer(ctx, cmd, &self.counters, 0);
     }
 
     /// The counters (waits for all submitted work).

@@ -24,9 +24,8 @@ pub struct ReadySort {
 impl ReadySort {
     /// Creates the pipeline with the ready-list pass layout.
     pub fn new(ctx: &Context, shaders: &mut Shaders, layout: &PipelineLayout) -> VkResult<Self> {
-        let shader = shaders.get(ctx, "sort.comp")?;
         Ok(Self {
-            pipeline: Pipeline::compute(ctx, "sort ready list", layout, &shader, &[])?,
+            pipeline: shaders.compute(ctx, layout, "sort ready list", "sort.comp")?,
         })
     }
 

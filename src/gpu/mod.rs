@@ -10,7 +10,9 @@ pub mod target;
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::vk::{Context, ShaderModule, VkResult};
+use ash::vk;
+
+use crate::vk::{Context, GraphicsDesc, Pipeline, PipelineLayout, ShaderModule, VkResult};
 
 pub use blocks::{DrawPush, GpuBlock, GridPush, ListPush, SubdivPush};
 pub use scene::{all_stages, SceneGpu, SceneLayout};
@@ -32,6 +34,38 @@ impl Shaders {
         let m = Arc::new(ShaderModule::load(ctx, name)?);
         self.modules.insert(name.to_owned(), Arc::clone(&m));
         Ok(m)
+    }
+
+    /// A compute pipeline from shader `file` with `layout`.
+    pub fn compute(
+        &mut self,
+        ctx: &Context,
+        layout: &PipelineLayout,
+        name: &str,
+        file: &str,
+    ) -> VkResult<Pipeline> {
+        let module = self.get(ctx, file)?;
+        Pipeline::compute(ctx, name, layout, &module, &[])
+    }
+
+    /// A graphics pipeline drawing into the [`DrawTarget`]'s formats from
+    /// the shader files of `stages`, with the default state of
+    /// [`GraphicsDesc::new`] (no culling: SHADE_KEY shows back faces and the
+    /// teapot is open; counter-clockwise front faces; opaque depth).
+    pub fn draw_pipeline(
+        &mut self,
+        ctx: &Context,
+        layout: &PipelineLayout,
+        name: &str,
+        stages: &[(vk::ShaderStageFlags, &str)],
+    ) -> VkResult<Pipeline> {
+        let modules = stages
+            .iter()
+            .map(|(stage, file)| Ok((*stage, self.get(ctx, file)?)))
+            .collect::<VkResult<Vec<_>>>()?;
+        let refs: Vec<_> = modules.iter().map(|(s, m)| (*s, m.as_ref())).collect();
+        let desc = GraphicsDesc::new(name, &refs).targets(&[COLOR_FORMAT], DEPTH_FORMAT);
+        Pipeline::graphics(ctx, layout, &desc)
     }
 
     /// How many modules are loaded.

@@ -24,9 +24,9 @@ use serde_json::json;
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
-use crate::gpu::{DrawPush, GridPush, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::gpu::{DrawPush, GridPush};
 use crate::vk::{
-    buffer_barrier, memory_barrier, Access, Buffer, Context, DescriptorSet, GraphicsDesc,
+    buffer_barrier, fill_buffer, memory_barrier, Access, Buffer, Context, DescriptorSet,
     MemoryLocation, Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
 };
 
@@ -127,19 +127,18 @@ impl GroundTruth {
             &[&set_layout],
             scene.stages(),
         )?;
-        let shader = setup.shaders.get(ctx, "grid_cull.comp")?;
-        let cull = Pipeline::compute(ctx, "grid cull", &cull_layout, &shader, &[])?;
-        let vert = setup.shaders.get(ctx, "grid.vert")?;
-        let frag = setup.shaders.get(ctx, "draw_vert.frag")?;
-        let desc = GraphicsDesc::new(
+        let cull = setup
+            .shaders
+            .compute(ctx, &cull_layout, "grid cull", "grid_cull.comp")?;
+        let draw = setup.shaders.draw_pipeline(
+            ctx,
+            &draw_layout,
             "draw (grid)",
             &[
-                (vk::ShaderStageFlags::VERTEX, &vert),
-                (vk::ShaderStageFlags::FRAGMENT, &frag),
+                (vk::ShaderStageFlags::VERTEX, "grid.vert"),
+                (vk::ShaderStageFlags::FRAGMENT, "draw_vert.frag"),
             ],
-        )
-        .targets(&[COLOR_FORMAT], DEPTH_FORMAT);
-        let draw = Pipeline::graphics(ctx, &draw_layout, &desc)?;
+        )?;
         let indices = grid_index_buffer(ctx, grid)?;
         let counters = Buffer::new(
             ctx,
@@ -196,24 +195,7 @@ impl GroundTruth {
     fn record_cull(&self, f: &mut FrameRec<'_>, visible: &Visible) -> VkResult<()> {
         let (ctx, cmd) = (f.ctx, f.cmd);
         let per_patch = 6 * self.grid * self.grid;
-        buffer_barrier(
-            ctx,
-            cmd,
-            &self.counters,
-            Access::ALL,
-            Access::TRANSFER_WRITE,
-        );
-        unsafe {
-            ctx.device()
-                .cmd_fill_buffer(cmd, self.counters.handle(), 0, vk::WHOLE_SIZE, 0);
-        }
-        buffer_barrier(
-            ctx,
-            cmd,
-            &self.counters,
-            Access::TRANSFER_WRITE,
-            Access::TRANSFER_WRITE,
-        );
+        fill_buffer(ctx, cmd, &self.counters, 0);
         unsafe {
             ctx.device().cmd_update_buffer(
                 cmd,

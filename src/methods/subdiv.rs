@@ -147,8 +147,9 @@ impl Subdiv {
             &[stage.set_layout(), &queue_layout],
             vk::ShaderStageFlags::COMPUTE,
         )?;
-        let shader = setup.shaders.get(ctx, "subdivide.comp")?;
-        let pipeline = Pipeline::compute(ctx, "subdivide", &layout, &shader, &[])?;
+        let pipeline = setup
+            .shaders
+            .compute(ctx, &layout, "subdivide", "subdivide.comp")?;
         Ok(Self {
             stage,
             queue,

@@ -151,6 +151,18 @@ impl BezierPatch {
         (lo, hi)
     }
 
+    /// The box of the control points of all `patches` (which contains the
+    /// surfaces), or `None` for none.
+    pub fn bounds(patches: &[BezierPatch]) -> Option<(Vec3, Vec3)> {
+        let (mut lo, mut hi) = patches.first()?.bbox();
+        for p in patches {
+            let (a, b) = p.bbox();
+            lo = super::ops::min3(lo, a);
+            hi = super::ops::max3(hi, b);
+        }
+        Some((lo, hi))
+    }
+
     /// True when every coordinate is finite.
     pub fn is_finite(&self) -> bool {
         self.pts.iter().all(|p| p.is_finite())

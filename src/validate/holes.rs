@@ -62,12 +62,7 @@ pub fn reference_grid(patches: usize) -> u32 {
 
 /// Cameras all around the model's bounding box, outside it.
 pub fn hole_cameras(patches: &[BezierPatch]) -> Vec<Camera> {
-    let (mut lo, mut hi) = patches[0].bbox();
-    for p in patches {
-        let (a, b) = p.bbox();
-        lo = lo.min(a);
-        hi = hi.max(b);
-    }
+    let (lo, hi) = BezierPatch::bounds(patches).unwrap_or_default();
     let c = ((lo + hi) * 0.5).as_dvec3();
     let r = (((hi - lo).length() * 0.5) as f64).max(1e-3);
     let dirs = [

@@ -111,6 +111,17 @@ pub fn buffer_barrier(
     unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
 }
 
+/// Records filling the whole of `buffer` with the word `value`, after every
+/// earlier use of it and before every later one.
+pub fn fill_buffer(ctx: &Context, cmd: vk::CommandBuffer, buffer: &Buffer, value: u32) {
+    buffer_barrier(ctx, cmd, buffer, Access::ALL, Access::TRANSFER_WRITE);
+    unsafe {
+        ctx.device()
+            .cmd_fill_buffer(cmd, buffer.handle(), 0, vk::WHOLE_SIZE, value)
+    };
+    buffer_barrier(ctx, cmd, buffer, Access::TRANSFER_WRITE, Access::ALL);
+}
+
 /// Records a global memory barrier (all resources).
 pub fn memory_barrier(ctx: &Context, cmd: vk::CommandBuffer, src: Access, dst: Access) {
     let barrier = [vk::MemoryBarrier2::default()

@@ -139,74 +139,10 @@ pub struct Context {
 impl Context {
     /// Creates a context on the device `options.selector` picks.
     pub fn new(options: &ContextOptions) -> VkResult<Self> {
-        let entry =
-            unsafe { ash::Entry::load() }.map_err(|e| VkError::LoaderMissing(e.to_string()))?;
-        let loader_version = unsafe { entry.try_enumerate_instance_version() }
-            .ctx("vkEnumerateInstanceVersion")?
-            .unwrap_or(vk::API_VERSION_1_0);
-        if loader_version < vk::API_VERSION_1_3 {
-            return Err(VkError::LoaderTooOld {
-                found: version_string(loader_version),
-            });
-        }
+        let entry = load_entry()?;
         let support = debug::probe(&entry, options.validation)?;
         let debug_state = Arc::new(DebugState::default());
-
-        let app_info = vk::ApplicationInfo::default()
-            .application_name(c"bezier-subdiv")
-            .application_version(vk::make_api_version(0, 0, 1, 0))
-            .engine_name(c"bezier-subdiv")
-            .api_version(vk::API_VERSION_1_3);
-        let layers = if options.validation {
-            vec![VALIDATION_LAYER.as_ptr()]
-        } else {
-            Vec::new()
-        };
-        let mut extensions = Vec::new();
-        if support.debug_utils {
-            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
-        }
-        let want_sync = options.validation && options.sync_validation;
-        if want_sync && support.validation_features {
-            extensions.push(ash::ext::validation_features::NAME.as_ptr());
-        } else if want_sync {
-            log::warn!("the validation layer lacks VK_EXT_validation_features; synchronization validation is off");
-        }
-        let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
-        let mut features =
-            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
-        let mut chained_messenger = debug::messenger_info(&debug_state);
-        let mut create = vk::InstanceCreateInfo::default()
-            .application_info(&app_info)
-            .enabled_layer_names(&layers)
-            .enabled_extension_names(&extensions);
-        if options.validation && support.debug_utils {
-            create = create.push_next(&mut chained_messenger);
-        }
-        if want_sync && support.validation_features {
-            create = create.push_next(&mut features);
-        }
-        let instance = match unsafe { entry.create_instance(&create, None) } {
-            Ok(instance) => instance,
-            Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => {
-                return Err(VkError::NoSuitableDevice {
-                    devices: String::from(
-                        "  (none: the Vulkan loader found no driver; install your GPU's Vulkan \
-                         driver, or `mesa-vulkan-drivers` for the lavapipe CPU device)",
-                    ),
-                })
-            }
-            Err(vk::Result::ERROR_LAYER_NOT_PRESENT) => {
-                return Err(VkError::ValidationLayerMissing)
-            }
-            Err(result) => {
-                return Err(VkError::Call {
-                    context: String::from("vkCreateInstance"),
-                    result,
-                })
-            }
-        };
-
+        let instance = create_instance(&entry, options, &support, &debug_state)?;
         // From here on, failures must destroy what was made; `Partial`
         // does that on drop unless disarmed.
         let mut partial = Partial {
@@ -228,43 +164,13 @@ impl Context {
         let candidate = &candidates[chosen];
         let (device, queue) = device::create_device(&instance, candidate)?;
         partial.device = Some(device.clone());
-
-        let mut info = candidate.info.clone();
-        // A mesh-shader-less device reports no mesh limits either.
-        if !info.features.mesh_shader {
-            info.mesh = None;
-        }
-        log::info!(
-            "Vulkan device {}: {} ({}, driver {} {}, Vulkan {}){}",
-            info.index,
-            info.name,
-            info.kind_label(),
-            info.driver_name,
-            info.driver_info,
-            info.api_version_string(),
-            if options.validation {
-                ", validation on"
-            } else {
-                ""
-            }
-        );
-
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device: candidate.handle,
-            debug_settings: AllocatorDebugSettings::default(),
-            buffer_device_address: false,
-            // Small first blocks: tests make many tiny buffers and lavapipe
-            // backs "device memory" with host RAM.
-            allocation_sizes: AllocationSizes::new(16 << 20, 16 << 20)
-                .with_max_device_memblock_size(256 << 20)
-                .with_max_host_memblock_size(256 << 20),
-        })
-        .map_err(|source| VkError::Allocation {
-            name: String::from("allocator"),
-            source,
-        })?;
+        let info = enabled_info(candidate, options.validation);
+        let allocator = create_allocator(&instance, &device, candidate.handle)?;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(info.queue_family)
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT);
+        let pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.ctx("vkCreateCommandPool")?;
 
         let debug_utils = support
             .debug_utils
@@ -273,13 +179,6 @@ impl Context {
             .features
             .mesh_shader
             .then(|| ash::ext::mesh_shader::Device::new(&instance, &device));
-
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(info.queue_family)
-            .flags(vk::CommandPoolCreateFlags::TRANSIENT);
-        let pool =
-            unsafe { device.create_command_pool(&pool_info, None) }.ctx("vkCreateCommandPool")?;
-
         let messenger = partial.messenger.take();
         partial.disarm();
         let core = Arc::new(Core {
@@ -458,6 +357,121 @@ impl Drop for Context {
             self.core.hung.store(true, Ordering::SeqCst);
         }
     }
+}
+
+/// Loads the Vulkan loader and checks it speaks Vulkan 1.3.
+fn load_entry() -> VkResult<ash::Entry> {
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| VkError::LoaderMissing(e.to_string()))?;
+    let loader_version = unsafe { entry.try_enumerate_instance_version() }
+        .ctx("vkEnumerateInstanceVersion")?
+        .unwrap_or(vk::API_VERSION_1_0);
+    if loader_version < vk::API_VERSION_1_3 {
+        return Err(VkError::LoaderTooOld {
+            found: version_string(loader_version),
+        });
+    }
+    Ok(entry)
+}
+
+/// The instance: Vulkan 1.3, with the validation layer (and its messenger
+/// chained, so instance creation itself is reported) when asked, and
+/// synchronization validation where the layer offers it.
+fn create_instance(
+    entry: &ash::Entry,
+    options: &ContextOptions,
+    support: &debug::DebugSupport,
+    debug_state: &Arc<DebugState>,
+) -> VkResult<ash::Instance> {
+    let app_info = vk::ApplicationInfo::default()
+        .application_name(c"bezier-subdiv")
+        .application_version(vk::make_api_version(0, 0, 1, 0))
+        .engine_name(c"bezier-subdiv")
+        .api_version(vk::API_VERSION_1_3);
+    let layers = if options.validation {
+        vec![VALIDATION_LAYER.as_ptr()]
+    } else {
+        Vec::new()
+    };
+    let mut extensions = Vec::new();
+    if support.debug_utils {
+        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+    }
+    let want_sync = options.validation && options.sync_validation;
+    if want_sync && support.validation_features {
+        extensions.push(ash::ext::validation_features::NAME.as_ptr());
+    } else if want_sync {
+        log::warn!("the validation layer lacks VK_EXT_validation_features; synchronization validation is off");
+    }
+    let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+    let mut chained_messenger = debug::messenger_info(debug_state);
+    let mut create = vk::InstanceCreateInfo::default()
+        .application_info(&app_info)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions);
+    if options.validation && support.debug_utils {
+        create = create.push_next(&mut chained_messenger);
+    }
+    if want_sync && support.validation_features {
+        create = create.push_next(&mut features);
+    }
+    match unsafe { entry.create_instance(&create, None) } {
+        Ok(instance) => Ok(instance),
+        Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => Err(VkError::NoSuitableDevice {
+            devices: String::from(
+                "  (none: the Vulkan loader found no driver; install your GPU's Vulkan \
+                 driver, or `mesa-vulkan-drivers` for the lavapipe CPU device)",
+            ),
+        }),
+        Err(vk::Result::ERROR_LAYER_NOT_PRESENT) => Err(VkError::ValidationLayerMissing),
+        Err(result) => Err(VkError::Call {
+            context: String::from("vkCreateInstance"),
+            result,
+        }),
+    }
+}
+
+/// The chosen device's description as enabled (a device without mesh
+/// shaders reports no mesh limits either), logged.
+fn enabled_info(candidate: &device::Candidate, validation: bool) -> DeviceInfo {
+    let mut info = candidate.info.clone();
+    if !info.features.mesh_shader {
+        info.mesh = None;
+    }
+    log::info!(
+        "Vulkan device {}: {} ({}, driver {} {}, Vulkan {}){}",
+        info.index,
+        info.name,
+        info.kind_label(),
+        info.driver_name,
+        info.driver_info,
+        info.api_version_string(),
+        if validation { ", validation on" } else { "" }
+    );
+    info
+}
+
+/// The memory allocator. Small first blocks: tests make many tiny buffers
+/// and lavapipe backs "device memory" with host RAM.
+fn create_allocator(
+    instance: &ash::Instance,
+    device: &ash::Device,
+    physical_device: vk::PhysicalDevice,
+) -> VkResult<Allocator> {
+    Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device,
+        debug_settings: AllocatorDebugSettings::default(),
+        buffer_device_address: false,
+        allocation_sizes: AllocationSizes::new(16 << 20, 16 << 20)
+            .with_max_device_memblock_size(256 << 20)
+            .with_max_host_memblock_size(256 << 20),
+    })
+    .map_err(|source| VkError::Allocation {
+        name: String::from("allocator"),
+        source,
+    })
 }
 
 /// A timeout as Vulkan's nanosecond count, saturating.

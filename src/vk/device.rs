@@ -108,6 +108,42 @@ fn has_extension(list: &[vk::ExtensionProperties], name: &std::ffi::CStr) -> boo
 }
 
 fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkResult<Candidate> {
+    let (mut info, mut problems) = basic_info(instance, index, pd);
+    if info.api_version < vk::API_VERSION_1_3 {
+        // Vulkan 1.2/1.3 property and feature structs may not be queried on
+        // an older device, so stop at the basic properties.
+        problems.push(format!(
+            "supports Vulkan {} only; bezier-subdiv needs 1.3 (update the driver)",
+            version_string(info.api_version)
+        ));
+        return Ok(Candidate {
+            handle: pd,
+            info,
+            problems,
+        });
+    }
+    let extensions = unsafe { instance.enumerate_device_extension_properties(pd) }
+        .ctx("vkEnumerateDeviceExtensionProperties")?;
+    let mesh_ext = has_extension(&extensions, ash::ext::mesh_shader::NAME);
+    let mesh_props = read_properties(instance, pd, mesh_ext, &mut info);
+    problems.extend(read_features(instance, pd, mesh_ext, &mut info));
+    if info.features.mesh_shader {
+        info.mesh = Some(mesh_info(&mesh_props));
+    }
+    Ok(Candidate {
+        handle: pd,
+        info,
+        problems,
+    })
+}
+
+/// What Vulkan 1.0 properties say: name, kind, limits, the queue family
+/// with graphics and compute; and the problem when there is none.
+fn basic_info(
+    instance: &ash::Instance,
+    index: usize,
+    pd: vk::PhysicalDevice,
+) -> (DeviceInfo, Vec<String>) {
     let base = unsafe { instance.get_physical_device_properties(pd) };
     let name = base
         .device_name_as_c_str()
@@ -120,7 +156,7 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
             && f.queue_flags
                 .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
     });
-    let mut info = DeviceInfo {
+    let info = DeviceInfo {
         index,
         name: name.clone(),
         driver_name: String::new(),
@@ -147,24 +183,17 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
             "no queue family with both graphics and compute",
         ));
     }
-    if base.api_version < vk::API_VERSION_1_3 {
-        // Vulkan 1.2/1.3 property and feature structs may not be queried on
-        // an older device, so stop at the basic properties.
-        problems.push(format!(
-            "supports Vulkan {} only; bezier-subdiv needs 1.3 (update the driver)",
-            version_string(base.api_version)
-        ));
-        return Ok(Candidate {
-            handle: pd,
-            info,
-            problems,
-        });
-    }
+    (info, problems)
+}
 
-    let extensions = unsafe { instance.enumerate_device_extension_properties(pd) }
-        .ctx("vkEnumerateDeviceExtensionProperties")?;
-    let mesh_ext = has_extension(&extensions, ash::ext::mesh_shader::NAME);
-
+/// Driver identity and subgroup sizes into `info`; returns the mesh-shader
+/// properties (zero without the extension).
+fn read_properties(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    mesh_ext: bool,
+    info: &mut DeviceInfo,
+) -> vk::PhysicalDeviceMeshShaderPropertiesEXT<'static> {
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut p11 = vk::PhysicalDeviceVulkan11Properties::default();
     let mut p13 = vk::PhysicalDeviceVulkan13Properties::default();
@@ -177,7 +206,29 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
         props = props.push_next(&mut pmesh);
     }
     unsafe { instance.get_physical_device_properties2(pd, &mut props) };
+    let text = |r: Result<&std::ffi::CStr, _>| {
+        r.map(|s: &std::ffi::CStr| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    info.driver_name = text(driver.driver_name_as_c_str());
+    info.driver_info = text(driver.driver_info_as_c_str());
+    info.driver_id = driver.driver_id;
+    info.is_cpu = looks_like_cpu(info.kind, driver.driver_id, &info.name);
+    info.subgroup_size = p11.subgroup_size;
+    info.min_subgroup_size = p13.min_subgroup_size;
+    info.max_subgroup_size = p13.max_subgroup_size;
+    // Detached from the chain it was queried through.
+    pmesh.p_next = std::ptr::null_mut();
+    pmesh
+}
 
+/// The optional features into `info`; returns the required ones missing.
+fn read_features(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    mesh_ext: bool,
+    info: &mut DeviceInfo,
+) -> Vec<String> {
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut fmesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();
@@ -189,35 +240,9 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
     }
     unsafe { instance.get_physical_device_features2(pd, &mut feats) };
     let f10 = feats.features;
-
-    info.driver_name = driver
-        .driver_name_as_c_str()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    info.driver_info = driver
-        .driver_info_as_c_str()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    info.driver_id = driver.driver_id;
-    info.is_cpu = looks_like_cpu(kind, driver.driver_id, &name);
-    info.subgroup_size = p11.subgroup_size;
-    info.min_subgroup_size = p13.min_subgroup_size;
-    info.max_subgroup_size = p13.max_subgroup_size;
-
-    for (ok, what) in [
-        (f13.synchronization2, "synchronization2"),
-        (f13.dynamic_rendering, "dynamicRendering"),
-        (f13.maintenance4, "maintenance4"),
-    ] {
-        if ok == vk::FALSE {
-            problems.push(format!("feature `{what}` missing"));
-        }
-    }
-
     let on = |b: vk::Bool32| b == vk::TRUE;
-    let has_mesh = mesh_ext && on(fmesh.task_shader) && on(fmesh.mesh_shader);
     info.features = OptionalFeatures {
-        mesh_shader: has_mesh,
+        mesh_shader: mesh_ext && on(fmesh.task_shader) && on(fmesh.mesh_shader),
         multi_draw_indirect: on(f10.multi_draw_indirect),
         draw_indirect_count: on(f12.draw_indirect_count),
         vertex_pipeline_stores_and_atomics: on(f10.vertex_pipeline_stores_and_atomics),
@@ -229,26 +254,29 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
         tessellation_shader: on(f10.tessellation_shader),
         geometry_shader: on(f10.geometry_shader),
     };
-    if has_mesh {
-        info.mesh = Some(MeshShaderInfo {
-            max_mesh_output_vertices: pmesh.max_mesh_output_vertices,
-            max_mesh_output_primitives: pmesh.max_mesh_output_primitives,
-            max_mesh_work_group_invocations: pmesh.max_mesh_work_group_invocations,
-            max_task_work_group_invocations: pmesh.max_task_work_group_invocations,
-            max_task_work_group_count: pmesh.max_task_work_group_count,
-            max_task_work_group_total_count: pmesh.max_task_work_group_total_count,
-            max_task_payload_size: pmesh.max_task_payload_size,
-            max_preferred_mesh_work_group_invocations: pmesh
-                .max_preferred_mesh_work_group_invocations,
-            max_preferred_task_work_group_invocations: pmesh
-                .max_preferred_task_work_group_invocations,
-        });
+    [
+        (f13.synchronization2, "synchronization2"),
+        (f13.dynamic_rendering, "dynamicRendering"),
+        (f13.maintenance4, "maintenance4"),
+    ]
+    .into_iter()
+    .filter(|(ok, _)| *ok == vk::FALSE)
+    .map(|(_, what)| format!("feature `{what}` missing"))
+    .collect()
+}
+
+fn mesh_info(p: &vk::PhysicalDeviceMeshShaderPropertiesEXT<'_>) -> MeshShaderInfo {
+    MeshShaderInfo {
+        max_mesh_output_vertices: p.max_mesh_output_vertices,
+        max_mesh_output_primitives: p.max_mesh_output_primitives,
+        max_mesh_work_group_invocations: p.max_mesh_work_group_invocations,
+        max_task_work_group_invocations: p.max_task_work_group_invocations,
+        max_task_work_group_count: p.max_task_work_group_count,
+        max_task_work_group_total_count: p.max_task_work_group_total_count,
+        max_task_payload_size: p.max_task_payload_size,
+        max_preferred_mesh_work_group_invocations: p.max_preferred_mesh_work_group_invocations,
+        max_preferred_task_work_group_invocations: p.max_preferred_task_work_group_invocations,
     }
-    Ok(Candidate {
-        handle: pd,
-        info,
-        problems,
-    })
 }
 
 fn limits_from(l: &vk::PhysicalDeviceLimits) -> DeviceLimits {

@@ -14,7 +14,9 @@ pub mod pipeline;
 pub mod query;
 pub mod shader;
 
-pub use commands::{buffer_barrier, host_read_barrier, image_barrier, memory_barrier, Access};
+pub use commands::{
+    buffer_barrier, fill_buffer, host_read_barrier, image_barrier, memory_barrier, Access,
+};
 pub use context::{Context, ContextOptions, DEFAULT_FENCE_TIMEOUT};
 pub use device::DeviceSelector;
 pub use error::{VkError, VkResult};

@@ -113,12 +113,7 @@ pub fn model(file: &str, model_index: u32) -> (Vec<BezierPatch>, Vec<u32>) {
 }
 
 pub fn bounds(patches: &[BezierPatch]) -> (DVec3, f64) {
-    let (mut lo, mut hi) = patches[0].bbox();
-    for p in patches {
-        let (a, b) = p.bbox();
-        lo = lo.min(a);
-        hi = hi.max(b);
-    }
+    let (lo, hi) = BezierPatch::bounds(patches).unwrap();
     (((lo + hi) * 0.5).as_dvec3(), (hi - lo).length() as f64)
 }
 

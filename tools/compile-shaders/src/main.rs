@@ -53,6 +53,8 @@
 mod constants;
 mod header;
 mod shaders;
+#[cfg(test)]
+mod temp_dir;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

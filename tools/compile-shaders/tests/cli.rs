@@ -3,28 +3,24 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// A fresh directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
+#[path = "../src/temp_dir.rs"]
+mod temp_dir;
+use temp_dir::TempDir;
 
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "compile-shaders-cli-{tag}-{}-{n}",
-            std::process::id()
-        ));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(dir.join("glsl/common")).unwrap();
-        Self(dir)
-    }
+/// A tool checkout in a temp dir: glsl/common made, and the tool run on it.
+trait Checkout {
+    fn checkout(tag: &str) -> Self;
+    fn run(&self, extra: &[&str]) -> Output;
+    fn spv(&self, name: &str) -> PathBuf;
+    fn header(&self) -> PathBuf;
+}
 
-    fn put(&self, rel: &str, text: &str) {
-        let path = self.0.join(rel);
-        fs::create_dir_all(path.parent().unwrap()).unwrap();
-        fs::write(path, text).unwrap();
+impl Checkout for TempDir {
+    fn checkout(tag: &str) -> Self {
+        let dir = TempDir::new(&format!("cli-{tag}"));
+        fs::create_dir_all(dir.0.join("glsl/common")).unwrap();
+        dir
     }
 
     /// Runs the tool on this directory's glsl/ and spirv/, from inside it.
@@ -47,12 +43,6 @@ impl TempDir {
     }
 }
 
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
-
 fn text(out: &Output) -> String {
     format!(
         "{}{}",
@@ -71,7 +61,7 @@ fn is_spirv(path: &Path) -> bool {
 
 #[test]
 fn check_reports_stale_missing_and_orphaned_then_passes_after_compiling() {
-    let dir = TempDir::new("check");
+    let dir = TempDir::checkout("check");
     dir.put("glsl/common/k.glsl", "const uint K = 3u;\n");
     dir.put("glsl/a.comp", COMP);
     dir.put("glsl/b.comp", COMP);
@@ -123,7 +113,7 @@ fn check_reports_stale_missing_and_orphaned_then_passes_after_compiling() {
 
 #[test]
 fn a_compile_error_names_the_file_and_writes_nothing() {
-    let dir = TempDir::new("error");
+    let dir = TempDir::checkout("error");
     dir.put("glsl/common/k.glsl", "const uint K = 3u;\n");
     dir.put("glsl/good.comp", COMP);
     dir.put(
@@ -148,7 +138,7 @@ fn a_compile_error_names_the_file_and_writes_nothing() {
 
 #[test]
 fn a_run_writes_the_constants_header_first_and_check_catches_a_hand_edit() {
-    let dir = TempDir::new("header");
+    let dir = TempDir::checkout("header");
     // The shader needs the header, which does not exist yet: a run must
     // write it before compiling.
     dir.put(
@@ -217,7 +207,7 @@ fn a_run_writes_the_constants_header_first_and_check_catches_a_hand_edit() {
 
 #[test]
 fn an_empty_glsl_directory_compiles_and_checks_clean() {
-    let dir = TempDir::new("empty");
+    let dir = TempDir::checkout("empty");
     let out = dir.run(&[]);
     assert!(out.status.success(), "{}", text(&out));
     assert!(text(&out).contains("no shaders"), "{}", text(&out));
@@ -227,7 +217,7 @@ fn an_empty_glsl_directory_compiles_and_checks_clean() {
 
 #[test]
 fn help_and_bad_arguments() {
-    let dir = TempDir::new("args");
+    let dir = TempDir::checkout("args");
     let out = dir.run(&["--help"]);
     assert!(out.status.success());
     assert!(text(&out).contains("--check"));
@@ -238,7 +228,7 @@ fn help_and_bad_arguments() {
 
 #[test]
 fn a_missing_glsl_directory_is_an_error() {
-    let dir = TempDir::new("noglsl");
+    let dir = TempDir::checkout("noglsl");
     let out = dir.run(&["--glsl", "nowhere"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out).contains("nowhere"), "{}", text(&out));

@@ -1,0 +1,235 @@
+//! The renderer as a long-lived object (lavapipe, validation on): frames in
+//! flight keep their own figures, switching methods and views reuses the
+//! uploaded scene and the loaded shaders, a failed scene replacement
+//! leaves the old state usable, and work that outlives its fence wait keeps
+//! everything it uses alive.
+
+mod common;
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use bezier_subdiv::constants::SHADE_NORMAL;
+use bezier_subdiv::draw::DrawPath;
+use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::{MethodOptions, RenderError};
+use bezier_subdiv::patch::oracle::subdivide;
+use bezier_subdiv::renderer::{Renderer, RendererOptions};
+use bezier_subdiv::scene::file::SceneGeometry;
+use bezier_subdiv::vk::{Context, ContextOptions, VkError};
+
+const SIZE: (u32, u32) = (256, 144);
+
+fn views() -> (SceneGeometry, Vec<View>) {
+    let (s, geo) = common::scene("teapot.toml");
+    let views = (0..s.frame_count())
+        .map(|k| View::new(&s.frame_camera(k).unwrap(), SIZE, 1.0, 0.5, SHADE_NORMAL))
+        .collect();
+    (geo, views)
+}
+
+fn subdiv(gpu: &common::Gpu, geo: &SceneGeometry) -> Renderer {
+    common::renderer(gpu, geo, "subdiv", SIZE, MethodOptions::new(DrawPath::Mesh))
+}
+
+fn oracle_quads(geo: &SceneGeometry, v: &View) -> u64 {
+    subdivide(&geo.patches, &geo.flags, &v.params).ready.len() as u64
+}
+
+/// Two frames in flight at once each report their own view's figures; a
+/// frame whose slot was reused before it was collected is refused.
+#[test]
+fn frames_in_flight_keep_their_own_figures() {
+    let gpu = common::gpu();
+    let (geo, views) = views();
+    let mut r = subdiv(&gpu, &geo);
+    let (a, b) = (&views[0], &views[1]);
+    let ta = r.submit(a).unwrap();
+    let tb = r.submit(b).unwrap();
+    let (ra, _) = r.collect(ta).unwrap();
+    let (rb, _) = r.collect(tb).unwrap();
+    let (qa, qb) = (oracle_quads(&geo, a), oracle_quads(&geo, b));
+    assert_ne!(
+        qa, qb,
+        "the two views must differ for this test to mean anything"
+    );
+    assert_eq!(ra.stats.get_u64("ready_quads"), Some(qa));
+    assert_eq!(rb.stats.get_u64("ready_quads"), Some(qb));
+    assert!(ra.ms("subdivide").is_some() && rb.ms("draw").is_some());
+
+    // Three submissions into two slots: the first is overwritten.
+    let t1 = r.submit(a).unwrap();
+    let t2 = r.submit(b).unwrap();
+    let t3 = r.submit(a).unwrap();
+    let err = r.collect(t1).err().unwrap();
+    assert!(err.to_string().contains("reused"), "{err}");
+    assert_eq!(
+        r.collect(t2).unwrap().0.stats.get_u64("ready_quads"),
+        Some(qb)
+    );
+    assert_eq!(
+        r.collect(t3).unwrap().0.stats.get_u64("ready_quads"),
+        Some(qa)
+    );
+    let err = r.collect(t3).err().unwrap();
+    assert!(err.to_string().contains("already collected"), "{err}");
+    gpu.finish();
+}
+
+/// Switching methods, ε and λ keeps the uploaded scene, the shader modules
+/// and the methods already made.
+#[test]
+fn switching_reuses_scene_shaders_and_methods() {
+    let gpu = common::gpu();
+    let (geo, views) = views();
+    let options = MethodOptions {
+        grid: 8,
+        ..MethodOptions::new(DrawPath::Mesh)
+    };
+    let mut r = common::renderer(&gpu, &geo, "subdiv", SIZE, options.clone());
+    let patches = r.scene().patches.handle();
+    r.render(&views[0]).unwrap();
+    r.set_method("ground-truth").unwrap();
+    let gt = r.render(&views[0]).unwrap();
+    assert_eq!(gt.method, "ground-truth");
+    assert_eq!(
+        gt.stats.triangles,
+        32 * 2 * 64,
+        "32 teapot patches of 8x8 cells"
+    );
+    let loaded = r.shaders_loaded();
+    let (s, _) = common::scene("teapot.toml");
+    for (k, eps) in [0.5, 1.0, 2.0, 4.0].into_iter().enumerate() {
+        let v = View::new(&s.camera, SIZE, eps, 0.25 * k as f64, SHADE_NORMAL);
+        r.set_method(if k % 2 == 0 { "subdiv" } else { "ground-truth" })
+            .unwrap();
+        r.render(&v).unwrap();
+    }
+    // A changed grid is applied in place.
+    r.set_options(MethodOptions { grid: 4, ..options }).unwrap();
+    r.set_method("ground-truth").unwrap();
+    assert_eq!(r.render(&views[0]).unwrap().stats.triangles, 32 * 2 * 16);
+    assert_eq!(r.shaders_loaded(), loaded, "shaders were loaded again");
+    assert_eq!(r.methods_made(), 2);
+    assert_eq!(
+        r.scene().patches.handle(),
+        patches,
+        "the scene was uploaded again"
+    );
+    gpu.finish();
+}
+
+/// A scene that cannot be uploaded is refused and the renderer keeps
+/// drawing the old one, identically.
+#[test]
+fn failed_scene_replacement_leaves_the_old_one() {
+    let gpu = common::gpu();
+    let (geo, views) = views();
+    let mut r = subdiv(&gpu, &geo);
+    r.render(&views[0]).unwrap();
+    let before = r.read_image().unwrap();
+    let bad = SceneGeometry {
+        patches: geo.patches.clone(),
+        flags: vec![0; 3],
+        models: Vec::new(),
+    };
+    let err = r.set_geometry(&bad).err().unwrap();
+    assert!(err.to_string().contains("flag words"), "{err}");
+    let report = r.render(&views[0]).unwrap();
+    assert_eq!(
+        report.stats.get_u64("ready_quads"),
+        Some(oracle_quads(&geo, &views[0]))
+    );
+    assert_eq!(r.read_image().unwrap(), before);
+    gpu.finish();
+}
+
+fn short_timeout_renderer(ctx: &Arc<Context>, geo: &SceneGeometry) -> Renderer {
+    let methods = MethodOptions {
+        plant_endless_loop: true,
+        ..MethodOptions::new(DrawPath::Mesh)
+    };
+    Renderer::new(
+        Arc::clone(ctx),
+        geo,
+        "subdiv",
+        RendererOptions {
+            size: SIZE,
+            background: [0.0; 4],
+            frames_in_flight: 2,
+            methods,
+        },
+    )
+    .unwrap()
+}
+
+/// A frame that outlives its fence wait: the wait fails with a timeout, the
+/// frame's buffers stay alive, the renderer recovers once the GPU is done
+/// (here the planted endless loop ends at the kernel's iteration cap), and
+/// it then renders and tears down cleanly. Dropping a renderer whose frame
+/// is still running leaks instead of freeing memory under the GPU.
+#[test]
+fn fence_timeout_keeps_resources_alive() {
+    // Its own context (a 50 ms fence timeout); the shared lock keeps other
+    // GPU tests off the device meanwhile.
+    let shared = common::gpu();
+    let ctx = Arc::new(
+        Context::new(&ContextOptions {
+            fence_timeout: Duration::from_millis(50),
+            ..common::test_options()
+        })
+        .unwrap(),
+    );
+    let debug = ctx.debug_state();
+    let (geo, views) = views();
+    let mut r = short_timeout_renderer(&ctx, &geo);
+    let allocated = ctx.live_allocations();
+    let ticket = r.submit(&views[0]).unwrap();
+    match r.collect(ticket) {
+        Err(RenderError::Vk(VkError::FenceTimeout { .. })) => {}
+        other => panic!(
+            "expected a fence timeout, got {:?}",
+            other.map(|(r, _)| r.method)
+        ),
+    }
+    assert_eq!(ctx.live_allocations(), allocated, "something was freed");
+    let start = Instant::now();
+    while r.wait_idle().is_err() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the planted loop never ended"
+        );
+    }
+    println!(
+        "the frame ended {:?} after its wait timed out",
+        start.elapsed()
+    );
+    r.set_options(MethodOptions::new(DrawPath::Mesh)).unwrap();
+    let report = r.render(&views[0]).unwrap();
+    assert_eq!(
+        report.stats.get_u64("ready_quads"),
+        Some(oracle_quads(&geo, &views[0]))
+    );
+    drop(r);
+    assert_eq!(ctx.live_allocations(), 0, "the renderer freed everything");
+    assert!(!ctx.is_hung());
+
+    // Dropped while its frame still runs: declared hung, nothing freed.
+    let mut r = short_timeout_renderer(&ctx, &geo);
+    let allocated = ctx.live_allocations();
+    let _ = r.submit(&views[0]).unwrap();
+    drop(r);
+    assert!(
+        ctx.is_hung(),
+        "a renderer dropped mid-frame must declare the device hung"
+    );
+    assert_eq!(
+        ctx.live_allocations(),
+        allocated,
+        "memory was freed under the GPU"
+    );
+    drop(ctx);
+    let (count, messages) = debug.take_errors();
+    assert_eq!(count, 0, "{messages:#?}");
+    shared.finish();
+}
