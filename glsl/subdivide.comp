@@ -44,6 +44,7 @@
 
 #define USE_READY_WRITE
 #include "common/ready.glsl"
+#include "common/process.glsl"
 
 layout(local_size_x = SUBDIV_GROUP_SIZE) in;
 
@@ -67,11 +68,6 @@ layout(push_constant) uniform SubdivPush {
 // that index & STACK_MASK wraps the deque.
 const uint STACK_SLOTS = STACK_SIZE + 1u;
 const uint STACK_MASK = STACK_SLOTS - 1u;
-
-const uint OUT_CULLED = 0u;
-const uint OUT_BACKFACE = 1u;
-const uint OUT_READY = 2u;
-const uint OUT_SPLIT = 3u;
 
 uint atomic_load(uint index) {
     return atomicAdd(counters[index], 0u);
@@ -130,71 +126,6 @@ bool queue_pop(out uvec2 item) {
         }
     }
     return false;
-}
-
-// One work item: the GPU twin of oracle::process. Returns OUT_*; for
-// OUT_SPLIT the children are in `kids`, in the order (0,0), (1,0), (0,1), (1,1).
-uint process(uvec2 q, out uvec2 kids[4]) {
-    kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
-    vec3 P[16];
-    load_patch(q.x, P);
-    vec4 dom = node_domain(q);
-    vec3 S[16];
-    reconstruct(P, dom.x, dom.y, dom.z, dom.w, S);
-    vec3 lo, hi;
-    patch_bbox(S, lo, hi);
-    vec2 pivot_u, pivot_v;
-    bvec2 pivots = wedge_pivots(q, pivot_u, pivot_v);
-    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
-        // The box must also hold the wedge pivots of the node's outer edges:
-        // its wedges and its descendants' reach them (see oracle::process).
-        vec3 clo = lo, chi = hi;
-        if (pivots.x) {
-            vec3 p = eval_patch(P, pivot_u.x, pivot_u.y);
-            clo = min3(clo, p);
-            chi = max3(chi, p);
-        }
-        if (pivots.y) {
-            vec3 p = eval_patch(P, pivot_v.x, pivot_v.y);
-            clo = min3(clo, p);
-            chi = max3(chi, p);
-        }
-        if (outside_frustum(clo, chi, view)) {
-            return OUT_CULLED;
-        }
-    }
-    uint l = node_depth(q);
-    if (l < view.l_max) {
-        uvec4 depths = edge_depths(q);
-        bvec4 flat_now = bvec4(true);
-        bool edges_flat = true;
-        // Every pending edge is tested, no early exit: children inherit them.
-        for (uint e = 0u; e < 4u; ++e) {
-            if (depths[e] >= l) {
-                vec3 c[4];
-                patch_edge(S, e, c);
-                flat_now[e] = edge_flat(c, view);
-                edges_flat = edges_flat && flat_now[e];
-            }
-        }
-        if (!edges_flat || !inner_flat(S, view)) {
-            uvec4 r = resolve_depths(l, depths, flat_now);
-            kids[0] = child_node(q, r, 0u, 0u);
-            kids[1] = child_node(q, r, 1u, 0u);
-            kids[2] = child_node(q, r, 0u, 1u);
-            kids[3] = child_node(q, r, 1u, 1u);
-            return OUT_SPLIT;
-        }
-    }
-    // A back-facing node goes only if its wedges face away too (see
-    // cull::wedges_face_away).
-    bool one_sided = (patch_flags[q.x] & PATCH_TWO_SIDED) == 0u;
-    bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
-    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing(S, lo, hi, view.eye.xyz)
-        && wedges_face_away(P, q, view.eye.xyz, with_wedges)) {
-        return OUT_BACKFACE;
-    }
-    return OUT_READY;
 }
 
 // Adds `value` summed over the active lanes of the subgroup with one atomic.
@@ -293,10 +224,9 @@ bool settle(inout Lane st, uvec2 item, uint outcome, uvec2 kids[4], bool with_we
         uint l = node_depth(item);
         st.deepest = max(st.deepest, l);
         st.at_lmax += l >= view.l_max ? 1u : 0u;
-        NodeMesh mesh = node_mesh(item, with_wedges);
-        uint w = (mesh.wedge.x ? 1u : 0u) + (mesh.wedge.y ? 1u : 0u);
-        st.tris += 2u + w;
-        st.wedges += w;
+        uvec2 tw = ready_triangles(item, with_wedges);
+        st.tris += tw.x;
+        st.wedges += tw.y;
     }
     return true;
 }

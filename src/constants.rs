@@ -167,6 +167,24 @@ shared_constants! {
         BIND_QUEUE_SEQS = 1;
         QUEUE_BINDINGS = 2;
     }
+    /// Set 2 of the per-depth kernel (subdiv-indirect): the ping-pong node
+    /// buffers (odd depths in one, even depths from 2 in the other; depth 0 is
+    /// the base patches themselves) and the level buffer.
+    group {
+        BIND_NODES_ODD = 0;
+        BIND_NODES_EVEN = 1;
+        BIND_LEVELS = 2;
+        LEVEL_BINDINGS = 3;
+    }
+    /// Words of the per-depth kernel's level buffer: the nodes of depth d at
+    /// L_COUNTS + d (counted on, past the capacity, so an overflow says how
+    /// much was needed), and from L_ARGS the dispatch arguments of depth d,
+    /// four words each.
+    group {
+        L_COUNTS = 0;
+        L_ARGS = 16;
+        LEVEL_WORDS = 64;
+    }
     /// Set 1 of the ground truth's grids: the visible patches and the counters
     /// that hold its indexed indirect draw.
     group {
@@ -242,12 +260,16 @@ shared_constants! {
         ERR_ITERATION_CAP = 1;
         ERR_READY_FULL = 2;
         ERR_STACK_OVERFLOW = 4;
+        /// A depth's nodes did not fit the per-depth kernel's node buffer.
+        ERR_LEVEL_FULL = 8;
     }
 
     /// Workgroup sizes.
     group {
         SUBDIV_GROUP_SIZE = 64;
         EXPAND_GROUP_SIZE = 64;
+        /// The per-depth kernel: one invocation per node of the depth.
+        LEVEL_GROUP_SIZE = 64;
         /// The ground truth's culling pass: one invocation per base patch.
         GRID_CULL_GROUP_SIZE = 64;
         /// Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:

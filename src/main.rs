@@ -135,9 +135,10 @@ struct FrameArgs {
     /// (validate: every keyframe when not given).
     #[arg(long)]
     frame: Option<usize>,
-    /// Method: subdiv (recursive subdivision, persistent threads) or
+    /// Method: subdiv (recursive subdivision, persistent threads),
+    /// subdiv-indirect (the same, one indirect dispatch per depth), or
     /// ground-truth (a dense grid per patch, the reference images are
-    /// compared with). Planned: subdiv-indirect, tess, tess-reparam, cudatess.
+    /// compared with). Planned: tess, tess-reparam, cudatess.
     #[arg(long, default_value = "subdiv")]
     method: String,
     /// Draw path of the subdivision methods: auto (mesh shaders where
@@ -149,6 +150,11 @@ struct FrameArgs {
     /// patch; lower it for quick references on a CPU device).
     #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
     grid: u32,
+    /// subdiv-indirect: the deepest level, at most 10 (6, as in the paper:
+    /// its node buffers are sized for the worst case, which grows fourfold
+    /// per level).
+    #[arg(long, value_name = "D", default_value_t = bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH)]
+    max_depth: u32,
     /// Vulkan device: an index from `info`, or part of its name.
     #[arg(long, value_name = "ID", default_value = "auto")]
     device: DeviceSelector,
@@ -167,6 +173,7 @@ impl FrameArgs {
             size: self.view.size,
             draw: self.draw,
             grid: self.grid,
+            max_depth: self.max_depth,
             device: self.device.clone(),
             validation: self.vk_validation,
         }

@@ -26,6 +26,7 @@ use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, Shaders};
 use crate::methods::{
     self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
 };
+use crate::patch::view::ViewParams;
 use crate::scene::file::SceneGeometry;
 use crate::vk::{
     host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, VkError, VkResult,
@@ -277,6 +278,14 @@ impl Renderer {
         self.target.clear = rgba;
     }
 
+    /// The criterion constants the active method runs `view` with (its own
+    /// depth limit, for one): what the oracle must be given to compare.
+    pub fn effective_params(&self, view: &View) -> ViewParams {
+        let mut params = view.params;
+        self.method().adjust_view(&mut params);
+        params
+    }
+
     /// The image of the last frame as RGBA8 rows (waits for the GPU).
     pub fn read_image(&self) -> VkResult<Vec<u8>> {
         self.target.read_rgba(&self.ctx)
@@ -300,7 +309,8 @@ impl Renderer {
         self.frames.wait(slot)?;
         self.release_garbage(slot);
         self.slots[slot].frame = None;
-        self.scene.set_view(&self.ctx, slot, &view.params)?;
+        let params = self.effective_params(view);
+        self.scene.set_view(&self.ctx, slot, &params)?;
         let (slot, cmd) = self.frames.begin()?;
         let mut retired = Retired::default();
         let recorded = self.record(slot, cmd, view, &mut retired);

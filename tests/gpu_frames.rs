@@ -12,6 +12,7 @@ use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::patch::oracle::subdivide_parallel;
 use bezier_subdiv::patch::quadnode::QuadNode;
+use bezier_subdiv::patch::wedge::node_mesh;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::file::SceneGeometry;
@@ -21,7 +22,11 @@ use common::scene;
 const SIZE: (u32, u32) = (320, 180);
 
 fn subdiv(gpu: &common::Gpu, geo: &SceneGeometry, path: DrawPath) -> Renderer {
-    let mut r = common::renderer(gpu, geo, "subdiv", SIZE, MethodOptions::new(path));
+    method(gpu, geo, "subdiv", path)
+}
+
+fn method(gpu: &common::Gpu, geo: &SceneGeometry, name: &str, path: DrawPath) -> Renderer {
+    let mut r = common::renderer(gpu, geo, name, SIZE, MethodOptions::new(path));
     r.capture = true;
     r
 }
@@ -44,10 +49,12 @@ fn check_frame(
     let list = stage.list();
     let count = report.stats.get_u64("ready_quads").unwrap() as u32;
     let ready = list.read_ready(&ctx, count).unwrap();
-    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &v.params, 2);
+    // The method's own depth limit, where it has one.
+    let params = r.effective_params(v);
+    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &params, 2);
     let (ok, detail) = compare_ready(&ready, &oracle.ready);
     assert!(ok, "{what}: {detail}");
-    let wedges = v.params.flags & FLAG_WEDGES != 0;
+    let wedges = params.flags & FLAG_WEDGES != 0;
     let capture: Vec<[f32; 4]> = list.capture.read(&ctx).unwrap();
     let (n, bad) = compare_capture(&geo.patches, &ready, &capture, wedges);
     assert_eq!(bad, 0, "{what}: {bad} of {n} captured positions differ");
@@ -67,6 +74,10 @@ fn differing_pixels(a: &[u8], b: &[u8]) -> usize {
         .count()
 }
 
+/// Both subdivision methods against the oracle over ε × λ, the persistent
+/// one on both draw paths; the paths' images agree, and the per-depth
+/// method draws the persistent one's image wherever its depth limit did
+/// not cut the tree.
 #[test]
 fn grid_of_eps_and_lambda_on_both_paths() {
     let gpu = common::gpu();
@@ -74,19 +85,30 @@ fn grid_of_eps_and_lambda_on_both_paths() {
     let (kitchen, kitchen_geo) = scene("kitchen.toml");
     let mut mesh = subdiv(&gpu, &teapot_geo, DrawPath::Mesh);
     let mut fallback = subdiv(&gpu, &teapot_geo, DrawPath::Fallback);
+    let mut indirect = method(&gpu, &teapot_geo, "subdiv-indirect", DrawPath::Mesh);
     let total = (SIZE.0 * SIZE.1) as usize;
     let mut worst = 0usize;
+    let mut same_as_persistent = 0;
     for (s, geo) in [(&teapot, &teapot_geo), (&kitchen, &kitchen_geo)] {
         mesh.set_geometry(geo).unwrap();
         fallback.set_geometry(geo).unwrap();
+        indirect.set_geometry(geo).unwrap();
         for frame in [0, s.frame_count() - 1] {
             let cam = s.frame_camera(frame).unwrap();
             for eps in [0.5, 1.0, 2.0] {
                 for lambda in [0.0, 0.5, 1.0] {
                     let v = view(&cam, eps, lambda, SHADE_NORMAL);
                     let what = format!("{} frame {frame} eps {eps} lambda {lambda}", s.name);
-                    let (_, a) = check_frame(&mut mesh, geo, &v, &format!("{what} mesh"));
+                    let (ready_a, a) = check_frame(&mut mesh, geo, &v, &format!("{what} mesh"));
                     let (_, b) = check_frame(&mut fallback, geo, &v, &format!("{what} fallback"));
+                    let (ready_c, c) =
+                        check_frame(&mut indirect, geo, &v, &format!("{what} indirect"));
+                    let deepest = ready_a.iter().map(|q| q.depth()).max().unwrap_or(0);
+                    if deepest <= bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH {
+                        assert_eq!(ready_a.len(), ready_c.len(), "{what}");
+                        assert_eq!(differing_pixels(&a, &c), 0, "{what}: indirect image");
+                        same_as_persistent += 1;
+                    }
                     let diff = differing_pixels(&a, &b);
                     worst = worst.max(diff);
                     assert!(
@@ -97,7 +119,11 @@ fn grid_of_eps_and_lambda_on_both_paths() {
             }
         }
     }
-    println!("mesh vs fallback images: at most {worst} of {total} pixels differ");
+    println!(
+        "mesh vs fallback images: at most {worst} of {total} pixels differ; \
+         per-depth = persistent image in {same_as_persistent} of 36 views"
+    );
+    assert!(same_as_persistent > 20);
     gpu.finish();
 }
 
@@ -185,11 +211,18 @@ fn hostile_cameras() {
         let (ready, _) = check_frame(&mut r, &geo, &v, &format!("camera {k}"));
         let list = r.method().ready().unwrap().list();
         let capture: Vec<[f32; 4]> = list.capture.read(&gpu).unwrap();
-        let used = &capture[..6 * ready.len()];
-        assert!(
-            used.iter().flatten().all(|x| !x.is_nan()),
-            "camera {k}: NaN position"
-        );
+        // Only the slots a node uses are written (corners, present pivots).
+        for (i, q) in ready.iter().enumerate() {
+            let mesh = node_mesh(*q, true);
+            let pivots = mesh.tris[2..mesh.tri_count].iter().map(|t| t[2] as usize);
+            for s in (0..4).chain(pivots) {
+                let p = capture[6 * i + s];
+                assert!(
+                    p.iter().all(|x| x.is_finite()),
+                    "camera {k}: node {i} slot {s}: {p:?}"
+                );
+            }
+        }
         println!("camera {k}: {} ready quads", ready.len());
     }
     gpu.finish();

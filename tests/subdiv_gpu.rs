@@ -160,3 +160,66 @@ fn planted_endless_loop_hits_the_iteration_cap() {
     assert_eq!(st.in_flight_left, 1);
     gpu.finish();
 }
+
+/// subdiv-indirect stops at its depth limit exactly as the oracle does with
+/// that limit, where the persistent kernel goes deeper; and a node budget
+/// too small for a depth fails the frame with what it needed instead of
+/// drawing it incomplete.
+#[test]
+fn per_depth_method_honours_its_limit_and_budget() {
+    let gpu = common::gpu();
+    let (s, geo) = common::scene("teapot.toml");
+    let size = (640, 360);
+    // In the spout's mouth: the nearest patches subdivide below depth 6.
+    let inside = Camera {
+        position: [3.2, 0.0, 2.3],
+        target: [-2.0, 0.0, 1.0],
+        near: 0.001,
+        ..s.camera
+    };
+    let v = view(&inside, size, 0.5, 0.5);
+    let mut persistent = common::renderer(
+        &gpu,
+        &geo,
+        "subdiv",
+        size,
+        MethodOptions::new(DrawPath::Mesh),
+    );
+    let deep = check_against_oracle(&mut persistent, &geo, &v);
+    assert!(
+        deep.max_depth > 6,
+        "the view must go below the limit: {deep:?}"
+    );
+    let mut r = common::renderer(
+        &gpu,
+        &geo,
+        "subdiv-indirect",
+        size,
+        MethodOptions::new(DrawPath::Mesh),
+    );
+    let limited = View {
+        params: r.effective_params(&v),
+        ..v
+    };
+    assert_eq!(limited.params.l_max, 6);
+    let st = check_against_oracle(&mut r, &geo, &limited);
+    assert_eq!(st.max_depth, 6);
+    assert!(st.nodes_at_lmax > 0);
+    println!(
+        "persistent: depth {}, {} ready; per-depth (limit 6): {} ready, {} at the limit",
+        deep.max_depth, deep.ready_quads, st.ready_quads, st.nodes_at_lmax
+    );
+
+    let tight = MethodOptions {
+        node_capacity: Some(100),
+        ..MethodOptions::new(DrawPath::Mesh)
+    };
+    let mut r = common::renderer(&gpu, &geo, "subdiv-indirect", size, tight);
+    let err = r
+        .render(&v)
+        .expect_err("a 100-node budget cannot hold the teapot");
+    let msg = err.to_string();
+    println!("{msg}");
+    assert!(msg.contains("needs") && msg.contains("holds 100"), "{msg}");
+    gpu.finish();
+}

@@ -58,6 +58,22 @@ const uint BIND_QUEUE_ITEMS = 0;
 const uint BIND_QUEUE_SEQS = 1;
 const uint QUEUE_BINDINGS = 2;
 
+// Set 2 of the per-depth kernel (subdiv-indirect): the ping-pong node
+// buffers (odd depths in one, even depths from 2 in the other; depth 0 is
+// the base patches themselves) and the level buffer.
+const uint BIND_NODES_ODD = 0;
+const uint BIND_NODES_EVEN = 1;
+const uint BIND_LEVELS = 2;
+const uint LEVEL_BINDINGS = 3;
+
+// Words of the per-depth kernel's level buffer: the nodes of depth d at
+// L_COUNTS + d (counted on, past the capacity, so an overflow says how
+// much was needed), and from L_ARGS the dispatch arguments of depth d,
+// four words each.
+const uint L_COUNTS = 0;
+const uint L_ARGS = 16;
+const uint LEVEL_WORDS = 64;
+
 // Set 1 of the ground truth's grids: the visible patches and the counters
 // that hold its indexed indirect draw.
 const uint BIND_GRID_VISIBLE = 0;
@@ -122,10 +138,14 @@ const uint COUNTER_WORDS = 64;
 const uint ERR_ITERATION_CAP = 1;
 const uint ERR_READY_FULL = 2;
 const uint ERR_STACK_OVERFLOW = 4;
+// A depth's nodes did not fit the per-depth kernel's node buffer.
+const uint ERR_LEVEL_FULL = 8;
 
 // Workgroup sizes.
 const uint SUBDIV_GROUP_SIZE = 64;
 const uint EXPAND_GROUP_SIZE = 64;
+// The per-depth kernel: one invocation per node of the depth.
+const uint LEVEL_GROUP_SIZE = 64;
 // The ground truth's culling pass: one invocation per base patch.
 const uint GRID_CULL_GROUP_SIZE = 64;
 // Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:

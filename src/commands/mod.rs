@@ -51,6 +51,8 @@ pub struct GpuRequest {
     pub draw: crate::draw::DrawRequest,
     /// `ground-truth`: grid cells per patch side.
     pub grid: u32,
+    /// `subdiv-indirect`: the deepest level.
+    pub max_depth: u32,
     /// Device choice.
     pub device: crate::vk::DeviceSelector,
     /// Khronos validation layer on (any error fails the run).
@@ -69,6 +71,7 @@ impl GpuRequest {
             size: (1920, 1080),
             draw: crate::draw::DrawRequest::Auto,
             grid: crate::methods::ground_truth::DEFAULT_GRID,
+            max_depth: crate::methods::subdiv_indirect::DEFAULT_MAX_DEPTH,
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
         }
@@ -91,6 +94,7 @@ impl GpuRequest {
         let draw = crate::draw::choose(ctx, self.draw)?;
         let methods = crate::methods::MethodOptions {
             grid: self.grid,
+            max_depth: self.max_depth,
             ..crate::methods::MethodOptions::new(draw)
         };
         let options = RendererOptions {

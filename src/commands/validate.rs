@@ -126,11 +126,12 @@ fn oracle_checks(
     let list = stage.list();
     let gpu_ready = list.read_ready(&ctx, ready_count)?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &view.params, threads);
+    let params = renderer.effective_params(view);
+    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &params, threads);
     let (ok, detail) = compare_ready(&gpu_ready, &oracle.ready);
     let mut out = vec![line("ready set", Some(k), ok, detail)];
 
-    let wedges = view.params.flags & FLAG_WEDGES != 0;
+    let wedges = params.flags & FLAG_WEDGES != 0;
     let (compared, bad) = match stage.path() {
         DrawPath::Mesh => {
             let capture: Vec<[f32; 4]> = list.capture.read(&ctx)?;

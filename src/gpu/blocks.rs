@@ -98,6 +98,40 @@ gpu_block!(
     [ready_capacity, queue_capacity, patch_count, idle_poll_cap]
 );
 
+/// Push constants of the per-depth kernel and its argument pass
+/// (`LevelPush` in `glsl/common/level.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct LevelPush {
+    /// The depth this dispatch processes (the argument pass: prepares).
+    pub level: u32,
+    /// Base patches (the nodes of depth 0).
+    pub patch_count: u32,
+    /// Entries of the buffer of odd depths.
+    pub odd_capacity: u32,
+    /// Entries of the buffer of even depths.
+    pub even_capacity: u32,
+    /// Entries in the ready list.
+    pub ready_capacity: u32,
+    /// Most workgroups one dispatch may have (the kernel loops over the rest).
+    pub max_groups: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 2],
+}
+gpu_block!(
+    LevelPush,
+    "LevelPush",
+    [
+        level,
+        patch_count,
+        odd_capacity,
+        even_capacity,
+        ready_capacity,
+        max_groups,
+        pad
+    ]
+);
+
 /// Push constants of the ready-list passes that are not draws: the sort
 /// (`glsl/sort.comp`) and the §4.4 check (`glsl/reorder_check.comp`)
 /// (`ListPush` in `glsl/common/ready.glsl`).
@@ -143,6 +177,7 @@ pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
     vec![
         entry::<DrawPush>(),
         entry::<SubdivPush>(),
+        entry::<LevelPush>(),
         entry::<ListPush>(),
         entry::<GridPush>(),
         entry::<ViewParams>(),

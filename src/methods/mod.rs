@@ -16,12 +16,14 @@
 
 pub mod ground_truth;
 pub mod subdiv;
+pub mod subdiv_indirect;
 
 use serde_json::Value;
 
 use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::{FrameOut, FrameRec, Retired};
 use crate::gpu::{SceneLayout, Shaders};
+use crate::patch::view::ViewParams;
 use crate::vk::{Context, VkError};
 
 /// What can go wrong while rendering with a method.
@@ -62,6 +64,12 @@ pub struct MethodOptions {
     pub sort: bool,
     /// `ground-truth`: grid cells per patch side.
     pub grid: u32,
+    /// `subdiv-indirect`: the deepest level (its buffers grow fourfold per
+    /// level).
+    pub max_depth: u32,
+    /// `subdiv-indirect`: entries per node buffer instead of the worst case
+    /// (a memory budget; a depth that overflows it fails the frame).
+    pub node_capacity: Option<u32>,
     /// Test-only fault for `subdiv`: one phantom item in flight that never
     /// completes, so the kernel can only end through its iteration cap.
     pub plant_endless_loop: bool,
@@ -78,6 +86,8 @@ impl MethodOptions {
             idle_poll_cap: subdiv::DEFAULT_IDLE_POLL_CAP,
             sort: true,
             grid: ground_truth::DEFAULT_GRID,
+            max_depth: subdiv_indirect::DEFAULT_MAX_DEPTH,
+            node_capacity: None,
             plant_endless_loop: false,
         }
     }
@@ -138,6 +148,10 @@ pub trait Method {
     /// `fallback`, `grid`).
     fn draw_path(&self) -> &'static str;
 
+    /// Changes the view's criterion constants this method runs with (e.g. a
+    /// lower depth limit); the renderer applies it before uploading them.
+    fn adjust_view(&self, _params: &mut ViewParams) {}
+
     /// Records the frame: the method's passes and its draw into
     /// `f.target` (begun and ended by the method), and copies out what
     /// [`Method::finish`] reads.
@@ -185,10 +199,10 @@ pub struct MethodInfo {
 }
 
 /// Every method that is built, by command-line name.
-pub const METHODS: &[MethodInfo] = &[subdiv::INFO, ground_truth::INFO];
+pub const METHODS: &[MethodInfo] = &[subdiv::INFO, subdiv_indirect::INFO, ground_truth::INFO];
 
 /// Names reserved for the comparison methods still to come.
-pub const PLANNED: &[&str] = &["subdiv-indirect", "tess", "tess-reparam", "cudatess"];
+pub const PLANNED: &[&str] = &["tess", "tess-reparam", "cudatess"];
 
 /// The registry entry named `name`; unknown and unbuilt names get their
 /// own sentences.
