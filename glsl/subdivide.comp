@@ -2,369 +2,465 @@
 // dispatch of persistent workgroups: the Vulkan stand-in for the paper's
 // work-graph recursion (§3.5).
 //
-// Work items are QuadNodes. Each invocation keeps its own depth-first stack
-// (a small deque in private memory): it pops the newest item, processes it
-// exactly as src/patch/oracle.rs `process` does, and pushes the four children
-// back on top, so a subtree of depth l_max never needs more than
-// 3 * l_max + 1 = STACK_SIZE entries. Base patches are the implicit first
-// items, claimed from a counter one subgroup batch at a time. Global atomics
-// are few per item: ready-list appends and in-flight updates are aggregated
-// per subgroup and per iteration. The global queue is only for balance: when
-// some invocation is idle, a busy one donates the bottom (largest) item of
-// its stack. A full queue (or a contended one) just keeps the item local and
-// counts a spill; it never draws a node early, which would open a crack.
+// Work is shared the way a work graph shares its records: breadth first,
+// through one global queue, in batches. Each workgroup keeps a deque of
+// work items in shared memory and loops:
+//   1. refill: when fewer than SUBDIV_REFILL_BELOW items are left, claim a
+//      batch of base patches (one atomic) or pop a batch from the global
+//      queue (one compare-and-swap on its head);
+//   2. take the newest min(64, n) items, one per invocation, and process
+//      each exactly as src/patch/oracle.rs `process` does
+//      (common/process.glsl);
+//   3. push the children onto the deque; append the ready nodes with one
+//      atomic for the whole workgroup;
+//   4. donate the oldest items beyond SUBDIV_KEEP (beyond half of the deque
+//      while some workgroup is idle) to the global queue, one
+//      compare-and-swap on its tail per batch;
+//   5. publish the iteration's in-flight change with one atomic.
+// So the global atomics are a handful per workgroup iteration, not per item
+// or per lane, and a tree's breadth reaches every workgroup instead of one
+// invocation walking a subtree alone.
+//
+// The queue (common/queue.glsl) never makes anyone wait: a pop takes only
+// the published slots at the head, a push only the free slots at the tail,
+// and a refused push (the queue is full) keeps the items in the workgroup's
+// deque and counts them as spills; it never draws a node early, which would
+// open a crack. With the queue full the deque grows instead, and a
+// workgroup then takes batches no larger than the deque can hold children
+// for, newest (deepest) first, so it drains without overflowing.
 //
 // Termination: the low bits of counters[C_IN_FLIGHT] (IN_FLIGHT_MASK) start
 // at the number of base patches (set by the host) and every processed item
-// adds +3 (split) or -1 (done), applied only after its children are on a
-// stack or in the queue, so they never read 0 while work exists. An invocation without work polls the queue and
-// the counter ONCE per outer iteration (no nested spin: the lanes of a
-// subgroup run in lockstep, and a lane spinning on work its own subgroup must
-// produce would never return) and leaves when the counter reads 0.
+// adds +3 (split) or -1 (done), applied only after its children are in a
+// deque or the queue, so the count never reads 0 while work exists. A
+// workgroup without work marks itself idle and polls the count with one
+// invocation, backing off between polls, and leaves when it reads 0.
 //
 // Forward progress: Vulkan promises none between workgroups, so nothing here
-// ever waits on a workgroup that may not have started. Work lives only in
-// the stacks of running invocations, in the queue, or in unclaimed base
-// patches; any running invocation can take queued or unclaimed work, and an
-// invocation only waits (polls) while the counter says some other RUNNING
-// invocation still holds work, which that invocation will finish by itself if
-// nobody helps. A workgroup that starts late finds the work taken and exits.
-// The host launches about as many workgroups as the device keeps resident,
-// which makes the balance good, not the result correct.
+// waits on a workgroup that may not have started. Work lives only in the
+// deques of running workgroups, in the queue, or in unclaimed base patches;
+// an idle workgroup only polls while the count says some RUNNING workgroup
+// still holds work, which that workgroup finishes by itself if nobody helps.
+// A workgroup that starts late finds the work taken and leaves.
 //
-// Iteration cap: an invocation that sees the in-flight counter unchanged for
+// Iteration cap: a workgroup that sees the in-flight count unchanged for
 // pc.idle_poll_cap consecutive polls concludes that nothing anywhere is making
 // progress, raises ERR_ITERATION_CAP and leaves; the host reports the error
 // (and never hangs: its fence wait has a timeout too).
 #version 460
-#extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_ballot : require
-#extension GL_KHR_shader_subgroup_arithmetic : require
-#extension GL_KHR_shader_subgroup_vote : require
 
 #define USE_READY_WRITE
 #include "common/ready.glsl"
 #include "common/process.glsl"
+#include "common/queue.glsl"
 
 layout(local_size_x = SUBDIV_GROUP_SIZE) in;
 
-// Set 2: the work queue (src/methods/subdiv.rs).
-layout(std430, set = SET_PRODUCER, binding = BIND_QUEUE_ITEMS) coherent buffer QueueItems {
-    uvec2 queue_items[];
-};
-layout(std430, set = SET_PRODUCER, binding = BIND_QUEUE_SEQS) coherent buffer QueueSeqs {
-    uint queue_seqs[];
-};
-
-// src/gpu/blocks.rs SubdivPush.
-layout(push_constant) uniform SubdivPush {
-    uint ready_capacity;  // entries in `ready`
-    uint queue_capacity;  // entries in the work queue
-    uint patch_count;     // base patches
-    uint idle_poll_cap;   // polls without progress before giving up
-} pc;
-
-// Deque slots: STACK_SIZE (3 * L_MAX + 1) rounded up to a power of two, so
-// that index & STACK_MASK wraps the deque.
-const uint STACK_SLOTS = STACK_SIZE + 1u;
-const uint STACK_MASK = STACK_SLOTS - 1u;
-
-uint atomic_load(uint index) {
-    return atomicAdd(counters[index], 0u);
-}
-
-// Bounded MPMC ring (sequence numbers per slot, after Vyukov): neither side
-// ever waits for the other; a slot not yet published reads as empty, a slot
-// not yet consumed reads as full. A few bounded retries on contention.
-bool queue_push(uvec2 item) {
-    uint cap = pc.queue_capacity;
-    uint pos = atomic_load(C_QUEUE_TAIL);
-    for (int tries = 0; tries < 4; ++tries) {
-        uint slot = pos % cap;
-        int dif = int(atomicAdd(queue_seqs[slot], 0u) - pos);
-        if (dif == 0) {
-            uint prev = atomicCompSwap(counters[C_QUEUE_TAIL], pos, pos + 1u);
-            if (prev == pos) {
-                queue_items[slot] = item;
-                memoryBarrierBuffer();
-                atomicExchange(queue_seqs[slot], pos + 1u);
-                uint occupied = pos + 1u - atomic_load(C_QUEUE_HEAD);
-                atomicMax(counters[C_QUEUE_PEAK], occupied);
-                return true;
-            }
-            pos = prev;
-        } else if (dif < 0) {
-            return false;
-        } else {
-            pos = atomic_load(C_QUEUE_TAIL);
-        }
-    }
-    return false;
-}
-
-bool queue_pop(out uvec2 item) {
-    uint cap = pc.queue_capacity;
-    item = uvec2(0u);
-    uint pos = atomic_load(C_QUEUE_HEAD);
-    for (int tries = 0; tries < 4; ++tries) {
-        uint slot = pos % cap;
-        int dif = int(atomicAdd(queue_seqs[slot], 0u) - (pos + 1u));
-        if (dif == 0) {
-            uint prev = atomicCompSwap(counters[C_QUEUE_HEAD], pos, pos + 1u);
-            if (prev == pos) {
-                memoryBarrierBuffer();
-                item = queue_items[slot];
-                memoryBarrierBuffer();
-                atomicExchange(queue_seqs[slot], pos + cap);
-                return true;
-            }
-            pos = prev;
-        } else if (dif < 0) {
-            return false;
-        } else {
-            pos = atomic_load(C_QUEUE_HEAD);
-        }
-    }
-    return false;
-}
-
-// Adds `value` summed over the active lanes of the subgroup with one atomic.
-void subgroup_add_counter(uint index, uint value) {
-    uint sum = subgroupAdd(value);
-    if (subgroupElect() && sum != 0u) {
-        atomicAdd(counters[index], sum);
-    }
-}
-
-void subgroup_max_counter(uint index, uint value) {
-    uint m = subgroupMax(value);
-    if (subgroupElect() && m != 0u) {
-        atomicMax(counters[index], m);
-    }
-}
-
-// One invocation's state across iterations: its depth-first deque
-// [lo, hi) (slot = index & STACK_MASK), whether base patches may be left,
-// its idle flag and stall count, and its statistics (summed per subgroup
-// at the end).
-struct Lane {
-    uint lo;
-    uint hi;
-    bool bases_left;
-    bool idle;
-    uint stalls;
-    uint last_in_flight;
-    uint processed;
-    uint culled;
-    uint backface;
-    uint at_lmax;
-    uint spills;
-    uint pushed;
-    uint tris;
-    uint wedges;
-    uint deepest;
-    uint iterations;
-};
-
-uvec2 stack[STACK_SLOTS];
-
-// The next item: the top of the own stack, else a base patch (one claim per
-// subgroup for all lanes that want one), else the global queue.
-bool take_item(inout Lane st, out uvec2 item) {
-    item = uvec2(0u);
-    bool have = false;
-    if (st.hi != st.lo) {
-        st.hi -= 1u;
-        item = stack[st.hi & STACK_MASK];
-        have = true;
-    }
-    bool want_base = !have && st.bases_left;
-    uvec4 want = subgroupBallot(want_base);
-    uint n_want = subgroupBallotBitCount(want);
-    if (n_want > 0u) {
-        uint first = 0u;
-        if (subgroupElect()) {
-            first = atomicAdd(counters[C_NEXT_BASE], n_want);
-        }
-        first = subgroupBroadcastFirst(first);
-        if (want_base) {
-            uint id = first + subgroupBallotExclusiveBitCount(want);
-            if (id < pc.patch_count) {
-                item = uvec2(id, 0u);
-                have = true;
-            } else {
-                st.bases_left = false;
-            }
-        }
-    }
-    if (!have && !st.bases_left) {
-        have = queue_pop(item);
-    }
-    return have;
-}
-
-// Counts a processed item's outcome; a split pushes the children on the
-// own stack. Returns false when the stack would overflow.
-bool settle(inout Lane st, uvec2 item, uint outcome, uvec2 kids[4], bool with_wedges) {
-    st.processed += 1u;
-    if (outcome == OUT_SPLIT) {
-        if (st.hi - st.lo + 4u > STACK_SLOTS) {
-            atomicOr(counters[C_ERROR], ERR_STACK_OVERFLOW);
-            return false;
-        }
-        for (int k = 3; k >= 0; --k) {
-            stack[st.hi & STACK_MASK] = kids[k];
-            st.hi += 1u;
-        }
-    } else if (outcome == OUT_CULLED) {
-        st.culled += 1u;
-    } else if (outcome == OUT_BACKFACE) {
-        st.backface += 1u;
-    } else {
-        uint l = node_depth(item);
-        st.deepest = max(st.deepest, l);
-        st.at_lmax += l >= view.l_max ? 1u : 0u;
-        uvec2 tw = ready_triangles(item, with_wedges);
-        st.tris += tw.x;
-        st.wedges += tw.y;
-    }
-    return true;
-}
-
-// Appends the subgroup's ready nodes with one atomic.
-void append_ready(bool is_ready, uvec2 item) {
-    uvec4 rb = subgroupBallot(is_ready);
-    uint n_ready = subgroupBallotBitCount(rb);
-    if (n_ready == 0u) {
-        return;
-    }
-    uint base = 0u;
-    if (subgroupElect()) {
-        base = atomicAdd(counters[C_READY_COUNT], n_ready);
-    }
-    base = subgroupBroadcastFirst(base);
-    if (is_ready) {
-        uint idx = base + subgroupBallotExclusiveBitCount(rb);
-        if (idx < pc.ready_capacity) {
-            ready[idx] = item;
-        } else {
-            atomicOr(counters[C_ERROR], ERR_READY_FULL);
-        }
-    }
-}
-
-// Donates the bottom of a deep stack while someone is idle: one donor per
-// subgroup and iteration (lanes of a subgroup run in lockstep, so several
-// would only race for the same queue slot).
-void donate(inout Lane st) {
-    uint idle_now = 0u;
-    if (subgroupElect()) {
-        idle_now = atomic_load(C_IDLE);
-    }
-    idle_now = subgroupBroadcastFirst(idle_now);
-    bool stress = (view.flags & FLAG_QUEUE_STRESS) != 0u;
-    bool can_donate = (idle_now > 0u || stress) && st.hi - st.lo >= 2u;
-    uvec4 donors = subgroupBallot(can_donate);
-    if (can_donate && gl_SubgroupInvocationID == subgroupBallotFindLSB(donors)) {
-        if (queue_push(stack[st.lo & STACK_MASK])) {
-            st.lo += 1u;
-            st.pushed += 1u;
-        } else {
-            st.spills += 1u;
-        }
-    }
-}
-
-// In-flight bookkeeping, after the children are on a stack or queued and
-// after the ready entries are written: +3 per split, -1 per finished item,
-// one atomic per subgroup that did any work, plus a progress tick in the
-// top byte so the idle pollers see progress even when the deltas cancel.
-void publish_progress(bool have, uint outcome) {
-    memoryBarrierBuffer();
-    int delta = have ? (outcome == OUT_SPLIT ? 3 : -1) : 0;
-    int sum = subgroupAdd(delta);
-    bool worked = subgroupAny(have);
-    if (subgroupElect() && worked) {
-        atomicAdd(counters[C_IN_FLIGHT], uint(sum) + IN_FLIGHT_TICK);
-    }
-}
+const uint GROUP = SUBDIV_GROUP_SIZE;
+const uint LOCAL_MASK = SUBDIV_LOCAL_CAP - 1u;
 
 const uint POLL_WORK = 0u;   // keep going
 const uint POLL_DONE = 1u;   // nothing in flight anywhere: leave
-const uint POLL_STUCK = 2u;  // no progress for the whole cap: give up
+const uint POLL_STUCK = 2u;  // no progress for the whole cap, or an error
 
-// An invocation without work: marks itself idle and polls the in-flight
-// counter once (never spinning inside an iteration).
-uint poll_idle(inout Lane st) {
-    if (!st.idle) {
-        st.idle = true;
-        atomicAdd(counters[C_IDLE], 1u);
+// The workgroup's deque [s_lo, s_hi) of work items (indices wrap by mask):
+// new items go on top, batches are taken from the top, donations from the
+// bottom.
+shared uvec2 s_items[SUBDIV_LOCAL_CAP];
+shared uint s_lo;
+shared uint s_hi;
+shared bool s_bases_left;
+// Broadcasts from invocation 0 to the workgroup.
+shared uint s_count;
+shared uint s_base;
+shared uint s_aux;
+shared bool s_from_bases;
+shared uint s_done;
+// Per slot of a queue batch: whether it is published (pop) or free (push).
+shared bool s_ok[GROUP];
+// Per iteration: ready nodes of the batch and where they go, and splits.
+shared uint s_ready;
+shared uint s_ready_base;
+shared uint s_splits;
+// Statistics summed over the workgroup at the end.
+shared uint s_stats[8];
+
+// Invocation 0's own bookkeeping.
+uint atomics = 0u;
+uint polls = 0u;
+uint retries = 0u;
+uint spills = 0u;
+uint pushed = 0u;
+uint peak = 0u;
+uint iterations = 0u;
+uint stalls = 0u;
+uint last_in_flight = 0xffffffffu;
+uint backoff = 1u;
+bool idle = false;
+
+uint deque_count() {
+    return s_hi - s_lo;
+}
+
+// Invocation 0: how many items to refill and from where (bases or queue).
+void plan_refill(uint base_batch) {
+    s_count = 0u;
+    uint count = deque_count();
+    if (count >= SUBDIV_REFILL_BELOW) {
+        return;
     }
-    uint in_flight = atomic_load(C_IN_FLIGHT);
+    if (s_bases_left) {
+        uint first = atomicAdd(counters[C_NEXT_BASE], base_batch);
+        atomics += 1u;
+        if (first < pc.patch_count) {
+            s_from_bases = true;
+            s_base = first;
+            s_count = min(base_batch, pc.patch_count - first);
+        }
+        if (first + base_batch >= pc.patch_count) {
+            s_bases_left = false;
+        }
+        return;
+    }
+    uint h = queue_state[Q_HEAD];
+    uint t = queue_state[Q_TAIL];
+    s_from_bases = false;
+    s_base = h;
+    s_count = min(GROUP - count, t - h);
+}
+
+// Refills the deque: a batch of base patches, or the published slots at
+// the queue's head (one compare-and-swap; a lost race is retried next
+// iteration).
+void refill(uint t, uint base_batch) {
+    if (t == 0u) {
+        plan_refill(base_batch);
+    }
+    barrier();
+    uint k = s_count;
+    if (k == 0u) {
+        // Everyone has read s_count before invocation 0 writes it again.
+        barrier();
+        return;
+    }
+    uint h = s_base;
+    if (s_from_bases) {
+        if (t < k) {
+            s_items[(s_hi + t) & LOCAL_MASK] = uvec2(h + t, 0u);
+        }
+    } else {
+        if (t < k) {
+            s_ok[t] = int(queue_seqs[queue_slot(h + t)] - (h + t + 1u)) == 0;
+        }
+        barrier();
+        if (t == 0u) {
+            uint run = 0u;
+            while (run < k && s_ok[run]) {
+                run += 1u;
+            }
+            bool won = false;
+            if (run > 0u) {
+                won = atomicCompSwap(queue_state[Q_HEAD], h, h + run) == h;
+                atomics += 1u;
+                retries += won ? 0u : 1u;
+            }
+            s_count = won ? run : 0u;
+        }
+        barrier();
+        k = s_count;
+        if (t < k) {
+            uint slot = queue_slot(h + t);
+            uvec2 item = queue_items[slot];
+            // The item is read before the slot is handed to the next lap.
+            memoryBarrierBuffer();
+            queue_seqs[slot] = h + t + pc.queue_capacity;
+            s_items[(s_hi + t) & LOCAL_MASK] = item;
+        }
+    }
+    barrier();
+    if (t == 0u) {
+        s_hi += k;
+    }
+    barrier();
+}
+
+// Invocation 0: how many of the oldest items to donate.
+void plan_donation() {
+    uint count = deque_count();
+    uint keep = (view.flags & FLAG_QUEUE_STRESS) != 0u ? 0u : SUBDIV_KEEP;
+    if (counters[C_IDLE] > 0u) {
+        // Someone waits: share half of what is here.
+        keep = min(keep, (count + 1u) / 2u);
+    }
+    uint m = count > keep ? min(count - keep, GROUP) : 0u;
+    s_count = m;
+    if (m > 0u) {
+        s_aux = queue_state[Q_HEAD];
+        s_base = queue_state[Q_TAIL];
+    }
+}
+
+// Donates the deque's oldest items to the global queue: the free slots at
+// its tail, claimed with one compare-and-swap. Items the full queue refuses
+// stay here (spills); a lost race is retried next iteration.
+void donate(uint t) {
+    if (t == 0u) {
+        plan_donation();
+    }
+    barrier();
+    uint m = s_count;
+    if (m == 0u) {
+        return;
+    }
+    uint tail = s_base;
+    if (t < m) {
+        s_ok[t] = int(queue_seqs[queue_slot(tail + t)] - (tail + t)) == 0;
+    }
+    barrier();
+    if (t == 0u) {
+        uint run = 0u;
+        while (run < m && s_ok[run]) {
+            run += 1u;
+        }
+        bool won = false;
+        if (run > 0u) {
+            won = atomicCompSwap(queue_state[Q_TAIL], tail, tail + run) == tail;
+            atomics += 1u;
+            retries += won ? 0u : 1u;
+        }
+        if (won) {
+            pushed += run;
+            // The head was read before the tail, so this never wraps.
+            peak = max(peak, tail + run - s_aux);
+        }
+        if (run < m && (won || run == 0u)) {
+            // A slot that is not free holds an item of the previous lap: the
+            // queue is full when that item is still queued (its position is
+            // not below the head), else a consumer is still reading it.
+            uint head_now = queue_state[Q_HEAD];
+            bool full = (tail + run) - head_now >= pc.queue_capacity;
+            spills += full ? m - run : 0u;
+            retries += full ? 0u : 1u;
+        }
+        s_count = won ? run : 0u;
+    }
+    barrier();
+    uint k = s_count;
+    if (t < k) {
+        uint slot = queue_slot(tail + t);
+        queue_items[slot] = s_items[(s_lo + t) & LOCAL_MASK];
+        // The item is written before its slot is published.
+        memoryBarrierBuffer();
+        queue_seqs[slot] = tail + t + 1u;
+    }
+    barrier();
+    if (t == 0u) {
+        s_lo += k;
+    }
+    barrier();
+}
+
+// Invocation 0, without work: polls the in-flight count once, after a
+// growing pause, and says whether to go on.
+uint poll_idle() {
+    if (!idle) {
+        idle = true;
+        atomicAdd(counters[C_IDLE], 1u);
+        atomics += 1u;
+    }
+    // A pause that does no memory traffic (and that the compiler keeps).
+    uint spin = backoff;
+    for (uint i = 0u; i < backoff; ++i) {
+        spin = spin * 1664525u + 1013904223u;
+    }
+    if (spin == 0x9e3779b9u) {
+        s_aux = spin;
+    }
+    backoff = min(backoff * 2u, 256u);
+    polls += 1u;
+    uint in_flight = counters[C_IN_FLIGHT];
     if ((in_flight & IN_FLIGHT_MASK) == 0u) {
         return POLL_DONE;
     }
-    if (in_flight == st.last_in_flight) {
-        st.stalls += 1u;
-        if (st.stalls > pc.idle_poll_cap) {
+    if (in_flight == last_in_flight) {
+        stalls += 1u;
+        if (stalls > pc.idle_poll_cap) {
             atomicOr(counters[C_ERROR], ERR_ITERATION_CAP);
             return POLL_STUCK;
         }
     } else {
-        st.stalls = 0u;
-        st.last_in_flight = in_flight;
+        stalls = 0u;
+        last_in_flight = in_flight;
     }
     return POLL_WORK;
 }
 
-// The invocation's statistics into the counters, one atomic per subgroup.
-void flush_stats(Lane st) {
-    subgroup_add_counter(C_PROCESSED, st.processed);
-    subgroup_add_counter(C_CULLED, st.culled);
-    subgroup_add_counter(C_BACKFACE, st.backface);
-    subgroup_add_counter(C_AT_LMAX, st.at_lmax);
-    subgroup_add_counter(C_SPILLS, st.spills);
-    subgroup_add_counter(C_QUEUE_PUSHED, st.pushed);
-    subgroup_add_counter(C_TRIANGLES, st.tris);
-    subgroup_add_counter(C_WEDGES, st.wedges);
-    subgroup_max_counter(C_MAX_DEPTH, st.deepest);
-    subgroup_max_counter(C_ITERATIONS_MAX, st.iterations);
+// Invocation 0: leaves the idle state after finding work.
+void busy_again() {
+    if (idle) {
+        idle = false;
+        atomicAdd(counters[C_IDLE], 0xffffffffu);
+        atomics += 1u;
+    }
+    backoff = 1u;
+}
+
+// Batch size: up to a workgroup's worth, but never more than the deque can
+// hold the children of (three more items per split).
+uint batch_size(uint count) {
+    uint room = SUBDIV_LOCAL_CAP - count;
+    return min(min(count, GROUP), max(room / 3u, 1u));
+}
+
+void add_stat(uint k, uint v) {
+    if (v != 0u) {
+        atomicAdd(s_stats[k], v);
+    }
+}
+
+void flush_stat(uint index, uint k) {
+    if (s_stats[k] != 0u) {
+        atomicAdd(counters[index], s_stats[k]);
+        atomics += 1u;
+    }
 }
 
 void main() {
-    Lane st = Lane(0u, 0u, true, false, 0u, 0xffffffffu, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    uint t = gl_LocalInvocationIndex;
+    if (t < 8u) {
+        s_stats[t] = 0u;
+    }
+    if (t == 0u) {
+        s_lo = 0u;
+        s_hi = 0u;
+        s_bases_left = true;
+        s_done = POLL_WORK;
+    }
+    barrier();
+    // Spread the base patches over the workgroups.
+    uint base_batch = clamp(pc.patch_count / gl_NumWorkGroups.x, 1u, GROUP);
     bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
-    bool normal_exit = false;
+    uint processed = 0u, culled = 0u, backface = 0u, at_lmax = 0u;
+    uint tris = 0u, wedges = 0u, deepest = 0u;
+
     for (;;) {
-        st.iterations += 1u;
-        uvec2 item;
-        bool have = take_item(st, item);
+        refill(t, base_batch);
+        if (t == 0u) {
+            iterations += 1u;
+            uint n = batch_size(deque_count());
+            s_count = n;
+            s_hi -= n;
+            s_ready = 0u;
+            s_splits = 0u;
+        }
+        barrier();
+        uint n = s_count;
+        bool have = t < n;
+        uvec2 item = have ? s_items[(s_hi + t) & LOCAL_MASK] : uvec2(0u);
+        // Every item is read before children land in the same slots.
+        barrier();
+
         uint outcome = OUT_CULLED;
+        uint my_ready = 0u;
         if (have) {
-            if (st.idle) {
-                st.idle = false;
-                atomicAdd(counters[C_IDLE], 0xffffffffu);
-            }
             uvec2 kids[4];
             outcome = process(item, kids);
-            if (!settle(st, item, outcome, kids, with_wedges)) {
-                break;
+            processed += 1u;
+            if (outcome == OUT_SPLIT) {
+                uint at = atomicAdd(s_hi, 4u);
+                if (at + 4u - s_lo > SUBDIV_LOCAL_CAP) {
+                    atomicOr(counters[C_ERROR], ERR_STACK_OVERFLOW);
+                }
+                for (uint k = 0u; k < 4u; ++k) {
+                    s_items[(at + k) & LOCAL_MASK] = kids[k];
+                }
+                atomicAdd(s_splits, 1u);
+            } else if (outcome == OUT_CULLED) {
+                culled += 1u;
+            } else if (outcome == OUT_BACKFACE) {
+                backface += 1u;
+            } else {
+                uint l = node_depth(item);
+                deepest = max(deepest, l);
+                at_lmax += l >= view.l_max ? 1u : 0u;
+                uvec2 tw = ready_triangles(item, with_wedges);
+                tris += tw.x;
+                wedges += tw.y;
+                my_ready = atomicAdd(s_ready, 1u);
             }
         }
-        append_ready(have && outcome == OUT_READY, item);
-        donate(st);
-        publish_progress(have, outcome);
-        if (!have) {
-            uint poll = poll_idle(st);
-            if (poll != POLL_WORK) {
-                normal_exit = poll == POLL_DONE;
-                break;
+        barrier();
+        // The batch's ready nodes with one atomic.
+        if (t == 0u && s_ready > 0u) {
+            s_ready_base = atomicAdd(counters[C_READY_COUNT], s_ready);
+            atomics += 1u;
+        }
+        barrier();
+        if (have && outcome == OUT_READY) {
+            uint idx = s_ready_base + my_ready;
+            if (idx < pc.ready_capacity) {
+                ready[idx] = item;
+            } else {
+                atomicOr(counters[C_ERROR], ERR_READY_FULL);
             }
+        }
+        donate(t);
+        // The in-flight change, after the children are in the deque or the
+        // queue and the ready entries are written.
+        memoryBarrierBuffer();
+        barrier();
+        if (t == 0u) {
+            if (n > 0u) {
+                int delta = 4 * int(s_splits) - int(n);
+                atomicAdd(counters[C_IN_FLIGHT], uint(delta) + IN_FLIGHT_TICK);
+                atomics += 1u;
+                busy_again();
+            } else if (deque_count() == 0u) {
+                s_done = poll_idle();
+            }
+            if ((counters[C_ERROR] & ERR_STACK_OVERFLOW) != 0u) {
+                s_done = POLL_STUCK;
+            }
+        }
+        barrier();
+        if (s_done != POLL_WORK) {
+            break;
         }
     }
-    flush_stats(st);
-    if (normal_exit && subgroupElect()) {
-        memoryBarrierBuffer();
-        write_ready_args(min(atomic_load(C_READY_COUNT), pc.ready_capacity));
+
+    add_stat(0u, processed);
+    add_stat(1u, culled);
+    add_stat(2u, backface);
+    add_stat(3u, at_lmax);
+    add_stat(4u, tris);
+    add_stat(5u, wedges);
+    atomicMax(s_stats[6], deepest);
+    barrier();
+    if (t == 0u) {
+        flush_stat(C_PROCESSED, 0u);
+        flush_stat(C_CULLED, 1u);
+        flush_stat(C_BACKFACE, 2u);
+        flush_stat(C_AT_LMAX, 3u);
+        flush_stat(C_TRIANGLES, 4u);
+        flush_stat(C_WEDGES, 5u);
+        if (s_stats[6] != 0u) {
+            atomicMax(counters[C_MAX_DEPTH], s_stats[6]);
+            atomics += 1u;
+        }
+        atomicMax(counters[C_ITERATIONS_MAX], iterations);
+        atomicMax(counters[C_QUEUE_PEAK], peak);
+        // The four below, plus themselves.
+        atomics += 6u;
+        atomicAdd(counters[C_SPILLS], spills);
+        atomicAdd(counters[C_QUEUE_PUSHED], pushed);
+        atomicAdd(counters[C_QUEUE_RETRIES], retries);
+        atomicAdd(counters[C_IDLE_POLLS], polls);
+        if (s_done == POLL_DONE) {
+            // In flight reached 0 after every ready append: the count is final.
+            atomics += 2u;
+            uint n = atomicAdd(counters[C_READY_COUNT], 0u);
+            write_ready_args(min(n, pc.ready_capacity));
+        }
+        atomicAdd(counters[C_GLOBAL_ATOMICS], atomics);
     }
 }

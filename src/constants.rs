@@ -161,11 +161,20 @@ shared_constants! {
         BIND_CAPTURE = 3;
         READY_BINDINGS = 4;
     }
-    /// Set 2 of the persistent subdivision kernel: its work queue.
+    /// Set 2 of the persistent subdivision kernel: its work queue (items,
+    /// a sequence number per slot, and the head and tail, which carry on from
+    /// frame to frame).
     group {
         BIND_QUEUE_ITEMS = 0;
         BIND_QUEUE_SEQS = 1;
-        QUEUE_BINDINGS = 2;
+        BIND_QUEUE_STATE = 2;
+        QUEUE_BINDINGS = 3;
+    }
+    /// Words of the queue's state buffer.
+    group {
+        Q_HEAD = 0;
+        Q_TAIL = 1;
+        QUEUE_STATE_WORDS = 4;
     }
     /// Set 2 of the per-depth kernel (subdiv-indirect): the ping-pong node
     /// buffers (odd depths in one, even depths from 2 in the other; depth 0 is
@@ -206,8 +215,12 @@ shared_constants! {
         C_READY_COUNT = 0;
         C_IN_FLIGHT = 1;
         C_NEXT_BASE = 2;
-        C_QUEUE_HEAD = 3;
-        C_QUEUE_TAIL = 4;
+        /// Polls of the in-flight count by idle workgroups.
+        C_IDLE_POLLS = 3;
+        /// Atomic read-modify-write operations the kernel issued on global
+        /// memory (the cost that contention multiplies on a GPU).
+        C_GLOBAL_ATOMICS = 4;
+        /// Workgroups without work right now.
         C_IDLE = 5;
         C_ERROR = 6;
         C_PROCESSED = 7;
@@ -215,12 +228,15 @@ shared_constants! {
         C_BACKFACE = 9;
         C_MAX_DEPTH = 10;
         C_AT_LMAX = 11;
+        /// Items a full queue refused (they stay in their workgroup).
         C_SPILLS = 12;
         C_QUEUE_PEAK = 13;
         C_QUEUE_PUSHED = 14;
         C_TRIANGLES = 15;
         C_WEDGES = 16;
         C_ITERATIONS_MAX = 17;
+        /// Queue operations that lost a compare-and-swap and were retried.
+        C_QUEUE_RETRIES = 20;
     }
     /// Validation passes (reorder_check.comp): nodes checked, nodes failing.
     group {
@@ -259,6 +275,8 @@ shared_constants! {
     group {
         ERR_ITERATION_CAP = 1;
         ERR_READY_FULL = 2;
+        /// A workgroup's local deque would have overflowed (never expected:
+        /// batches are sized so it cannot).
         ERR_STACK_OVERFLOW = 4;
         /// A depth's nodes did not fit the per-depth kernel's node buffer.
         ERR_LEVEL_FULL = 8;
@@ -287,10 +305,16 @@ shared_constants! {
         SORT_BLOCK = 1024;
     }
 
-    /// Depth-first stack of one invocation: a subtree of depth L_MAX needs at
-    /// most 3 * L_MAX + 1 entries.
+    /// The persistent kernel's workgroup-local deque of work items (shared
+    /// memory, a power of two): a workgroup keeps SUBDIV_KEEP items for its next
+    /// batch and hands the rest to the global queue, or, when the queue is
+    /// full, keeps them here and takes smaller batches so it never overflows.
+    /// It refills from the base patches or the queue when fewer than
+    /// SUBDIV_REFILL_BELOW are left.
     group {
-        STACK_SIZE = 31;
+        SUBDIV_LOCAL_CAP = 2048;
+        SUBDIV_KEEP = 64;
+        SUBDIV_REFILL_BELOW = 32;
     }
 
     /// Fallback path: each ready node owns 4 triangle slots (12 vertices); a

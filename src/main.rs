@@ -72,6 +72,11 @@ enum Command {
         /// Output PNG (default: out/<scene name>.png; out/ is created).
         #[arg(long, value_name = "FILE.png")]
         out: Option<PathBuf>,
+        /// Time N more frames of the same view after the first (a warm-up):
+        /// the stats file's gpu_ms become the medians, with gpu_ms_min and
+        /// gpu_ms_max beside them.
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        repeat: u32,
     },
     /// Check the GPU against the CPU reference on every keyframe (or one):
     /// the ready QuadNode set, vertex positions bit for bit, the paper's §4.4
@@ -155,6 +160,10 @@ struct FrameArgs {
     /// per level).
     #[arg(long, value_name = "D", default_value_t = bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH)]
     max_depth: u32,
+    /// subdiv: persistent workgroups to launch (default: about what the
+    /// device keeps resident), for profiling.
+    #[arg(long, value_name = "N")]
+    groups: Option<u32>,
     /// Vulkan device: an index from `info`, or part of its name.
     #[arg(long, value_name = "ID", default_value = "auto")]
     device: DeviceSelector,
@@ -174,6 +183,7 @@ impl FrameArgs {
             draw: self.draw,
             grid: self.grid,
             max_depth: self.max_depth,
+            groups: self.groups,
             device: self.device.clone(),
             validation: self.vk_validation,
         }
@@ -220,12 +230,18 @@ fn run(command: Command) -> anyhow::Result<()> {
             }
             Ok(())
         }
-        Command::Render { frame, shade, out } => {
+        Command::Render {
+            frame,
+            shade,
+            out,
+            repeat,
+        } => {
             let args = RenderArgs {
                 frame: frame.frame.unwrap_or(0),
                 gpu: frame.request(),
                 shade,
                 out,
+                repeat,
             };
             print!("{}", commands::render::run(&args)?);
             Ok(())

@@ -193,3 +193,71 @@ fn ground_truth_grid_must_be_a_power_of_two() {
         "{err}"
     );
 }
+
+/// Many workgroups on many worker threads, so lanes of different
+/// workgroups really interleave (lavapipe runs a workgroup per thread):
+/// both subdivision methods still equal the oracle, and the persistent
+/// kernel's queue figures stay honest (a peak within the capacity, no
+/// spills from a queue that was never full).
+#[test]
+fn interleaved_workgroups_equal_the_oracle() {
+    let dir = temp_dir("interleave");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/kitchen.toml");
+    for method in ["subdiv", "subdiv-indirect"] {
+        let run = bin()
+            .args([
+                "validate",
+                "--size",
+                "320x180",
+                "--groups",
+                "16",
+                "--no-holes",
+            ])
+            .args(["--frame", "0", "--method", method])
+            .arg("--scene")
+            .arg(&scene)
+            .env("LP_NUM_THREADS", "8")
+            .output()
+            .unwrap();
+        let out = String::from_utf8_lossy(&run.stdout);
+        assert!(
+            run.status.success(),
+            "{method}: {out}{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(out.contains("all 3 checks passed"), "{out}");
+    }
+    let out = dir.join("k.png");
+    let run = bin()
+        .args([
+            "render", "--size", "320x180", "--groups", "32", "--repeat", "2",
+        ])
+        .arg("--scene")
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .env("LP_NUM_THREADS", "8")
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
+    let m = &stats["method_stats"];
+    let (peak, cap) = (
+        m["queue_peak_items"].as_u64().unwrap(),
+        m["queue_capacity_items"].as_u64().unwrap(),
+    );
+    println!("{m}");
+    assert!(peak <= cap, "peak {peak} of a {cap}-entry queue");
+    assert_eq!(m["queue_spills"], 0, "{m}");
+    assert_eq!(m["workgroups"], 32);
+    assert!(
+        m["global_atomics_per_node"].as_f64().unwrap() <= 0.25,
+        "{m}"
+    );
+    assert_eq!(stats["repeat"], 2);
+}

@@ -63,11 +63,15 @@ fn thirds_are_the_f32_bits_of_one_and_two_thirds() {
 
 #[test]
 fn sizes_derived_from_others() {
-    assert_eq!(
-        STACK_SIZE,
-        3 * L_MAX + 1,
-        "stack for a subtree of depth L_MAX"
+    assert!(
+        SUBDIV_LOCAL_CAP.is_power_of_two(),
+        "the deque wraps by mask"
     );
+    assert!(
+        SUBDIV_LOCAL_CAP >= SUBDIV_KEEP + 4 * SUBDIV_GROUP_SIZE,
+        "a kept batch and its children fit the deque"
+    );
+    assert!(SUBDIV_REFILL_BELOW <= SUBDIV_GROUP_SIZE && SUBDIV_KEEP >= SUBDIV_GROUP_SIZE);
     assert_eq!(
         SORT_BLOCK,
         2 * SORT_GROUP_SIZE,
@@ -104,7 +108,12 @@ fn flags_and_error_bits_are_distinct_single_bits() {
         ),
         (
             "error bits",
-            &[ERR_ITERATION_CAP, ERR_READY_FULL, ERR_STACK_OVERFLOW][..],
+            &[
+                ERR_ITERATION_CAP,
+                ERR_READY_FULL,
+                ERR_STACK_OVERFLOW,
+                ERR_LEVEL_FULL,
+            ][..],
         ),
     ] {
         let mut seen = 0;
@@ -134,7 +143,7 @@ fn bindings_number_each_set_from_zero() {
         ),
         (
             "queue",
-            vec![BIND_QUEUE_ITEMS, BIND_QUEUE_SEQS],
+            vec![BIND_QUEUE_ITEMS, BIND_QUEUE_SEQS, BIND_QUEUE_STATE],
             QUEUE_BINDINGS,
         ),
         (
@@ -168,8 +177,8 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
         C_READY_COUNT,
         C_IN_FLIGHT,
         C_NEXT_BASE,
-        C_QUEUE_HEAD,
-        C_QUEUE_TAIL,
+        C_IDLE_POLLS,
+        C_GLOBAL_ATOMICS,
         C_IDLE,
         C_ERROR,
         C_PROCESSED,
@@ -183,6 +192,7 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
         C_TRIANGLES,
         C_WEDGES,
         C_ITERATIONS_MAX,
+        C_QUEUE_RETRIES,
         C_CHECK_NODES,
         C_CHECK_FAILS,
         C_SORT_LENGTH,

@@ -101,7 +101,7 @@ fn tiny_queue_terminates_with_the_same_result() {
     // Donate on every split so a queue of a few dozen entries overflows.
     v.params.flags |= FLAG_QUEUE_STRESS;
     let mut spills = Vec::new();
-    for queue in [24, 65536] {
+    for queue in [32, 65536] {
         let options = MethodOptions {
             queue_capacity: queue,
             ..MethodOptions::new(DrawPath::Mesh)

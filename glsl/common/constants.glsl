@@ -53,10 +53,18 @@ const uint BIND_VERTICES = 2;
 const uint BIND_CAPTURE = 3;
 const uint READY_BINDINGS = 4;
 
-// Set 2 of the persistent subdivision kernel: its work queue.
+// Set 2 of the persistent subdivision kernel: its work queue (items,
+// a sequence number per slot, and the head and tail, which carry on from
+// frame to frame).
 const uint BIND_QUEUE_ITEMS = 0;
 const uint BIND_QUEUE_SEQS = 1;
-const uint QUEUE_BINDINGS = 2;
+const uint BIND_QUEUE_STATE = 2;
+const uint QUEUE_BINDINGS = 3;
+
+// Words of the queue's state buffer.
+const uint Q_HEAD = 0;
+const uint Q_TAIL = 1;
+const uint QUEUE_STATE_WORDS = 4;
 
 // Set 2 of the per-depth kernel (subdiv-indirect): the ping-pong node
 // buffers (odd depths in one, even depths from 2 in the other; depth 0 is
@@ -91,8 +99,12 @@ const uint GRID_WORDS = 16;
 const uint C_READY_COUNT = 0;
 const uint C_IN_FLIGHT = 1;
 const uint C_NEXT_BASE = 2;
-const uint C_QUEUE_HEAD = 3;
-const uint C_QUEUE_TAIL = 4;
+// Polls of the in-flight count by idle workgroups.
+const uint C_IDLE_POLLS = 3;
+// Atomic read-modify-write operations the kernel issued on global
+// memory (the cost that contention multiplies on a GPU).
+const uint C_GLOBAL_ATOMICS = 4;
+// Workgroups without work right now.
 const uint C_IDLE = 5;
 const uint C_ERROR = 6;
 const uint C_PROCESSED = 7;
@@ -100,12 +112,15 @@ const uint C_CULLED = 8;
 const uint C_BACKFACE = 9;
 const uint C_MAX_DEPTH = 10;
 const uint C_AT_LMAX = 11;
+// Items a full queue refused (they stay in their workgroup).
 const uint C_SPILLS = 12;
 const uint C_QUEUE_PEAK = 13;
 const uint C_QUEUE_PUSHED = 14;
 const uint C_TRIANGLES = 15;
 const uint C_WEDGES = 16;
 const uint C_ITERATIONS_MAX = 17;
+// Queue operations that lost a compare-and-swap and were retried.
+const uint C_QUEUE_RETRIES = 20;
 
 // Validation passes (reorder_check.comp): nodes checked, nodes failing.
 const uint C_CHECK_NODES = 18;
@@ -137,6 +152,8 @@ const uint COUNTER_WORDS = 64;
 // Error bits in counters[C_ERROR].
 const uint ERR_ITERATION_CAP = 1;
 const uint ERR_READY_FULL = 2;
+// A workgroup's local deque would have overflowed (never expected:
+// batches are sized so it cannot).
 const uint ERR_STACK_OVERFLOW = 4;
 // A depth's nodes did not fit the per-depth kernel's node buffer.
 const uint ERR_LEVEL_FULL = 8;
@@ -160,9 +177,15 @@ const uint TASK_MESH_GROUPS = 32;
 const uint SORT_GROUP_SIZE = 512;
 const uint SORT_BLOCK = 1024;
 
-// Depth-first stack of one invocation: a subtree of depth L_MAX needs at
-// most 3 * L_MAX + 1 entries.
-const uint STACK_SIZE = 31;
+// The persistent kernel's workgroup-local deque of work items (shared
+// memory, a power of two): a workgroup keeps SUBDIV_KEEP items for its next
+// batch and hands the rest to the global queue, or, when the queue is
+// full, keeps them here and takes smaller batches so it never overflows.
+// It refills from the base patches or the queue when fewer than
+// SUBDIV_REFILL_BELOW are left.
+const uint SUBDIV_LOCAL_CAP = 2048;
+const uint SUBDIV_KEEP = 64;
+const uint SUBDIV_REFILL_BELOW = 32;
 
 // Fallback path: each ready node owns 4 triangle slots (12 vertices); a
 // missing wedge is written as a degenerate triangle.

@@ -53,6 +53,8 @@ pub struct GpuRequest {
     pub grid: u32,
     /// `subdiv-indirect`: the deepest level.
     pub max_depth: u32,
+    /// `subdiv`: persistent workgroups (`None`: the device's default).
+    pub groups: Option<u32>,
     /// Device choice.
     pub device: crate::vk::DeviceSelector,
     /// Khronos validation layer on (any error fails the run).
@@ -72,6 +74,7 @@ impl GpuRequest {
             draw: crate::draw::DrawRequest::Auto,
             grid: crate::methods::ground_truth::DEFAULT_GRID,
             max_depth: crate::methods::subdiv_indirect::DEFAULT_MAX_DEPTH,
+            groups: None,
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
         }
@@ -81,6 +84,16 @@ impl GpuRequest {
     /// (checked before any GPU work).
     pub fn method_info(&self) -> anyhow::Result<&'static crate::methods::MethodInfo> {
         crate::methods::ground_truth::check_grid(self.grid).map_err(|e| anyhow!("--grid: {e}"))?;
+        if self.groups == Some(0) {
+            return Err(anyhow!("--groups must be at least 1"));
+        }
+        if self.max_depth > crate::constants::L_MAX {
+            return Err(anyhow!(
+                "--max-depth {} is beyond l_max = {}",
+                self.max_depth,
+                crate::constants::L_MAX
+            ));
+        }
         Ok(crate::methods::find(&self.method)?)
     }
 
@@ -95,6 +108,7 @@ impl GpuRequest {
         let methods = crate::methods::MethodOptions {
             grid: self.grid,
             max_depth: self.max_depth,
+            groups: self.groups,
             ..crate::methods::MethodOptions::new(draw)
         };
         let options = RendererOptions {

@@ -59,6 +59,62 @@ pub struct RenderArgs {
     pub shade: Shade,
     /// Output PNG (`None`: `out/<scene name>.png`).
     pub out: Option<PathBuf>,
+    /// Timed frames after a warm-up one (0: just the one frame).
+    pub repeat: u32,
+}
+
+/// GPU time per scope over repeated frames: median, min, max (ms), in the
+/// order the scopes were first seen.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Timing {
+    /// (scope, median, min, max).
+    pub scopes: Vec<(String, f64, f64, f64)>,
+    /// Frames timed.
+    pub frames: usize,
+}
+
+impl Timing {
+    /// Summarises the per-frame scope times of `frames`.
+    pub fn of(frames: &[Vec<(String, f64)>]) -> Self {
+        let mut names: Vec<String> = Vec::new();
+        for f in frames {
+            for (n, _) in f {
+                if !names.contains(n) {
+                    names.push(n.clone());
+                }
+            }
+        }
+        let scopes = names
+            .into_iter()
+            .map(|n| {
+                let mut v: Vec<f64> = frames
+                    .iter()
+                    .filter_map(|f| f.iter().find(|(m, _)| *m == n).map(|(_, ms)| *ms))
+                    .collect();
+                v.sort_by(f64::total_cmp);
+                let (lo, hi) = (v[0], v[v.len() - 1]);
+                (n, median(&v), lo, hi)
+            })
+            .collect();
+        Timing {
+            scopes,
+            frames: frames.len(),
+        }
+    }
+}
+
+/// The median of sorted values (the mean of the middle two for an even
+/// count).
+pub fn median(sorted: &[f64]) -> f64 {
+    let n = sorted.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    }
 }
 
 /// The JSON stats path for an image path: same name, `.json`.
@@ -91,20 +147,29 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let ctx = args.gpu.context()?;
     let mut renderer = args.gpu.renderer(&ctx, &geo)?;
     let view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
-    let report = renderer.render(&view)?;
+    let mut report = renderer.render(&view)?;
+    let mut times = Vec::new();
+    for _ in 0..args.repeat {
+        report = renderer.render(&view)?;
+        times.push(report.gpu_ms.clone());
+    }
+    let timing = (args.repeat > 0).then(|| Timing::of(&times));
     let rgba = renderer.read_image()?;
     if args.gpu.validation {
         ctx.check_validation()?;
     }
 
-    let stats = stats_json(args, &scene, eps, lambda, &renderer, &report);
+    let mut stats = stats_json(args, &scene, eps, lambda, &renderer, &report);
+    if let Some(t) = &timing {
+        add_timing(&mut stats, t);
+    }
     let (w, h) = args.gpu.size;
     write_outputs(&out, &json_path, (w, h), &rgba, &stats)?;
     let info = ctx.info();
     let s = &report.stats;
     let wedges = s.get_u64("wedge_triangles");
     Ok(format!(
-        "{} ({}) on {}{}, {} path: {} triangles{}, {:.2} ms GPU\nwrote {} and {}\n",
+        "{} ({}) on {}{}, {} path: {} triangles{}, {:.3} ms GPU{}\nwrote {} and {}\n",
         args.gpu.scene.display(),
         method.name,
         info.name,
@@ -115,10 +180,37 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
             " ({:.1} % wedges)",
             100.0 * w as f64 / s.triangles.max(1) as f64
         )),
-        report.ms("frame").unwrap_or(0.0),
+        timing
+            .as_ref()
+            .and_then(|t| t.scopes.iter().find(|s| s.0 == "frame").map(|s| s.1))
+            .or_else(|| report.ms("frame"))
+            .unwrap_or(0.0),
+        if args.repeat > 0 {
+            format!(" (median of {})", args.repeat)
+        } else {
+            String::new()
+        },
         out.display(),
         json_path.display()
     ))
+}
+
+/// Replaces `gpu_ms` with the medians of repeated frames and adds their
+/// minima and maxima.
+fn add_timing(stats: &mut Value, t: &Timing) {
+    let pick = |k: usize| -> Map<String, Value> {
+        t.scopes
+            .iter()
+            .map(|s| {
+                let v = [s.1, s.2, s.3][k];
+                (s.0.clone(), json!(v))
+            })
+            .collect()
+    };
+    stats["gpu_ms"] = Value::Object(pick(0));
+    stats["gpu_ms_min"] = Value::Object(pick(1));
+    stats["gpu_ms_max"] = Value::Object(pick(2));
+    stats["repeat"] = json!(t.frames);
 }
 
 /// Writes the image and its stats as one set: both appear or neither.
@@ -197,4 +289,24 @@ fn stats_json(
         "memory_bytes": memory,
         "method_stats": own,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn medians_of_known_lists() {
+        assert_eq!(median(&[1.0, 2.0, 9.0]), 2.0);
+        assert_eq!(median(&[1.0, 2.0, 4.0, 9.0]), 3.0);
+        assert!(median(&[]).is_nan());
+        let t = Timing::of(&[
+            vec![("frame".into(), 3.0), ("draw".into(), 1.0)],
+            vec![("frame".into(), 1.0), ("draw".into(), 2.0)],
+            vec![("frame".into(), 2.0)],
+        ]);
+        assert_eq!(t.frames, 3);
+        assert_eq!(t.scopes[0], ("frame".to_string(), 2.0, 1.0, 3.0));
+        assert_eq!(t.scopes[1], ("draw".to_string(), 1.5, 1.0, 2.0));
+    }
 }

@@ -81,7 +81,7 @@ impl MethodOptions {
         Self {
             draw,
             ready_capacity: 1 << 18,
-            queue_capacity: 1 << 16,
+            queue_capacity: 1 << 19,
             groups: None,
             idle_poll_cap: subdiv::DEFAULT_IDLE_POLL_CAP,
             sort: true,

@@ -12,8 +12,8 @@ use crate::draw::{ReadyCaps, ReadyStage};
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::SubdivPush;
 use crate::vk::{
-    buffer_barrier, Access, Buffer, Context, DescriptorSet, MemoryLocation, Pipeline,
-    PipelineLayout, SetLayout, VkError, VkResult,
+    buffer_barrier, memory_barrier, Access, Buffer, Context, DescriptorSet, MemoryLocation,
+    Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
 };
 
 /// The registry entry.
@@ -51,61 +51,57 @@ pub fn default_groups(ctx: &Context) -> u32 {
     }
 }
 
-/// The work queue: nodes, their sequence numbers, and the sequence
-/// numbers' initial values (set 2 of the kernel).
+/// The work queue (set 2 of the kernel, `glsl/common/queue.glsl`): nodes,
+/// a sequence number per slot, and the head and tail. It is put in its
+/// empty state when made and after a frame that ended abnormally; a frame
+/// that ends normally leaves it empty and valid for the next.
 struct Queue {
     items: Buffer,
     seqs: Buffer,
-    seq_init: Buffer,
+    state: Buffer,
     capacity: u32,
     set: DescriptorSet,
+    /// The next frame must reset it first.
+    needs_reset: bool,
 }
 
 impl Queue {
+    /// A queue of `capacity` entries, rounded up to a power of two.
     fn new(ctx: &Context, layout: &SetLayout, capacity: u32) -> VkResult<Self> {
-        if capacity == 0 {
-            return Err(VkError::Usage(
-                "the work queue needs at least one entry".into(),
-            ));
+        if capacity == 0 || capacity > 1 << 30 {
+            return Err(VkError::Usage(format!(
+                "a work queue of {capacity} entries (1 to 2^30)"
+            )));
         }
+        let capacity = capacity.next_power_of_two();
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let gpu = MemoryLocation::GpuOnly;
         let items = Buffer::new(ctx, "queue items", u64::from(capacity) * 8, storage, gpu)?;
         let seqs = Buffer::new(ctx, "queue seqs", u64::from(capacity) * 4, storage, gpu)?;
-        let init: Vec<u32> = (0..capacity).collect();
-        let seq_init = Buffer::with_data(
+        let state = Buffer::new(
             ctx,
-            "queue seq init",
-            &init,
-            vk::BufferUsageFlags::TRANSFER_SRC,
+            "queue head and tail",
+            u64::from(QUEUE_STATE_WORDS) * 4,
+            storage,
             gpu,
         )?;
         let mut bound = [(&items).into(); QUEUE_BINDINGS as usize];
         bound[BIND_QUEUE_ITEMS as usize] = (&items).into();
         bound[BIND_QUEUE_SEQS as usize] = (&seqs).into();
+        bound[BIND_QUEUE_STATE as usize] = (&state).into();
         let set = DescriptorSet::new(ctx, "queue set", layout, &bound)?;
         Ok(Self {
             items,
             seqs,
-            seq_init,
+            state,
             capacity,
             set,
+            needs_reset: true,
         })
     }
 
-    /// Records resetting the sequence numbers to 0, 1, 2, …
-    fn record_reset(&self, ctx: &Context, cmd: vk::CommandBuffer) {
-        buffer_barrier(ctx, cmd, &self.seqs, Access::ALL, Access::TRANSFER_WRITE);
-        let region = [vk::BufferCopy::default().size(u64::from(self.capacity) * 4)];
-        unsafe {
-            ctx.device()
-                .cmd_copy_buffer(cmd, self.seq_init.handle(), self.seqs.handle(), &region)
-        };
-        buffer_barrier(ctx, cmd, &self.seqs, Access::TRANSFER_WRITE, Access::ALL);
-    }
-
     fn bytes(&self) -> u64 {
-        self.items.size() + self.seqs.size() + self.seq_init.size()
+        self.items.size() + self.seqs.size() + self.state.size()
     }
 }
 
@@ -115,6 +111,7 @@ pub struct Subdiv {
     queue: Queue,
     layout: PipelineLayout,
     pipeline: Pipeline,
+    reset: Pipeline,
     groups: u32,
     idle_poll_cap: u32,
     plant_endless_loop: bool,
@@ -150,11 +147,15 @@ impl Subdiv {
         let pipeline = setup
             .shaders
             .compute(ctx, &layout, "subdivide", "subdivide.comp")?;
+        let reset = setup
+            .shaders
+            .compute(ctx, &layout, "queue reset", "queue_reset.comp")?;
         Ok(Self {
             stage,
             queue,
             layout,
             pipeline,
+            reset,
             groups: o.groups.unwrap_or_else(|| default_groups(ctx)).max(1),
             idle_poll_cap: o.idle_poll_cap,
             plant_endless_loop: o.plant_endless_loop,
@@ -180,7 +181,6 @@ impl Subdiv {
         }
         let list = self.stage.list();
         self.stage.record_reset(f);
-        self.queue.record_reset(f.ctx, f.cmd);
         let in_flight = count + self.plant_endless_loop as u32;
         unsafe {
             f.ctx.device().cmd_update_buffer(
@@ -203,13 +203,24 @@ impl Subdiv {
             patch_count: count,
             idle_poll_cap: self.idle_poll_cap,
         };
-        self.pipeline.bind(f.cmd);
         let bind = vk::PipelineBindPoint::COMPUTE;
         self.stage.bind_sets(f, bind, &self.layout);
         self.queue
             .set
             .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
         self.layout.push_block(f.cmd, &pc)?;
+        if self.queue.needs_reset {
+            self.reset.bind(f.cmd);
+            let groups = self.queue.capacity.div_ceil(64);
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
+            memory_barrier(
+                f.ctx,
+                f.cmd,
+                Access::COMPUTE_WRITE,
+                Access::COMPUTE_READ_WRITE,
+            );
+        }
+        self.pipeline.bind(f.cmd);
         let groups = self.groups;
         f.scoped("subdivide", |f| {
             unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
@@ -256,6 +267,9 @@ impl Method for Subdiv {
             .ok_or_else(|| RenderError::Request("finish() before any frame was recorded".into()))?;
         let words = out.words(range);
         let stats = GpuSubdivStats::from_counters(words);
+        // This frame's reset (if any) is done; an abnormal end leaves the
+        // queue in an unknown state.
+        self.queue.needs_reset = stats.errors != 0 || stats.in_flight_left != 0;
         if let Some(reason) =
             self.stage
                 .grow_if_full(out.ctx, words, MAX_READY_CAPACITY, out.retired)?
@@ -268,9 +282,11 @@ impl Method for Subdiv {
                 message,
             });
         }
-        Ok(Finished::Done(
-            stats.method_stats(self.stage.list().caps.ready),
-        ))
+        let mut m = stats.method_stats(self.stage.list().caps.ready);
+        m.own
+            .push(("queue_capacity_items", json!(self.queue.capacity)));
+        m.own.push(("workgroups", json!(self.groups)));
+        Ok(Finished::Done(m))
     }
 
     fn reconfigure(
@@ -282,7 +298,7 @@ impl Method for Subdiv {
         // Buffer sizes and the draw path need a new method; the rest are
         // values recorded per frame.
         if o.draw != self.stage.path()
-            || o.queue_capacity != self.queue.capacity
+            || o.queue_capacity.next_power_of_two() != self.queue.capacity
             || o.ready_capacity > self.stage.list().caps.ready
         {
             return Ok(false);
@@ -328,8 +344,14 @@ pub struct GpuSubdivStats {
     pub triangles: u32,
     /// Wedge triangles.
     pub wedge_triangles: u32,
-    /// Donations refused because the queue was full or contended.
+    /// Items a full queue refused (they stayed in their workgroup).
     pub queue_spills: u32,
+    /// Queue operations that lost a compare-and-swap (retried later).
+    pub queue_retries: u32,
+    /// Polls of the in-flight count by idle workgroups.
+    pub idle_polls: u32,
+    /// Atomic read-modify-write operations on global memory.
+    pub global_atomics: u32,
     /// Items that went through the queue.
     pub queue_pushed: u32,
     /// Most items in the queue at once (sampled at pushes).
@@ -356,6 +378,9 @@ impl GpuSubdivStats {
             triangles: at(C_TRIANGLES),
             wedge_triangles: at(C_WEDGES),
             queue_spills: at(C_SPILLS),
+            queue_retries: at(C_QUEUE_RETRIES),
+            idle_polls: at(C_IDLE_POLLS),
+            global_atomics: at(C_GLOBAL_ATOMICS),
             queue_pushed: at(C_QUEUE_PUSHED),
             queue_peak_items: at(C_QUEUE_PEAK),
             iterations_max: at(C_ITERATIONS_MAX),
@@ -379,7 +404,14 @@ impl GpuSubdivStats {
                 ("queue_peak_items", json!(self.queue_peak_items)),
                 ("queue_spills", json!(self.queue_spills)),
                 ("queue_pushed", json!(self.queue_pushed)),
+                ("queue_retries", json!(self.queue_retries)),
                 ("iterations_max", json!(self.iterations_max)),
+                ("idle_polls", json!(self.idle_polls)),
+                ("global_atomics", json!(self.global_atomics)),
+                (
+                    "global_atomics_per_node",
+                    json!(f64::from(self.global_atomics) / f64::from(self.nodes_processed.max(1))),
+                ),
                 ("ready_capacity_items", json!(ready_capacity)),
             ],
         }

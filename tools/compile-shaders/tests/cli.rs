@@ -146,7 +146,7 @@ fn a_run_writes_the_constants_header_first_and_check_catches_a_hand_edit() {
         "#version 460\n#include \"common/constants.glsl\"\n\
          layout(local_size_x = 1) in;\n\
          layout(std430, binding = 0) buffer B { uint v[]; };\n\
-         void main() { v[0] = STACK_SIZE; }\n",
+         void main() { v[0] = L_MAX; }\n",
     );
 
     // --check compiles with the generated header, so the shader compiles
@@ -180,9 +180,9 @@ fn a_run_writes_the_constants_header_first_and_check_catches_a_hand_edit() {
 
     // A hand edit: one wrong value. Only the header is stale: --check compiles
     // with the generated text, as a run would.
-    let line = "const uint STACK_SIZE = 31;\n";
+    let line = "const uint L_MAX = 10;\n";
     assert!(generated.contains(line), "{generated}");
-    let edited = generated.replace(line, "const uint STACK_SIZE = 30;\n");
+    let edited = generated.replace(line, "const uint L_MAX = 9;\n");
     fs::write(dir.header(), &edited).unwrap();
     let out = dir.run(&["--check"]);
     let log = text(&out);

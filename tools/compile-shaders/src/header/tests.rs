@@ -252,9 +252,9 @@ fn a_planted_wrong_value_is_stale_and_write_restores_the_header() {
     assert_eq!(compare(&path, &text).unwrap(), State::Current);
     assert_eq!(write(&path, &text).unwrap(), State::Current);
 
-    let line = "const uint STACK_SIZE = 31;\n";
+    let line = "const uint L_MAX = 10;\n";
     assert!(text.contains(line));
-    fs::write(&path, text.replace(line, "const uint STACK_SIZE = 32;\n")).unwrap();
+    fs::write(&path, text.replace(line, "const uint L_MAX = 11;\n")).unwrap();
     assert_eq!(compare(&path, &text).unwrap(), State::Stale);
     assert_eq!(write(&path, &text).unwrap(), State::Stale);
     assert_eq!(fs::read_to_string(&path).unwrap(), text);
