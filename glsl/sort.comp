@@ -1,29 +1,32 @@
-// Sorts the ready list by (base patch, node bits), ascending: a bitonic sort
-// over the list padded to a power of two (counters[C_SORT_LENGTH]) with the
-// largest key. The persistent kernel appends ready nodes in an order that
-// depends on thread timing; where two triangles meet at exactly the same
-// depth the first one drawn wins, so a canonical order is what makes the
-// same frame give the same image every run. Sorting by patch also keeps a
+// Sorts the ready list by (base patch, node bits), ascending. Producers
+// append ready nodes in an order that depends on thread timing; where two
+// triangles meet at exactly the same depth the first one drawn wins, so a
+// canonical order is what makes the same frame give the same image every
+// run. Keys are unique (a node's patch, depth, m and n identify it), so the
+// order is a function of the ready set alone. Sorting by patch also keeps a
 // patch's control points hot in caches while it is drawn.
 //
-// Passes (pc.mode), each one dispatch, recorded by src/draw/sort.rs:
-//   FILL:   entries [count, length) get the largest key;
-//   BLOCK:  each block of SORT_BLOCK entries runs the steps j < SORT_BLOCK of
-//           stage k in shared memory (k = 0: every stage up to SORT_BLOCK);
-//   GLOBAL: one compare-exchange step (k, j) over the whole list.
-// Passes for stages beyond the list's length do nothing; the host records
-// the passes for the list's capacity and the GPU knows the length.
+// A merge sort over the list's actual length (the producer writes the
+// dispatch arguments), recorded by src/draw/sort.rs:
+//   BLOCK: each workgroup sorts a block of SORT_BLOCK entries in shared
+//          memory (a bitonic network; entries past the end count as the
+//          largest key and are not written back);
+//   MERGE: one invocation per entry merges pairs of sorted runs of width
+//          pc.k into runs of 2 * pc.k, finding where its output comes from
+//          by a binary search along the merge path.
+// Passes alternate between `ready` and `sort_temp` (pc.j says the
+// direction); the host arranges for the last to land in `ready`.
 #version 460
 
 #define USE_READY_RW
+#define USE_SORT_TEMP
 #define USE_LIST_PUSH
 #include "common/ready.glsl"
 
 layout(local_size_x = SORT_GROUP_SIZE) in;
 
-const uint MODE_FILL = 0u;
-const uint MODE_BLOCK = 1u;
-const uint MODE_GLOBAL = 2u;
+const uint MODE_BLOCK = 0u;
+const uint MODE_MERGE = 1u;
 
 shared uvec2 block[SORT_BLOCK];
 
@@ -31,61 +34,84 @@ bool less(uvec2 a, uvec2 b) {
     return a.x < b.x || (a.x == b.x && a.y < b.y);
 }
 
-// Orders the pair (i, l = i + j) of stage k: ascending where bit k of i is
-// clear, descending where it is set.
-void order(inout uvec2 a, inout uvec2 b, uint i, uint k) {
-    bool ascending = (i & k) == 0u;
-    if (less(b, a) == ascending) {
-        uvec2 t = a;
-        a = b;
-        b = t;
+uvec2 read_src(uint i) {
+    return pc.j == 0u ? ready[i] : sort_temp[i];
+}
+
+void write_dst(uint i, uvec2 v) {
+    if (pc.j == 0u) {
+        sort_temp[i] = v;
+    } else {
+        ready[i] = v;
     }
 }
 
-void main() {
-    uint len = counters[C_SORT_LENGTH];
-    uint t = gl_GlobalInvocationID.x;
-    if (pc.mode == MODE_FILL) {
-        uint i = min(counters[C_READY_COUNT], pc.ready_capacity) + t;
-        if (i < len) {
-            ready[i] = uvec2(0xffffffffu);
-        }
-        return;
+// Orders the pair (i, i + j) of bitonic stage k: ascending where bit k of
+// i is clear, descending where it is set.
+void order(uint i, uint j, uint k) {
+    uvec2 a = block[i];
+    uvec2 b = block[i + j];
+    if (less(b, a) == ((i & k) == 0u)) {
+        block[i] = b;
+        block[i + j] = a;
     }
-    if (pc.k > len) {
-        return;
-    }
-    if (pc.mode == MODE_GLOBAL) {
-        uint i = 2u * pc.j * (t / pc.j) + (t % pc.j);
-        uint l = i + pc.j;
-        if (l < len) {
-            uvec2 a = ready[i];
-            uvec2 b = ready[l];
-            order(a, b, i, pc.k);
-            ready[i] = a;
-            ready[l] = b;
-        }
-        return;
-    }
-    // MODE_BLOCK: the block of this workgroup, in shared memory.
+}
+
+void sort_block(uint n) {
     uint base = gl_WorkGroupID.x * SORT_BLOCK;
     uint lt = gl_LocalInvocationID.x;
-    block[lt] = ready[base + lt];
-    block[lt + SORT_GROUP_SIZE] = ready[base + lt + SORT_GROUP_SIZE];
+    for (uint h = 0u; h < 2u; ++h) {
+        uint i = lt + h * SORT_GROUP_SIZE;
+        block[i] = base + i < n ? ready[base + i] : uvec2(0xffffffffu);
+    }
     barrier();
-    uint k_first = pc.k == 0u ? 2u : pc.k;
-    uint k_last = pc.k == 0u ? SORT_BLOCK : pc.k;
-    for (uint k = k_first; k <= k_last; k *= 2u) {
-        for (uint j = min(k, SORT_BLOCK) / 2u; j > 0u; j /= 2u) {
-            uint i = 2u * j * (lt / j) + (lt % j);
-            uvec2 a = block[i];
-            uvec2 b = block[i + j];
-            order(a, b, base + i, k);
-            block[i] = a;
-            block[i + j] = b;
+    for (uint k = 2u; k <= SORT_BLOCK; k *= 2u) {
+        for (uint j = k / 2u; j > 0u; j /= 2u) {
+            order(2u * j * (lt / j) + (lt % j), j, k);
             barrier();
         }
     }
-    ready[base + lt] = block[lt];
-    ready[base + lt + SORT_GROUP_SIZE] = block[lt + SORT_GROUP_SIZE];
+    for (uint h = 0u; h < 2u; ++h) {
+        uint i = lt + h * SORT_GROUP_SIZE;
+        if (base + i < n) {
+            write_dst(base + i, block[i]);
+        }
+    }
+}
+
+void merge(uint n) {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= n) {
+        return;
+    }
+    uint w = pc.k;
+    uint a0 = (i / (2u * w)) * (2u * w);
+    uint a_len = min(w, n - a0);
+    uint b0 = a0 + a_len;
+    uint b_len = min(w, n - b0);
+    uint k = i - a0;
+    // How many of the first k outputs of the pair come from run A.
+    uint lo = k > b_len ? k - b_len : 0u;
+    uint hi = min(k, a_len);
+    while (lo < hi) {
+        uint mid = (lo + hi) / 2u;
+        if (less(read_src(a0 + mid), read_src(b0 + k - mid - 1u))) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    uint a = lo;
+    uint b = k - a;
+    bool take_a = b >= b_len || (a < a_len && less(read_src(a0 + a), read_src(b0 + b)));
+    write_dst(i, take_a ? read_src(a0 + a) : read_src(b0 + b));
+}
+
+void main() {
+    uint n = ready_count(pc.ready_capacity);
+    if (pc.mode == MODE_BLOCK) {
+        sort_block(n);
+    } else {
+        merge(n);
+    }
 }

@@ -159,7 +159,9 @@ shared_constants! {
         BIND_COUNTERS = 1;
         BIND_VERTICES = 2;
         BIND_CAPTURE = 3;
-        READY_BINDINGS = 4;
+        /// The sort's second buffer (merge passes ping-pong).
+        BIND_SORT_TEMP = 4;
+        READY_BINDINGS = 5;
     }
     /// Set 2 of the persistent subdivision kernel: its work queue (items,
     /// a sequence number per slot, and the head and tail, which carry on from
@@ -258,13 +260,12 @@ shared_constants! {
         /// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
         C_DRAW_ARGS = 40;
     }
-    /// Sorting the ready list (sort.comp): the padded length, and dispatch
-    /// arguments for the padding fill, the global and the in-block passes.
+    /// Sorting the ready list (sort.comp): dispatch arguments of the block
+    /// pass (one workgroup per SORT_BLOCK entries) and of each merge pass (one
+    /// invocation per entry).
     group {
-        C_SORT_LENGTH = 44;
-        C_SORT_FILL_ARGS = 48;
-        C_SORT_GLOBAL_ARGS = 52;
-        C_SORT_BLOCK_ARGS = 56;
+        C_SORT_BLOCK_ARGS = 48;
+        C_SORT_MERGE_ARGS = 52;
     }
     /// Size of the counters buffer in uint words.
     group {
@@ -297,9 +298,9 @@ shared_constants! {
         TASK_MESH_GROUPS = 32;
     }
 
-    /// Sorting: threads per workgroup; a block of 2 * SORT_GROUP_SIZE entries is
-    /// sorted in shared memory. Ready-list capacities are powers of two and at
-    /// least one block.
+    /// Sorting: threads per workgroup; the block pass sorts blocks of
+    /// 2 * SORT_GROUP_SIZE entries in shared memory, then merge passes double
+    /// the sorted runs until one spans the list.
     group {
         SORT_GROUP_SIZE = 512;
         SORT_BLOCK = 1024;

@@ -67,11 +67,17 @@ fn sizes_derived_from_others() {
         SUBDIV_LOCAL_CAP.is_power_of_two(),
         "the deque wraps by mask"
     );
+    let (cap, keep, group, refill) = (
+        SUBDIV_LOCAL_CAP,
+        SUBDIV_KEEP,
+        SUBDIV_GROUP_SIZE,
+        SUBDIV_REFILL_BELOW,
+    );
     assert!(
-        SUBDIV_LOCAL_CAP >= SUBDIV_KEEP + 4 * SUBDIV_GROUP_SIZE,
+        cap >= keep + 4 * group,
         "a kept batch and its children fit the deque"
     );
-    assert!(SUBDIV_REFILL_BELOW <= SUBDIV_GROUP_SIZE && SUBDIV_KEEP >= SUBDIV_GROUP_SIZE);
+    assert!(refill <= group && keep >= group, "{refill} {keep} {group}");
     assert_eq!(
         SORT_BLOCK,
         2 * SORT_GROUP_SIZE,
@@ -138,7 +144,13 @@ fn bindings_number_each_set_from_zero() {
         ),
         (
             "ready list",
-            vec![BIND_READY, BIND_COUNTERS, BIND_VERTICES, BIND_CAPTURE],
+            vec![
+                BIND_READY,
+                BIND_COUNTERS,
+                BIND_VERTICES,
+                BIND_CAPTURE,
+                BIND_SORT_TEMP,
+            ],
             READY_BINDINGS,
         ),
         (
@@ -195,7 +207,6 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
         C_QUEUE_RETRIES,
         C_CHECK_NODES,
         C_CHECK_FAILS,
-        C_SORT_LENGTH,
     ];
     // Indirect arguments: x, y, z for dispatches and mesh tasks, four words
     // for vkCmdDrawIndirect.
@@ -203,9 +214,8 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
         (C_MESH_ARGS, 3),
         (C_EXPAND_ARGS, 3),
         (C_DRAW_ARGS, 4),
-        (C_SORT_FILL_ARGS, 3),
-        (C_SORT_GLOBAL_ARGS, 3),
         (C_SORT_BLOCK_ARGS, 3),
+        (C_SORT_MERGE_ARGS, 3),
     ];
     let mut owner = vec![None; COUNTER_WORDS as usize];
     let slots = scalars.iter().map(|&c| (c, 1)).chain(ranges);

@@ -51,7 +51,9 @@ const uint BIND_READY = 0;
 const uint BIND_COUNTERS = 1;
 const uint BIND_VERTICES = 2;
 const uint BIND_CAPTURE = 3;
-const uint READY_BINDINGS = 4;
+// The sort's second buffer (merge passes ping-pong).
+const uint BIND_SORT_TEMP = 4;
+const uint READY_BINDINGS = 5;
 
 // Set 2 of the persistent subdivision kernel: its work queue (items,
 // a sequence number per slot, and the head and tail, which carry on from
@@ -139,12 +141,11 @@ const uint C_EXPAND_ARGS = 36;
 // vkCmdDrawIndirect: vertices, instances, first vertex, first instance
 const uint C_DRAW_ARGS = 40;
 
-// Sorting the ready list (sort.comp): the padded length, and dispatch
-// arguments for the padding fill, the global and the in-block passes.
-const uint C_SORT_LENGTH = 44;
-const uint C_SORT_FILL_ARGS = 48;
-const uint C_SORT_GLOBAL_ARGS = 52;
-const uint C_SORT_BLOCK_ARGS = 56;
+// Sorting the ready list (sort.comp): dispatch arguments of the block
+// pass (one workgroup per SORT_BLOCK entries) and of each merge pass (one
+// invocation per entry).
+const uint C_SORT_BLOCK_ARGS = 48;
+const uint C_SORT_MERGE_ARGS = 52;
 
 // Size of the counters buffer in uint words.
 const uint COUNTER_WORDS = 64;
@@ -171,9 +172,9 @@ const uint MESH_NODES = 32;
 // Mesh workgroups launched by one task workgroup.
 const uint TASK_MESH_GROUPS = 32;
 
-// Sorting: threads per workgroup; a block of 2 * SORT_GROUP_SIZE entries is
-// sorted in shared memory. Ready-list capacities are powers of two and at
-// least one block.
+// Sorting: threads per workgroup; the block pass sorts blocks of
+// 2 * SORT_GROUP_SIZE entries in shared memory, then merge passes double
+// the sorted runs until one spans the list.
 const uint SORT_GROUP_SIZE = 512;
 const uint SORT_BLOCK = 1024;
 

@@ -48,13 +48,19 @@ layout(std430, set = SET_PASS, binding = BIND_CAPTURE) writeonly buffer Capture 
 };
 #endif
 
+#ifdef USE_SORT_TEMP
+layout(std430, set = SET_PASS, binding = BIND_SORT_TEMP) buffer SortTemp {
+    uvec2 sort_temp[];
+};
+#endif
+
 #ifdef USE_LIST_PUSH
 // src/gpu/blocks.rs ListPush.
 layout(push_constant) uniform ListPush {
     uint ready_capacity;  // entries in `ready`
     uint mode;            // sort: which pass
-    uint k;               // sort: bitonic stage
-    uint j;               // sort: compare distance
+    uint k;               // sort: width of the sorted runs merged
+    uint j;               // sort: 0 reads `ready`, writes `sort_temp`; 1 back
 } pc;
 #endif
 
@@ -67,7 +73,7 @@ uint ready_count(uint capacity) {
 
 // The indirect arguments of everything after a producer, for n ready
 // nodes: the mesh draw, the fallback's expansion and draw, and the sort's
-// passes over the list padded to a power of two of at least one block.
+// block and merge passes.
 // src/draw/ready.rs `indirect_args` is the host's copy.
 void write_ready_args(uint n) {
     counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
@@ -80,20 +86,12 @@ void write_ready_args(uint n) {
     counters[C_DRAW_ARGS + 1u] = 1u;
     counters[C_DRAW_ARGS + 2u] = 0u;
     counters[C_DRAW_ARGS + 3u] = 0u;
-    uint len = SORT_BLOCK;
-    while (len < n) {
-        len *= 2u;
-    }
-    counters[C_SORT_LENGTH] = len;
-    counters[C_SORT_FILL_ARGS] = (len - n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE;
-    counters[C_SORT_FILL_ARGS + 1u] = 1u;
-    counters[C_SORT_FILL_ARGS + 2u] = 1u;
-    counters[C_SORT_GLOBAL_ARGS] = len / (2u * SORT_GROUP_SIZE);
-    counters[C_SORT_GLOBAL_ARGS + 1u] = 1u;
-    counters[C_SORT_GLOBAL_ARGS + 2u] = 1u;
-    counters[C_SORT_BLOCK_ARGS] = len / SORT_BLOCK;
+    counters[C_SORT_BLOCK_ARGS] = (n + SORT_BLOCK - 1u) / SORT_BLOCK;
     counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
     counters[C_SORT_BLOCK_ARGS + 2u] = 1u;
+    counters[C_SORT_MERGE_ARGS] = (n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE;
+    counters[C_SORT_MERGE_ARGS + 1u] = 1u;
+    counters[C_SORT_MERGE_ARGS + 2u] = 1u;
 }
 
 #endif

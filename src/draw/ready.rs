@@ -90,6 +90,8 @@ pub struct ReadyList {
     pub vertices: Buffer,
     /// Capture of world positions (or a 16-byte placeholder).
     pub capture: Buffer,
+    /// The sort's second buffer, as large as the list.
+    pub sort_temp: Buffer,
     /// What was allocated.
     pub caps: ReadyCaps,
     set: DescriptorSet,
@@ -113,17 +115,20 @@ impl ReadyList {
         )?;
         let vertices = Buffer::new(ctx, "fallback vertices", caps.vertex_bytes(), storage, gpu)?;
         let capture = Buffer::new(ctx, "position capture", caps.capture_bytes(), storage, gpu)?;
+        let sort_temp = Buffer::new(ctx, "sort temp", u64::from(caps.ready) * 8, storage, gpu)?;
         let mut bound = [BufferBinding::from(&ready); READY_BINDINGS as usize];
         bound[BIND_READY as usize] = (&ready).into();
         bound[BIND_COUNTERS as usize] = (&counters).into();
         bound[BIND_VERTICES as usize] = (&vertices).into();
         bound[BIND_CAPTURE as usize] = (&capture).into();
+        bound[BIND_SORT_TEMP as usize] = (&sort_temp).into();
         let set = DescriptorSet::new(ctx, "ready-list set", layout, &bound)?;
         Ok(Self {
             ready,
             counters,
             vertices,
             capture,
+            sort_temp,
             caps,
             set,
         })
@@ -161,6 +166,7 @@ impl ReadyList {
     pub fn memory_bytes(&self) -> Vec<(&'static str, u64)> {
         let mut v = vec![
             ("ready_list", self.ready.size()),
+            ("sort_temp", self.sort_temp.size()),
             ("counters", self.counters.size()),
         ];
         if self.caps.vertices {
@@ -179,7 +185,6 @@ impl ReadyList {
 /// CPU-made ready list use this.
 pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
     let per_task = MESH_NODES * TASK_MESH_GROUPS;
-    let len = ready.max(SORT_BLOCK).next_power_of_two();
     vec![
         (C_READY_COUNT, ready),
         (C_MESH_ARGS, ready.div_ceil(per_task)),
@@ -192,15 +197,11 @@ pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
         (C_DRAW_ARGS + 1, 1),
         (C_DRAW_ARGS + 2, 0),
         (C_DRAW_ARGS + 3, 0),
-        (C_SORT_LENGTH, len),
-        (C_SORT_FILL_ARGS, (len - ready).div_ceil(SORT_GROUP_SIZE)),
-        (C_SORT_FILL_ARGS + 1, 1),
-        (C_SORT_FILL_ARGS + 2, 1),
-        (C_SORT_GLOBAL_ARGS, len / (2 * SORT_GROUP_SIZE)),
-        (C_SORT_GLOBAL_ARGS + 1, 1),
-        (C_SORT_GLOBAL_ARGS + 2, 1),
-        (C_SORT_BLOCK_ARGS, len / SORT_BLOCK),
+        (C_SORT_BLOCK_ARGS, ready.div_ceil(SORT_BLOCK)),
         (C_SORT_BLOCK_ARGS + 1, 1),
         (C_SORT_BLOCK_ARGS + 2, 1),
+        (C_SORT_MERGE_ARGS, ready.div_ceil(SORT_GROUP_SIZE)),
+        (C_SORT_MERGE_ARGS + 1, 1),
+        (C_SORT_MERGE_ARGS + 2, 1),
     ]
 }

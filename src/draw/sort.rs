@@ -1,8 +1,10 @@
 //! Sorting the ready list by (patch, node) on the GPU (`glsl/sort.comp`), so
 //! that a frame's draw order, and with it every equal-depth tie, does not
-//! depend on how a producer's threads happened to interleave. Recorded
-//! between the producer and the draw; the dispatch sizes come from the
-//! arguments the producer wrote.
+//! depend on how a producer's threads happened to interleave: a block pass
+//! (blocks of `SORT_BLOCK` entries sorted in shared memory), then merge
+//! passes doubling the sorted runs, all over the list's actual length (the
+//! producer writes the dispatch arguments). Recorded between the producer
+//! and the draw.
 
 use ash::vk;
 
@@ -10,13 +12,24 @@ use super::ReadyStage;
 use crate::constants::*;
 use crate::frame::FrameRec;
 use crate::gpu::{ListPush, Shaders};
-use crate::vk::{memory_barrier, Access, Context, Pipeline, PipelineLayout, VkError, VkResult};
+use crate::vk::{memory_barrier, Access, Context, Pipeline, PipelineLayout, VkResult};
 
-const MODE_FILL: u32 = 0;
-const MODE_BLOCK: u32 = 1;
-const MODE_GLOBAL: u32 = 2;
+const MODE_BLOCK: u32 = 0;
+const MODE_MERGE: u32 = 1;
 
-/// The bitonic sort of the ready list.
+/// Merge passes a list of `capacity` entries needs: runs start at
+/// `SORT_BLOCK` and double until one spans the list.
+pub fn merge_passes(capacity: u32) -> u32 {
+    let mut passes = 0;
+    let mut run = SORT_BLOCK;
+    while run < capacity {
+        run *= 2;
+        passes += 1;
+    }
+    passes
+}
+
+/// The merge sort of the ready list.
 pub struct ReadySort {
     pipeline: Pipeline,
 }
@@ -29,26 +42,26 @@ impl ReadySort {
         })
     }
 
-    /// Records every pass needed for the list's capacity (the passes beyond
-    /// the actual length do nothing on the GPU), with barriers.
+    /// Records the block pass and every merge pass the list's capacity may
+    /// need (a pass over runs already spanning the list only copies), with
+    /// barriers; the sorted list ends in `ready`.
     pub fn record(&self, f: &mut FrameRec<'_>, stage: &ReadyStage) -> VkResult<()> {
         let cap = stage.list().caps.ready;
-        if !cap.is_power_of_two() || cap < SORT_BLOCK {
-            return Err(VkError::Usage(format!(
-                "sorting needs a power-of-two ready capacity of at least {SORT_BLOCK} (got {cap})"
-            )));
-        }
         let layout = stage.list_layout();
         self.pipeline.bind(f.cmd);
         stage.bind_sets(f, vk::PipelineBindPoint::COMPUTE, layout);
         let counters = stage.list().counters.handle();
         let compute = Access::COMPUTE_READ_WRITE;
-        let pass = |mode: u32, k: u32, j: u32, args: u32| -> VkResult<()> {
+        let passes = merge_passes(cap);
+        // Direction of the block pass: an odd number of merges must start in
+        // the temporary buffer to end in `ready`.
+        let mut to_temp = passes % 2 == 1;
+        let pass = |mode: u32, k: u32, to_temp: bool, args: u32| -> VkResult<()> {
             let pc = ListPush {
                 ready_capacity: cap,
                 mode,
                 k,
-                j,
+                j: if to_temp { 0 } else { 1 },
             };
             layout.push_block(f.cmd, &pc)?;
             unsafe {
@@ -61,19 +74,29 @@ impl ReadySort {
         };
         // The producer's writes (list, count, arguments) first.
         memory_barrier(f.ctx, f.cmd, Access::ALL, Access::ALL);
-        pass(MODE_FILL, 0, 0, C_SORT_FILL_ARGS)?;
-        pass(MODE_BLOCK, 0, 0, C_SORT_BLOCK_ARGS)?;
-        let mut k = 2 * SORT_BLOCK;
-        while k <= cap {
-            let mut j = k / 2;
-            while j >= SORT_BLOCK {
-                pass(MODE_GLOBAL, k, j, C_SORT_GLOBAL_ARGS)?;
-                j /= 2;
-            }
-            pass(MODE_BLOCK, k, 0, C_SORT_BLOCK_ARGS)?;
-            k *= 2;
+        // The block pass reads `ready` and writes its blocks in place
+        // (j = 1) or to the temporary buffer (j = 0).
+        pass(MODE_BLOCK, 0, to_temp, C_SORT_BLOCK_ARGS)?;
+        let mut run = SORT_BLOCK;
+        for _ in 0..passes {
+            // A merge reads where the last pass wrote.
+            to_temp = !to_temp;
+            pass(MODE_MERGE, run, to_temp, C_SORT_MERGE_ARGS)?;
+            run *= 2;
         }
         memory_barrier(f.ctx, f.cmd, Access::ALL, Access::ALL);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn merge_passes_double_runs_up_to_the_capacity() {
+        assert_eq!(merge_passes(SORT_BLOCK), 0);
+        assert_eq!(merge_passes(SORT_BLOCK + 1), 1);
+        assert_eq!(merge_passes(1 << 18), 8);
     }
 }
