@@ -351,8 +351,11 @@ impl Method for SubdivIndirect {
             });
         }
         let mut m = stats.method_stats(self.stage.list().caps.ready);
-        m.own
-            .retain(|(k, _)| !k.starts_with("queue") && *k != "iterations_max");
+        // The persistent kernel's own figures mean nothing here.
+        let persistent_only = ["iterations_max", "idle_polls", "global_atomics"];
+        m.own.retain(|(k, _)| {
+            !k.starts_with("queue") && !persistent_only.iter().any(|p| k.starts_with(p))
+        });
         let nodes_per_depth: Vec<u32> = per_depth[..=(self.max_depth as usize + 1)].to_vec();
         m.own.push(("max_depth_limit", json!(self.max_depth)));
         m.own.push(("nodes_per_depth", json!(nodes_per_depth)));
