@@ -5,6 +5,7 @@
 pub mod commands;
 pub mod constants;
 pub mod draw;
+pub mod eval;
 pub mod files;
 pub mod frame;
 pub mod gpu;
