@@ -343,5 +343,10 @@ shared_constants! {
         SHADE_DISTANCE = 4;
         /// Tests: the rasterizer's facing (winding) as is: front white, back key.
         SHADE_FACING = 5;
+        /// Lit surface with the outline of every drawn cell: QuadNodes (their
+        /// depth's grid in the patch's parameters), tessellation or grid cells.
+        SHADE_WIREFRAME = 6;
+        /// The shading normal as colour (x, y, z to r, g, b).
+        SHADE_NORMALS = 7;
     }
 }

@@ -66,7 +66,8 @@ enum Command {
         #[command(flatten)]
         frame: FrameArgs,
         /// Shading: normal (lit), depth (QuadNode depth heat map), wedges
-        /// (depth map with the crack-closing wedges highlighted).
+        /// (depth map with the crack-closing wedges highlighted), wireframe
+        /// (the outline of every drawn cell), normals (as colours).
         #[arg(long, value_enum, default_value = "normal")]
         shade: Shade,
         /// Output PNG (default: out/<scene name>.png; out/ is created).
@@ -160,6 +161,10 @@ struct FrameArgs {
     /// per level).
     #[arg(long, value_name = "D", default_value_t = bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH)]
     max_depth: u32,
+    /// Samples per pixel: 1 (no anti-aliasing), 2, 4 or 8. validate's
+    /// oracle comparisons and hole test run single-sampled whatever this is.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    msaa: u32,
     /// subdiv: persistent workgroups to launch (default: about what the
     /// device keeps resident), for profiling.
     #[arg(long, value_name = "N")]
@@ -184,6 +189,7 @@ impl FrameArgs {
             grid: self.grid,
             max_depth: self.max_depth,
             groups: self.groups,
+            msaa: self.msaa,
             device: self.device.clone(),
             validation: self.vk_validation,
         }

@@ -128,7 +128,10 @@ impl Renderer {
         let scene_layout = SceneLayout::new(&ctx)?;
         let scene = SceneGpu::new(&ctx, &scene_layout, &geo.patches, &geo.flags, n)?;
         let (w, h) = options.size;
-        let target = DrawTarget::new(&ctx, w, h, options.background)?;
+        let target =
+            DrawTarget::with_samples(&ctx, w, h, options.background, options.methods.samples)?;
+        let mut shaders = Shaders::default();
+        shaders.samples = target.samples();
         let frames = FrameRing::new(&ctx, n)?;
         let slots = (0..n)
             .map(|i| {
@@ -154,7 +157,7 @@ impl Renderer {
             target,
             scene,
             scene_layout,
-            shaders: Shaders::default(),
+            shaders,
             retired: Vec::new(),
             last_submitted: None,
             serial: 0,
@@ -205,6 +208,9 @@ impl Renderer {
         if options == self.options {
             return Ok(());
         }
+        if options.samples != self.options.samples {
+            return self.set_samples(options);
+        }
         let name = self.method().name();
         let mut retired = Retired::default();
         let mut kept = Vec::new();
@@ -231,6 +237,43 @@ impl Renderer {
         self.options = options;
         result?;
         self.set_method(name)
+    }
+
+    /// A new sample count: a new target, and every method made again (their
+    /// draw pipelines are per sample count).
+    fn set_samples(&mut self, options: MethodOptions) -> Result<(), RenderError> {
+        let (w, h) = self.target.size();
+        let target = DrawTarget::with_samples(&self.ctx, w, h, self.target.clear, options.samples)?;
+        let name = self.method().name();
+        let mut retired = Retired::default();
+        for m in std::mem::take(&mut self.methods) {
+            retired.push(m);
+        }
+        retired.push(std::mem::replace(&mut self.target, target));
+        self.defer(retired);
+        self.shaders.samples = self.target.samples();
+        self.options = options;
+        self.set_method(name)
+    }
+
+    /// Resizes the draw target (the old one is freed after the frames that
+    /// may use it). ε is measured in the new size's pixels from the next
+    /// view on.
+    pub fn set_size(&mut self, size: (u32, u32)) -> Result<(), RenderError> {
+        if size == self.target.size() {
+            return Ok(());
+        }
+        let target = DrawTarget::with_samples(
+            &self.ctx,
+            size.0,
+            size.1,
+            self.target.clear,
+            self.options.samples,
+        )?;
+        let mut retired = Retired::default();
+        retired.push(std::mem::replace(&mut self.target, target));
+        self.defer(retired);
+        Ok(())
     }
 
     /// Replaces the scene. The new patches are uploaded first, so a failure

@@ -215,6 +215,7 @@ fn image_clear_and_read_pixels() {
             height: 5,
             format: vk::Format::R8G8B8A8_UNORM,
             usage: vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::COLOR_ATTACHMENT,
+            samples: vk::SampleCountFlags::TYPE_1,
         },
     )
     .unwrap();
@@ -513,6 +514,7 @@ fn teardown_leaks_nothing() {
                 height: 4,
                 format: vk::Format::D32_SFLOAT,
                 usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                samples: vk::SampleCountFlags::TYPE_1,
             },
         )
         .unwrap();

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs what bezier-subdiv needs to build and test on Debian/Ubuntu:
 # the Vulkan loader, Mesa's lavapipe (with VK_EXT_mesh_shader), the Khronos
-# validation layer, a C/C++ toolchain, and the shaderc/glslang/SPIRV-Tools
-# libraries used by the shader tool under tools/. Idempotent: rerunning it
+# validation layer, a C/C++ toolchain, the shaderc/glslang/SPIRV-Tools
+# libraries used by the shader tool under tools/, and for the `view` window
+# the X11 client libraries winit opens at run time plus Xvfb, the virtual
+# X server its test runs under. Idempotent: rerunning it
 # installs nothing that is already there.
 #
 # On Debian 12 the Mesa in the main suite (22.x) has no mesh shaders on
@@ -15,7 +17,8 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 MAIN_PKGS=(build-essential pkg-config libvulkan1 vulkan-tools
-  vulkan-validationlayers libshaderc-dev glslc spirv-tools glslang-tools)
+  vulkan-validationlayers libshaderc-dev glslc spirv-tools glslang-tools
+  xvfb xauth libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
 
 have_all() {
   for p in "$@"; do

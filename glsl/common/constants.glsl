@@ -209,5 +209,10 @@ const uint SHADE_KEY = 3;
 const uint SHADE_DISTANCE = 4;
 // Tests: the rasterizer's facing (winding) as is: front white, back key.
 const uint SHADE_FACING = 5;
+// Lit surface with the outline of every drawn cell: QuadNodes (their
+// depth's grid in the patch's parameters), tessellation or grid cells.
+const uint SHADE_WIREFRAME = 6;
+// The shading normal as colour (x, y, z to r, g, b).
+const uint SHADE_NORMALS = 7;
 
 #endif

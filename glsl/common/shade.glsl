@@ -74,6 +74,16 @@ vec3 depth_color(uint depth) {
     return DEPTH_RAMP[min(depth, 10u)];
 }
 
+// 1 on the outline of the cell the fragment lies in, fading to 0 a pixel
+// away: cells are the patch's parameter grid at 2^depth per side, which is
+// exactly a QuadNode's domain (and a ground-truth grid cell at depth
+// log2(grid)).
+float cell_outline(vec2 uv, uint depth) {
+    vec2 c = uv * float(1u << min(depth, 15u));
+    vec2 to_line = min(fract(c), 1.0 - fract(c)) / max(fwidth(c), vec2(1e-6));
+    return 1.0 - clamp(min(to_line.x, to_line.y) - 0.25, 0.0, 1.0);
+}
+
 vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool front) {
     if (pc.shade == SHADE_FACING) {
         return vec4(front ? KEY_FRONT : KEY_BACK, 1.0);
@@ -102,6 +112,13 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
     float d = diffuse(n, to_eye);
     if (pc.shade == SHADE_DEPTH) {
         return vec4(depth_color(depth) * (0.55 + 0.45 * d), 1.0);
+    }
+    if (pc.shade == SHADE_NORMALS) {
+        return vec4(n * 0.5 + 0.5, 1.0);
+    }
+    if (pc.shade == SHADE_WIREFRAME) {
+        vec3 base = wedge ? WEDGE_COLOR * 0.8 : vec3(0.75) * (0.3 + 0.7 * d);
+        return vec4(mix(base, vec3(0.05, 0.05, 0.08), cell_outline(uv, depth)), 1.0);
     }
     if (pc.shade == SHADE_WEDGES) {
         vec3 c = wedge ? WEDGE_COLOR * (0.75 + 0.25 * d) : depth_color(depth) * (0.25 + 0.2 * d);

@@ -55,6 +55,8 @@ pub struct GpuRequest {
     pub max_depth: u32,
     /// `subdiv`: persistent workgroups (`None`: the device's default).
     pub groups: Option<u32>,
+    /// Samples per pixel of the image.
+    pub msaa: u32,
     /// Device choice.
     pub device: crate::vk::DeviceSelector,
     /// Khronos validation layer on (any error fails the run).
@@ -75,6 +77,7 @@ impl GpuRequest {
             grid: crate::methods::ground_truth::DEFAULT_GRID,
             max_depth: crate::methods::subdiv_indirect::DEFAULT_MAX_DEPTH,
             groups: None,
+            msaa: 1,
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
         }
@@ -84,6 +87,9 @@ impl GpuRequest {
     /// (checked before any GPU work).
     pub fn method_info(&self) -> anyhow::Result<&'static crate::methods::MethodInfo> {
         crate::methods::ground_truth::check_grid(self.grid).map_err(|e| anyhow!("--grid: {e}"))?;
+        if crate::gpu::sample_count(self.msaa).is_none() {
+            return Err(anyhow!("--msaa must be 1, 2, 4 or 8 (got {})", self.msaa));
+        }
         if self.groups == Some(0) {
             return Err(anyhow!("--groups must be at least 1"));
         }
@@ -109,6 +115,7 @@ impl GpuRequest {
             grid: self.grid,
             max_depth: self.max_depth,
             groups: self.groups,
+            samples: self.msaa,
             ..crate::methods::MethodOptions::new(draw)
         };
         let options = RendererOptions {

@@ -7,7 +7,7 @@ use anyhow::{anyhow, Context as _};
 use serde_json::{json, Map, Value};
 
 use super::{eps_lambda, keyframe, thousands, GpuRequest};
-use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_WEDGES};
+use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_NORMALS, SHADE_WEDGES, SHADE_WIREFRAME};
 use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
@@ -26,6 +26,11 @@ pub enum Shade {
     Depth,
     /// The depth map with crack-closing wedges highlighted.
     Wedges,
+    /// Lit surface with the outline of every drawn cell (QuadNodes, grid
+    /// cells).
+    Wireframe,
+    /// The shading normal as colour.
+    Normals,
 }
 
 impl Shade {
@@ -35,6 +40,8 @@ impl Shade {
             Shade::Normal => SHADE_NORMAL,
             Shade::Depth => SHADE_DEPTH,
             Shade::Wedges => SHADE_WEDGES,
+            Shade::Wireframe => SHADE_WIREFRAME,
+            Shade::Normals => SHADE_NORMALS,
         }
     }
 
@@ -44,6 +51,8 @@ impl Shade {
             Shade::Normal => "normal",
             Shade::Depth => "depth",
             Shade::Wedges => "wedges",
+            Shade::Wireframe => "wireframe",
+            Shade::Normals => "normals",
         }
     }
 }

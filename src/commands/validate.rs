@@ -76,7 +76,12 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         .geometry()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     let ctx = args.gpu.context()?;
-    let mut renderer = args.gpu.renderer(&ctx, &geo)?;
+    // Single-sampled: the hole test counts exact key colours.
+    let request = GpuRequest {
+        msaa: 1,
+        ..args.gpu.clone()
+    };
+    let mut renderer = request.renderer(&ctx, &geo)?;
 
     let mut results = Vec::new();
     if renderer.method().ready().is_some() {

@@ -16,13 +16,24 @@ use crate::vk::{Context, GraphicsDesc, Pipeline, PipelineLayout, ShaderModule, V
 
 pub use blocks::{DrawPush, GpuBlock, GridPush, LevelPush, ListPush, SubdivPush};
 pub use scene::{all_stages, SceneGpu, SceneLayout};
-pub use target::{write_png, DrawTarget, ImageError, COLOR_FORMAT, DEPTH_FORMAT};
+pub use target::{sample_count, write_png, DrawTarget, ImageError, COLOR_FORMAT, DEPTH_FORMAT};
 
 /// Shader modules by name, loaded once per renderer: switching methods
-/// or rebuilding one reuses them.
-#[derive(Default)]
+/// or rebuilding one reuses them; and the draw target's sample count, which
+/// every draw pipeline made through [`Shaders::draw_pipeline`] matches.
 pub struct Shaders {
     modules: HashMap<String, Arc<ShaderModule>>,
+    /// Samples per pixel of the draw target.
+    pub samples: vk::SampleCountFlags,
+}
+
+impl Default for Shaders {
+    fn default() -> Self {
+        Self {
+            modules: HashMap::new(),
+            samples: vk::SampleCountFlags::TYPE_1,
+        }
+    }
 }
 
 impl Shaders {
@@ -48,7 +59,8 @@ impl Shaders {
         Pipeline::compute(ctx, name, layout, &module, &[])
     }
 
-    /// A graphics pipeline drawing into the [`DrawTarget`]'s formats from
+    /// A graphics pipeline drawing into the [`DrawTarget`]'s formats and
+    /// sample count from
     /// the shader files of `stages`, with the default state of
     /// [`GraphicsDesc::new`] (no culling: SHADE_KEY shows back faces and the
     /// teapot is open; counter-clockwise front faces; opaque depth).
@@ -64,7 +76,9 @@ impl Shaders {
             .map(|(stage, file)| Ok((*stage, self.get(ctx, file)?)))
             .collect::<VkResult<Vec<_>>>()?;
         let refs: Vec<_> = modules.iter().map(|(s, m)| (*s, m.as_ref())).collect();
-        let desc = GraphicsDesc::new(name, &refs).targets(&[COLOR_FORMAT], DEPTH_FORMAT);
+        let desc = GraphicsDesc::new(name, &refs)
+            .targets(&[COLOR_FORMAT], DEPTH_FORMAT)
+            .samples(self.samples);
         Pipeline::graphics(ctx, layout, &desc)
     }
 

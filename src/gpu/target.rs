@@ -45,10 +45,27 @@ pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 /// Depth format of every draw pipeline.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// Colour + depth images of one view size.
+/// Sample counts a target accepts.
+pub fn sample_count(samples: u32) -> Option<vk::SampleCountFlags> {
+    match samples {
+        1 => Some(vk::SampleCountFlags::TYPE_1),
+        2 => Some(vk::SampleCountFlags::TYPE_2),
+        4 => Some(vk::SampleCountFlags::TYPE_4),
+        8 => Some(vk::SampleCountFlags::TYPE_8),
+        _ => None,
+    }
+}
+
+/// Colour + depth images of one view size, optionally multisampled: then
+/// the colour is rendered into a multisampled image and resolved into the
+/// single-sampled one every reader (readback, blit, FLIP) sees.
 pub struct DrawTarget {
+    /// The single-sampled colour image: the result.
     color: Image,
+    /// The multisampled colour image rendered into, when samples > 1.
+    msaa: Option<Image>,
     depth: Image,
+    samples: vk::SampleCountFlags,
     /// Background colour (RGBA in 0..1) the colour image is cleared to.
     pub clear: [f32; 4],
     /// Whether `end` was ever recorded, i.e. whether the colour image can be
@@ -60,34 +77,76 @@ impl DrawTarget {
     /// Layout the colour image is left in by [`DrawTarget::end`].
     pub const FINAL_LAYOUT: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
 
-    /// Creates a `width`×`height` target cleared to `clear`.
+    /// Creates a single-sampled `width`×`height` target cleared to `clear`.
     pub fn new(ctx: &Context, width: u32, height: u32, clear: [f32; 4]) -> VkResult<Self> {
-        let color = Image::new(
-            ctx,
-            &ImageDesc {
-                name: "draw target colour",
-                width,
-                height,
-                format: COLOR_FORMAT,
-                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-            },
+        Self::with_samples(ctx, width, height, clear, 1)
+    }
+
+    /// Creates a target with `samples` samples per pixel (1, 2, 4 or 8, and
+    /// what the device supports for colour and depth).
+    pub fn with_samples(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        clear: [f32; 4],
+        samples: u32,
+    ) -> VkResult<Self> {
+        let flags = sample_count(samples)
+            .filter(|f| ctx.info().limits.framebuffer_sample_counts.contains(*f))
+            .ok_or_else(|| VkError::FeatureMissing {
+                device: ctx.info().name.clone(),
+                feature: format!("{samples} samples per pixel"),
+                hint: "; pick 1, 2, 4 or 8 within what `info` lists".into(),
+            })?;
+        let image = |name, format, usage, samples| {
+            Image::new(
+                ctx,
+                &ImageDesc {
+                    name,
+                    width,
+                    height,
+                    format,
+                    usage,
+                    samples,
+                },
+            )
+        };
+        let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT;
+        let color = image(
+            "draw target colour",
+            COLOR_FORMAT,
+            attachment | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::SampleCountFlags::TYPE_1,
         )?;
-        let depth = Image::new(
-            ctx,
-            &ImageDesc {
-                name: "draw target depth",
-                width,
-                height,
-                format: DEPTH_FORMAT,
-                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-            },
+        let msaa = if samples > 1 {
+            Some(image(
+                "draw target colour (multisampled)",
+                COLOR_FORMAT,
+                attachment,
+                flags,
+            )?)
+        } else {
+            None
+        };
+        let depth = image(
+            "draw target depth",
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            flags,
         )?;
         Ok(Self {
             color,
+            msaa,
             depth,
+            samples: flags,
             clear,
             rendered: AtomicBool::new(false),
         })
+    }
+
+    /// Samples per pixel of the attachments (the pipelines must match).
+    pub fn samples(&self) -> vk::SampleCountFlags {
+        self.samples
     }
 
     /// Width in pixels.
@@ -110,30 +169,34 @@ impl DrawTarget {
         self.color.extent()
     }
 
-    /// The colour image (in FINAL_LAYOUT after a recorded `end`).
+    /// The (resolved) colour image, in FINAL_LAYOUT after a recorded `end`.
     pub fn color(&self) -> &Image {
         &self.color
     }
 
-    /// Records: both images to attachment layouts, `vkCmdBeginRendering`
-    /// clearing colour to `clear` and depth to 1, full-target viewport and
-    /// scissor.
+    /// Records: the images to attachment layouts, `vkCmdBeginRendering`
+    /// clearing colour to `clear` and depth to 1 (and resolving the
+    /// multisampled colour into the result at the end), full-target
+    /// viewport and scissor.
     pub fn begin(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        let attach = Access::new(
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
         // From UNDEFINED: the old contents are cleared anyway. The source
         // scope is everything, so this frame's writes wait for any earlier
-        // reads (readback copies) and writes of the same images.
-        image_barrier(
-            ctx,
-            cmd,
-            &self.color,
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            Access::ALL,
-            Access::new(
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-        );
+        // reads (readback copies, blits) and writes of the same images.
+        for image in std::iter::once(&self.color).chain(self.msaa.as_ref()) {
+            image_barrier(
+                ctx,
+                cmd,
+                image,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                Access::ALL,
+                attach,
+            );
+        }
         image_barrier(
             ctx,
             cmd,
@@ -144,16 +207,28 @@ impl DrawTarget {
             Access::DEPTH_ATTACHMENT,
         );
         let extent = self.extent();
-        let color = [vk::RenderingAttachmentInfo::default()
-            .image_view(self.color.view())
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        let clear = vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: self.clear,
+            },
+        };
+        let layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+        let mut color = vk::RenderingAttachmentInfo::default()
+            .image_layout(layout)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: self.clear,
-                },
-            })];
+            .clear_value(clear);
+        color = match &self.msaa {
+            Some(ms) => color
+                .image_view(ms.view())
+                // The samples are only needed until they are resolved.
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(self.color.view())
+                .resolve_image_layout(layout),
+            None => color.image_view(self.color.view()),
+        };
+        let colors = [color];
         // Depth is only needed while drawing.
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view())
@@ -173,7 +248,7 @@ impl DrawTarget {
         let info = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)
-            .color_attachments(&color)
+            .color_attachments(&colors)
             .depth_attachment(&depth);
         // The projection already flips y (Camera::projection), so the
         // viewport is the plain one.
@@ -193,7 +268,7 @@ impl DrawTarget {
         }
     }
 
-    /// Records `vkCmdEndRendering` and moves the colour image to
+    /// Records `vkCmdEndRendering` and moves the (resolved) colour image to
     /// [`DrawTarget::FINAL_LAYOUT`], its writes visible to transfers.
     pub fn end(&self, ctx: &Context, cmd: vk::CommandBuffer) {
         unsafe { ctx.device().cmd_end_rendering(cmd) };

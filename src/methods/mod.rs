@@ -73,6 +73,9 @@ pub struct MethodOptions {
     /// Test-only fault for `subdiv`: one phantom item in flight that never
     /// completes, so the kernel can only end through its iteration cap.
     pub plant_endless_loop: bool,
+    /// Samples per pixel of the draw target (1: no multisampling). The
+    /// draw pipelines are made for it.
+    pub samples: u32,
 }
 
 impl MethodOptions {
@@ -88,6 +91,7 @@ impl MethodOptions {
             grid: ground_truth::DEFAULT_GRID,
             max_depth: subdiv_indirect::DEFAULT_MAX_DEPTH,
             node_capacity: None,
+            samples: 1,
             plant_endless_loop: false,
         }
     }

@@ -37,6 +37,19 @@ pub struct ContextOptions {
     pub require_mesh_shader: bool,
     /// Default timeout for fence waits (a hung shader must fail, not stall).
     pub fence_timeout: Duration,
+    /// Present to this window: the surface extensions are enabled, the
+    /// chosen device must be able to present to it, and the context owns
+    /// the surface (the window must outlive the context).
+    pub window: Option<WindowHandles>,
+}
+
+/// A window's raw handles, for [`ContextOptions::window`].
+#[derive(Debug, Clone, Copy)]
+pub struct WindowHandles {
+    /// The display connection.
+    pub display: raw_window_handle::RawDisplayHandle,
+    /// The window.
+    pub window: raw_window_handle::RawWindowHandle,
 }
 
 impl Default for ContextOptions {
@@ -47,6 +60,7 @@ impl Default for ContextOptions {
             sync_validation: true,
             require_mesh_shader: false,
             fence_timeout: DEFAULT_FENCE_TIMEOUT,
+            window: None,
         }
     }
 }
@@ -61,6 +75,8 @@ pub(crate) struct Core {
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(crate) debug_utils: Option<ash::ext::debug_utils::Device>,
     messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// The window surface, destroyed before the instance.
+    pub(crate) surface: Option<(ash::khr::surface::Instance, vk::SurfaceKHR)>,
     /// Its address is the messenger's user data, so it lives until after
     /// the instance is destroyed (see `Drop`); tests may hold a clone to
     /// see messages from device and instance destruction.
@@ -96,6 +112,9 @@ impl Drop for Core {
             // The allocator frees its memory blocks through the device.
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
+            if let Some((loader, surface)) = self.surface.take() {
+                loader.destroy_surface(surface, None);
+            }
             if let Some((loader, messenger)) = self.messenger.take() {
                 loader.destroy_debug_utils_messenger(messenger, None);
             }
@@ -131,6 +150,7 @@ pub struct Context {
     pub(crate) submit: Mutex<SubmitState>,
     pub(crate) fence_timeout: Duration,
     mesh: Option<ash::ext::mesh_shader::Device>,
+    swapchain: Option<ash::khr::swapchain::Device>,
     info: DeviceInfo,
     validation: bool,
     all_devices: String,
@@ -148,6 +168,7 @@ impl Context {
         let mut partial = Partial {
             instance: Some(instance.clone()),
             messenger: None,
+            surface: None,
             device: None,
         };
         if options.validation && support.debug_utils {
@@ -158,11 +179,21 @@ impl Context {
             partial.messenger = Some((loader, messenger));
         }
 
-        let candidates = device::enumerate(&instance)?;
+        if let Some(w) = options.window {
+            let surface =
+                unsafe { ash_window::create_surface(&entry, &instance, w.display, w.window, None) }
+                    .ctx("creating the window surface")?;
+            partial.surface = Some((ash::khr::surface::Instance::new(&entry, &instance), surface));
+        }
+        let mut candidates = device::enumerate(&instance)?;
+        if let Some((loader, surface)) = &partial.surface {
+            device::require_present(&mut candidates, loader, *surface);
+        }
         let all_devices = device::device_list(&candidates);
         let chosen = device::choose(&candidates, &options.selector, options.require_mesh_shader)?;
         let candidate = &candidates[chosen];
-        let (device, queue) = device::create_device(&instance, candidate)?;
+        let (device, queue) =
+            device::create_device(&instance, candidate, options.window.is_some())?;
         partial.device = Some(device.clone());
         let info = enabled_info(candidate, options.validation);
         let allocator = create_allocator(&instance, &device, candidate.handle)?;
@@ -179,7 +210,11 @@ impl Context {
             .features
             .mesh_shader
             .then(|| ash::ext::mesh_shader::Device::new(&instance, &device));
+        let swapchain = options
+            .window
+            .map(|_| ash::khr::swapchain::Device::new(&instance, &device));
         let messenger = partial.messenger.take();
+        let surface = partial.surface.take();
         partial.disarm();
         let core = Arc::new(Core {
             entry: ManuallyDrop::new(entry),
@@ -189,6 +224,7 @@ impl Context {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             debug_utils,
             messenger,
+            surface,
             debug_state: ManuallyDrop::new(debug_state),
             hung: AtomicBool::new(false),
         });
@@ -202,10 +238,22 @@ impl Context {
             }),
             fence_timeout: options.fence_timeout,
             mesh,
+            swapchain,
             info,
             validation: options.validation,
             all_devices,
         })
+    }
+
+    /// The window surface and its functions, for contexts made with
+    /// [`ContextOptions::window`].
+    pub fn surface(&self) -> Option<(&ash::khr::surface::Instance, vk::SurfaceKHR)> {
+        self.core.surface.as_ref().map(|(l, s)| (l, *s))
+    }
+
+    /// VK_KHR_swapchain functions, for contexts made with a window.
+    pub fn swapchain_loader(&self) -> Option<&ash::khr::swapchain::Device> {
+        self.swapchain.as_ref()
     }
 
     /// Every Vulkan device found, one line each (index, name, kind).
@@ -396,6 +444,11 @@ fn create_instance(
     if support.debug_utils {
         extensions.push(ash::ext::debug_utils::NAME.as_ptr());
     }
+    if let Some(w) = options.window {
+        let needed = ash_window::enumerate_required_extensions(w.display)
+            .ctx("the window system's Vulkan surface extensions")?;
+        extensions.extend_from_slice(needed);
+    }
     let want_sync = options.validation && options.sync_validation;
     if want_sync && support.validation_features {
         extensions.push(ash::ext::validation_features::NAME.as_ptr());
@@ -484,6 +537,7 @@ pub(crate) fn duration_ns(d: Duration) -> u64 {
 struct Partial {
     instance: Option<ash::Instance>,
     messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    surface: Option<(ash::khr::surface::Instance, vk::SurfaceKHR)>,
     device: Option<ash::Device>,
 }
 
@@ -491,6 +545,7 @@ impl Partial {
     fn disarm(&mut self) {
         self.instance = None;
         self.messenger = None;
+        self.surface = None;
         self.device = None;
     }
 }
@@ -500,6 +555,9 @@ impl Drop for Partial {
         unsafe {
             if let Some(device) = self.device.take() {
                 device.destroy_device(None);
+            }
+            if let Some((loader, surface)) = self.surface.take() {
+                loader.destroy_surface(surface, None);
             }
             if let Some((loader, messenger)) = self.messenger.take() {
                 loader.destroy_debug_utils_messenger(messenger, None);

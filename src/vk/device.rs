@@ -292,6 +292,8 @@ fn limits_from(l: &vk::PhysicalDeviceLimits) -> DeviceLimits {
         min_uniform_buffer_offset_alignment: l.min_uniform_buffer_offset_alignment,
         max_draw_indirect_count: l.max_draw_indirect_count,
         max_tessellation_generation_level: l.max_tessellation_generation_level,
+        framebuffer_sample_counts: l.framebuffer_color_sample_counts
+            & l.framebuffer_depth_sample_counts,
     }
 }
 
@@ -361,11 +363,33 @@ pub(crate) fn choose(
     Ok(c.info.index)
 }
 
+/// Marks the candidates whose queue family cannot present to `surface` as
+/// unusable.
+pub(crate) fn require_present(
+    candidates: &mut [Candidate],
+    loader: &ash::khr::surface::Instance,
+    surface: vk::SurfaceKHR,
+) {
+    for c in candidates.iter_mut().filter(|c| c.problems.is_empty()) {
+        let ok = unsafe {
+            loader.get_physical_device_surface_support(c.handle, c.info.queue_family, surface)
+        }
+        .unwrap_or(false);
+        if !ok {
+            c.problems.push(String::from(
+                "its graphics queue cannot present to the window",
+            ));
+        }
+    }
+}
+
 /// Creates the logical device with the required features plus every
-/// optional feature the candidate has, and returns its single queue.
+/// optional feature the candidate has (and VK_KHR_swapchain when it is to
+/// present), and returns its single queue.
 pub(crate) fn create_device(
     instance: &ash::Instance,
     c: &Candidate,
+    present: bool,
 ) -> VkResult<(ash::Device, vk::Queue)> {
     let f = &c.info.features;
 
@@ -394,6 +418,9 @@ pub(crate) fn create_device(
     let mut extensions: Vec<*const std::ffi::c_char> = Vec::new();
     if f.mesh_shader {
         extensions.push(ash::ext::mesh_shader::NAME.as_ptr());
+    }
+    if present {
+        extensions.push(ash::khr::swapchain::NAME.as_ptr());
     }
 
     let priorities = [1.0f32];

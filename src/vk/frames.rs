@@ -156,6 +156,20 @@ impl FrameRing {
 
     /// Ends recording in slot `i` and submits it with the slot's fence.
     pub fn submit(&mut self, ctx: &Context, i: usize, label: &str) -> VkResult<()> {
+        self.submit_with(ctx, i, label, &[], &[])
+    }
+
+    /// [`FrameRing::submit`], waiting for `waits` (each at its stages) and
+    /// signalling `signals` (presentation: the image-acquired and
+    /// rendering-done semaphores).
+    pub fn submit_with(
+        &mut self,
+        ctx: &Context,
+        i: usize,
+        label: &str,
+        waits: &[(vk::Semaphore, vk::PipelineStageFlags2)],
+        signals: &[vk::Semaphore],
+    ) -> VkResult<()> {
         let slot = &mut self.slots[i];
         if slot.state != SlotState::Recording {
             return Err(VkError::Usage(format!(
@@ -171,7 +185,26 @@ impl FrameRing {
         }
         unsafe { device.reset_fences(&[slot.fence]) }.ctx("vkResetFences(frame slot)")?;
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(slot.cmd)];
-        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
+        let wait_infos: Vec<_> = waits
+            .iter()
+            .map(|&(s, stage)| {
+                vk::SemaphoreSubmitInfo::default()
+                    .semaphore(s)
+                    .stage_mask(stage)
+            })
+            .collect();
+        let signal_infos: Vec<_> = signals
+            .iter()
+            .map(|&s| {
+                vk::SemaphoreSubmitInfo::default()
+                    .semaphore(s)
+                    .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            })
+            .collect();
+        let submit = [vk::SubmitInfo2::default()
+            .command_buffer_infos(&cmd_infos)
+            .wait_semaphore_infos(&wait_infos)
+            .signal_semaphore_infos(&signal_infos)];
         let submitted =
             ctx.with_queue(|queue| unsafe { device.queue_submit2(queue, &submit, slot.fence) });
         match submitted {

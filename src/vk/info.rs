@@ -117,6 +117,8 @@ pub struct DeviceLimits {
     pub max_draw_indirect_count: u32,
     /// `maxTessellationGenerationLevel` (0 without tessellation).
     pub max_tessellation_generation_level: u32,
+    /// Sample counts colour and depth attachments both support.
+    pub framebuffer_sample_counts: vk::SampleCountFlags,
 }
 
 /// VK_EXT_mesh_shader properties.

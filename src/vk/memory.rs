@@ -295,6 +295,8 @@ pub struct ImageDesc<'a> {
     pub format: vk::Format,
     /// Usage (TRANSFER_SRC is added so every image can be read back).
     pub usage: vk::ImageUsageFlags,
+    /// Samples per pixel (`TYPE_1` unless multisampled).
+    pub samples: vk::SampleCountFlags,
 }
 
 /// A 2D single-mip image with a view, in device memory.
@@ -361,7 +363,7 @@ impl Image {
             })
             .mip_levels(1)
             .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage | vk::ImageUsageFlags::TRANSFER_SRC)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)

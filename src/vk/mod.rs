@@ -13,11 +13,12 @@ pub mod memory;
 pub mod pipeline;
 pub mod query;
 pub mod shader;
+pub mod swapchain;
 
 pub use commands::{
     buffer_barrier, fill_buffer, host_read_barrier, image_barrier, memory_barrier, Access,
 };
-pub use context::{Context, ContextOptions, DEFAULT_FENCE_TIMEOUT};
+pub use context::{Context, ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT};
 pub use device::DeviceSelector;
 pub use error::{VkError, VkResult};
 pub use frames::FrameRing;
@@ -30,3 +31,4 @@ pub use shader::{
     embedded_shaders, load_spirv, load_spirv_file, spirv_override_dir, spirv_words, ShaderModule,
     SPIRV_DIR_ENV,
 };
+pub use swapchain::{Acquired, PresentPacing, Swapchain};
