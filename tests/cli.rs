@@ -125,3 +125,49 @@ fn render_refuses_bad_requests_before_gpu_work() {
     assert!(err.contains("bad.toml:4"), "{err}");
     assert!(!dir.join("out").exists(), "nothing written on failure");
 }
+
+/// Each cause is printed once: a binary file, a missing file, a broken model
+/// of a scene (whose path the message names once).
+#[test]
+fn errors_say_each_thing_once() {
+    let dir = temp_dir("once");
+    let binary = dir.join("patches.bpt");
+    std::fs::write(&binary, [0x32u8, 0x0a, 0xff, 0xfe, 0x00, 0x31]).unwrap();
+    let run = bin().arg("import").arg(&binary).output().unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert_eq!(err.matches("not a text file").count(), 1, "{err}");
+    assert!(
+        err.contains("patches.bpt:2: "),
+        "the line of the first bad byte: {err}"
+    );
+    assert!(!err.contains("stream did not contain valid UTF-8"), "{err}");
+
+    let run = bin()
+        .arg("import")
+        .arg(dir.join("gone.obj"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(err.matches("No such file or directory").count(), 1, "{err}");
+
+    let scene = dir.join("broken.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nposition = [5.0, -5.0, 3.0]\ntarget = [0.0, 0.0, 1.0]\n[[model]]\nname = \"bad\"\nfile = \"bad.obj\"\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("bad.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 9\n").unwrap();
+    let run = bin()
+        .arg("stats")
+        .arg("--scene")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert_eq!(err.matches("broken.toml").count(), 1, "{err}");
+    assert!(err.contains("model 'bad': "), "{err}");
+    assert!(err.contains("bad.obj:3: "), "{err}");
+    assert!(err.contains("the file has 2 vertices"), "{err}");
+}

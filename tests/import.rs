@@ -682,7 +682,13 @@ fn bad_obj_inputs_are_refused_with_file_and_line() {
         "range.obj",
         &quad_with(5, "f 1 2 3 5"),
         Some(5),
-        "index 5 out of range",
+        "index 5 out of range: the file has 4 vertices",
+    );
+    expect_error(
+        "texture-range.obj",
+        &quad_with(5, "f 1/1 2/1 3/1 4/3\nvt 0 0\nvt 1 0"),
+        Some(5),
+        "the file has 2 texture coordinates",
     );
     expect_error("zero.obj", &quad_with(5, "f 0 2 3 4"), Some(5), "index 0");
     expect_error(

@@ -33,6 +33,10 @@
 //! is applied to the control points in f64 and rounded once), so shared
 //! boundary points stay bitwise shared within each instance. A mirroring
 //! transform swaps each patch's u and v to keep normals outward.
+//!
+//! A scene may ask for at most [`MAX_BASE_PATCHES`] base patches (what the
+//! subdivision kernel's in-flight counter holds); more is refused before
+//! anything is built, with the count and the memory it would need.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -51,6 +55,14 @@ pub const MAX_COORD: f32 = 1.0e6;
 
 /// Bit position of the model index in a patch's flags word.
 pub use crate::constants::PATCH_MODEL_SHIFT;
+
+/// Most base patches a scene may have: the subdivision kernel counts the
+/// items in flight, base patches included, in 24 bits.
+pub const MAX_BASE_PATCHES: u64 = crate::constants::IN_FLIGHT_MASK as u64;
+
+/// Bytes per base patch on the GPU: 16 control points of 3 f32 and a
+/// flags word.
+pub const GEOMETRY_BYTES_PER_PATCH: u64 = 16 * 3 * 4 + 4;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -234,10 +246,7 @@ fn line_of(text: &str, offset: usize) -> usize {
 impl Scene {
     /// Reads and checks a scene file (models are loaded by [`Scene::geometry`]).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = super::read_text(path)?;
         Self::parse(path, &text)
     }
 
@@ -280,8 +289,29 @@ impl Scene {
         }
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut models = Vec::new();
+        let mut instances_so_far = 0u64;
         for (i, m) in raw.model.into_iter().enumerate() {
             let name = m.name.clone().unwrap_or_else(|| format!("model {}", i + 1));
+            // Count before building: a grid of 10^10 copies must be refused,
+            // not allocated. Every instance has at least one patch.
+            let count = instance_count(&m.instance)
+                .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
+            instances_so_far = instances_so_far.saturating_add(count);
+            if instances_so_far > MAX_BASE_PATCHES {
+                return Err(invalid(format!(
+                    "model '{name}': {} instances{}: at one patch each that is already {} base patches \
+                     and at least {} of patch memory; a scene may have at most {} base patches",
+                    thousands(count),
+                    if instances_so_far > count {
+                        " (with the models before it)"
+                    } else {
+                        ""
+                    },
+                    thousands(instances_so_far),
+                    bytes_text(instances_so_far.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
+                    thousands(MAX_BASE_PATCHES),
+                )));
+            }
             let instances = instance_transforms(&m.instance)
                 .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
             models.push(ModelDesc {
@@ -336,16 +366,38 @@ impl Scene {
     /// Loads every model file (each once) and bakes the instances into
     /// world-space base patches.
     pub fn geometry(&self) -> Result<SceneGeometry, SceneError> {
+        let model_error = |m: &ModelDesc, msg: String| SceneError::Model {
+            scene: self.path.clone(),
+            model: m.name.clone(),
+            msg,
+        };
         let mut cache: HashMap<PathBuf, ImportedModel> = HashMap::new();
+        for m in &self.models {
+            if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(m.file.clone()) {
+                let model = load_model(&m.file).map_err(|e| model_error(m, e.to_string()))?;
+                slot.insert(model);
+            }
+        }
+        // Refuse what cannot be drawn before allocating any of it.
+        let total: u64 = self
+            .models
+            .iter()
+            .map(|m| cache[&m.file].patches.len() as u64 * m.instances.len() as u64)
+            .fold(0, u64::saturating_add);
+        if total > MAX_BASE_PATCHES {
+            return Err(SceneError::invalid(
+                &self.path,
+                format!(
+                    "the scene has {} base patches ({} for their control points and flags); \
+                     at most {} can be subdivided",
+                    thousands(total),
+                    bytes_text(total.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
+                    thousands(MAX_BASE_PATCHES)
+                ),
+            ));
+        }
         let mut geo = SceneGeometry::default();
         for (index, m) in self.models.iter().enumerate() {
-            if !cache.contains_key(&m.file) {
-                let model = load_model(&m.file).map_err(|e| SceneError::Invalid {
-                    path: self.path.clone(),
-                    msg: format!("model '{}': {e}", m.name),
-                })?;
-                cache.insert(m.file.clone(), model);
-            }
             let model = &cache[&m.file];
             let flags =
                 (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
@@ -353,13 +405,12 @@ impl Scene {
                 for p in &model.patches {
                     let w = transform_patch(p, xf);
                     if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
-                        return Err(SceneError::Invalid {
-                            path: self.path.clone(),
-                            msg: format!(
-                                "model '{}': a transformed control point exceeds ±{MAX_COORD} (scale the scene down)",
-                                m.name
+                        return Err(model_error(
+                            m,
+                            format!(
+                                "a transformed control point exceeds ±{MAX_COORD} (scale the scene down)"
                             ),
-                        });
+                        ));
                     }
                     geo.patches.push(w);
                     geo.flags.push(flags);
@@ -375,6 +426,51 @@ impl Scene {
             });
         }
         Ok(geo)
+    }
+}
+
+/// Number of instances `list` makes, or what is wrong with it.
+fn instance_count(list: &[InstanceToml]) -> Result<u64, String> {
+    if list.is_empty() {
+        return Ok(1);
+    }
+    let mut total = 0u64;
+    for (k, inst) in list.iter().enumerate() {
+        let n = match &inst.grid {
+            Some(g) => {
+                if g.count.contains(&0) {
+                    return Err(format!(
+                        "instance {}: grid count must be ≥ 1 on every axis",
+                        k + 1
+                    ));
+                }
+                g.count.iter().map(|&c| c as u64).product()
+            }
+            None => 1,
+        };
+        total = total.saturating_add(n);
+    }
+    Ok(total)
+}
+
+/// `n` with thousands separators.
+fn thousands(n: u64) -> String {
+    crate::commands::thousands(n)
+}
+
+/// A byte count in the unit that reads best.
+fn bytes_text(b: u64) -> String {
+    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut x = b as f64;
+    let mut u = 0;
+    while x >= 1024.0 && u + 1 < units.len() {
+        x /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{b} bytes")
+    } else {
+        format!("{x:.1} {}", units[u])
     }
 }
 
@@ -508,6 +604,49 @@ file = "teapot.bpt"
         assert_eq!(s.models[0].instances.len(), 7);
         let last_grid = s.models[0].instances[5].transform_point3(DVec3::ZERO);
         assert_eq!(last_grid, DVec3::new(2.0, 2.0, 0.0));
+    }
+
+    #[test]
+    fn huge_grids_are_refused_before_anything_is_built() {
+        // 10^10 copies: refused by the parser at once (this used to run until
+        // killed), with the count and the memory it would need.
+        let text = format!(
+            "{MINIMAL}[[model.instance]]\ngrid = {{ count = [100000, 100000, 1], step = [1.0, 1.0, 0.0] }}\n"
+        );
+        let t = std::time::Instant::now();
+        let e = parse(&text).unwrap_err().to_string();
+        assert!(t.elapsed().as_secs_f64() < 1.0);
+        assert!(e.contains("10,000,000,000 instances"), "{e}");
+        assert!(e.contains("1.8 TiB"), "{e}");
+        assert!(e.contains("at most 16,777,215 base patches"), "{e}");
+        // Few enough instances, too many patches: refused when the model's
+        // size is known, before any patch is baked.
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let text = format!(
+            "{}[[model.instance]]\ngrid = {{ count = [1000, 600, 1], step = [1.0, 1.0, 0.0] }}\n",
+            MINIMAL.replace("teapot.bpt", "models/teapot.bpt")
+        );
+        let scene = Scene::parse(&dir.join("big.toml"), &text).unwrap();
+        let e = scene.geometry().unwrap_err().to_string();
+        assert!(e.contains("19,200,000 base patches"), "{e}");
+        assert!(e.contains("3.5 GiB"), "{e}");
+    }
+
+    #[test]
+    fn a_model_error_names_the_model_once_and_not_the_scene() {
+        let text = MINIMAL.replace("teapot.bpt", "no-such-model.obj");
+        let scene = Scene::parse(Path::new("/tmp/x/scene.toml"), &text).unwrap();
+        let e = scene.geometry().unwrap_err();
+        assert!(
+            matches!(&e, SceneError::Model { scene, .. } if scene == Path::new("/tmp/x/scene.toml"))
+        );
+        let shown = e.to_string();
+        assert!(!shown.contains("scene.toml"), "{shown}");
+        assert!(
+            shown.starts_with("model 'model 1': /tmp/x/no-such-model.obj: "),
+            "{shown}"
+        );
+        assert_eq!(shown.matches("No such file").count(), 1, "{shown}");
     }
 
     #[test]

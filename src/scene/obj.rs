@@ -93,7 +93,7 @@ use super::{acc, ImportedModel, PatchOrigin, SceneError};
 
 /// Reads an OBJ control cage and converts it to Bézier patches.
 pub fn read(path: &Path) -> Result<ImportedModel, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::io(path, e))?;
+    let text = super::read_text(path)?;
     parse(path, &text)
 }
 
@@ -378,6 +378,7 @@ fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<(), 
         return Err(format!("face vertex {r:?} has more than three parts"));
     }
     const WHAT: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    const WHATS: [&str; 3] = ["vertices", "texture coordinates", "normals"];
     for (slot, s) in parts.iter().enumerate() {
         if s.is_empty() {
             if slot == 0 {
@@ -393,21 +394,21 @@ fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<(), 
         if slot > 0 && total[slot] == 0 {
             continue;
         }
-        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        let name = |n: usize| if n == 1 { WHAT[slot] } else { WHATS[slot] };
         match x {
             0 => return Err(format!("face {what} index 0: OBJ indices start at 1")),
             x if x > 0 && x as u64 > total[slot] as u64 => {
                 return Err(format!(
-                    "face {what} index {x} out of range: the file has {} {what}{}",
+                    "face {what} index {x} out of range: the file has {} {}",
                     total[slot],
-                    plural(total[slot])
+                    name(total[slot])
                 ))
             }
             x if x < 0 && x.unsigned_abs() > seen[slot] as u64 => {
                 return Err(format!(
-                    "relative face {what} index {x} out of range: {} {what}{} read so far",
+                    "relative face {what} index {x} out of range: {} {} read so far",
                     seen[slot],
-                    plural(seen[slot])
+                    name(seen[slot])
                 ))
             }
             _ => {}
