@@ -238,6 +238,25 @@ struct Fragment {
     world: DVec3,
 }
 
+/// Calls `f(x, y, world)` for every pixel whose centre the world-space
+/// triangle `v` covers under `view_proj` (either winding, clipped to the
+/// view volume, top-left rule), with the perspective-correct world position
+/// there. For tests that need to know where a surface lies on screen.
+pub fn cover_triangle(
+    v: [DVec3; 3],
+    view_proj: &DMat4,
+    width: u32,
+    height: u32,
+    mut f: impl FnMut(u32, u32, DVec3),
+) {
+    let clip = v.map(|p| ClipVert {
+        pos: *view_proj * p.extend(1.0),
+        uv: DVec2::ZERO,
+        world: p,
+    });
+    rasterize(clip, width, height, |fr| f(fr.x, fr.y, fr.world));
+}
+
 /// Edge function of edge a→b at p, in subpixel² units: positive on the
 /// interior side of a triangle with positive area.
 fn edge(a: &ScreenVert, b: &ScreenVert, px: i64, py: i64) -> i64 {
