@@ -22,6 +22,8 @@
 //! name = "teapot"
 //! file = "models/teapot.bpt"  # .bpt or Catmull–Clark .obj, relative to this file
 //! two_sided = true            # open or thin models: never back-face culled
+//! boundary = "edge-only"      # cages without a `t interpolateboundary` tag:
+//!                             # none | edge-only | edge-and-corner (default)
 //! [[model.instance]]          # none given: one instance, identity
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
@@ -38,16 +40,21 @@
 //! subdivision kernel's in-flight counter holds); more is refused before
 //! anything is built, with the count and the memory it would need.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3, EulerRot};
 use serde::Deserialize;
 
 use super::camera::Camera;
-use super::{bpt, obj, ImportedModel, SceneError};
-use crate::patch::bezier::BezierPatch;
-use crate::patch::oracle::PATCH_TWO_SIDED;
+use super::geometry::{bytes_text, thousands};
+use super::obj::CageOptions;
+use super::sharpness::BoundaryRule;
+use super::SceneError;
+
+pub use super::geometry::{
+    load_model, load_model_with, transform_patch, ModelSummary, SceneGeometry,
+    GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES,
+};
 
 /// Largest absolute world coordinate accepted. The criterion multiplies up
 /// to sixth powers of lengths; this keeps them far from f32 overflow.
@@ -55,14 +62,6 @@ pub const MAX_COORD: f32 = 1.0e6;
 
 /// Bit position of the model index in a patch's flags word.
 pub use crate::constants::PATCH_MODEL_SHIFT;
-
-/// Most base patches a scene may have: the subdivision kernel counts the
-/// items in flight, base patches included, in 24 bits.
-pub const MAX_BASE_PATCHES: u64 = crate::constants::IN_FLIGHT_MASK as u64;
-
-/// Bytes per base patch on the GPU: 16 control points of 3 f32 and a
-/// flags word.
-pub const GEOMETRY_BYTES_PER_PATCH: u64 = 16 * 3 * 4 + 4;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -123,6 +122,7 @@ struct ModelToml {
     file: String,
     #[serde(default)]
     two_sided: bool,
+    boundary: Option<BoundaryRule>,
     #[serde(default)]
     instance: Vec<InstanceToml>,
 }
@@ -168,6 +168,8 @@ pub struct ModelDesc {
     pub file: PathBuf,
     /// Never back-face culled.
     pub two_sided: bool,
+    /// Choices for a cage the file does not make itself.
+    pub options: CageOptions,
     /// Object → world transforms.
     pub instances: Vec<DMat4>,
 }
@@ -189,54 +191,6 @@ pub struct Scene {
     pub path_frames: u32,
     /// Models.
     pub models: Vec<ModelDesc>,
-}
-
-/// What a model contributed to the scene geometry.
-#[derive(Clone, Debug)]
-pub struct ModelSummary {
-    /// Display name.
-    pub name: String,
-    /// Model file.
-    pub file: PathBuf,
-    /// Base patches in one instance.
-    pub patches_per_instance: usize,
-    /// Number of instances.
-    pub instances: usize,
-    /// Never back-face culled.
-    pub two_sided: bool,
-    /// Import warnings.
-    pub warnings: Vec<String>,
-}
-
-/// World-space base patches of a whole scene.
-#[derive(Clone, Debug, Default)]
-pub struct SceneGeometry {
-    /// Base patches of every instance of every model, in scene order.
-    pub patches: Vec<BezierPatch>,
-    /// Per patch: `PATCH_TWO_SIDED` and the model index `<< PATCH_MODEL_SHIFT`.
-    pub flags: Vec<u32>,
-    /// Per model, in scene order.
-    pub models: Vec<ModelSummary>,
-}
-
-/// Loads one model file by extension (`.bpt` or `.obj`).
-pub fn load_model(path: &Path) -> Result<ImportedModel, SceneError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase());
-    match ext.as_deref() {
-        Some("bpt") => Ok(ImportedModel {
-            patches: bpt::read(path)?,
-            ..Default::default()
-        }),
-        Some("obj") => obj::read(path),
-        _ => Err(SceneError::Invalid {
-            path: path.to_path_buf(),
-            msg: "unknown model format: expected a .bpt patch file or a .obj Catmull-Clark cage"
-                .into(),
-        }),
-    }
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
@@ -302,11 +256,7 @@ impl Scene {
                     "model '{name}': {} instances{}: at one patch each that is already {} base patches \
                      and at least {} of patch memory; a scene may have at most {} base patches",
                     thousands(count),
-                    if instances_so_far > count {
-                        " (with the models before it)"
-                    } else {
-                        ""
-                    },
+                    if instances_so_far > count { " (with the models before it)" } else { "" },
                     thousands(instances_so_far),
                     bytes_text(instances_so_far.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
                     thousands(MAX_BASE_PATCHES),
@@ -318,6 +268,9 @@ impl Scene {
                 name,
                 file: dir.join(&m.file),
                 two_sided: m.two_sided,
+                options: CageOptions {
+                    boundary: m.boundary,
+                },
                 instances,
             });
         }
@@ -362,71 +315,6 @@ impl Scene {
         let i = (x.floor() as usize).min(frames.len() - 2);
         frames[i].lerp(&frames[i + 1], x - i as f64)
     }
-
-    /// Loads every model file (each once) and bakes the instances into
-    /// world-space base patches.
-    pub fn geometry(&self) -> Result<SceneGeometry, SceneError> {
-        let model_error = |m: &ModelDesc, msg: String| SceneError::Model {
-            scene: self.path.clone(),
-            model: m.name.clone(),
-            msg,
-        };
-        let mut cache: HashMap<PathBuf, ImportedModel> = HashMap::new();
-        for m in &self.models {
-            if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(m.file.clone()) {
-                let model = load_model(&m.file).map_err(|e| model_error(m, e.to_string()))?;
-                slot.insert(model);
-            }
-        }
-        // Refuse what cannot be drawn before allocating any of it.
-        let total: u64 = self
-            .models
-            .iter()
-            .map(|m| cache[&m.file].patches.len() as u64 * m.instances.len() as u64)
-            .fold(0, u64::saturating_add);
-        if total > MAX_BASE_PATCHES {
-            return Err(SceneError::invalid(
-                &self.path,
-                format!(
-                    "the scene has {} base patches ({} for their control points and flags); \
-                     at most {} can be subdivided",
-                    thousands(total),
-                    bytes_text(total.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
-                    thousands(MAX_BASE_PATCHES)
-                ),
-            ));
-        }
-        let mut geo = SceneGeometry::default();
-        for (index, m) in self.models.iter().enumerate() {
-            let model = &cache[&m.file];
-            let flags =
-                (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
-            for xf in &m.instances {
-                for p in &model.patches {
-                    let w = transform_patch(p, xf);
-                    if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
-                        return Err(model_error(
-                            m,
-                            format!(
-                                "a transformed control point exceeds ±{MAX_COORD} (scale the scene down)"
-                            ),
-                        ));
-                    }
-                    geo.patches.push(w);
-                    geo.flags.push(flags);
-                }
-            }
-            geo.models.push(ModelSummary {
-                name: m.name.clone(),
-                file: m.file.clone(),
-                patches_per_instance: model.patches.len(),
-                instances: m.instances.len(),
-                two_sided: m.two_sided,
-                warnings: model.warnings.clone(),
-            });
-        }
-        Ok(geo)
-    }
 }
 
 /// Number of instances `list` makes, or what is wrong with it.
@@ -451,27 +339,6 @@ fn instance_count(list: &[InstanceToml]) -> Result<u64, String> {
         total = total.saturating_add(n);
     }
     Ok(total)
-}
-
-/// `n` with thousands separators.
-fn thousands(n: u64) -> String {
-    crate::commands::thousands(n)
-}
-
-/// A byte count in the unit that reads best.
-fn bytes_text(b: u64) -> String {
-    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
-    let mut x = b as f64;
-    let mut u = 0;
-    while x >= 1024.0 && u + 1 < units.len() {
-        x /= 1024.0;
-        u += 1;
-    }
-    if u == 0 {
-        format!("{b} bytes")
-    } else {
-        format!("{x:.1} {}", units[u])
-    }
 }
 
 fn instance_transforms(list: &[InstanceToml]) -> Result<Vec<DMat4>, String> {
@@ -516,24 +383,10 @@ fn instance_transforms(list: &[InstanceToml]) -> Result<Vec<DMat4>, String> {
     Ok(out)
 }
 
-/// Applies an affine transform to a patch's control points (f64, rounded
-/// once). Mirroring transforms swap u and v so ∂u × ∂v stays outward.
-pub fn transform_patch(p: &BezierPatch, m: &DMat4) -> BezierPatch {
-    let mut out = *p;
-    for q in &mut out.pts {
-        *q = m.transform_point3(q.as_dvec3()).as_vec3();
-    }
-    let out = if m.determinant() < 0.0 {
-        out.reoriented(true, false, false)
-    } else {
-        out
-    };
-    out.canonical_zeros()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::patch::bezier::BezierPatch;
 
     const MINIMAL: &str = r#"
 [camera]
@@ -647,6 +500,23 @@ file = "teapot.bpt"
             "{shown}"
         );
         assert_eq!(shown.matches("No such file").count(), 1, "{shown}");
+    }
+
+    #[test]
+    fn boundary_is_a_model_option() {
+        let text = MINIMAL.replace(
+            "file = \"teapot.bpt\"",
+            "file = \"c.obj\"\nboundary = \"edge-only\"",
+        );
+        let s = parse(&text).unwrap();
+        assert_eq!(s.models[0].options.boundary, Some(BoundaryRule::EdgeOnly));
+        let e = parse(&text.replace("edge-only", "smooth"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("scene.toml:8") && e.contains("none, edge-only, edge-and-corner"),
+            "{e}"
+        );
     }
 
     #[test]
