@@ -60,8 +60,9 @@ enum Command {
         #[arg(long, value_name = "FILE.png")]
         preview: Option<PathBuf>,
         /// Preview colours: normal (shaded, one tint per model; a one-sided
-        /// surface seen from behind is dark red), depth (QuadNode depth 0 dark
-        /// blue … 10 dark red), wedges (depth darkened, wedges magenta).
+        /// surface seen from behind is dark red), smooth (the same, lit with
+        /// the tangent patches' shading normals), depth (QuadNode depth 0
+        /// dark blue … 10 dark red), wedges (depth darkened, wedges magenta).
         #[arg(long, value_name = "MODE", default_value = "normal", value_parser = PreviewShade::from_str)]
         preview_shade: PreviewShade,
     },

@@ -11,6 +11,7 @@ use crate::files::temp_sibling;
 use crate::patch::ops::{max3, min3};
 use crate::scene::file::load_model_with;
 use crate::scene::obj::CageOptions;
+use crate::scene::shading::{self, SHADING_BYTES_PER_PATCH};
 use crate::scene::{bpt, CageInfo, ImportedModel, PatchOrigin, RuleSource};
 
 /// The summary `import` prints.
@@ -47,6 +48,15 @@ pub fn summary(path: &Path, model: &ImportedModel) -> String {
         }
         let f = |v: Vec3| format!("[{:.4}, {:.4}, {:.4}]", v.x, v.y, v.z);
         s += &format!("  control box     {} .. {}\n", f(lo), f(hi));
+    }
+    if !model.origins.is_empty() {
+        if let Some((geometric, tangent)) = normal_jumps(model) {
+            s += &format!(
+                "  shading normals largest jump across smooth patch edges: {geometric:.3}° from the \
+                 patches' own derivatives, {tangent:.4}° from the tangent patches \
+                 ({SHADING_BYTES_PER_PATCH} bytes per patch)\n"
+            );
+        }
     }
     for w in &model.warnings {
         s += &format!("  warning: {w}\n");
@@ -104,6 +114,23 @@ fn rule_counts(origins: &[PatchOrigin]) -> String {
     }
     let exact = origins.iter().filter(|o| o.rule.exact()).count();
     format!("{} (exact: {exact} of {})", parts.join(", "), origins.len())
+}
+
+/// The largest angle between the normals on the two sides of a smooth
+/// patch edge, in degrees: from the patches' own derivatives and from the
+/// shading (tangent) patches. `None` when no smooth edge is shared.
+pub fn normal_jumps(model: &ImportedModel) -> Option<(f64, f64)> {
+    let feature = |p: usize, k: usize| {
+        model
+            .origins
+            .get(p)
+            .is_some_and(|o| o.rule.feature_edges & (1 << k) != 0)
+    };
+    let pairs = shading::shared_edges(&model.patches, &feature);
+    let tangents = model.shading_patches();
+    let geometric = shading::largest_jump(&pairs, 16, &|p, u, v| model.patches[p].normal(u, v))?;
+    let tangent = shading::largest_jump(&pairs, 16, &|p, u, v| tangents[p].normal(u, v))?;
+    Some((geometric.degrees, tangent.degrees))
 }
 
 /// The sidecar JSON: the cage's boundary rule, then one entry per patch in

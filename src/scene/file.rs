@@ -52,7 +52,7 @@ use super::sharpness::BoundaryRule;
 use super::SceneError;
 
 pub use super::geometry::{
-    load_model, load_model_with, transform_patch, ModelSummary, SceneGeometry,
+    load_model, load_model_with, transform_patch, ModelSummary, SceneGeometry, SceneShading,
     GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES,
 };
 

@@ -1,5 +1,5 @@
 //! Scene geometry: the models of a scene loaded, their instances baked into
-//! world-space base patches.
+//! world-space base patches, and the shading normals beside them.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -8,6 +8,7 @@ use glam::DMat4;
 
 use super::file::{ModelDesc, Scene, MAX_COORD, PATCH_MODEL_SHIFT};
 use super::obj::CageOptions;
+use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
 use super::{bpt, obj, ImportedModel, SceneError};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::PATCH_TWO_SIDED;
@@ -48,6 +49,32 @@ pub struct SceneGeometry {
     pub models: Vec<ModelSummary>,
 }
 
+/// Shading normals of a whole scene, beside its [`SceneGeometry`]: one
+/// [`ShadingPatch`] per base patch, in the same order (see `shading.rs` for
+/// the layout a GPU buffer takes).
+#[derive(Clone, Debug, Default)]
+pub struct SceneShading {
+    /// Tangent patches, parallel to `SceneGeometry::patches`.
+    pub patches: Vec<ShadingPatch>,
+}
+
+impl SceneShading {
+    /// Unnormalised shading normal of base patch `patch` at (u, v).
+    pub fn normal(&self, patch: usize, u: f32, v: f32) -> glam::Vec3 {
+        self.patches[patch].normal(u, v)
+    }
+
+    /// Bytes of the tightly packed GPU buffer.
+    pub fn bytes(&self) -> usize {
+        self.patches.len() * SHADING_BYTES_PER_PATCH
+    }
+
+    /// The buffer's contents: 72 f32 per base patch.
+    pub fn to_floats(&self) -> Vec<f32> {
+        self.patches.iter().flat_map(|p| p.to_floats()).collect()
+    }
+}
+
 /// Loads one model file by extension (`.bpt` or `.obj`).
 pub fn load_model(path: &Path) -> Result<ImportedModel, SceneError> {
     load_model_with(path, &CageOptions::default())
@@ -85,6 +112,15 @@ impl Scene {
     /// Loads every model file (each once) and bakes the instances into
     /// world-space base patches.
     pub fn geometry(&self) -> Result<SceneGeometry, SceneError> {
+        self.build(false).map(|(geo, _)| geo)
+    }
+
+    /// [`Scene::geometry`] and the shading normals beside it.
+    pub fn geometry_and_shading(&self) -> Result<(SceneGeometry, SceneShading), SceneError> {
+        self.build(true)
+    }
+
+    fn build(&self, with_shading: bool) -> Result<(SceneGeometry, SceneShading), SceneError> {
         let model_error = |m: &ModelDesc, msg: String| SceneError::Model {
             scene: self.path.clone(),
             model: m.name.clone(),
@@ -120,12 +156,18 @@ impl Scene {
             ));
         }
         let mut geo = SceneGeometry::default();
+        let mut shading = SceneShading::default();
         for (index, m) in self.models.iter().enumerate() {
             let model = &cache[&(m.file.clone(), m.options)];
             let flags =
                 (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
+            let tangents = if with_shading {
+                model.shading_patches()
+            } else {
+                Vec::new()
+            };
             for xf in &m.instances {
-                for p in &model.patches {
+                for (k, p) in model.patches.iter().enumerate() {
                     let w = transform_patch(p, xf);
                     if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
                         return Err(model_error(
@@ -135,6 +177,9 @@ impl Scene {
                     }
                     geo.patches.push(w);
                     geo.flags.push(flags);
+                    if let Some(t) = tangents.get(k) {
+                        shading.patches.push(t.transformed(xf));
+                    }
                 }
             }
             geo.models.push(ModelSummary {
@@ -146,7 +191,7 @@ impl Scene {
                 warnings: model.warnings.clone(),
             });
         }
-        Ok(geo)
+        Ok((geo, shading))
     }
 }
 

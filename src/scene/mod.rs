@@ -9,13 +9,16 @@ pub mod file;
 pub mod geometry;
 pub mod obj;
 pub mod refine;
+pub mod shading;
 pub mod sharpness;
 pub mod tags;
+pub mod tangent;
 
 pub use error::SceneError;
 
 use crate::patch::bezier::BezierPatch;
 use acc::PatchRule;
+use shading::ShadingPatch;
 use sharpness::BoundaryRule;
 
 /// Where one imported patch came from, for the `.bpt.json` sidecar.
@@ -75,6 +78,9 @@ pub struct ImportedModel {
     pub patches: Vec<BezierPatch>,
     /// One entry per patch for cage imports; empty for `.bpt` files.
     pub origins: Vec<PatchOrigin>,
+    /// Tangent patches for shading, one per patch; empty when the model has
+    /// none of its own (then the patches' own derivatives are used).
+    pub shading: Vec<ShadingPatch>,
     /// For cages: the rules applied and what the cage holds.
     pub cage: Option<CageInfo>,
     /// Things the user should know that did not stop the import.
@@ -94,4 +100,19 @@ pub fn read_text(path: &std::path::Path) -> Result<String, SceneError> {
             format!("not a text file: byte {at} is not UTF-8 (model files are plain text)"),
         )
     })
+}
+
+impl ImportedModel {
+    /// The shading patches, one per patch: the model's tangent patches, or
+    /// the patches' own derivative nets where it has none.
+    pub fn shading_patches(&self) -> Vec<ShadingPatch> {
+        if self.shading.len() == self.patches.len() {
+            self.shading.clone()
+        } else {
+            self.patches
+                .iter()
+                .map(ShadingPatch::from_geometry)
+                .collect()
+        }
+    }
 }

@@ -92,6 +92,9 @@
 //! (v_k−1, v_k)), OpenSubdiv's sub-face k, and the patches follow face
 //! order, then k. A warning says so.
 //!
+//! Shading: each patch also gets tangent patches (`tangent.rs`) whose
+//! normals are continuous across every edge that is not a feature.
+//!
 //! Origins: `PatchOrigin::face` is the index of the original cage face (the
 //! n-th `f` line, 0-based), `sub` its sub-quad for a refined cage.
 //! `corners_uv` are the face-parameter coordinates of the patch's parameter
@@ -110,7 +113,7 @@ use super::cage::{Cage, Topology};
 use super::refine::refine;
 use super::sharpness::{self, BoundaryRule, INFINITE};
 use super::tags::Tags;
-use super::{acc, CageInfo, ImportedModel, PatchOrigin, RuleSource, SceneError};
+use super::{acc, tangent, CageInfo, ImportedModel, PatchOrigin, RuleSource, SceneError};
 
 /// Choices for cages that the file itself does not make.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -203,8 +206,9 @@ pub fn parse_with(
     }
 
     let non_quads = cage.faces.iter().filter(|f| f.len() != 4).count();
-    let (conversion, origins) = if non_quads == 0 {
+    let (conversion, shading, origins) = if non_quads == 0 {
         let conv = acc::convert(&cage, &topo, path)?;
+        let shading = tangent::tangent_patches(&cage, &topo, &conv);
         let origins = conv
             .faces
             .iter()
@@ -216,11 +220,12 @@ pub fn parse_with(
                 rule,
             })
             .collect();
-        (conv, origins)
+        (conv, shading, origins)
     } else {
         let (fine, subs) = refine(&cage, &topo);
         let fine_topo = Topology::build(&fine, path)?;
         let conv = acc::convert(&fine, &fine_topo, path)?;
+        let shading = tangent::tangent_patches(&fine, &fine_topo, &conv);
         let origins = conv
             .faces
             .iter()
@@ -239,7 +244,7 @@ pub fn parse_with(
             "{non_quads} non-quad faces: one Catmull–Clark step applied to the whole cage, {} patches",
             conv.patches.len()
         ));
-        (conv, origins)
+        (conv, shading, origins)
     };
 
     let info = CageInfo {
@@ -256,6 +261,7 @@ pub fn parse_with(
     Ok(ImportedModel {
         patches: conversion.patches,
         origins,
+        shading,
         cage: Some(info),
         warnings,
     })
