@@ -49,8 +49,9 @@ enum Command {
         #[arg(long, value_name = "FILE.png")]
         preview: Option<PathBuf>,
         /// Preview colours: normal (shaded, one tint per model; a one-sided
-        /// surface seen from behind is dark red), depth (QuadNode depth 0 dark
-        /// blue … 10 dark red), wedges (depth darkened, wedges magenta).
+        /// surface seen from behind is dark red), smooth (the same, lit with
+        /// the tangent patches' shading normals), depth (QuadNode depth 0
+        /// dark blue … 10 dark red), wedges (depth darkened, wedges magenta).
         #[arg(long, value_name = "MODE", default_value = "normal", value_parser = PreviewShade::from_str)]
         preview_shade: PreviewShade,
     },
@@ -103,14 +104,19 @@ enum Command {
     /// summary and any warnings, optionally write the patches.
     ///
     /// With --out, writes PATCHES.bpt and, for cages, PATCHES.bpt.json giving
-    /// for each patch the cage face it came from and the face-parameter
-    /// coordinates of its corners (null for patches of non-quad faces).
+    /// the boundary rule and, for each patch, the cage face it came from, the
+    /// face-parameter coordinates of its corners (null for patches of
+    /// non-quad faces) and the rules it was made with.
     Import {
         /// The .obj cage or .bpt file.
         file: PathBuf,
         /// Write the patches here as .bpt (plus the .bpt.json sidecar).
         #[arg(long, value_name = "PATCHES.bpt")]
         out: Option<PathBuf>,
+        /// Boundary rule for a cage without a `t interpolateboundary` tag:
+        /// none, edge-only or edge-and-corner (the default).
+        #[arg(long, value_name = "RULE")]
+        boundary: Option<bezier_subdiv::scene::sharpness::BoundaryRule>,
     },
 }
 
@@ -275,8 +281,16 @@ fn run(command: Command) -> anyhow::Result<()> {
             print!("{}", commands::info::run(vk_validation)?);
             Ok(())
         }
-        Command::Import { file, out } => {
-            print!("{}", commands::import::run(&file, out.as_deref())?);
+        Command::Import {
+            file,
+            out,
+            boundary,
+        } => {
+            let options = bezier_subdiv::scene::obj::CageOptions { boundary };
+            print!(
+                "{}",
+                commands::import::run(&file, out.as_deref(), &options)?
+            );
             Ok(())
         }
     }

@@ -19,6 +19,7 @@ use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
 use crate::constants::{PATCH_MODEL_SHIFT, PATCH_TWO_SIDED};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::Triangle;
+use crate::scene::shading::ShadingPatch;
 
 /// Fixed-point subpixel bits of the snapped vertex positions.
 const SUB_BITS: u32 = 8;
@@ -37,6 +38,9 @@ pub enum PreviewShade {
     /// mistakes).
     #[default]
     Normal,
+    /// As `Normal`, lit with the shading normals of the tangent patches
+    /// (`scene::shading`) instead: what a renderer shading with them shows.
+    Smooth,
     /// Heat map of the QuadNode depth, 0 (dark blue) … 10 (dark red), flat per
     /// triangle with a little face shading to keep shapes readable.
     Depth,
@@ -46,8 +50,9 @@ pub enum PreviewShade {
 
 impl PreviewShade {
     /// Every mode with its command-line name.
-    pub const ALL: [(PreviewShade, &'static str); 3] = [
+    pub const ALL: [(PreviewShade, &'static str); 4] = [
         (PreviewShade::Normal, "normal"),
+        (PreviewShade::Smooth, "smooth"),
         (PreviewShade::Depth, "depth"),
         (PreviewShade::Wedges, "wedges"),
     ];
@@ -74,7 +79,9 @@ impl FromStr for PreviewShade {
             .iter()
             .find(|(_, n)| n.eq_ignore_ascii_case(s.trim()))
             .map(|x| x.0)
-            .ok_or_else(|| format!("unknown preview shade '{s}': expected normal, depth or wedges"))
+            .ok_or_else(|| {
+                format!("unknown preview shade '{s}': expected normal, smooth, depth or wedges")
+            })
     }
 }
 
@@ -238,6 +245,25 @@ struct Fragment {
     world: DVec3,
 }
 
+/// Calls `f(x, y, world)` for every pixel whose centre the world-space
+/// triangle `v` covers under `view_proj` (either winding, clipped to the
+/// view volume, top-left rule), with the perspective-correct world position
+/// there. For tests that need to know where a surface lies on screen.
+pub fn cover_triangle(
+    v: [DVec3; 3],
+    view_proj: &DMat4,
+    width: u32,
+    height: u32,
+    mut f: impl FnMut(u32, u32, DVec3),
+) {
+    let clip = v.map(|p| ClipVert {
+        pos: *view_proj * p.extend(1.0),
+        uv: DVec2::ZERO,
+        world: p,
+    });
+    rasterize(clip, width, height, |fr| f(fr.x, fr.y, fr.world));
+}
+
 /// Edge function of edge a→b at p, in subpixel² units: positive on the
 /// interior side of a triangle with positive area.
 fn edge(a: &ScreenVert, b: &ScreenVert, px: i64, py: i64) -> i64 {
@@ -375,12 +401,16 @@ impl Raster {
 
     /// Draws the oracle's triangles. `patches` and `flags` are the scene's
     /// base patches and per-patch flags (indexed by `Triangle::node.patch`);
-    /// `eye` is the camera position, used for shading only.
+    /// `normals` their tangent patches, used by `PreviewShade::Smooth`
+    /// (without them it shades as `Normal`); `eye` is the camera position,
+    /// used for shading only.
+    #[allow(clippy::too_many_arguments)]
     pub fn draw_triangles(
         &mut self,
         tris: &[Triangle],
         patches: &[BezierPatch],
         flags: &[u32],
+        normals: Option<&[ShadingPatch]>,
         view_proj: &DMat4,
         eye: Vec3,
         shade: PreviewShade,
@@ -400,7 +430,7 @@ impl Raster {
             });
             // Flat colour for the depth modes, with a little face shading.
             let flat = match shade {
-                PreviewShade::Normal => [0; 4],
+                PreviewShade::Normal | PreviewShade::Smooth => [0; 4],
                 PreviewShade::Depth | PreviewShade::Wedges => {
                     let base = if t.wedge && shade == PreviewShade::Wedges {
                         WEDGE_COLOR
@@ -416,8 +446,11 @@ impl Raster {
                     scale_rgb(base, k * dim)
                 }
             };
-            let patch =
-                (shade == PreviewShade::Normal).then(|| (&patches[patch_id], flags[patch_id]));
+            let lit = matches!(shade, PreviewShade::Normal | PreviewShade::Smooth);
+            let tangents = normals
+                .filter(|_| shade == PreviewShade::Smooth)
+                .map(|n| &n[patch_id]);
+            let patch = lit.then(|| (&patches[patch_id], tangents, flags[patch_id]));
             let (color, depth) = (&mut self.color, &mut self.depth);
             rasterize(clip, w, h, |f| {
                 let i = f.y as usize * w as usize + f.x as usize;
@@ -428,7 +461,14 @@ impl Raster {
                 }
                 depth[i] = z;
                 color[i] = match patch {
-                    Some((base, flag)) => shade_normal(base, flag, &f, eye, light),
+                    Some((base, tangents, flag)) => {
+                        let (u, v) = (f.uv.x as f32, f.uv.y as f32);
+                        let n = match tangents {
+                            Some(t) => t.normal(u, v),
+                            None => base.normal(u, v),
+                        };
+                        shade_normal(n.as_dvec3(), flag, &f, eye, light)
+                    }
                     None => flat,
                 };
             });
@@ -456,9 +496,8 @@ fn face_light(t: &Triangle, eye: DVec3) -> f32 {
     }
 }
 
-fn shade_normal(base: &BezierPatch, flags: u32, f: &Fragment, eye: DVec3, light: DVec3) -> [u8; 4] {
+fn shade_normal(n: DVec3, flags: u32, f: &Fragment, eye: DVec3, light: DVec3) -> [u8; 4] {
     let tint = PALETTE[((flags >> PATCH_MODEL_SHIFT) as usize) % PALETTE.len()];
-    let n = base.normal(f.uv.x as f32, f.uv.y as f32).as_dvec3();
     let to_eye = (eye - f.world).normalize_or_zero();
     let mut n = n.normalize_or_zero();
     let mut tint = tint;
@@ -659,7 +698,7 @@ mod tests {
         ];
         for shade in PreviewShade::ALL.map(|x| x.0) {
             let mut r = Raster::new(64, 48, [0, 0, 0, 255]);
-            r.draw_triangles(&crossing, &patches, &[0], &vp, eye, shade);
+            r.draw_triangles(&crossing, &patches, &[0], None, &vp, eye, shade);
             assert!(r
                 .depth
                 .iter()
@@ -673,6 +712,7 @@ mod tests {
             &crossing[2..],
             &patches,
             &[0],
+            None,
             &vp,
             eye,
             PreviewShade::Depth,
@@ -717,9 +757,25 @@ mod tests {
         let (near, far) = (big(-1.0, 2), big(1.0, 8));
         let patches = [flat_patch()];
         let mut a = Raster::new(32, 32, [0, 0, 0, 255]);
-        a.draw_triangles(&[near, far], &patches, &[0], &vp, eye, PreviewShade::Depth);
+        a.draw_triangles(
+            &[near, far],
+            &patches,
+            &[0],
+            None,
+            &vp,
+            eye,
+            PreviewShade::Depth,
+        );
         let mut b = Raster::new(32, 32, [0, 0, 0, 255]);
-        b.draw_triangles(&[far, near], &patches, &[0], &vp, eye, PreviewShade::Depth);
+        b.draw_triangles(
+            &[far, near],
+            &patches,
+            &[0],
+            None,
+            &vp,
+            eye,
+            PreviewShade::Depth,
+        );
         assert_eq!(a.color, b.color);
         assert_eq!(a.depth, b.depth);
         let centre = 16 * 32 + 16;

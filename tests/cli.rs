@@ -41,8 +41,12 @@ fn import_writes_patches_and_sidecar() {
     );
     assert!(text.contains("patches         588"), "{text}");
     assert!(
-        text.contains("`t` tag lines"),
-        "the ignored crease tags are reported: {text}"
+        text.contains("creases         0 infinitely sharp edges, 120 semi-sharp"),
+        "the crease tags are read: {text}"
+    );
+    assert!(
+        text.contains("boundary rule   edge-and-corner (default"),
+        "{text}"
     );
     // The written patches read back as the same model.
     let again = bin().arg("import").arg(&out).output().unwrap();
@@ -58,6 +62,31 @@ fn import_writes_patches_and_sidecar() {
         serde_json::json!([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     );
     assert_eq!(entries[587]["face"], 587);
+    // Which rule each patch used, and the boundary rule of the whole cage.
+    assert_eq!(side["boundary"]["rule"], "edge-and-corner");
+    assert_eq!(side["boundary"]["from"], "default");
+    for e in entries {
+        let rule = e["rule"].as_str().unwrap();
+        assert!(
+            [
+                "regular",
+                "crease",
+                "corner",
+                "extraordinary",
+                "irregular-sharp",
+                "semi-sharp"
+            ]
+            .contains(&rule),
+            "{rule}"
+        );
+        assert_eq!(
+            e["exact"],
+            rule == "regular" || rule == "crease" || rule == "corner"
+        );
+        assert_eq!(e["corners"].as_array().unwrap().len(), 4);
+    }
+    let semi = entries.iter().filter(|e| e["rule"] == "semi-sharp").count();
+    assert!(semi > 0);
     // Nothing else left behind (no temporary files).
     let names: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -260,4 +289,100 @@ fn interleaved_workgroups_equal_the_oracle() {
         "{m}"
     );
     assert_eq!(stats["repeat"], 2);
+}
+
+/// Each cause is printed once: a binary file, a missing file, a broken model
+/// of a scene (whose path the message names once).
+#[test]
+fn errors_say_each_thing_once() {
+    let dir = temp_dir("once");
+    let binary = dir.join("patches.bpt");
+    std::fs::write(&binary, [0x32u8, 0x0a, 0xff, 0xfe, 0x00, 0x31]).unwrap();
+    let run = bin().arg("import").arg(&binary).output().unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert_eq!(err.matches("not a text file").count(), 1, "{err}");
+    assert!(
+        err.contains("patches.bpt:2: "),
+        "the line of the first bad byte: {err}"
+    );
+    assert!(!err.contains("stream did not contain valid UTF-8"), "{err}");
+
+    let run = bin()
+        .arg("import")
+        .arg(dir.join("gone.obj"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(err.matches("No such file or directory").count(), 1, "{err}");
+
+    let scene = dir.join("broken.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nposition = [5.0, -5.0, 3.0]\ntarget = [0.0, 0.0, 1.0]\n[[model]]\nname = \"bad\"\nfile = \"bad.obj\"\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("bad.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 9\n").unwrap();
+    let run = bin()
+        .arg("stats")
+        .arg("--scene")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert_eq!(err.matches("broken.toml").count(), 1, "{err}");
+    assert!(err.contains("model 'bad': "), "{err}");
+    assert!(err.contains("bad.obj:3: "), "{err}");
+    assert!(err.contains("the file has 2 vertices"), "{err}");
+}
+
+/// `import --boundary` applies to cages without their own tag.
+#[test]
+fn import_takes_a_boundary_rule() {
+    let dir = temp_dir("boundary");
+    let sheet = dir.join("sheet.obj");
+    std::fs::write(
+        &sheet,
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 1 2 5 4\nf 2 3 6 5\n",
+    )
+    .unwrap();
+    let out = dir.join("sheet.bpt");
+    let run = bin()
+        .arg("import")
+        .arg(&sheet)
+        .args(["--boundary", "edge-only", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        text.contains("boundary rule   edge-only (option)"),
+        "{text}"
+    );
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("sheet.bpt.json")).unwrap())
+            .unwrap();
+    assert_eq!(side["boundary"]["rule"], "edge-only");
+    assert_eq!(side["boundary"]["from"], "option");
+    // Smoothed cage corners (crease rule, one face): no patch is exact.
+    let patches = side["patches"].as_array().unwrap();
+    for (p, k) in [(0, 0), (0, 3), (1, 1), (1, 2)] {
+        assert_eq!(patches[p]["corners"][k]["rule"], "crease");
+        assert_eq!(patches[p]["corners"][k]["sector"], 1);
+    }
+    assert!(patches.iter().all(|e| e["exact"] == false));
+    let run = bin()
+        .arg("import")
+        .arg(&sheet)
+        .args(["--boundary", "sharp"])
+        .output()
+        .unwrap();
+    assert!(!run.status.success());
+    assert!(String::from_utf8_lossy(&run.stderr).contains("none, edge-only, edge-and-corner"));
 }

@@ -152,9 +152,14 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     let scene = Scene::load(&args.scene)?;
     let camera = keyframe(&scene, &args.scene, args.frame)?;
     let (eps, lambda) = eps_lambda(&scene, args.eps, args.lambda)?;
-    let geo = scene
-        .geometry()
-        .with_context(|| format!("loading the models of {}", args.scene.display()))?;
+    // Shading normals only for the preview that shows them.
+    let smooth = args.preview.is_some() && args.preview_shade == PreviewShade::Smooth;
+    let (geo, shading) = if smooth {
+        scene.geometry_and_shading().map(|(g, s)| (g, Some(s)))
+    } else {
+        scene.geometry().map(|g| (g, None))
+    }
+    .with_context(|| format!("loading the models of {}", args.scene.display()))?;
     let (w, h) = args.size;
     let mut vp = camera.view_params(w, h, eps, lambda);
     vp.flags = args.flags;
@@ -172,6 +177,7 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
                 &tris,
                 &geo.patches,
                 &geo.flags,
+                shading.as_ref().map(|s| &s.patches[..]),
                 &view_proj,
                 vp.eye.truncate(),
                 args.preview_shade,

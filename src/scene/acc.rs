@@ -1,20 +1,22 @@
 //! All-quad control cage → one bicubic Bézier patch per face, by Loop and
 //! Schaefer's approximate Catmull–Clark surfaces ("ACC", 2008) with this
-//! project's boundary rules. The rules are listed in `obj.rs`'s module doc;
-//! this module is their implementation.
+//! project's rules for boundaries, creases and corners. The rules are
+//! listed in `obj.rs`'s module doc; this module is their implementation.
 //!
 //! Crack-freeness (DESIGN invariant 4) rests on one discipline: every point
 //! that lies on a patch boundary — the corner points and the two edge points
 //! near each end of every edge — is computed exactly once, rounded to f32
 //! once, stored, and copied into every patch that uses it. Nothing on a
-//! boundary is ever recomputed per face, so neighbours get the same bits.
+//! boundary is ever recomputed per face, so neighbours get the same bits,
+//! whatever rule made the point.
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
 
-use super::cage::{face_edges, Cage, Topology};
+use super::cage::{Cage, Topology};
+use super::sharpness::{self, Config, VertexRule};
 use super::SceneError;
 use crate::patch::bezier::BezierPatch;
 
@@ -23,17 +25,135 @@ fn round(p: DVec3) -> Vec3 {
     Vec3::new(p.x as f32, p.y as f32, p.z as f32) + Vec3::ZERO
 }
 
-/// Converts an all-quad cage (validated into `topo`) to one patch per face,
-/// in face order. Face (v0, v1, v2, v3) gets its parameter origin at v0,
-/// u towards v1, v towards v3.
-pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Vec<BezierPatch>, SceneError> {
-    let p = &cage.positions;
-    if let Some(f) = cage.faces.iter().position(|face| face.len() != 4) {
-        return Err(SceneError::invalid(
-            path,
-            format!("internal: face {} is not a quad after refinement", f + 1),
-        ));
+/// The rule one corner of a patch was made with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CornerRule {
+    /// The vertex rule with every feature of sharpness above 0 sharp.
+    pub rule: VertexRule,
+    /// Edges at the vertex.
+    pub valence: u32,
+    /// Faces in the patch's sector: between sharp edges, or all of them.
+    pub sector: u32,
+    /// A semi-sharp feature meets the vertex: the patch approximates.
+    pub semi_sharp: bool,
+}
+
+impl CornerRule {
+    /// The patch is exactly OpenSubdiv's limit surface near this corner
+    /// when it is a regular smooth vertex, a crease with two faces on this
+    /// side, or a corner with this face alone in its sector.
+    pub fn is_regular(&self) -> bool {
+        !self.semi_sharp
+            && match self.rule {
+                VertexRule::Smooth => self.valence == 4,
+                VertexRule::Dart => false,
+                VertexRule::Crease => self.sector == 2,
+                VertexRule::Corner => self.sector == 1,
+            }
     }
+}
+
+/// How one patch was made, for the sidecar and for tests.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PatchRule {
+    /// At the patch's corners (0,0), (1,0), (1,1), (0,1).
+    pub corners: [CornerRule; 4],
+    /// Bit k: the edge from corner k to corner k + 1 is a feature edge
+    /// (boundary, non-manifold, or a crease of sharpness ≥ 1): the surface
+    /// may fold there and the shading normal may jump.
+    pub feature_edges: u8,
+}
+
+impl PatchRule {
+    /// The patch equals OpenSubdiv's limit surface (to f32 rounding).
+    pub fn exact(&self) -> bool {
+        self.corners.iter().all(CornerRule::is_regular)
+    }
+
+    /// One word for the sidecar and the deviation tables: `regular`,
+    /// `crease` (boundaries included), `corner`, `extraordinary` (an
+    /// irregular smooth vertex), `irregular-sharp` (dart, or a crease or
+    /// corner with another number of faces), `semi-sharp`.
+    pub fn class(&self) -> &'static str {
+        let has = |r: VertexRule| self.corners.iter().any(|c| c.rule == r);
+        if self.corners.iter().any(|c| c.semi_sharp) {
+            "semi-sharp"
+        } else if self.exact() {
+            if has(VertexRule::Corner) {
+                "corner"
+            } else if has(VertexRule::Crease) {
+                "crease"
+            } else {
+                "regular"
+            }
+        } else if self.corners.iter().all(|c| c.rule == VertexRule::Smooth) {
+            "extraordinary"
+        } else {
+            "irregular-sharp"
+        }
+    }
+}
+
+/// A converted cage.
+#[derive(Clone, Debug, Default)]
+pub struct Conversion {
+    /// One patch per face that is not a hole, in face order.
+    pub patches: Vec<BezierPatch>,
+    /// The cage face of each patch.
+    pub faces: Vec<usize>,
+    /// How each patch was made.
+    pub rules: Vec<PatchRule>,
+    /// The corner point of each vertex, as stored in the patches.
+    pub corner: Vec<Vec3>,
+    /// The edge point of each edge end `(near, far)`, as stored.
+    pub edge_point: HashMap<(usize, usize), Vec3>,
+}
+
+/// A vertex's rule in one configuration and the far ends of its sharp
+/// edges, in fan order.
+struct Local {
+    rule: VertexRule,
+    ends: Vec<usize>,
+}
+
+fn local(cage: &Cage, topo: &Topology, v: usize, cfg: Config) -> Local {
+    let mut ids: Vec<usize> = Vec::new();
+    for fan in &topo.fans[v] {
+        let mut consider = |e: usize| {
+            if !ids.contains(&e) {
+                ids.push(e);
+            }
+        };
+        for &c in &fan.corners {
+            consider(topo.incoming(cage, c));
+        }
+        if let (false, Some(&last)) = (fan.closed, fan.corners.last()) {
+            consider(topo.outgoing(cage, last));
+        }
+    }
+    let ends: Vec<usize> = ids
+        .into_iter()
+        .map(|e| &topo.edges[e])
+        .filter(|e| cfg.sharp(cage.edge_sharpness(e.ends.0, e.ends.1)))
+        .map(|e| e.other(v))
+        .collect();
+    let corner = cfg.sharp(cage.vertex_sharpness(v));
+    Local {
+        rule: VertexRule::of(corner, ends.len()),
+        ends,
+    }
+}
+
+/// Every control point of one configuration, in f64.
+struct Points {
+    inner: Vec<[DVec3; 4]>,
+    corner: Vec<DVec3>,
+    edge: HashMap<(usize, usize), DVec3>,
+}
+
+fn points(cage: &Cage, topo: &Topology, cfg: Config) -> (Points, Vec<Local>) {
+    let p = &cage.positions;
+    let locals: Vec<Local> = (0..p.len()).map(|v| local(cage, topo, v, cfg)).collect();
 
     // Interior point of each face near each corner k (kept in f64: they are
     // private to the face, and edge points are averaged from them).
@@ -44,80 +164,178 @@ pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Vec<BezierPa
             std::array::from_fn(|k| {
                 let v = face[k];
                 let (ea, eb, opp) = (face[(k + 3) % 4], face[(k + 1) % 4], face[(k + 2) % 4]);
-                let fan = &topo.fans[v];
-                let n = if fan.boundary.is_some() {
-                    4.0
+                let n = if locals[v].rule.is_smooth() {
+                    topo.valence(v) as f64
                 } else {
-                    fan.valence as f64
+                    4.0
                 };
                 (p[v] * n + p[ea] * 2.0 + p[eb] * 2.0 + p[opp]) / (n + 5.0)
             })
         })
         .collect();
 
-    // Corner points, one per vertex.
-    let corner: Vec<Vec3> = (0..p.len())
-        .map(|v| {
-            let fan = &topo.fans[v];
-            match fan.boundary {
-                _ if fan.corners.is_empty() => round(p[v]),
-                Some(_) if fan.corners.len() == 1 => round(p[v]),
-                Some((a, b)) => round((p[a] + p[v] * 4.0 + p[b]) / 6.0),
-                None => {
-                    let n = fan.valence as f64;
+    let corner: Vec<DVec3> = (0..p.len())
+        .map(|v| match locals[v].rule {
+            VertexRule::Corner => p[v],
+            VertexRule::Crease => {
+                let [a, b] = [locals[v].ends[0], locals[v].ends[1]];
+                (p[a] + p[v] * 4.0 + p[b]) / 6.0
+            }
+            VertexRule::Smooth | VertexRule::Dart => match &topo.fans[v][..] {
+                [fan] if fan.closed => {
+                    let n = topo.valence(v) as f64;
                     let (mut edge_sum, mut diag_sum) = (DVec3::ZERO, DVec3::ZERO);
                     for &(f, k) in &fan.corners {
                         let face = &cage.faces[f];
                         edge_sum += p[face[(k + 1) % 4]];
                         diag_sum += p[face[(k + 2) % 4]];
                     }
-                    round((p[v] * (n * n) + edge_sum * 4.0 + diag_sum) / (n * (n + 5.0)))
+                    (p[v] * (n * n) + edge_sum * 4.0 + diag_sum) / (n * (n + 5.0))
                 }
-            }
+                // Unreachable after `sharpness::resolve` (open and multiple
+                // fans are bounded by sharp edges); kept total.
+                _ => p[v],
+            },
         })
         .collect();
 
-    // Edge points, keyed (near end, far end), one per edge end.
-    let mut edge_point: HashMap<(usize, usize), Vec3> = HashMap::new();
-    for face in &cage.faces {
-        for (a, b) in face_edges(face) {
-            if edge_point.contains_key(&(a, b)) {
-                continue;
+    let mut edge = HashMap::with_capacity(topo.edges.len() * 2);
+    for e in &topo.edges {
+        let (a, b) = e.ends;
+        let sharp = cfg.sharp(cage.edge_sharpness(a, b));
+        for (near, far) in [(a, b), (b, a)] {
+            let value = match (topo.half_edge(near, far), topo.half_edge(far, near)) {
+                (Some((f, k)), Some((g, m))) if !sharp || locals[near].rule.is_smooth() => {
+                    // `near` is corner k of f and corner m+1 of g.
+                    (inner[f][k] + inner[g][(m + 1) % 4]) * 0.5
+                }
+                _ => (p[near] * 2.0 + p[far]) / 3.0,
+            };
+            edge.insert((near, far), value);
+        }
+    }
+    (
+        Points {
+            inner,
+            corner,
+            edge,
+        },
+        locals,
+    )
+}
+
+/// Converts an all-quad cage (validated into `topo`, sharpness resolved) to
+/// one patch per face that is not a hole, in face order. Face (v0, v1, v2,
+/// v3) gets its parameter origin at v0, u towards v1, v towards v3.
+pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Conversion, SceneError> {
+    if let Some(f) = cage.faces.iter().position(|face| face.len() != 4) {
+        return Err(SceneError::invalid(
+            path,
+            format!("internal: face {} is not a quad after refinement", f + 1),
+        ));
+    }
+    let nv = cage.positions.len();
+    let (sharp, locals) = points(cage, topo, Config::Sharp);
+    // Features of sharpness below 1: the points near such a vertex are the
+    // soft configuration's moved towards the sharp one's by its weight.
+    let weight: Vec<Option<f64>> = (0..nv)
+        .map(|v| sharpness::fractional_weight(cage, topo, v))
+        .collect();
+    let smooth = weight
+        .iter()
+        .any(Option::is_some)
+        .then(|| points(cage, topo, Config::Soft).0);
+    let blend = |v: usize, pick: &dyn Fn(&Points) -> DVec3| -> DVec3 {
+        let hard = pick(&sharp);
+        match (weight[v], &smooth) {
+            (Some(w), Some(soft)) => {
+                let soft = pick(soft);
+                soft + (hard - soft) * w
             }
-            for (near, far) in [(a, b), (b, a)] {
-                let value = match (topo.half_edge(near, far), topo.half_edge(far, near)) {
-                    (Some((f, k)), Some((g, m))) => {
-                        // `near` is corner k of f and corner m+1 of g.
-                        (inner[f][k] + inner[g][(m + 1) % 4]) * 0.5
-                    }
-                    _ => (p[near] * 2.0 + p[far]) / 3.0,
-                };
-                edge_point.insert((near, far), round(value));
+            _ => hard,
+        }
+    };
+
+    let corner: Vec<Vec3> = (0..nv)
+        .map(|v| round(blend(v, &|pts| pts.corner[v])))
+        .collect();
+    let edge_point: HashMap<(usize, usize), Vec3> = sharp
+        .edge
+        .keys()
+        .map(|&(near, far)| {
+            (
+                (near, far),
+                round(blend(near, &|pts| pts.edge[&(near, far)])),
+            )
+        })
+        .collect();
+
+    // Sector sizes for the rules report, cutting fans at every sharp edge.
+    let mut sector_of: HashMap<(usize, usize), u32> = HashMap::new();
+    for v in 0..nv {
+        let is_sharp = |e: usize| {
+            let (a, b) = topo.edges[e].ends;
+            cage.edge_sharpness(a, b) > 0.0
+        };
+        for s in sharpness::sectors(cage, topo, v, &is_sharp) {
+            for &c in &s.corners {
+                sector_of.insert(c, s.corners.len() as u32);
             }
         }
     }
 
-    let mut patches = Vec::with_capacity(cage.faces.len());
+    let mut out = Conversion {
+        corner,
+        edge_point,
+        ..Conversion::default()
+    };
     for (f, face) in cage.faces.iter().enumerate() {
+        if cage.is_hole(f) {
+            continue;
+        }
         let [v0, v1, v2, v3] = [face[0], face[1], face[2], face[3]];
-        let e = |a: usize, b: usize| edge_point[&(a, b)];
-        let i = |k: usize| round(inner[f][k]);
+        let e = |a: usize, b: usize| out.edge_point[&(a, b)];
+        let i = |k: usize| round(blend(face[k], &|pts| pts.inner[f][k]));
+        let c = |v: usize| out.corner[v];
         #[rustfmt::skip]
         let pts = [
-            corner[v0], e(v0, v1), e(v1, v0), corner[v1],
-            e(v0, v3),  i(0),      i(1),      e(v1, v2),
-            e(v3, v0),  i(3),      i(2),      e(v2, v1),
-            corner[v3], e(v3, v2), e(v2, v3), corner[v2],
+            c(v0),     e(v0, v1), e(v1, v0), c(v1),
+            e(v0, v3), i(0),      i(1),      e(v1, v2),
+            e(v3, v0), i(3),      i(2),      e(v2, v1),
+            c(v3),     e(v3, v2), e(v2, v3), c(v2),
         ];
         let patch = BezierPatch { pts }.canonical_zeros();
         if !patch.is_finite() {
             let msg = "the patch of this face has a non-finite control point (coordinates too large for f32?)";
-            return Err(match cage.face_lines.get(f).copied().flatten() {
+            return Err(match cage.line_of(f) {
                 Some(line) => SceneError::at(path, line, msg),
                 None => SceneError::invalid(path, format!("face {}: {msg}", f + 1)),
             });
         }
-        patches.push(patch);
+        let corners = std::array::from_fn(|k| CornerRule {
+            rule: locals[face[k]].rule,
+            valence: topo.valence(face[k]) as u32,
+            sector: sector_of.get(&(f, k)).copied().unwrap_or(0),
+            semi_sharp: sharpness::has_semi_sharp(cage, topo, face[k]),
+        });
+        let mut feature_edges = 0u8;
+        for k in 0..4 {
+            if is_feature_edge(cage, topo, face[k], face[(k + 1) % 4]) {
+                feature_edges |= 1 << k;
+            }
+        }
+        out.patches.push(patch);
+        out.faces.push(f);
+        out.rules.push(PatchRule {
+            corners,
+            feature_edges,
+        });
     }
-    Ok(patches)
+    Ok(out)
+}
+
+/// Whether the edge `(a, b)` of `cage` is a feature edge (see
+/// [`PatchRule::feature_edges`]).
+pub fn is_feature_edge(cage: &Cage, topo: &Topology, a: usize, b: usize) -> bool {
+    cage.edge_sharpness(a, b) >= 1.0 || !topo.edge(a, b).is_manifold()
 }

@@ -43,7 +43,7 @@ fn slot_of_line_position(k: usize) -> usize {
 
 /// Reads a `.bpt` file.
 pub fn read(path: &Path) -> Result<Vec<BezierPatch>, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::io(path, e))?;
+    let text = super::read_text(path)?;
     parse(path, &text)
 }
 

@@ -1,12 +1,22 @@
-//! Polygonal control cages: validation into a half-edge adjacency, and one
-//! global Catmull–Clark refinement step (used to make every face a quad).
+//! Polygonal control cages and their adjacency.
 //!
-//! A cage is accepted when it is an oriented 2-manifold, possibly with
-//! boundary: every face has at least three distinct vertices, every edge
-//! belongs to one or two faces, two faces sharing an edge traverse it in
-//! opposite directions, and the faces around every vertex form a single fan
-//! (a disc, or a half-disc at the boundary). Everything else is refused with
-//! the source line of a face involved, where the cage came from a file.
+//! A cage is accepted when every face has at least three distinct vertices
+//! and every edge used by exactly two faces is traversed by them in opposite
+//! directions (two faces running an edge the same way almost always means a
+//! flipped face, so that is refused with the line of the second face).
+//! Everything else a polygon soup can do is accepted and described:
+//!
+//! - an edge with one face is a boundary edge;
+//! - an edge with three or more faces (in any directions) is a non-manifold
+//!   edge: every face on it treats it as its own boundary, so each fan of
+//!   faces is a separate sheet that meets the others along the edge's curve
+//!   (the curve is shared, see `sharpness.rs` for the rules that make it so);
+//! - the faces around a vertex form one or more fans, each a run of faces
+//!   joined through manifold edges; a vertex with more than one fan is a
+//!   non-manifold vertex.
+//!
+//! Refusals name the source line of a face involved, where the cage came
+//! from a file.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -15,8 +25,9 @@ use glam::DVec3;
 
 use super::SceneError;
 
-/// A polygonal control cage. Positions are f64 so that a refined cage is not
-/// rounded before the patches are computed from it.
+/// A polygonal control cage with its OpenSubdiv-style sharpness. Positions
+/// are f64 so that a refined cage is not rounded before the patches are
+/// computed from it.
 #[derive(Clone, Debug, Default)]
 pub struct Cage {
     /// Vertex positions.
@@ -26,44 +37,135 @@ pub struct Cage {
     /// Source line (1-based) of each face, for error messages; `None` when
     /// the face has no line of its own.
     pub face_lines: Vec<Option<usize>>,
+    /// Crease sharpness of edges keyed by (smaller, larger) vertex index;
+    /// an edge not listed is smooth (0). `sharpness::INFINITE` and above is
+    /// infinitely sharp.
+    pub edge_sharpness: HashMap<(usize, usize), f64>,
+    /// Corner sharpness of vertices; a vertex not listed has 0.
+    pub vertex_sharpness: HashMap<usize, f64>,
+    /// Faces that give no patch (the `none` boundary rule's boundary faces);
+    /// empty when there are none.
+    pub holes: Vec<bool>,
 }
 
-/// The faces around one vertex.
+impl Cage {
+    /// Sharpness of the edge between `a` and `b` (0 when untagged).
+    pub fn edge_sharpness(&self, a: usize, b: usize) -> f64 {
+        self.edge_sharpness
+            .get(&(a.min(b), a.max(b)))
+            .copied()
+            .unwrap_or(0.0)
+    }
+
+    /// Corner sharpness of vertex `v` (0 when untagged).
+    pub fn vertex_sharpness(&self, v: usize) -> f64 {
+        self.vertex_sharpness.get(&v).copied().unwrap_or(0.0)
+    }
+
+    /// Whether face `f` is a hole.
+    pub fn is_hole(&self, f: usize) -> bool {
+        self.holes.get(f).copied().unwrap_or(false)
+    }
+
+    /// The source line of face `f`, if it has one.
+    pub fn line_of(&self, f: usize) -> Option<usize> {
+        self.face_lines.get(f).copied().flatten()
+    }
+}
+
+/// One undirected edge of a cage.
+#[derive(Clone, Debug)]
+pub struct Edge {
+    /// Its ends, in the direction of the first face that uses it.
+    pub ends: (usize, usize),
+    /// Every (face, corner) whose outgoing edge this is, in face order.
+    pub uses: Vec<(usize, usize)>,
+}
+
+impl Edge {
+    /// Exactly two faces, running the edge in opposite directions.
+    pub fn is_manifold(&self) -> bool {
+        self.uses.len() == 2
+    }
+
+    /// The end that is not `v`.
+    pub fn other(&self, v: usize) -> usize {
+        if self.ends.0 == v {
+            self.ends.1
+        } else {
+            self.ends.0
+        }
+    }
+}
+
+/// A run of faces around a vertex joined through manifold edges.
 #[derive(Clone, Debug, Default)]
 pub struct Fan {
-    /// Incident (face, corner) pairs in rotation order: each next face lies
-    /// across the outgoing edge `corner → corner + 1` of the one before. At a
-    /// boundary vertex the first has the boundary as its incoming edge and the
-    /// last as its outgoing edge.
+    /// (face, corner) pairs in rotation order: each next face lies across
+    /// the outgoing edge `corner → corner + 1` of the one before. An open fan
+    /// starts at the corner whose incoming edge is not manifold and ends at
+    /// the one whose outgoing edge is not.
     pub corners: Vec<(usize, usize)>,
-    /// Number of incident edges.
-    pub valence: usize,
-    /// For a boundary vertex, its two neighbours along the boundary:
-    /// (start of the incoming boundary edge, end of the outgoing one).
-    pub boundary: Option<(usize, usize)>,
+    /// The last corner's outgoing edge is the first one's incoming edge.
+    pub closed: bool,
 }
 
-/// Half-edge adjacency of a validated cage.
+/// Adjacency of a validated cage.
 #[derive(Clone, Debug)]
 pub struct Topology {
-    /// Directed edge (a, b) → (face, corner of a in that face).
+    /// Undirected edges in order of first use.
+    pub edges: Vec<Edge>,
+    /// (smaller, larger) vertex → index into `edges`.
+    edge_index: HashMap<(usize, usize), usize>,
+    /// Directed manifold edge (a, b) → (face, corner of a in that face).
     half_edges: HashMap<(usize, usize), (usize, usize)>,
-    /// One fan per vertex (empty for vertices no face uses).
-    pub fans: Vec<Fan>,
+    /// The fans of each vertex (none for vertices no face uses).
+    pub fans: Vec<Vec<Fan>>,
+    /// The edges at each vertex, in order of first use.
+    pub vertex_edges: Vec<Vec<usize>>,
     /// Number of edges with a single face.
     pub boundary_edges: usize,
+    /// Number of edges with three or more faces.
+    pub non_manifold_edges: usize,
 }
 
 impl Topology {
-    /// The (face, corner) whose outgoing edge runs from `a` to `b`, if any.
+    /// The (face, corner) whose outgoing edge runs from `a` to `b`, for a
+    /// manifold edge.
     pub fn half_edge(&self, a: usize, b: usize) -> Option<(usize, usize)> {
         self.half_edges.get(&(a, b)).copied()
+    }
+
+    /// Index of the edge between `a` and `b`.
+    pub fn edge_id(&self, a: usize, b: usize) -> Option<usize> {
+        self.edge_index.get(&(a.min(b), a.max(b))).copied()
+    }
+
+    /// The edge between `a` and `b`. Panics if there is none: callers only
+    /// ask about edges of the cage's own faces.
+    pub fn edge(&self, a: usize, b: usize) -> &Edge {
+        &self.edges[self.edge_id(a, b).expect("an edge of the cage")]
+    }
+
+    /// Number of edges at `v`.
+    pub fn valence(&self, v: usize) -> usize {
+        self.vertex_edges[v].len()
+    }
+
+    /// Number of faces at `v`.
+    pub fn face_count(&self, v: usize) -> usize {
+        self.fans[v].iter().map(|f| f.corners.len()).sum()
+    }
+
+    /// More than one fan of faces meets at `v`.
+    pub fn is_non_manifold_vertex(&self, v: usize) -> bool {
+        self.fans[v].len() > 1
     }
 
     /// Validates `cage` and builds its adjacency. `path` only names the
     /// source in errors.
     pub fn build(cage: &Cage, path: &Path) -> Result<Topology, SceneError> {
-        let fail = |face: usize, msg: String| match cage.face_lines.get(face).copied().flatten() {
+        let fail = |face: usize, msg: String| match cage.line_of(face) {
             Some(line) => SceneError::at(path, line, msg),
             None => SceneError::invalid(path, format!("face {}: {msg}", face + 1)),
         };
@@ -77,7 +179,6 @@ impl Topology {
                 format!("vertex {} has a NaN or infinite coordinate", i + 1),
             ));
         }
-
         for (f, face) in cage.faces.iter().enumerate() {
             if face.len() < 3 {
                 return Err(fail(
@@ -104,36 +205,38 @@ impl Topology {
             }
         }
 
-        // Undirected use counts first, so that an edge shared by three faces
-        // is named as such rather than as an orientation problem.
-        let mut uses: HashMap<(usize, usize), usize> = HashMap::new();
-        for (f, face) in cage.faces.iter().enumerate() {
-            for (a, b) in face_edges(face) {
-                let n = uses.entry((a.min(b), a.max(b))).or_insert(0);
-                *n += 1;
-                if *n > 2 {
-                    return Err(fail(
-                        f,
-                        format!(
-                            "non-manifold edge: the edge from {} to {} belongs to more than two faces",
-                            show(cage.positions[a]),
-                            show(cage.positions[b])
-                        ),
-                    ));
-                }
-            }
-        }
-        let boundary_edges = uses.values().filter(|&&n| n == 1).count();
-
-        let mut half_edges = HashMap::with_capacity(uses.len() * 2);
+        let mut edges: Vec<Edge> = Vec::new();
+        let mut edge_index: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut vertex_edges: Vec<Vec<usize>> = vec![Vec::new(); nv];
         for (f, face) in cage.faces.iter().enumerate() {
             for (k, (a, b)) in face_edges(face).enumerate() {
+                let id = *edge_index.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    edges.push(Edge {
+                        ends: (a, b),
+                        uses: Vec::new(),
+                    });
+                    vertex_edges[a].push(edges.len() - 1);
+                    vertex_edges[b].push(edges.len() - 1);
+                    edges.len() - 1
+                });
+                edges[id].uses.push((f, k));
+            }
+        }
+
+        // In face order, so a flipped face is reported at the first face
+        // that runs a two-face edge the way an earlier one did.
+        let mut half_edges = HashMap::with_capacity(edges.len() * 2);
+        for (f, face) in cage.faces.iter().enumerate() {
+            for (k, (a, b)) in face_edges(face).enumerate() {
+                if edges[edge_index[&(a.min(b), a.max(b))]].uses.len() != 2 {
+                    continue;
+                }
                 if half_edges.insert((a, b), (f, k)).is_some() {
                     return Err(fail(
                         f,
                         format!(
                             "two faces run along the edge from {} to {} in the same direction: \
-                             the faces are not consistently oriented",
+                             the faces are not consistently oriented (a flipped face?)",
                             show(cage.positions[a]),
                             show(cage.positions[b])
                         ),
@@ -141,6 +244,8 @@ impl Topology {
                 }
             }
         }
+        let boundary_edges = edges.iter().filter(|e| e.uses.len() == 1).count();
+        let non_manifold_edges = edges.iter().filter(|e| e.uses.len() > 2).count();
 
         let mut incident: Vec<Vec<(usize, usize)>> = vec![Vec::new(); nv];
         for (f, face) in cage.faces.iter().enumerate() {
@@ -148,32 +253,25 @@ impl Topology {
                 incident[v].push((f, k));
             }
         }
-
         let mut topo = Topology {
+            edges,
+            edge_index,
             half_edges,
             fans: Vec::with_capacity(nv),
+            vertex_edges,
             boundary_edges,
+            non_manifold_edges,
         };
         for (v, inc) in incident.iter().enumerate() {
-            let fan = topo.walk_fan(cage, v, inc).ok_or_else(|| {
-                fail(
-                    inc[0].0,
-                    format!(
-                        "non-manifold vertex at {}: its faces do not form a single fan",
-                        show(cage.positions[v])
-                    ),
-                )
-            })?;
-            topo.fans.push(fan);
+            let fans = topo.walk_fans(cage, v, inc);
+            topo.fans.push(fans);
         }
         Ok(topo)
     }
 
-    /// Orders the faces around `v`; `None` when they do not form one fan.
-    fn walk_fan(&self, cage: &Cage, v: usize, incident: &[(usize, usize)]) -> Option<Fan> {
-        if incident.is_empty() {
-            return Some(Fan::default());
-        }
+    /// Orders the faces around `v` into fans: open ones first (from each
+    /// corner whose incoming edge is not manifold), then closed ones.
+    fn walk_fans(&self, cage: &Cage, v: usize, incident: &[(usize, usize)]) -> Vec<Fan> {
         let prev_of = |(f, k): (usize, usize)| {
             let face = &cage.faces[f];
             face[(k + face.len() - 1) % face.len()]
@@ -182,47 +280,69 @@ impl Topology {
             let face = &cage.faces[f];
             face[(k + 1) % face.len()]
         };
-        // A corner whose incoming edge has no twin starts a boundary fan.
-        let mut starts = incident
+        let step = |c: (usize, usize)| {
+            self.half_edges
+                .get(&(next_of(c), v))
+                .map(|&(g, m)| (g, (m + 1) % cage.faces[g].len()))
+        };
+        let mut seen: Vec<(usize, usize)> = Vec::with_capacity(incident.len());
+        let mut fans = Vec::new();
+        let starts = incident
             .iter()
             .copied()
             .filter(|&c| !self.half_edges.contains_key(&(v, prev_of(c))));
-        let start = starts.next();
-        if starts.next().is_some() {
-            return None;
-        }
-        let first = start.unwrap_or(incident[0]);
-
-        let mut corners = vec![first];
-        let mut at = first;
-        loop {
-            let w = next_of(at);
-            match self.half_edges.get(&(w, v)) {
-                None => break, // reached the boundary: only valid for a boundary fan
-                Some(&(g, m)) => {
-                    let next = (g, (m + 1) % cage.faces[g].len());
-                    if next == first {
-                        break;
-                    }
-                    if corners.len() >= incident.len() {
-                        return None;
-                    }
-                    corners.push(next);
-                    at = next;
+        for start in starts {
+            let mut corners = vec![start];
+            let mut at = start;
+            // Each corner has one successor and an open start none, so the
+            // walk ends; the bound only guards against a broken invariant.
+            while let Some(next) = step(at) {
+                if corners.len() > incident.len() {
+                    break;
                 }
+                corners.push(next);
+                at = next;
             }
+            seen.extend(&corners);
+            fans.push(Fan {
+                corners,
+                closed: false,
+            });
         }
-        if corners.len() != incident.len() {
-            return None;
+        for &first in incident {
+            if seen.contains(&first) {
+                continue;
+            }
+            let mut corners = vec![first];
+            let mut at = first;
+            while let Some(next) = step(at) {
+                if next == first || corners.len() > incident.len() {
+                    break;
+                }
+                corners.push(next);
+                at = next;
+            }
+            seen.extend(&corners);
+            fans.push(Fan {
+                corners,
+                closed: true,
+            });
         }
-        let last = *corners.last()?;
-        let boundary = start.map(|s| (prev_of(s), next_of(last)));
-        let valence = corners.len() + usize::from(boundary.is_some());
-        Some(Fan {
-            corners,
-            valence,
-            boundary,
-        })
+        fans
+    }
+
+    /// The edge entering corner `c` of its face (from the previous vertex).
+    pub fn incoming(&self, cage: &Cage, (f, k): (usize, usize)) -> usize {
+        let face = &cage.faces[f];
+        let prev = face[(k + face.len() - 1) % face.len()];
+        self.edge_id(prev, face[k]).expect("face edge")
+    }
+
+    /// The edge leaving corner `c` of its face (to the next vertex).
+    pub fn outgoing(&self, cage: &Cage, (f, k): (usize, usize)) -> usize {
+        let face = &cage.faces[f];
+        self.edge_id(face[k], face[(k + 1) % face.len()])
+            .expect("face edge")
     }
 }
 
@@ -231,110 +351,16 @@ pub fn face_edges(face: &[usize]) -> impl Iterator<Item = (usize, usize)> + '_ {
     (0..face.len()).map(move |k| (face[k], face[(k + 1) % face.len()]))
 }
 
-fn show(p: DVec3) -> String {
+/// A position as the user wrote it (f32), for messages.
+pub fn show(p: DVec3) -> String {
     format!("({}, {}, {})", p.x as f32, p.y as f32, p.z as f32)
-}
-
-/// Where each face of a refined cage came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SubFace {
-    /// The face of the coarse cage.
-    pub face: usize,
-    /// Which corner of it the sub-quad sits at.
-    pub corner: usize,
-}
-
-/// One global Catmull–Clark step. Face points are face centroids; an
-/// interior edge's point is the average of its two ends and the two adjacent
-/// face points; an interior vertex of valence n moves to (Q + 2R + (n−3)v)/n
-/// (Q: average of the adjacent face points, R: average of the incident edge
-/// midpoints). Boundary edges are creases: their point is the midpoint, a
-/// boundary vertex moves to (v_prev + 6v + v_next)/8, and a vertex with a
-/// single face (a cage corner) stays put. Sub-quad k of face F is
-/// (v_k', e(v_k, v_k+1), f_F, e(v_k−1, v_k)), so orientation is kept.
-/// New vertices: vertex points, then edge points (first-use order), then
-/// face points.
-pub fn refine(cage: &Cage, topo: &Topology) -> (Cage, Vec<SubFace>) {
-    let nv = cage.positions.len();
-    let p = &cage.positions;
-
-    let face_points: Vec<DVec3> = cage
-        .faces
-        .iter()
-        .map(|face| face.iter().fold(DVec3::ZERO, |s, &v| s + p[v]) / face.len() as f64)
-        .collect();
-
-    // Undirected edges in order of first use.
-    let mut edge_id: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut edge_points: Vec<DVec3> = Vec::new();
-    for face in &cage.faces {
-        for (a, b) in face_edges(face) {
-            let key = (a.min(b), a.max(b));
-            if edge_id.contains_key(&key) {
-                continue;
-            }
-            let point = match (topo.half_edge(a, b), topo.half_edge(b, a)) {
-                (Some((f, _)), Some((g, _))) => {
-                    (p[a] + p[b] + face_points[f] + face_points[g]) * 0.25
-                }
-                _ => (p[a] + p[b]) * 0.5,
-            };
-            edge_id.insert(key, nv + edge_points.len());
-            edge_points.push(point);
-        }
-    }
-
-    let vertex_points: Vec<DVec3> = (0..nv)
-        .map(|v| {
-            let fan = &topo.fans[v];
-            match fan.boundary {
-                _ if fan.corners.is_empty() => p[v],
-                Some(_) if fan.corners.len() == 1 => p[v],
-                Some((a, b)) => (p[a] + p[v] * 6.0 + p[b]) * 0.125,
-                None => {
-                    let n = fan.valence as f64;
-                    let mut q = DVec3::ZERO;
-                    let mut r = DVec3::ZERO;
-                    for &(f, k) in &fan.corners {
-                        let face = &cage.faces[f];
-                        q += face_points[f];
-                        r += (p[v] + p[face[(k + 1) % face.len()]]) * 0.5;
-                    }
-                    (q / n + r / n * 2.0 + p[v] * (n - 3.0)) / n
-                }
-            }
-        })
-        .collect();
-
-    let face_base = nv + edge_points.len();
-    let mut out = Cage {
-        positions: vertex_points,
-        faces: Vec::new(),
-        face_lines: Vec::new(),
-    };
-    out.positions.extend(edge_points);
-    out.positions.extend(face_points);
-    let mut origin = Vec::new();
-    let edge = |a: usize, b: usize| edge_id[&(a.min(b), a.max(b))];
-    for (f, face) in cage.faces.iter().enumerate() {
-        let m = face.len();
-        for k in 0..m {
-            let (prev, v, next) = (face[(k + m - 1) % m], face[k], face[(k + 1) % m]);
-            out.faces
-                .push(vec![v, edge(v, next), face_base + f, edge(prev, v)]);
-            out.face_lines
-                .push(cage.face_lines.get(f).copied().flatten());
-            origin.push(SubFace { face: f, corner: k });
-        }
-    }
-    (out, origin)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn cube() -> Cage {
+    pub(crate) fn cube() -> Cage {
         let positions = (0..8)
             .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
             .collect();
@@ -351,15 +377,19 @@ mod tests {
             positions,
             face_lines: (0..faces.len()).map(|f| Some(f + 10)).collect(),
             faces,
+            ..Cage::default()
         }
     }
 
     #[test]
     fn cube_fans_are_closed_with_valence_three() {
         let topo = Topology::build(&cube(), Path::new("cube")).unwrap();
-        assert_eq!(topo.boundary_edges, 0);
-        for fan in &topo.fans {
-            assert_eq!((fan.valence, fan.corners.len(), fan.boundary), (3, 3, None));
+        assert_eq!((topo.boundary_edges, topo.non_manifold_edges), (0, 0));
+        for v in 0..8 {
+            let fans = &topo.fans[v];
+            assert_eq!(fans.len(), 1);
+            assert!(fans[0].closed);
+            assert_eq!((topo.valence(v), fans[0].corners.len()), (3, 3));
         }
     }
 
@@ -371,97 +401,45 @@ mod tests {
         let topo = Topology::build(&c, Path::new("box")).unwrap();
         assert_eq!(topo.boundary_edges, 4);
         for v in [4, 5, 6, 7] {
-            let fan = &topo.fans[v];
-            assert_eq!((fan.valence, fan.corners.len()), (3, 2));
-            let (a, b) = fan.boundary.unwrap();
-            // Boundary neighbours are the two other top vertices next to v.
-            assert!(a >= 4 && b >= 4 && a != b && a != v && b != v);
+            let fans = &topo.fans[v];
+            assert_eq!(fans.len(), 1);
+            assert!(!fans[0].closed);
+            assert_eq!((topo.valence(v), fans[0].corners.len()), (3, 2));
+            // The fan starts at a boundary edge and ends at one.
+            let first = topo.incoming(&c, fans[0].corners[0]);
+            let last = topo.outgoing(&c, *fans[0].corners.last().unwrap());
+            assert_eq!(topo.edges[first].uses.len(), 1);
+            assert_eq!(topo.edges[last].uses.len(), 1);
         }
     }
 
     #[test]
-    fn refine_keeps_the_cube_closed_and_quad() {
-        let c = cube();
-        let topo = Topology::build(&c, Path::new("cube")).unwrap();
-        let (r, origin) = refine(&c, &topo);
-        assert_eq!(r.faces.len(), 24);
-        assert_eq!(r.positions.len(), 8 + 12 + 6);
-        assert_eq!(origin[5], SubFace { face: 1, corner: 1 });
-        let rt = Topology::build(&r, Path::new("cube")).unwrap();
-        assert_eq!(rt.boundary_edges, 0);
-        // Known Catmull–Clark result for the unit cube: corners move to
-        // (Q + 2R + 0·v)/3 with Q the mean of three face centres and R the
-        // mean of three edge midpoints.
-        let v0 = r.positions[0];
-        let q = (DVec3::new(0.5, 0.5, 0.0) + DVec3::new(0.5, 0.0, 0.5) + DVec3::new(0.0, 0.5, 0.5))
-            / 3.0;
-        let rr =
-            (DVec3::new(0.5, 0.0, 0.0) + DVec3::new(0.0, 0.5, 0.0) + DVec3::new(0.0, 0.0, 0.5))
-                / 3.0;
-        assert!((v0 - (q + rr * 2.0) / 3.0).length() < 1e-15);
-
-        // Again, where the old face centres are valence-4 vertices, so the
-        // (n − 3)·v term counts: (Q + 2R + v)/4.
-        let (r2, _) = refine(&r, &rt);
-        let v = 8 + 12; // face point of face 0
-        let ring: Vec<&Vec<usize>> = r.faces.iter().filter(|f| f.contains(&v)).collect();
-        assert_eq!(ring.len(), 4);
-        let p = &r.positions;
-        let q = ring
-            .iter()
-            .map(|f| f.iter().map(|&i| p[i]).sum::<DVec3>() / 4.0)
-            .sum::<DVec3>()
-            / 4.0;
-        let mut nbrs: Vec<usize> = ring
-            .iter()
-            .flat_map(|f| {
-                let k = f.iter().position(|&i| i == v).unwrap();
-                [f[(k + 1) % 4], f[(k + 3) % 4]]
-            })
-            .collect();
-        nbrs.sort_unstable();
-        nbrs.dedup();
-        assert_eq!(nbrs.len(), 4);
-        let rr = nbrs.iter().map(|&w| (p[v] + p[w]) / 2.0).sum::<DVec3>() / 4.0;
-        assert!((r2.positions[v] - (q + rr * 2.0 + p[v]) / 4.0).length() < 1e-15);
-    }
-
-    #[test]
-    fn refine_creases_the_boundary() {
-        // Two quads side by side, bent along their shared edge (1, 4).
+    fn three_faces_on_an_edge_make_three_sheets() {
+        // Three quads hinged on the edge (0, 1), like the pages of a book.
         let positions = vec![
             DVec3::new(0.0, 0.0, 0.0),
-            DVec3::new(1.0, 0.0, 0.5),
-            DVec3::new(2.0, 0.0, 0.0),
             DVec3::new(0.0, 1.0, 0.0),
-            DVec3::new(1.0, 1.0, 0.5),
-            DVec3::new(2.0, 1.0, 0.25),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.0, 1.0, 1.0),
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::new(-1.0, 1.0, 0.0),
         ];
         let c = Cage {
-            positions: positions.clone(),
-            faces: vec![vec![0, 1, 4, 3], vec![1, 2, 5, 4]],
-            face_lines: vec![None, None],
+            positions,
+            faces: vec![vec![0, 2, 3, 1], vec![1, 5, 4, 0], vec![0, 1, 7, 6]],
+            face_lines: vec![Some(1), Some(2), Some(3)],
+            ..Cage::default()
         };
-        let topo = Topology::build(&c, Path::new("strip")).unwrap();
-        assert_eq!(topo.boundary_edges, 6);
-        assert_eq!(topo.fans[1].boundary, Some((0, 2)));
-        assert_eq!(topo.fans[4].boundary, Some((5, 3)));
-        let (r, _) = refine(&c, &topo);
-        let p = &positions;
-        let f0 = (p[0] + p[1] + p[4] + p[3]) / 4.0;
-        let f1 = (p[1] + p[2] + p[5] + p[4]) / 4.0;
-        // Cage corners stay, boundary vertices with two faces get 1-6-1.
-        assert_eq!(r.positions[0], p[0]);
-        assert_eq!(r.positions[5], p[5]);
-        assert!((r.positions[1] - (p[0] + p[1] * 6.0 + p[2]) / 8.0).length() < 1e-15);
-        // Sub-quad 1 of face 0 starts at vertex 1: (v1', e(1,4), f0, e(0,1)).
-        let sub = &r.faces[1];
-        assert_eq!(sub[0], 1);
-        assert!((r.positions[sub[1]] - (p[1] + p[4] + f0 + f1) / 4.0).length() < 1e-15);
-        assert!((r.positions[sub[2]] - f0).length() < 1e-15);
-        assert!((r.positions[sub[3]] - (p[0] + p[1]) / 2.0).length() < 1e-15);
-        assert_eq!(r.faces.len(), 8);
-        assert_eq!(r.positions.len(), 6 + 7 + 2);
+        let topo = Topology::build(&c, Path::new("book")).unwrap();
+        assert_eq!(topo.non_manifold_edges, 1);
+        assert_eq!(topo.edge(0, 1).uses.len(), 3);
+        assert!(topo.half_edge(0, 1).is_none());
+        for v in [0, 1] {
+            assert_eq!(topo.fans[v].len(), 3);
+            assert!(topo.is_non_manifold_vertex(v));
+        }
     }
 
     #[test]
@@ -481,11 +459,7 @@ mod tests {
         let mut c = cube();
         c.faces[0].reverse();
         check(&c, 12, "same direction");
-        let mut c = cube();
-        c.faces.push(vec![0, 2, 3, 1]);
-        c.face_lines.push(Some(99));
-        check(&c, 99, "more than two faces");
-        // Two cubes touching at one vertex: every edge is fine, the vertex is not.
+        // Two cubes touching at one vertex: accepted, with two closed fans there.
         let mut c = cube();
         let shift = DVec3::splat(1.0);
         let extra: Vec<DVec3> = c.positions.iter().skip(1).map(|p| *p + shift).collect();
@@ -496,7 +470,8 @@ mod tests {
             c.faces.push(face);
             c.face_lines.push(Some(50 + f));
         }
-        let e = Topology::build(&c, path).unwrap_err().to_string();
-        assert!(e.contains("non-manifold vertex"), "{e}");
+        let topo = Topology::build(&c, path).unwrap();
+        assert_eq!(topo.fans[7].len(), 2);
+        assert!(topo.fans[7].iter().all(|f| f.closed));
     }
 }

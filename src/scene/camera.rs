@@ -100,7 +100,11 @@ impl Camera {
         if dir.length() == 0.0 {
             return Err("camera position and target coincide".into());
         }
-        if dir.cross(DVec3::from_array(self.up)).length() <= 1e-9 * dir.length() {
+        let up = DVec3::from_array(self.up);
+        if up == DVec3::ZERO {
+            return Err("camera up is [0, 0, 0]: give it a direction, e.g. [0, 0, 1]".into());
+        }
+        if dir.cross(up).length() <= 1e-9 * dir.length() * up.length() {
             return Err("camera up is parallel to the viewing direction".into());
         }
         if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
@@ -179,7 +183,15 @@ mod tests {
         assert!(c.check().is_err());
         let mut c = cam();
         c.up = [0.0, 0.0, 0.0];
-        assert!(c.check().is_err());
+        assert_eq!(
+            c.check().unwrap_err(),
+            "camera up is [0, 0, 0]: give it a direction, e.g. [0, 0, 1]"
+        );
+        // Parallel (and tiny but not zero) up vectors are named as such.
+        c.up = [-4e-12, 6e-12, -2e-12];
+        assert!(c.check().unwrap_err().contains("parallel"));
+        c.up = [0.0, 0.0, 1e-12];
+        assert!(c.check().is_ok());
         let mut c = cam();
         c.near = 0.0;
         assert!(c.check().is_err());

@@ -6,13 +6,15 @@ use std::path::PathBuf;
 /// An input file that could not be read or was refused.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// The file could not be opened or read.
-    #[error("{}: {source}", path.display())]
+    /// The file could not be opened or read. The OS's words are part of
+    /// the message, not a separate error source, so that error chains
+    /// (`{:#}`) print them once.
+    #[error("{}: {cause}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// What the OS said.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A syntax or value error at a known line (1-based).
     #[error("{}:{line}: {msg}", path.display())]
@@ -22,6 +24,18 @@ pub enum SceneError {
         /// 1-based line number.
         line: usize,
         /// What is wrong there.
+        msg: String,
+    },
+    /// A model of a scene could not be loaded or placed. The message names
+    /// the model and its file but not the scene, which every caller names
+    /// already (`loading the models of SCENE: …`).
+    #[error("model '{model}': {msg}")]
+    Model {
+        /// The scene file.
+        scene: PathBuf,
+        /// The model's name in the scene.
+        model: String,
+        /// What went wrong, naming the model file where it is to blame.
         msg: String,
     },
     /// The file parsed but cannot be used (no line to point at).
@@ -53,10 +67,10 @@ impl SceneError {
     }
 
     /// A [`SceneError::Io`] for `path`.
-    pub fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+    pub fn io(path: &std::path::Path, cause: std::io::Error) -> Self {
         SceneError::Io {
             path: path.to_path_buf(),
-            source,
+            cause,
         }
     }
 }

@@ -22,6 +22,8 @@
 //! name = "teapot"
 //! file = "models/teapot.bpt"  # .bpt or Catmull–Clark .obj, relative to this file
 //! two_sided = true            # open or thin models: never back-face culled
+//! boundary = "edge-only"      # cages without a `t interpolateboundary` tag:
+//!                             # none | edge-only | edge-and-corner (default)
 //! [[model.instance]]          # none given: one instance, identity
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
@@ -33,17 +35,26 @@
 //! is applied to the control points in f64 and rounded once), so shared
 //! boundary points stay bitwise shared within each instance. A mirroring
 //! transform swaps each patch's u and v to keep normals outward.
+//!
+//! A scene may ask for at most [`MAX_BASE_PATCHES`] base patches (what the
+//! subdivision kernel's in-flight counter holds); more is refused before
+//! anything is built, with the count and the memory it would need.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3, EulerRot};
 use serde::Deserialize;
 
 use super::camera::Camera;
-use super::{bpt, obj, ImportedModel, SceneError};
-use crate::patch::bezier::BezierPatch;
-use crate::patch::oracle::PATCH_TWO_SIDED;
+use super::geometry::{bytes_text, thousands};
+use super::obj::CageOptions;
+use super::sharpness::BoundaryRule;
+use super::SceneError;
+
+pub use super::geometry::{
+    load_model, load_model_with, transform_patch, ModelSummary, SceneGeometry, SceneShading,
+    GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES,
+};
 
 /// Largest absolute world coordinate accepted. The criterion multiplies up
 /// to sixth powers of lengths; this keeps them far from f32 overflow.
@@ -111,6 +122,7 @@ struct ModelToml {
     file: String,
     #[serde(default)]
     two_sided: bool,
+    boundary: Option<BoundaryRule>,
     #[serde(default)]
     instance: Vec<InstanceToml>,
 }
@@ -156,6 +168,8 @@ pub struct ModelDesc {
     pub file: PathBuf,
     /// Never back-face culled.
     pub two_sided: bool,
+    /// Choices for a cage the file does not make itself.
+    pub options: CageOptions,
     /// Object → world transforms.
     pub instances: Vec<DMat4>,
 }
@@ -179,54 +193,6 @@ pub struct Scene {
     pub models: Vec<ModelDesc>,
 }
 
-/// What a model contributed to the scene geometry.
-#[derive(Clone, Debug)]
-pub struct ModelSummary {
-    /// Display name.
-    pub name: String,
-    /// Model file.
-    pub file: PathBuf,
-    /// Base patches in one instance.
-    pub patches_per_instance: usize,
-    /// Number of instances.
-    pub instances: usize,
-    /// Never back-face culled.
-    pub two_sided: bool,
-    /// Import warnings.
-    pub warnings: Vec<String>,
-}
-
-/// World-space base patches of a whole scene.
-#[derive(Clone, Debug, Default)]
-pub struct SceneGeometry {
-    /// Base patches of every instance of every model, in scene order.
-    pub patches: Vec<BezierPatch>,
-    /// Per patch: `PATCH_TWO_SIDED` and the model index `<< PATCH_MODEL_SHIFT`.
-    pub flags: Vec<u32>,
-    /// Per model, in scene order.
-    pub models: Vec<ModelSummary>,
-}
-
-/// Loads one model file by extension (`.bpt` or `.obj`).
-pub fn load_model(path: &Path) -> Result<ImportedModel, SceneError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase());
-    match ext.as_deref() {
-        Some("bpt") => Ok(ImportedModel {
-            patches: bpt::read(path)?,
-            ..Default::default()
-        }),
-        Some("obj") => obj::read(path),
-        _ => Err(SceneError::Invalid {
-            path: path.to_path_buf(),
-            msg: "unknown model format: expected a .bpt patch file or a .obj Catmull-Clark cage"
-                .into(),
-        }),
-    }
-}
-
 fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())].matches('\n').count() + 1
 }
@@ -234,10 +200,7 @@ fn line_of(text: &str, offset: usize) -> usize {
 impl Scene {
     /// Reads and checks a scene file (models are loaded by [`Scene::geometry`]).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = super::read_text(path)?;
         Self::parse(path, &text)
     }
 
@@ -280,14 +243,34 @@ impl Scene {
         }
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut models = Vec::new();
+        let mut instances_so_far = 0u64;
         for (i, m) in raw.model.into_iter().enumerate() {
             let name = m.name.clone().unwrap_or_else(|| format!("model {}", i + 1));
+            // Count before building: a grid of 10^10 copies must be refused,
+            // not allocated. Every instance has at least one patch.
+            let count = instance_count(&m.instance)
+                .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
+            instances_so_far = instances_so_far.saturating_add(count);
+            if instances_so_far > MAX_BASE_PATCHES {
+                return Err(invalid(format!(
+                    "model '{name}': {} instances{}: at one patch each that is already {} base patches \
+                     and at least {} of patch memory; a scene may have at most {} base patches",
+                    thousands(count),
+                    if instances_so_far > count { " (with the models before it)" } else { "" },
+                    thousands(instances_so_far),
+                    bytes_text(instances_so_far.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
+                    thousands(MAX_BASE_PATCHES),
+                )));
+            }
             let instances = instance_transforms(&m.instance)
                 .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
             models.push(ModelDesc {
                 name,
                 file: dir.join(&m.file),
                 two_sided: m.two_sided,
+                options: CageOptions {
+                    boundary: m.boundary,
+                },
                 instances,
             });
         }
@@ -332,50 +315,30 @@ impl Scene {
         let i = (x.floor() as usize).min(frames.len() - 2);
         frames[i].lerp(&frames[i + 1], x - i as f64)
     }
+}
 
-    /// Loads every model file (each once) and bakes the instances into
-    /// world-space base patches.
-    pub fn geometry(&self) -> Result<SceneGeometry, SceneError> {
-        let mut cache: HashMap<PathBuf, ImportedModel> = HashMap::new();
-        let mut geo = SceneGeometry::default();
-        for (index, m) in self.models.iter().enumerate() {
-            if !cache.contains_key(&m.file) {
-                let model = load_model(&m.file).map_err(|e| SceneError::Invalid {
-                    path: self.path.clone(),
-                    msg: format!("model '{}': {e}", m.name),
-                })?;
-                cache.insert(m.file.clone(), model);
-            }
-            let model = &cache[&m.file];
-            let flags =
-                (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
-            for xf in &m.instances {
-                for p in &model.patches {
-                    let w = transform_patch(p, xf);
-                    if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
-                        return Err(SceneError::Invalid {
-                            path: self.path.clone(),
-                            msg: format!(
-                                "model '{}': a transformed control point exceeds ±{MAX_COORD} (scale the scene down)",
-                                m.name
-                            ),
-                        });
-                    }
-                    geo.patches.push(w);
-                    geo.flags.push(flags);
-                }
-            }
-            geo.models.push(ModelSummary {
-                name: m.name.clone(),
-                file: m.file.clone(),
-                patches_per_instance: model.patches.len(),
-                instances: m.instances.len(),
-                two_sided: m.two_sided,
-                warnings: model.warnings.clone(),
-            });
-        }
-        Ok(geo)
+/// Number of instances `list` makes, or what is wrong with it.
+fn instance_count(list: &[InstanceToml]) -> Result<u64, String> {
+    if list.is_empty() {
+        return Ok(1);
     }
+    let mut total = 0u64;
+    for (k, inst) in list.iter().enumerate() {
+        let n = match &inst.grid {
+            Some(g) => {
+                if g.count.contains(&0) {
+                    return Err(format!(
+                        "instance {}: grid count must be ≥ 1 on every axis",
+                        k + 1
+                    ));
+                }
+                g.count.iter().map(|&c| c as u64).product()
+            }
+            None => 1,
+        };
+        total = total.saturating_add(n);
+    }
+    Ok(total)
 }
 
 fn instance_transforms(list: &[InstanceToml]) -> Result<Vec<DMat4>, String> {
@@ -420,24 +383,10 @@ fn instance_transforms(list: &[InstanceToml]) -> Result<Vec<DMat4>, String> {
     Ok(out)
 }
 
-/// Applies an affine transform to a patch's control points (f64, rounded
-/// once). Mirroring transforms swap u and v so ∂u × ∂v stays outward.
-pub fn transform_patch(p: &BezierPatch, m: &DMat4) -> BezierPatch {
-    let mut out = *p;
-    for q in &mut out.pts {
-        *q = m.transform_point3(q.as_dvec3()).as_vec3();
-    }
-    let out = if m.determinant() < 0.0 {
-        out.reoriented(true, false, false)
-    } else {
-        out
-    };
-    out.canonical_zeros()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::patch::bezier::BezierPatch;
 
     const MINIMAL: &str = r#"
 [camera]
@@ -508,6 +457,66 @@ file = "teapot.bpt"
         assert_eq!(s.models[0].instances.len(), 7);
         let last_grid = s.models[0].instances[5].transform_point3(DVec3::ZERO);
         assert_eq!(last_grid, DVec3::new(2.0, 2.0, 0.0));
+    }
+
+    #[test]
+    fn huge_grids_are_refused_before_anything_is_built() {
+        // 10^10 copies: refused by the parser at once (this used to run until
+        // killed), with the count and the memory it would need.
+        let text = format!(
+            "{MINIMAL}[[model.instance]]\ngrid = {{ count = [100000, 100000, 1], step = [1.0, 1.0, 0.0] }}\n"
+        );
+        let t = std::time::Instant::now();
+        let e = parse(&text).unwrap_err().to_string();
+        assert!(t.elapsed().as_secs_f64() < 1.0);
+        assert!(e.contains("10,000,000,000 instances"), "{e}");
+        assert!(e.contains("1.8 TiB"), "{e}");
+        assert!(e.contains("at most 16,777,215 base patches"), "{e}");
+        // Few enough instances, too many patches: refused when the model's
+        // size is known, before any patch is baked.
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let text = format!(
+            "{}[[model.instance]]\ngrid = {{ count = [1000, 600, 1], step = [1.0, 1.0, 0.0] }}\n",
+            MINIMAL.replace("teapot.bpt", "models/teapot.bpt")
+        );
+        let scene = Scene::parse(&dir.join("big.toml"), &text).unwrap();
+        let e = scene.geometry().unwrap_err().to_string();
+        assert!(e.contains("19,200,000 base patches"), "{e}");
+        assert!(e.contains("3.5 GiB"), "{e}");
+    }
+
+    #[test]
+    fn a_model_error_names_the_model_once_and_not_the_scene() {
+        let text = MINIMAL.replace("teapot.bpt", "no-such-model.obj");
+        let scene = Scene::parse(Path::new("/tmp/x/scene.toml"), &text).unwrap();
+        let e = scene.geometry().unwrap_err();
+        assert!(
+            matches!(&e, SceneError::Model { scene, .. } if scene == Path::new("/tmp/x/scene.toml"))
+        );
+        let shown = e.to_string();
+        assert!(!shown.contains("scene.toml"), "{shown}");
+        assert!(
+            shown.starts_with("model 'model 1': /tmp/x/no-such-model.obj: "),
+            "{shown}"
+        );
+        assert_eq!(shown.matches("No such file").count(), 1, "{shown}");
+    }
+
+    #[test]
+    fn boundary_is_a_model_option() {
+        let text = MINIMAL.replace(
+            "file = \"teapot.bpt\"",
+            "file = \"c.obj\"\nboundary = \"edge-only\"",
+        );
+        let s = parse(&text).unwrap();
+        assert_eq!(s.models[0].options.boundary, Some(BoundaryRule::EdgeOnly));
+        let e = parse(&text.replace("edge-only", "smooth"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("scene.toml:8") && e.contains("none, edge-only, edge-and-corner"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -6,21 +6,69 @@ pub mod cage;
 pub mod camera;
 pub mod error;
 pub mod file;
+pub mod geometry;
 pub mod obj;
+pub mod refine;
+pub mod shading;
+pub mod sharpness;
+pub mod tags;
+pub mod tangent;
 
 pub use error::SceneError;
 
 use crate::patch::bezier::BezierPatch;
+use acc::PatchRule;
+use shading::ShadingPatch;
+use sharpness::BoundaryRule;
 
 /// Where one imported patch came from, for the `.bpt.json` sidecar.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PatchOrigin {
     /// Index of the cage face (0-based, file order) the patch came from.
     pub face: usize,
+    /// For a refined cage, which sub-quad of the face (its corner k); 0
+    /// otherwise.
+    pub sub: usize,
     /// Face-parameter coordinates of the patch's parameter corners (0,0),
     /// (1,0), (1,1), (0,1) in OpenSubdiv's quad-face convention; `None` for
     /// patches of non-quad faces.
     pub corners_uv: Option<[[f32; 2]; 4]>,
+    /// The conversion rules at its corners and its feature edges.
+    pub rule: PatchRule,
+}
+
+/// How a cage's boundary rule was chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RuleSource {
+    /// The file's `t interpolateboundary` tag, at this line.
+    Tag(usize),
+    /// The scene file's or command line's option.
+    Option,
+    /// Neither: [`sharpness::DEFAULT_BOUNDARY`].
+    Default,
+}
+
+/// What a cage import found, for the summary and the sidecar.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CageInfo {
+    /// The boundary rule used.
+    pub boundary: BoundaryRule,
+    /// Where it came from.
+    pub boundary_from: RuleSource,
+    /// Boundary edges of the cage.
+    pub boundary_edges: usize,
+    /// Edges tagged infinitely sharp (sharpness ≥ 10).
+    pub sharp_edges: usize,
+    /// Edges tagged semi-sharp (0 < sharpness < 10).
+    pub semi_sharp_edges: usize,
+    /// Vertices tagged as corners (sharpness > 0).
+    pub corners: usize,
+    /// Edges with three or more faces.
+    pub non_manifold_edges: usize,
+    /// Vertices where more than one fan of faces meets.
+    pub non_manifold_vertices: usize,
+    /// Faces without a patch under the `none` rule.
+    pub holes: usize,
 }
 
 /// The result of importing one model file.
@@ -30,6 +78,41 @@ pub struct ImportedModel {
     pub patches: Vec<BezierPatch>,
     /// One entry per patch for cage imports; empty for `.bpt` files.
     pub origins: Vec<PatchOrigin>,
+    /// Tangent patches for shading, one per patch; empty when the model has
+    /// none of its own (then the patches' own derivatives are used).
+    pub shading: Vec<ShadingPatch>,
+    /// For cages: the rules applied and what the cage holds.
+    pub cage: Option<CageInfo>,
     /// Things the user should know that did not stop the import.
     pub warnings: Vec<String>,
+}
+
+/// Reads a text file. A file that is not UTF-8 text is refused at the line
+/// of its first invalid byte (a binary file named `.bpt` or `.obj`).
+pub fn read_text(path: &std::path::Path) -> Result<String, SceneError> {
+    let bytes = std::fs::read(path).map_err(|e| SceneError::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let line = e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+        SceneError::at(
+            path,
+            line,
+            format!("not a text file: byte {at} is not UTF-8 (model files are plain text)"),
+        )
+    })
+}
+
+impl ImportedModel {
+    /// The shading patches, one per patch: the model's tangent patches, or
+    /// the patches' own derivative nets where it has none.
+    pub fn shading_patches(&self) -> Vec<ShadingPatch> {
+        if self.shading.len() == self.patches.len() {
+            self.shading.clone()
+        } else {
+            self.patches
+                .iter()
+                .map(ShadingPatch::from_geometry)
+                .collect()
+        }
+    }
 }

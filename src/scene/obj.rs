@@ -4,8 +4,9 @@
 //!
 //! The file is parsed by `tobj` (faces kept as polygons, one index per
 //! attribute). Before that, a small scan of our own walks the text to give
-//! errors a line number, which `tobj`'s errors lack, and to refuse what
-//! `tobj` accepts but a cage cannot use:
+//! errors a line number, which `tobj`'s errors lack, to read OpenSubdiv's
+//! `t` tags (`tags.rs`), and to refuse what `tobj` accepts but a cage cannot
+//! use:
 //!
 //! - a `v` line without three numbers, or with a NaN or infinite coordinate
 //!   (after an optional `w`, which must not be 0);
@@ -13,92 +14,137 @@
 //!   number, is 0, or points past the vertices (negative indices count back
 //!   from the last vertex read, as OBJ says); `l` (polyline) lines;
 //! - `vt`/`vn` lines without numbers and texture/normal indices out of range
-//!   (`tobj` would refuse them; the cage does not use them).
+//!   (`tobj` would refuse them; the cage does not use them);
+//! - tags that cannot be meant (see `tags.rs`).
 //!
-//! Unknown statements are skipped; OpenSubdiv's `t` tags (crease and corner
-//! sharpness) are counted and reported in one warning: creases are not
-//! modelled, every interior edge is smooth.
+//! Unknown statements are skipped. When `o`/`g`/`usemtl` lines split the
+//! file into several `tobj` models, they are joined into one cage: vertices
+//! with bit-identical positions (after -0.0 → +0.0) become one vertex.
+//! Within a single model the file's vertex indices are kept as they are, so
+//! coincident but distinct vertices stay distinct there. Tags name file
+//! vertices; they are carried to the cage through the faces that use them.
 //!
-//! When `o`/`g`/`usemtl` lines split the file into several `tobj` models,
-//! they are joined into one cage: vertices with bit-identical positions
-//! (after -0.0 → +0.0) become one vertex. Within a single model the file's
-//! vertex indices are kept as they are, so coincident but distinct vertices
-//! stay distinct there.
+//! The cage may be non-manifold (`cage.rs`): an edge with three or more
+//! faces is a boundary of each, a vertex may join several fans of faces.
+//! Refused: faces with a repeated vertex, and an edge two faces run in the
+//! same direction (a flipped face).
 //!
-//! The cage must be an oriented 2-manifold, possibly with boundary (see
-//! `cage.rs`): no edge in more than two faces or twice in the same direction,
-//! no face with a repeated vertex, one fan of faces around every vertex.
+//! # Features: creases, corners, boundaries (`sharpness.rs`)
+//!
+//! Sharpness comes from `t crease` and `t corner`; the boundary rule from
+//! `t interpolateboundary`, else from the scene's `boundary` key or
+//! `import --boundary`, else `edge-and-corner`. The rule and the
+//! non-manifold rules are turned into explicit sharpness first (boundary
+//! and non-manifold edges infinitely sharp; cage corners too under
+//! `edge-and-corner`; faces at the boundary holes under `none`). Each vertex
+//! then gets its Catmull–Clark rule from its sharp edges: smooth, dart,
+//! crease (two) or corner (three or more, or a sharp vertex).
 //!
 //! # Conversion (the project's rules)
 //!
-//! Valence n of a vertex: its number of incident edges. An edge with one face
-//! is a boundary edge; a vertex on one is a boundary vertex, otherwise it is
-//! interior.
+//! Valence n of a vertex: its number of incident edges.
 //!
 //! Parameterisation: quad face (v0, v1, v2, v3) in file order has its
 //! parameter origin at v0, u running towards v1 and v towards v3 — vertex k
 //! at (0,0), (1,0), (1,1), (0,1), OpenSubdiv's quad convention. Faces listed
 //! counter-clockwise seen from outside then give an outward ∂S/∂u × ∂S/∂v.
 //!
-//! One bicubic patch per quad, by approximate Catmull–Clark surfaces (Loop &
-//! Schaefer 2008). All arithmetic is f64 from the file's f32 positions; each
-//! control point is rounded to f32 once.
+//! One bicubic patch per quad that is not a hole, by approximate
+//! Catmull–Clark surfaces (Loop & Schaefer 2008) extended to sharp features
+//! in the way boundaries always were. All arithmetic is f64 from the file's
+//! f32 positions; each control point is rounded to f32 once.
 //!
 //! - Interior point of face F near its corner v, with e_a, e_b the two
 //!   neighbours of v in F and f the opposite vertex:
 //!   (n·v + 2·e_a + 2·e_b + f)/(n + 5). At a regular vertex (n = 4) this is
-//!   the B-spline → Bézier rule. At a boundary vertex n = 4 is used whatever
-//!   the valence.
-//! - Edge point of an interior edge (v, w) near v: the average of the two
-//!   interior points near v of the two faces sharing the edge.
-//! - Corner point of an interior vertex: its Catmull–Clark limit position
+//!   the B-spline → Bézier rule. At a crease or corner vertex n = 4 is used
+//!   whatever the valence.
+//! - Edge point of edge (v, w) near v: (2v + w)/3 when the edge is sharp and
+//!   v is a crease or corner (so sharp edges are boundary-like curves shared
+//!   by every face on them); otherwise the average of the two interior
+//!   points near v of the two faces sharing the edge.
+//! - Corner point: a smooth or dart vertex's Catmull–Clark limit position
 //!   (n²·v + 4·Σ edge neighbours + Σ diagonal vertices)/(n(n + 5)), which is
-//!   also the average of the interior points around v.
-//! - Boundaries are sharp creases: the boundary curve is the uniform cubic
-//!   B-spline of the boundary vertices, as OpenSubdiv's default edge-only
-//!   boundary interpolation gives along the boundary. Edge point of a boundary
-//!   edge (v, w) near v: (2v + w)/3. Corner point of a boundary vertex with
-//!   two or more faces: (v_prev + 4v + v_next)/6 from its two boundary
-//!   neighbours; of a vertex with one face (a cage corner): v itself.
-//!   Inside the patches next to a boundary this only approximates
-//!   OpenSubdiv's limit surface.
+//!   also the average of the interior points around v; a crease vertex's
+//!   (a + 4v + b)/6 from the far ends a, b of its two sharp edges (the crease
+//!   curve is the uniform cubic B-spline of the crease vertices); a corner
+//!   vertex stays where it is.
+//! - Semi-sharp features (0 < s < 10) are approximated: sharpness 1 and more
+//!   is converted as infinitely sharp; below 1 every point near the vertex
+//!   is the smooth rules' moved by s towards the sharp rules' (s averaged
+//!   over the vertex's features below 1), OpenSubdiv's own blend for a
+//!   feature that runs out within one step. OpenSubdiv rounds a crease of
+//!   sharpness s off within about 2^−s of a face from it; the patches keep
+//!   it sharp there (measured in tests/osd_reference.rs).
 //!
-//! The surface is C0 everywhere (tangent-continuous only where the regular
-//! B-spline rules apply). It is watertight bit for bit (DESIGN invariant 4):
-//! every corner point and every edge point (per edge and end) is computed
-//! once and copied into each patch that uses it, never recomputed per face.
+//! These patches equal OpenSubdiv's limit surface (to f32 rounding) where
+//! every corner is regular: a smooth vertex of valence 4, a crease with two
+//! faces on the patch's side, or a corner with the face alone between its
+//! sharp edges — `PatchRule::exact`; elsewhere they approximate it. The
+//! surface is watertight bit for bit (DESIGN invariant 4): every corner
+//! point and every edge point (per edge and end) is computed once and copied
+//! into each patch that uses it, never recomputed per face.
 //!
 //! Non-quad faces: if any face is not a quad, one global Catmull–Clark step
-//! (`cage::refine`: standard rules, boundary edges creased, cage corners with
-//! one face fixed) first turns the whole cage into quads; sub-quad k of face
-//! F is (v_k, edge point of (v_k, v_k+1), face point, edge point of
-//! (v_k−1, v_k)), and the patches follow face order, then k. A warning says
-//! so.
+//! (`refine.rs`, with OpenSubdiv's crease rules; semi-sharp sharpness goes
+//! down by one) first turns the whole cage into quads; sub-quad k of face F
+//! is (v_k, edge point of (v_k, v_k+1), face point, edge point of
+//! (v_k−1, v_k)), OpenSubdiv's sub-face k, and the patches follow face
+//! order, then k. A warning says so.
+//!
+//! Shading: each patch also gets tangent patches (`tangent.rs`) whose
+//! normals are continuous across every edge that is not a feature.
 //!
 //! Origins: `PatchOrigin::face` is the index of the original cage face (the
-//! n-th `f` line, 0-based). `corners_uv` are the face-parameter coordinates of
-//! the patch's parameter corners (0,0), (1,0), (1,1), (0,1): the unit square
-//! for an unrefined quad; for sub-quad k of a refined quad the corner k of
-//! the square, the midpoint of edge (k, k+1), the centre and the midpoint of
-//! edge (k−1, k) (sub-quad 0: `[[0,0],[0.5,0],[0.5,0.5],[0,0.5]]`); `None` for
-//! patches of non-quad faces.
+//! n-th `f` line, 0-based), `sub` its sub-quad for a refined cage.
+//! `corners_uv` are the face-parameter coordinates of the patch's parameter
+//! corners (0,0), (1,0), (1,1), (0,1): the unit square for an unrefined
+//! quad; for sub-quad k of a refined quad the corner k of the square, the
+//! midpoint of edge (k, k+1), the centre and the midpoint of edge (k−1, k)
+//! (sub-quad 0: `[[0,0],[0.5,0],[0.5,0.5],[0,0.5]]`); `None` for patches of
+//! non-quad faces. `rule` is how the patch was made.
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use glam::DVec3;
 
-use super::cage::{refine, Cage, Topology};
-use super::{acc, ImportedModel, PatchOrigin, SceneError};
+use super::cage::{Cage, Topology};
+use super::refine::refine;
+use super::sharpness::{self, BoundaryRule, INFINITE};
+use super::tags::Tags;
+use super::{acc, tangent, CageInfo, ImportedModel, PatchOrigin, RuleSource, SceneError};
+
+/// Choices for cages that the file itself does not make.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct CageOptions {
+    /// Boundary rule for a cage without a `t interpolateboundary` tag
+    /// (`None`: [`sharpness::DEFAULT_BOUNDARY`]).
+    pub boundary: Option<BoundaryRule>,
+}
 
 /// Reads an OBJ control cage and converts it to Bézier patches.
 pub fn read(path: &Path) -> Result<ImportedModel, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::io(path, e))?;
-    parse(path, &text)
+    read_with(path, &CageOptions::default())
+}
+
+/// [`read`] with options.
+pub fn read_with(path: &Path, options: &CageOptions) -> Result<ImportedModel, SceneError> {
+    let text = super::read_text(path)?;
+    parse_with(path, &text, options)
 }
 
 /// Parses OBJ text; `path_for_errors` only names the source in errors.
 pub fn parse(path_for_errors: &Path, text: &str) -> Result<ImportedModel, SceneError> {
+    parse_with(path_for_errors, text, &CageOptions::default())
+}
+
+/// [`parse`] with options.
+pub fn parse_with(
+    path_for_errors: &Path,
+    text: &str,
+    options: &CageOptions,
+) -> Result<ImportedModel, SceneError> {
     let path = path_for_errors;
     let scan = scan(path, text)?;
     if scan.face_lines.is_empty() {
@@ -113,7 +159,7 @@ pub fn parse(path_for_errors: &Path, text: &str) -> Result<ImportedModel, SceneE
     // The struct gains fields with tobj's optional features (merging,
     // reordering); the update keeps this compiling if one gets enabled.
     #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
+    let load = tobj::LoadOptions {
         single_index: false,
         triangulate: false,
         ignore_points: false,
@@ -121,65 +167,180 @@ pub fn parse(path_for_errors: &Path, text: &str) -> Result<ImportedModel, SceneE
         ..Default::default()
     };
     let mut reader = text.as_bytes();
-    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
-        Err(tobj::LoadError::GenericFailure)
-    })
-    .map_err(|e| SceneError::invalid(path, format!("OBJ reader: {e}")))?;
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut reader, &load, |_| Err(tobj::LoadError::GenericFailure))
+            .map_err(|e| SceneError::invalid(path, format!("OBJ reader: {e}")))?;
 
     let mut warnings = Vec::new();
-    if scan.t_lines > 0 {
-        warnings.push(format!(
-            "{} OpenSubdiv `t` tag lines (crease/corner sharpness) ignored: creases are not modelled",
-            scan.t_lines
-        ));
-    }
-    let (cage, joined) = cage_from_models(path, &models, &scan.face_lines)?;
+    warnings.extend(scan.tags.ignored_warning());
+    let (mut cage, joined) = cage_from_models(path, &models, &scan.face_lines)?;
     if joined > 1 {
         warnings.push(format!(
             "{joined} objects/groups joined into one cage by merging vertices with bit-identical positions"
         ));
     }
     let topo = Topology::build(&cage, path)?;
-    if topo.boundary_edges > 0 {
+    let tagged = apply_tags(path, &mut cage, &topo, &scan)?;
+
+    let (boundary, boundary_from) = match (scan.tags.boundary, options.boundary) {
+        (Some((line, rule)), _) => (rule, RuleSource::Tag(line)),
+        (None, Some(rule)) => (rule, RuleSource::Option),
+        (None, None) => (sharpness::DEFAULT_BOUNDARY, RuleSource::Default),
+    };
+    let resolved = sharpness::resolve(&mut cage, &topo, boundary);
+    let non_manifold_vertices = (0..cage.positions.len())
+        .filter(|&v| topo.is_non_manifold_vertex(v))
+        .count();
+    if topo.non_manifold_edges > 0 || non_manifold_vertices > 0 {
         warnings.push(format!(
-            "{} boundary edges: boundaries are creased (cubic B-spline of the boundary vertices); \
-             next to them the surface approximates OpenSubdiv's",
-            topo.boundary_edges
+            "{} non-manifold edges and {non_manifold_vertices} non-manifold vertices: \
+             each fan of faces is its own sheet, sheets meet along shared crease curves",
+            topo.non_manifold_edges
+        ));
+    }
+    if resolved.holes == cage.faces.len() {
+        return Err(SceneError::invalid(
+            path,
+            "the boundary rule `none` leaves no face: every face touches the boundary",
         ));
     }
 
     let non_quads = cage.faces.iter().filter(|f| f.len() != 4).count();
-    let (patches, origins) = if non_quads == 0 {
-        let patches = acc::convert(&cage, &topo, path)?;
-        let origins = (0..patches.len())
-            .map(|face| PatchOrigin {
+    let (conversion, shading, origins) = if non_quads == 0 {
+        let conv = acc::convert(&cage, &topo, path)?;
+        let shading = tangent::tangent_patches(&cage, &topo, &conv);
+        let origins = conv
+            .faces
+            .iter()
+            .zip(&conv.rules)
+            .map(|(&face, &rule)| PatchOrigin {
                 face,
+                sub: 0,
                 corners_uv: Some(QUAD_UV),
+                rule,
             })
             .collect();
-        (patches, origins)
+        (conv, shading, origins)
     } else {
         let (fine, subs) = refine(&cage, &topo);
         let fine_topo = Topology::build(&fine, path)?;
-        let patches = acc::convert(&fine, &fine_topo, path)?;
-        let origins = subs
+        let conv = acc::convert(&fine, &fine_topo, path)?;
+        let shading = tangent::tangent_patches(&fine, &fine_topo, &conv);
+        let origins = conv
+            .faces
             .iter()
-            .map(|s| PatchOrigin {
-                face: s.face,
-                corners_uv: (cage.faces[s.face].len() == 4).then(|| sub_quad_uv(s.corner)),
+            .zip(&conv.rules)
+            .map(|(&f, &rule)| {
+                let s = subs[f];
+                PatchOrigin {
+                    face: s.face,
+                    sub: s.corner,
+                    corners_uv: (cage.faces[s.face].len() == 4).then(|| sub_quad_uv(s.corner)),
+                    rule,
+                }
             })
             .collect();
         warnings.push(format!(
             "{non_quads} non-quad faces: one Catmull–Clark step applied to the whole cage, {} patches",
-            patches.len()
+            conv.patches.len()
         ));
-        (patches, origins)
+        (conv, shading, origins)
     };
 
+    let info = CageInfo {
+        boundary,
+        boundary_from,
+        boundary_edges: topo.boundary_edges,
+        sharp_edges: tagged.sharp_edges,
+        semi_sharp_edges: tagged.semi_sharp_edges,
+        corners: tagged.corners,
+        non_manifold_edges: topo.non_manifold_edges,
+        non_manifold_vertices,
+        holes: resolved.holes,
+    };
     Ok(ImportedModel {
-        patches,
+        patches: conversion.patches,
         origins,
+        shading,
+        cage: Some(info),
         warnings,
+    })
+}
+
+/// What the tags put on the cage.
+struct Tagged {
+    sharp_edges: usize,
+    semi_sharp_edges: usize,
+    corners: usize,
+}
+
+/// Puts the file's crease and corner tags on `cage` (file vertex indices
+/// mapped to the cage's through the faces that use them).
+fn apply_tags(
+    path: &Path,
+    cage: &mut Cage,
+    topo: &Topology,
+    scan: &Scan,
+) -> Result<Tagged, SceneError> {
+    let tags = &scan.tags;
+    if tags.creases.is_empty() && tags.corners.is_empty() {
+        return Ok(Tagged {
+            sharp_edges: 0,
+            semi_sharp_edges: 0,
+            corners: 0,
+        });
+    }
+    if scan.faces.len() != cage.faces.len() {
+        return Err(SceneError::invalid(
+            path,
+            "internal: the OBJ reader's faces do not match the file's `f` lines; cannot place the tags",
+        ));
+    }
+    let mut to_cage: HashMap<usize, usize> = HashMap::new();
+    for (file_face, cage_face) in scan.faces.iter().zip(&cage.faces) {
+        for (&i, &v) in file_face.iter().zip(cage_face) {
+            to_cage.insert(i, v);
+        }
+    }
+    for &(line, a, b, s) in &tags.creases {
+        let edge = match (to_cage.get(&a), to_cage.get(&b)) {
+            (Some(&ca), Some(&cb)) => topo.edge_id(ca, cb).map(|_| (ca.min(cb), ca.max(cb))),
+            _ => None,
+        };
+        let Some(key) = edge else {
+            return Err(SceneError::at(
+                path,
+                line,
+                format!(
+                    "`t crease`: vertices {a} and {b} (counting from 0) are not the ends of an edge of any face"
+                ),
+            ));
+        };
+        if s > 0.0 {
+            cage.edge_sharpness.insert(key, s.min(INFINITE));
+        } else {
+            cage.edge_sharpness.remove(&key);
+        }
+    }
+    for &(_, v, s) in &tags.corners {
+        // A corner on a vertex no face uses changes nothing.
+        if let Some(&cv) = to_cage.get(&v) {
+            if s > 0.0 {
+                cage.vertex_sharpness.insert(cv, s.min(INFINITE));
+            } else {
+                cage.vertex_sharpness.remove(&cv);
+            }
+        }
+    }
+    let sharp_edges = cage
+        .edge_sharpness
+        .values()
+        .filter(|&&s| s >= INFINITE)
+        .count();
+    Ok(Tagged {
+        sharp_edges,
+        semi_sharp_edges: cage.edge_sharpness.len() - sharp_edges,
+        corners: cage.vertex_sharpness.len(),
     })
 }
 
@@ -269,8 +430,10 @@ fn face_count(mesh: &tobj::Mesh) -> usize {
 struct Scan {
     /// Line number of each `f` statement, in order.
     face_lines: Vec<usize>,
-    /// Number of `t` tag lines.
-    t_lines: usize,
+    /// The 0-based file vertex index of each corner of each `f` statement.
+    faces: Vec<Vec<usize>>,
+    /// The OpenSubdiv tags.
+    tags: Tags,
 }
 
 /// Checks the text line by line for what we refuse, with line numbers.
@@ -289,7 +452,8 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
     let mut seen = [0usize; 3];
     let mut out = Scan {
         face_lines: Vec::new(),
-        t_lines: 0,
+        faces: Vec::new(),
+        tags: Tags::default(),
     };
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
@@ -318,9 +482,12 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
                         rest.len()
                     )));
                 }
-                for r in &rest {
-                    check_face_ref(r, &seen, &total).map_err(err)?;
-                }
+                let face = rest
+                    .iter()
+                    .map(|r| check_face_ref(r, &seen, &total))
+                    .collect::<Result<Vec<usize>, String>>()
+                    .map_err(err)?;
+                out.faces.push(face);
                 out.face_lines.push(line_no);
             }
             "l" => {
@@ -332,7 +499,7 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
             "usemtl" if rest.is_empty() => {
                 return Err(err("`usemtl` without a material name".into()))
             }
-            "t" => out.t_lines += 1,
+            "t" => out.tags.read(line_no, &rest, total[0]).map_err(err)?,
             _ => {}
         }
     }
@@ -371,13 +538,16 @@ fn check_vertex(words: &[&str]) -> Result<(), String> {
     Ok(())
 }
 
-/// One `v`, `v/vt`, `v//vn` or `v/vt/vn` reference of a face.
-fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<(), String> {
+/// One `v`, `v/vt`, `v//vn` or `v/vt/vn` reference of a face; returns
+/// the 0-based index of its vertex in the file.
+fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<usize, String> {
     let parts: Vec<&str> = r.split('/').collect();
     if parts.len() > 3 {
         return Err(format!("face vertex {r:?} has more than three parts"));
     }
     const WHAT: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    const WHATS: [&str; 3] = ["vertices", "texture coordinates", "normals"];
+    let mut vertex = 0;
     for (slot, s) in parts.iter().enumerate() {
         if s.is_empty() {
             if slot == 0 {
@@ -393,25 +563,32 @@ fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<(), 
         if slot > 0 && total[slot] == 0 {
             continue;
         }
-        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        let name = |n: usize| if n == 1 { WHAT[slot] } else { WHATS[slot] };
         match x {
             0 => return Err(format!("face {what} index 0: OBJ indices start at 1")),
             x if x > 0 && x as u64 > total[slot] as u64 => {
                 return Err(format!(
-                    "face {what} index {x} out of range: the file has {} {what}{}",
+                    "face {what} index {x} out of range: the file has {} {}",
                     total[slot],
-                    plural(total[slot])
+                    name(total[slot])
                 ))
             }
             x if x < 0 && x.unsigned_abs() > seen[slot] as u64 => {
                 return Err(format!(
-                    "relative face {what} index {x} out of range: {} {what}{} read so far",
+                    "relative face {what} index {x} out of range: {} {} read so far",
                     seen[slot],
-                    plural(seen[slot])
+                    name(seen[slot])
                 ))
             }
             _ => {}
         }
+        if slot == 0 {
+            vertex = if x > 0 {
+                x as usize - 1
+            } else {
+                (seen[0] as i64 + x) as usize
+            };
+        }
     }
-    Ok(())
+    Ok(vertex)
 }

@@ -12,7 +12,11 @@
 //! there the two approximations may show different sides by a pixel without
 //! any crack. SHADE_KEY paints front surface seen at a grazing angle in its
 //! own colour, and the reference's depth jumps mark the occluding contours
-//! ([`depth_edges`]); the mask leaves both out before eroding. What is left
+//! ([`depth_edges`]); the mask leaves both out before eroding. So does a
+//! contour the reference image cannot show: a fold, where the surface turns
+//! back under its own front layer without a depth jump (the creased car
+//! seen edge on folds like this inside a patch). Those are found on the CPU
+//! from the reference grid's normals ([`hidden_contours`]). What is left
 //! is smooth front surface, where a key pixel lying well behind the
 //! reference surface can only be a crack (see [`run_model`]). Comparing against the
 //! reference's own front region keeps open models honest too: where the
@@ -176,6 +180,89 @@ fn distances(rgba: &[u8], scale: f32) -> Vec<f32> {
         .collect()
 }
 
+/// Contour pixels the reference image does not show: where the surface
+/// turns from facing the camera to facing away (by the patches' own
+/// normals at the reference grid's points: a grid cell whose corners
+/// disagree, or a point on a patch border where the patches meeting there
+/// disagree), at the depth the reference shows there (within
+/// [`CONTOUR_JUMP`]), so a turn hidden behind other surface masks nothing.
+pub fn hidden_contours(
+    patches: &[BezierPatch],
+    grid: u32,
+    cam: &Camera,
+    (w, h): (u32, u32),
+    ref_dist: &[f32],
+) -> Vec<bool> {
+    let n = grid as usize;
+    let eye = glam::DVec3::from_array(cam.position);
+    let t = |k: usize| k as f32 / grid as f32;
+    // Facing sign at every grid point; points on patch borders are shared
+    // bit for bit, so the signs of all patches there can be compared.
+    let mut facing: Vec<Vec<bool>> = Vec::with_capacity(patches.len());
+    let mut at_point: std::collections::HashMap<[u32; 3], (bool, bool)> = Default::default();
+    for p in patches {
+        let signs: Vec<bool> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let q = p.eval(t(i), t(j));
+                let front = p.normal(t(i), t(j)).as_dvec3().dot(eye - q.as_dvec3()) > 0.0;
+                if i == 0 || j == 0 || i == n || j == n {
+                    let e = at_point.entry(q.to_array().map(f32::to_bits)).or_default();
+                    *e = (e.0 || front, e.1 || !front);
+                }
+                front
+            })
+            .collect();
+        facing.push(signs);
+    }
+    let view_proj = cam.view_proj(w, h);
+    let mut mask = vec![false; (w * h) as usize];
+    for (p, signs) in patches.iter().zip(&facing) {
+        let turns = |i: usize, j: usize| {
+            let border = i == 0 || j == 0 || i == n || j == n;
+            border && {
+                let q = p.eval(t(i), t(j)).to_array().map(f32::to_bits);
+                at_point.get(&q).is_some_and(|&(f, b)| f && b)
+            }
+        };
+        for j in 0..n {
+            for i in 0..n {
+                let corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+                let s = corners.map(|(a, b)| signs[b * (n + 1) + a]);
+                let contour =
+                    s.iter().any(|&x| x != s[0]) || corners.iter().any(|&(a, b)| turns(a, b));
+                if !contour {
+                    continue;
+                }
+                let v = corners.map(|(a, b)| p.eval(t(a), t(b)).as_dvec3());
+                let mut mark = |x: u32, y: u32, world: glam::DVec3| {
+                    let k = (y * w + x) as usize;
+                    let d = world.distance(eye) as f32;
+                    if (d - ref_dist[k]).abs() <= CONTOUR_JUMP * ref_dist[k] {
+                        mask[k] = true;
+                    }
+                };
+                for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
+                    crate::raster::cover_triangle(tri, &view_proj, w, h, &mut mark);
+                }
+                // A cell seen edge on may cover no pixel centre: its corners'
+                // pixels count too.
+                for q in v {
+                    let c = view_proj * q.extend(1.0);
+                    if c.w > 0.0 {
+                        let x = ((c.x / c.w * 0.5 + 0.5) * w as f64).floor();
+                        let y = ((c.y / c.w * 0.5 + 0.5) * h as f64).floor();
+                        if (0.0..w as f64).contains(&x) && (0.0..h as f64).contains(&y) {
+                            mark(x as u32, y as u32, q);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    mask
+}
+
 /// Relative distance by which the subdivided surface must lie behind the
 /// reference surface for a key pixel to count as seeing *through* it.
 /// Cracks show the background or the far side of the model, many times
@@ -233,9 +320,10 @@ pub fn run_model(
         let reference = reference_shots(renderer, &view, grid, tested)?;
 
         let edges = depth_edges(&reference.distance, w as usize, h as usize);
+        let folds = hidden_contours(&geo.patches, grid, cam, size, &reference.distance);
         let good: Vec<bool> = pixels(&reference.key)
-            .zip(&edges)
-            .map(|(p, &e)| p == WHITE && !e)
+            .zip(edges.iter().zip(&folds))
+            .map(|(p, (&e, &f))| p == WHITE && !e && !f)
             .collect();
         let inside = erode(&good, w as usize, h as usize, radius);
         let holes_in = |shot: &Shots| -> Vec<bool> {
@@ -343,6 +431,7 @@ fn reference_shots(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     #[test]
     fn erosion_shrinks_by_the_radius() {
@@ -357,5 +446,50 @@ mod tests {
         let n = e.iter().filter(|&&m| m).count();
         assert_eq!(n, 7 * 7);
         assert!(e[10 * w + 10] && !e[10 * w + 6] && e[10 * w + 7]);
+    }
+
+    /// A sheet that folds back on itself (x runs out and back along u) seen
+    /// from above has a contour the key image cannot show; a sheet without
+    /// the fold has none. The reference distance is the nearest layer's.
+    #[test]
+    fn folds_are_found_and_flat_sheets_are_not() {
+        let sheet = |xs: [f32; 4]| BezierPatch {
+            pts: std::array::from_fn(|k| {
+                let (i, j) = (k % 4, k / 4);
+                Vec3::new(xs[i], j as f32 / 3.0, 0.05 * i as f32)
+            }),
+        };
+        let cam = Camera {
+            position: [0.5, 0.5, 3.0],
+            target: [0.5, 0.5, 0.0],
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg: 40.0,
+            near: 0.01,
+            far: 100.0,
+        };
+        let (w, h) = (64u32, 64u32);
+        let eye = glam::DVec3::from_array(cam.position);
+        let count = |p: BezierPatch| {
+            let mut dist = vec![f32::INFINITY; (w * h) as usize];
+            let grid = 16;
+            let t = |k: u32| k as f32 / grid as f32;
+            let vp = cam.view_proj(w, h);
+            for j in 0..grid {
+                for i in 0..grid {
+                    let v = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]
+                        .map(|(a, b)| p.eval(t(a), t(b)).as_dvec3());
+                    for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
+                        crate::raster::cover_triangle(tri, &vp, w, h, |x, y, q| {
+                            let k = (y * w + x) as usize;
+                            dist[k] = dist[k].min(q.distance(eye) as f32);
+                        });
+                    }
+                }
+            }
+            let mask = hidden_contours(&[p], 8, &cam, (w, h), &dist);
+            mask.iter().filter(|&&m| m).count()
+        };
+        assert_eq!(count(sheet([0.0, 0.33, 0.67, 1.0])), 0);
+        assert!(count(sheet([0.0, 1.6, -0.6, 1.0])) > 10);
     }
 }

@@ -1,0 +1,232 @@
+//! Scene geometry: the models of a scene loaded, their instances baked into
+//! world-space base patches, and the shading normals beside them.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::DMat4;
+
+use super::file::{ModelDesc, Scene, MAX_COORD, PATCH_MODEL_SHIFT};
+use super::obj::CageOptions;
+use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
+use super::{bpt, obj, ImportedModel, SceneError};
+use crate::patch::bezier::BezierPatch;
+use crate::patch::oracle::PATCH_TWO_SIDED;
+
+/// Most base patches a scene may have: the subdivision kernel counts the
+/// items in flight, base patches included, in 24 bits.
+pub const MAX_BASE_PATCHES: u64 = crate::constants::IN_FLIGHT_MASK as u64;
+
+/// Bytes per base patch on the GPU: 16 control points of 3 f32 and a
+/// flags word.
+pub const GEOMETRY_BYTES_PER_PATCH: u64 = 16 * 3 * 4 + 4;
+
+/// What a model contributed to the scene geometry.
+#[derive(Clone, Debug)]
+pub struct ModelSummary {
+    /// Display name.
+    pub name: String,
+    /// Model file.
+    pub file: PathBuf,
+    /// Base patches in one instance.
+    pub patches_per_instance: usize,
+    /// Number of instances.
+    pub instances: usize,
+    /// Never back-face culled.
+    pub two_sided: bool,
+    /// Import warnings.
+    pub warnings: Vec<String>,
+}
+
+/// World-space base patches of a whole scene.
+#[derive(Clone, Debug, Default)]
+pub struct SceneGeometry {
+    /// Base patches of every instance of every model, in scene order.
+    pub patches: Vec<BezierPatch>,
+    /// Per patch: `PATCH_TWO_SIDED` and the model index `<< PATCH_MODEL_SHIFT`.
+    pub flags: Vec<u32>,
+    /// Per model, in scene order.
+    pub models: Vec<ModelSummary>,
+}
+
+/// Shading normals of a whole scene, beside its [`SceneGeometry`]: one
+/// [`ShadingPatch`] per base patch, in the same order (see `shading.rs` for
+/// the layout a GPU buffer takes).
+#[derive(Clone, Debug, Default)]
+pub struct SceneShading {
+    /// Tangent patches, parallel to `SceneGeometry::patches`.
+    pub patches: Vec<ShadingPatch>,
+}
+
+impl SceneShading {
+    /// Unnormalised shading normal of base patch `patch` at (u, v).
+    pub fn normal(&self, patch: usize, u: f32, v: f32) -> glam::Vec3 {
+        self.patches[patch].normal(u, v)
+    }
+
+    /// Bytes of the tightly packed GPU buffer.
+    pub fn bytes(&self) -> usize {
+        self.patches.len() * SHADING_BYTES_PER_PATCH
+    }
+
+    /// The buffer's contents: 72 f32 per base patch.
+    pub fn to_floats(&self) -> Vec<f32> {
+        self.patches.iter().flat_map(|p| p.to_floats()).collect()
+    }
+}
+
+/// Loads one model file by extension (`.bpt` or `.obj`).
+pub fn load_model(path: &Path) -> Result<ImportedModel, SceneError> {
+    load_model_with(path, &CageOptions::default())
+}
+
+/// [`load_model`] with choices for cages (ignored, with a warning, for
+/// `.bpt` files).
+pub fn load_model_with(path: &Path, options: &CageOptions) -> Result<ImportedModel, SceneError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("bpt") => Ok(ImportedModel {
+            patches: bpt::read(path)?,
+            warnings: options
+                .boundary
+                .map(|r| {
+                    format!("boundary rule {r} ignored: a .bpt file holds patches, not a cage")
+                })
+                .into_iter()
+                .collect(),
+            ..Default::default()
+        }),
+        Some("obj") => obj::read_with(path, options),
+        _ => Err(SceneError::Invalid {
+            path: path.to_path_buf(),
+            msg: "unknown model format: expected a .bpt patch file or a .obj Catmull-Clark cage"
+                .into(),
+        }),
+    }
+}
+
+impl Scene {
+    /// Loads every model file (each once) and bakes the instances into
+    /// world-space base patches.
+    pub fn geometry(&self) -> Result<SceneGeometry, SceneError> {
+        self.build(false).map(|(geo, _)| geo)
+    }
+
+    /// [`Scene::geometry`] and the shading normals beside it.
+    pub fn geometry_and_shading(&self) -> Result<(SceneGeometry, SceneShading), SceneError> {
+        self.build(true)
+    }
+
+    fn build(&self, with_shading: bool) -> Result<(SceneGeometry, SceneShading), SceneError> {
+        let model_error = |m: &ModelDesc, msg: String| SceneError::Model {
+            scene: self.path.clone(),
+            model: m.name.clone(),
+            msg,
+        };
+        let mut cache: HashMap<(PathBuf, CageOptions), ImportedModel> = HashMap::new();
+        for m in &self.models {
+            let key = (m.file.clone(), m.options);
+            if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(key) {
+                let model = load_model_with(&m.file, &m.options)
+                    .map_err(|e| model_error(m, e.to_string()))?;
+                slot.insert(model);
+            }
+        }
+        // Refuse what cannot be drawn before allocating any of it.
+        let total: u64 = self
+            .models
+            .iter()
+            .map(|m| {
+                cache[&(m.file.clone(), m.options)].patches.len() as u64 * m.instances.len() as u64
+            })
+            .fold(0, u64::saturating_add);
+        if total > MAX_BASE_PATCHES {
+            return Err(SceneError::invalid(
+                &self.path,
+                format!(
+                    "the scene has {} base patches ({} for their control points and flags); \
+                     at most {} can be subdivided",
+                    thousands(total),
+                    bytes_text(total.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
+                    thousands(MAX_BASE_PATCHES)
+                ),
+            ));
+        }
+        let mut geo = SceneGeometry::default();
+        let mut shading = SceneShading::default();
+        for (index, m) in self.models.iter().enumerate() {
+            let model = &cache[&(m.file.clone(), m.options)];
+            let flags =
+                (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
+            let tangents = if with_shading {
+                model.shading_patches()
+            } else {
+                Vec::new()
+            };
+            for xf in &m.instances {
+                for (k, p) in model.patches.iter().enumerate() {
+                    let w = transform_patch(p, xf);
+                    if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
+                        return Err(model_error(
+                            m,
+                            format!("a transformed control point exceeds ±{MAX_COORD} (scale the scene down)"),
+                        ));
+                    }
+                    geo.patches.push(w);
+                    geo.flags.push(flags);
+                    if let Some(t) = tangents.get(k) {
+                        shading.patches.push(t.transformed(xf));
+                    }
+                }
+            }
+            geo.models.push(ModelSummary {
+                name: m.name.clone(),
+                file: m.file.clone(),
+                patches_per_instance: model.patches.len(),
+                instances: m.instances.len(),
+                two_sided: m.two_sided,
+                warnings: model.warnings.clone(),
+            });
+        }
+        Ok((geo, shading))
+    }
+}
+
+/// `n` with thousands separators.
+pub(crate) fn thousands(n: u64) -> String {
+    crate::commands::thousands(n)
+}
+
+/// A byte count in the unit that reads best.
+pub(crate) fn bytes_text(b: u64) -> String {
+    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut x = b as f64;
+    let mut u = 0;
+    while x >= 1024.0 && u + 1 < units.len() {
+        x /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{b} bytes")
+    } else {
+        format!("{x:.1} {}", units[u])
+    }
+}
+
+/// Applies an affine transform to a patch's control points (f64, rounded
+/// once). Mirroring transforms swap u and v so ∂u × ∂v stays outward.
+pub fn transform_patch(p: &BezierPatch, m: &DMat4) -> BezierPatch {
+    let mut out = *p;
+    for q in &mut out.pts {
+        *q = m.transform_point3(q.as_dvec3()).as_vec3();
+    }
+    let out = if m.determinant() < 0.0 {
+        out.reoriented(true, false, false)
+    } else {
+        out
+    };
+    out.canonical_zeros()
+}

@@ -1,0 +1,281 @@
+//! One global Catmull–Clark step with OpenSubdiv's crease rules (uniform
+//! creasing), used to make every face of a cage a quad.
+//!
+//! - Face point: the face's centroid.
+//! - Edge point: the midpoint for a sharp edge (sharpness ≥ 1, boundary or
+//!   non-manifold, all infinitely sharp by then); for a smooth manifold edge
+//!   the mean of its ends and the two face points; a sharpness s below 1
+//!   blends the two, s of the way to the midpoint.
+//! - Vertex point by the vertex rule (`sharpness.rs`): smooth and dart
+//!   (Q + 2R + (n−3)v)/n with Q the mean of the face points and R the mean
+//!   of the edge midpoints around v; crease (a + 6v + b)/8 from the two sharp
+//!   edges' far ends; corner v. When the rule of the refined vertex is
+//!   smoother than this one (a semi-sharp feature runs out), the two are
+//!   blended with OpenSubdiv's transition weight: the mean sharpness of the
+//!   features that run out (those of sharpness ≤ 1), at most 1.
+//! - Sharpness of each half of an edge and of a vertex's child: s − 1
+//!   (0 below 1), infinite stays infinite. Edges inside a face are smooth.
+//! - The sub-quads of a hole are holes.
+//!
+//! Sub-quad k of face F is (v_k', e(v_k, v_k+1), f_F, e(v_k−1, v_k)), so
+//! orientation is kept. New vertices: vertex points, then edge points (in
+//! edge order), then face points.
+
+use glam::DVec3;
+
+use super::cage::{Cage, Topology};
+use super::sharpness::{Config, VertexRule, INFINITE};
+
+/// Where each face of a refined cage came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SubFace {
+    /// The face of the coarse cage.
+    pub face: usize,
+    /// Which corner of it the sub-quad sits at.
+    pub corner: usize,
+}
+
+/// The sharpness of a child feature: one step less, infinite kept.
+fn child_sharpness(s: f64) -> f64 {
+    if s >= INFINITE {
+        INFINITE
+    } else if s <= 1.0 {
+        0.0
+    } else {
+        s - 1.0
+    }
+}
+
+/// The vertex rule of `v` and the far ends of its sharp edges (in edge
+/// order), with every feature of sharpness above 0 counted as sharp after
+/// `sharpness` maps it.
+fn rule_at(
+    cage: &Cage,
+    topo: &Topology,
+    v: usize,
+    sharpness: &dyn Fn(f64) -> f64,
+) -> (VertexRule, Vec<usize>) {
+    let ends: Vec<usize> = topo.vertex_edges[v]
+        .iter()
+        .map(|&e| &topo.edges[e])
+        .filter(|e| Config::Sharp.sharp(sharpness(cage.edge_sharpness(e.ends.0, e.ends.1))))
+        .map(|e| e.other(v))
+        .collect();
+    let corner = Config::Sharp.sharp(sharpness(cage.vertex_sharpness(v)));
+    (VertexRule::of(corner, ends.len()), ends)
+}
+
+/// One global Catmull–Clark step (see the module doc).
+pub fn refine(cage: &Cage, topo: &Topology) -> (Cage, Vec<SubFace>) {
+    let nv = cage.positions.len();
+    let p = &cage.positions;
+
+    let face_points: Vec<DVec3> = cage
+        .faces
+        .iter()
+        .map(|face| face.iter().fold(DVec3::ZERO, |s, &v| s + p[v]) / face.len() as f64)
+        .collect();
+
+    let edge_points: Vec<DVec3> = topo
+        .edges
+        .iter()
+        .map(|e| {
+            let (a, b) = e.ends;
+            let mid = (p[a] + p[b]) * 0.5;
+            let s = cage.edge_sharpness(a, b);
+            if s >= 1.0 || !e.is_manifold() {
+                return mid;
+            }
+            let (f, g) = (e.uses[0].0, e.uses[1].0);
+            let smooth = (p[a] + p[b] + face_points[f] + face_points[g]) * 0.25;
+            if s > 0.0 {
+                smooth + (mid - smooth) * s
+            } else {
+                smooth
+            }
+        })
+        .collect();
+
+    let vertex_points: Vec<DVec3> = (0..nv)
+        .map(|v| {
+            let same = |s: f64| s;
+            let (rule, ends) = rule_at(cage, topo, v, &same);
+            let point = |rule: VertexRule, ends: &[usize]| match rule {
+                VertexRule::Corner => p[v],
+                VertexRule::Crease => (p[ends[0]] + p[v] * 6.0 + p[ends[1]]) * 0.125,
+                VertexRule::Smooth | VertexRule::Dart => smooth_vertex(cage, topo, v, &face_points),
+            };
+            let parent = point(rule, &ends);
+            let (child_rule, child_ends) = rule_at(cage, topo, v, &child_sharpness);
+            if child_rule == rule || topo.fans[v].is_empty() {
+                return parent;
+            }
+            let w = transition_weight(cage, topo, v);
+            let child = point(child_rule, &child_ends);
+            child + (parent - child) * w
+        })
+        .collect();
+
+    let face_base = nv + edge_points.len();
+    let mut out = Cage {
+        positions: vertex_points,
+        ..Cage::default()
+    };
+    out.positions.extend(edge_points);
+    out.positions.extend(face_points);
+    for (&(a, b), &s) in &cage.edge_sharpness {
+        let child = child_sharpness(s);
+        if child > 0.0 {
+            let mid = nv + topo.edge_id(a, b).expect("tagged edges are cage edges");
+            for end in [a, b] {
+                out.edge_sharpness
+                    .insert((end.min(mid), end.max(mid)), child);
+            }
+        }
+    }
+    for (&v, &s) in &cage.vertex_sharpness {
+        let child = child_sharpness(s);
+        if child > 0.0 {
+            out.vertex_sharpness.insert(v, child);
+        }
+    }
+    let edge = |a: usize, b: usize| nv + topo.edge_id(a, b).expect("face edge");
+    let mut origin = Vec::new();
+    for (f, face) in cage.faces.iter().enumerate() {
+        let m = face.len();
+        for k in 0..m {
+            let (prev, v, next) = (face[(k + m - 1) % m], face[k], face[(k + 1) % m]);
+            out.faces
+                .push(vec![v, edge(v, next), face_base + f, edge(prev, v)]);
+            out.face_lines.push(cage.line_of(f));
+            origin.push(SubFace { face: f, corner: k });
+        }
+    }
+    if cage.holes.iter().any(|&h| h) {
+        out.holes = origin.iter().map(|s| cage.is_hole(s.face)).collect();
+    }
+    (out, origin)
+}
+
+/// The smooth vertex point (Q + 2R + (n−3)v)/n over the one closed fan a
+/// smooth or dart vertex has after `sharpness::resolve`.
+fn smooth_vertex(cage: &Cage, topo: &Topology, v: usize, face_points: &[DVec3]) -> DVec3 {
+    let p = &cage.positions;
+    let Some(fan) = topo.fans[v].first() else {
+        return p[v];
+    };
+    let n = topo.valence(v) as f64;
+    let mut q = DVec3::ZERO;
+    let mut r = DVec3::ZERO;
+    for &(f, k) in &fan.corners {
+        let face = &cage.faces[f];
+        q += face_points[f];
+        r += (p[v] + p[face[(k + 1) % face.len()]]) * 0.5;
+    }
+    (q / n + r / n * 2.0 + p[v] * (n - 3.0)) / n
+}
+
+/// OpenSubdiv's weight of the sharper rule where a semi-sharp feature runs
+/// out: the mean of the sharpness of the vertex (if it runs out) and of the
+/// incident edges with sharpness in (0, 1], at most 1.
+fn transition_weight(cage: &Cage, topo: &Topology, v: usize) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    let own = cage.vertex_sharpness(v);
+    if own > 0.0 && child_sharpness(own) == 0.0 {
+        sum += own;
+        n += 1;
+    }
+    for &e in &topo.vertex_edges[v] {
+        let (a, b) = topo.edges[e].ends;
+        let s = cage.edge_sharpness(a, b);
+        if s > 0.0 && s <= 1.0 {
+            sum += s;
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        (sum / n as f64).min(1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn cube() -> Cage {
+        let positions = (0..8)
+            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
+            .collect();
+        let faces = vec![
+            vec![0, 2, 3, 1],
+            vec![4, 5, 7, 6],
+            vec![0, 1, 5, 4],
+            vec![2, 6, 7, 3],
+            vec![0, 4, 6, 2],
+            vec![1, 3, 7, 5],
+        ];
+        Cage {
+            positions,
+            face_lines: vec![None; 6],
+            faces,
+            ..Cage::default()
+        }
+    }
+
+    #[test]
+    fn refine_keeps_the_cube_closed_and_quad() {
+        let c = cube();
+        let topo = Topology::build(&c, Path::new("cube")).unwrap();
+        let (r, origin) = refine(&c, &topo);
+        assert_eq!(r.faces.len(), 24);
+        assert_eq!(r.positions.len(), 8 + 12 + 6);
+        assert_eq!(origin[5], SubFace { face: 1, corner: 1 });
+        let rt = Topology::build(&r, Path::new("cube")).unwrap();
+        assert_eq!(rt.boundary_edges, 0);
+        // Known Catmull–Clark result for the unit cube: corners move to
+        // (Q + 2R + 0·v)/3.
+        let v0 = r.positions[0];
+        let q = (DVec3::new(0.5, 0.5, 0.0) + DVec3::new(0.5, 0.0, 0.5) + DVec3::new(0.0, 0.5, 0.5))
+            / 3.0;
+        let rr =
+            (DVec3::new(0.5, 0.0, 0.0) + DVec3::new(0.0, 0.5, 0.0) + DVec3::new(0.0, 0.0, 0.5))
+                / 3.0;
+        assert!((v0 - (q + rr * 2.0) / 3.0).length() < 1e-15);
+    }
+
+    #[test]
+    fn sharp_and_semi_sharp_edges_follow_the_crease_rules() {
+        let mut c = cube();
+        // Edges (0,1), (1,3), (3,2), (2,0) of the bottom face infinitely
+        // sharp: vertex 0 has two sharp edges (a crease), and the bottom
+        // face's edge points are midpoints.
+        for (a, b) in [(0, 1), (1, 3), (2, 3), (0, 2)] {
+            c.edge_sharpness.insert((a, b), INFINITE);
+        }
+        c.edge_sharpness.insert((4, 5), 0.5);
+        c.edge_sharpness.insert((6, 7), 3.0);
+        let topo = Topology::build(&c, Path::new("cube")).unwrap();
+        let (r, _) = refine(&c, &topo);
+        let p = &c.positions;
+        assert_eq!(r.positions[0], (p[1] + p[0] * 6.0 + p[2]) * 0.125);
+        let e01 = 8 + topo.edge_id(0, 1).unwrap();
+        assert_eq!(r.positions[e01], (p[0] + p[1]) * 0.5);
+        // Children of the sharp edges stay sharp, the 3.0 crease drops to
+        // 2.0 and the 0.5 one is gone.
+        assert_eq!(r.edge_sharpness(0, e01), INFINITE);
+        let e67 = 8 + topo.edge_id(6, 7).unwrap();
+        assert_eq!(r.edge_sharpness(6, e67), 2.0);
+        let e45 = 8 + topo.edge_id(4, 5).unwrap();
+        assert_eq!(r.edge_sharpness(4, e45), 0.0);
+        // The 0.5 edge point is half way between smooth and the midpoint.
+        let f = |face: usize| c.faces[face].iter().map(|&v| p[v]).sum::<DVec3>() / 4.0;
+        let (g, h) = (topo.edge(4, 5).uses[0].0, topo.edge(4, 5).uses[1].0);
+        let smooth = (p[4] + p[5] + f(g) + f(h)) * 0.25;
+        let mid = (p[4] + p[5]) * 0.5;
+        assert!((r.positions[e45] - (smooth + mid) * 0.5).length() < 1e-15);
+    }
+}

@@ -1,0 +1,224 @@
+//! OpenSubdiv's `t` tag lines in OBJ cages:
+//!
+//! ```text
+//! t crease 2/1/0 V0 V1 SHARPNESS          edge (V0, V1); more pairs may follow
+//! t corner 1/1/0 V SHARPNESS              vertex V; more vertices may follow
+//! t interpolateboundary 1/0/0 N           0 none, 1 edge-and-corner, 2 edge-only
+//! ```
+//!
+//! `I/F/S` counts the integer, float and string arguments that follow, in
+//! that order. Vertex indices are 0-based positions in the file's `v` list
+//! (OpenSubdiv's convention, unlike `f` lines). A crease tag lists pairs,
+//! each pair an edge: `t crease 4/1/0 a b c d s` sharpens (a, b) and (c, d);
+//! its floats are one sharpness for all pairs or one per pair; `corner`
+//! likewise per vertex. Sharpness 10 or more is infinitely sharp (`inf` is
+//! accepted); a later tag on the same edge or vertex replaces an earlier one.
+//!
+//! Refused, with the line: counts that do not match the arguments, an index
+//! that is not a vertex, a NaN or negative sharpness, a crease pair that is
+//! not an edge of any face, an unknown `interpolateboundary` value, two
+//! `interpolateboundary` tags that disagree. Other tags (`creasemethod`,
+//! `smoothtriangles`, `hole`, the face-varying ones, …) are reported in one
+//! warning and ignored.
+
+use std::collections::BTreeMap;
+
+use super::sharpness::BoundaryRule;
+
+/// The tags of one file, vertex indices 0-based into its `v` lines.
+#[derive(Clone, Debug, Default)]
+pub struct Tags {
+    /// (line, a, b, sharpness) per crease pair.
+    pub creases: Vec<(usize, usize, usize, f64)>,
+    /// (line, vertex, sharpness) per corner.
+    pub corners: Vec<(usize, usize, f64)>,
+    /// The boundary rule and its line.
+    pub boundary: Option<(usize, BoundaryRule)>,
+    /// Ignored tag names → (count, first line).
+    pub ignored: BTreeMap<String, (usize, usize)>,
+}
+
+impl Tags {
+    /// Reads the words after `t` on line `line`; `vertices` is the number
+    /// of `v` lines in the file. The error is the message for that line.
+    pub fn read(&mut self, line: usize, words: &[&str], vertices: usize) -> Result<(), String> {
+        let Some(&name) = words.first() else {
+            return Err("a `t` line needs a tag name".into());
+        };
+        let counts = words
+            .get(1)
+            .ok_or_else(|| format!("tag `{name}` needs its argument counts (e.g. 2/1/0)"))?;
+        let parsed: Vec<Option<usize>> = counts.split('/').map(|c| c.parse().ok()).collect();
+        let [Some(ni), Some(nf), Some(ns)] = parsed[..] else {
+            return Err(format!(
+                "tag `{name}`: argument counts must be INTS/FLOATS/STRINGS, found {counts:?}"
+            ));
+        };
+        let args = &words[2..];
+        if args.len() != ni + nf + ns {
+            return Err(format!(
+                "tag `{name}` announces {ni}/{nf}/{ns} arguments ({} in all) but has {}",
+                ni + nf + ns,
+                args.len()
+            ));
+        }
+        let ints = args[..ni]
+            .iter()
+            .map(|w| {
+                w.parse::<i64>()
+                    .map_err(|_| format!("tag `{name}`: {w:?} is not an integer"))
+            })
+            .collect::<Result<Vec<i64>, String>>()?;
+        let floats = args[ni..ni + nf]
+            .iter()
+            .map(|w| {
+                w.parse::<f64>()
+                    .map_err(|_| format!("tag `{name}`: {w:?} is not a number"))
+            })
+            .collect::<Result<Vec<f64>, String>>()?;
+        let vertex = |i: i64| -> Result<usize, String> {
+            if i < 0 || i as u64 >= vertices as u64 {
+                Err(format!(
+                    "tag `{name}`: vertex {i} out of range: tag vertices count from 0 and the file has {vertices} {}",
+                    if vertices == 1 { "vertex" } else { "vertices" }
+                ))
+            } else {
+                Ok(i as usize)
+            }
+        };
+        let sharpness = |k: usize, items: usize| -> Result<f64, String> {
+            let s = match floats.len() {
+                1 => floats[0],
+                n if n == items => floats[k],
+                n => {
+                    return Err(format!(
+                        "tag `{name}`: {n} sharpness values for {items} items: give one, or one per item"
+                    ))
+                }
+            };
+            if s.is_nan() || s < 0.0 {
+                return Err(format!("tag `{name}`: sharpness {s} must be a number ≥ 0"));
+            }
+            Ok(s)
+        };
+        match name {
+            "crease" => {
+                if ni < 2 || ni % 2 != 0 || ns != 0 {
+                    return Err("`t crease` needs pairs of vertices (2, 4, … integers), one or more sharpness values and no strings".into());
+                }
+                for k in 0..ni / 2 {
+                    let (a, b) = (vertex(ints[2 * k])?, vertex(ints[2 * k + 1])?);
+                    if a == b {
+                        return Err(format!("`t crease`: the pair ({a}, {b}) is not an edge"));
+                    }
+                    self.creases.push((line, a, b, sharpness(k, ni / 2)?));
+                }
+            }
+            "corner" => {
+                if ni < 1 || ns != 0 {
+                    return Err("`t corner` needs one or more vertices and sharpness values".into());
+                }
+                for (k, &v) in ints.iter().enumerate() {
+                    self.corners.push((line, vertex(v)?, sharpness(k, ni)?));
+                }
+            }
+            "interpolateboundary" => {
+                if (ni, nf, ns) != (1, 0, 0) {
+                    return Err("`t interpolateboundary` takes one integer (1/0/0)".into());
+                }
+                let rule = BoundaryRule::from_tag(ints[0]).ok_or_else(|| {
+                    format!(
+                        "`t interpolateboundary {}`: expected 0 (none), 1 (edge-and-corner) or 2 (edge-only)",
+                        ints[0]
+                    )
+                })?;
+                if let Some((first, other)) = self.boundary {
+                    if other != rule {
+                        return Err(format!(
+                            "`t interpolateboundary` says {rule} here but {other} at line {first}"
+                        ));
+                    }
+                }
+                self.boundary = Some((line, rule));
+            }
+            _ => {
+                let entry = self.ignored.entry(name.to_string()).or_insert((0, line));
+                entry.0 += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// One warning naming the ignored tags, if any.
+    pub fn ignored_warning(&self) -> Option<String> {
+        if self.ignored.is_empty() {
+            return None;
+        }
+        let list: Vec<String> = self
+            .ignored
+            .iter()
+            .map(|(name, (n, line))| format!("`{name}` ×{n} (first at line {line})"))
+            .collect();
+        Some(format!(
+            "OpenSubdiv tags not supported, ignored: {}",
+            list.join(", ")
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(line: &str) -> Result<Tags, String> {
+        let mut t = Tags::default();
+        let words: Vec<&str> = line.split_whitespace().collect();
+        t.read(7, &words, 10).map(|()| t)
+    }
+
+    #[test]
+    fn reads_the_three_tags() {
+        let t = read("crease 4/1/0 1 2 3 4 6.5").unwrap();
+        assert_eq!(t.creases, vec![(7, 1, 2, 6.5), (7, 3, 4, 6.5)]);
+        let t = read("crease 4/2/0 1 2 3 4 1 inf").unwrap();
+        assert_eq!(t.creases[1].3, f64::INFINITY);
+        let t = read("corner 2/1/0 0 9 10").unwrap();
+        assert_eq!(t.corners, vec![(7, 0, 10.0), (7, 9, 10.0)]);
+        let t = read("interpolateboundary 1/0/0 2").unwrap();
+        assert_eq!(t.boundary, Some((7, BoundaryRule::EdgeOnly)));
+        let t = read("creasemethod 0/0/1 chaikin").unwrap();
+        assert!(t
+            .ignored_warning()
+            .unwrap()
+            .contains("`creasemethod` ×1 (first at line 7)"));
+    }
+
+    #[test]
+    fn refuses_what_cannot_be_meant() {
+        for (line, needle) in [
+            ("crease 2/1/0 1 2", "has 2"),
+            ("crease 2/1/0 1 x 3", "not an integer"),
+            ("crease 3/1/0 1 2 3 4", "pairs"),
+            ("crease 2/1/0 1 10 3", "vertex 10 out of range"),
+            ("crease 2/1/0 -1 2 3", "out of range"),
+            ("crease 2/1/0 1 2 NaN", "≥ 0"),
+            ("crease 2/1/0 1 2 -1", "≥ 0"),
+            ("crease 4/3/0 1 2 3 4 1 2 3", "3 sharpness values for 2"),
+            ("crease 2/1/0 4 4 1", "not an edge"),
+            ("corner 1/0/0 3", "sharpness"),
+            ("interpolateboundary 1/0/0 3", "expected 0 (none)"),
+            ("interpolateboundary x/0/0 3", "INTS/FLOATS/STRINGS"),
+            ("crease", "argument counts"),
+        ] {
+            let e = read(line).unwrap_err();
+            assert!(e.contains(needle), "{line}: {e}");
+        }
+        let mut t = Tags::default();
+        t.read(3, &["interpolateboundary", "1/0/0", "1"], 4)
+            .unwrap();
+        let e = t
+            .read(9, &["interpolateboundary", "1/0/0", "0"], 4)
+            .unwrap_err();
+        assert!(e.contains("line 3"), "{e}");
+    }
+}

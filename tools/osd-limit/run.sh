@@ -1,0 +1,55 @@
+#!/bin/sh
+# Regenerates tests/data/osd/*.txt: OpenSubdiv 3.5's limit surface at chosen
+# points of the test cages, which tests/osd_reference.rs compares the cage
+# converter against (so the tests need no OpenSubdiv).
+#
+#   tools/osd-limit/run.sh            # needs g++ and Debian's libosd-dev
+#
+# Each case: NAME MODEL BOUNDARY CREASES SAMPLES
+#   BOUNDARY  none | edge-only | edge-and-corner | tag (the file's own tag,
+#             else the converter's default, edge-and-corner)
+#   CREASES   keep, or a number every `t crease` sharpness is replaced by
+#   SAMPLES   grid (5x5 per face, edges included), nine (3x3), four (see
+#             osd_limit.cpp)
+# The case line is written as the file's first line; the test reads it back.
+set -eu
+root=$(cd "$(dirname "$0")/../.." && pwd)
+tool=$(mktemp -d)
+trap 'rm -rf "$tool"' EXIT
+g++ -O2 -std=c++17 -o "$tool/osd_limit" "$root/tools/osd-limit/osd_limit.cpp" -losdCPU
+out="$root/tests/data/osd"
+mkdir -p "$out"
+
+run() {
+    name=$1 model=$2 boundary=$3 creases=$4 samples=$5
+    src="$root/$model"
+    if [ "$creases" != keep ]; then
+        # Same rewrite as the test: the last word of each crease line.
+        awk -v s="$creases" '$1 == "t" && $2 == "crease" { $NF = s } { print }' "$src" > "$tool/cage.obj"
+        src="$tool/cage.obj"
+    fi
+    opt=
+    if [ "$boundary" != tag ]; then opt="--boundary $boundary"; else opt="--boundary edge-and-corner"; fi
+    {
+        echo "# case $name model=$model boundary=$boundary creases=$creases samples=$samples"
+        # shellcheck disable=SC2086
+        "$tool/osd_limit" "$src" $opt --samples "$samples" | grep -v '^#'
+    } > "$out/$name.txt"
+    echo "$out/$name.txt: $(wc -l < "$out/$name.txt") lines"
+}
+
+run torus            scenes/models/catmark_torus.obj          tag             keep grid
+run cube             scenes/models/catmark_cube.obj           tag             keep grid
+run helmet           scenes/models/catmark_helmet.obj         tag             keep grid
+run helmet_sharp     scenes/models/catmark_helmet.obj         tag             10   grid
+run xord_interior    scenes/models/catmark_xord_interior.obj  tag             keep grid
+run pole64           scenes/models/catmark_pole64.obj         tag             keep nine
+run pawn             scenes/models/catmark_pawn.obj           tag             keep four
+run car              scenes/models/catmark_car.obj            tag             keep four
+run car_sharp        scenes/models/catmark_car.obj            tag             10   four
+run grid_crease      tests/data/cages/grid_crease.obj         edge-and-corner keep grid
+run grid_crease_edge tests/data/cages/grid_crease.obj         edge-only       keep grid
+run grid_crease_none tests/data/cages/grid_crease.obj         none            keep grid
+run grid_semi        tests/data/cages/grid_semi.obj           tag             keep grid
+run book             tests/data/cages/book.obj                edge-and-corner keep grid
+run cubes_touching   tests/data/cages/cubes_touching.obj      edge-and-corner keep grid
