@@ -208,6 +208,9 @@ impl Renderer {
         if options == self.options {
             return Ok(());
         }
+        // Methods are remade below, so frames in flight can no longer be
+        // finished by the method that recorded them.
+        self.forget_frames();
         if options.samples != self.options.samples {
             return self.set_samples(options);
         }
@@ -254,6 +257,14 @@ impl Renderer {
         self.shaders.samples = self.target.samples();
         self.options = options;
         self.set_method(name)
+    }
+
+    /// Drops the figures of the frames not yet collected: their tickets
+    /// then get [`RenderError::Request`] from `collect`.
+    fn forget_frames(&mut self) {
+        for data in &mut self.slots {
+            data.frame = None;
+        }
     }
 
     /// Resizes the draw target (the old one is freed after the frames that
@@ -411,7 +422,9 @@ impl Renderer {
         let slot = ticket.slot;
         let Some((method, serial)) = self.slots[slot].frame else {
             return Err(RenderError::Request(
-                "that frame was already collected or overwritten".into(),
+                "that frame's figures are gone: it was already collected, or the \
+                 methods were remade since"
+                    .into(),
             ));
         };
         if serial != ticket.serial {

@@ -116,6 +116,20 @@ fn switching_reuses_scene_shaders_and_methods() {
         patches,
         "the scene was uploaded again"
     );
+
+    // A frame in flight when the methods are remade is refused, never
+    // finished by whichever method took its place in the list.
+    r.set_method("subdiv").unwrap();
+    let t = r.submit(&views[0]).unwrap();
+    r.set_options(MethodOptions {
+        draw: DrawPath::Fallback,
+        grid: 4,
+        ..options
+    })
+    .unwrap();
+    let err = r.collect(t).err().unwrap();
+    assert!(err.to_string().contains("remade"), "{err}");
+    assert_eq!(r.method().draw_path(), "fallback");
     gpu.finish();
 }
 
