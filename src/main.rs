@@ -18,6 +18,7 @@ use bezier_subdiv::vk::DeviceSelector;
 /// decision.
 ///
 /// `render` draws one frame offscreen to a PNG with its statistics as JSON;
+/// `view` opens a window to fly around and change everything live;
 /// `validate` checks the GPU against the CPU reference and looks for holes;
 /// `stats` prints the CPU reference's figures; `import` converts models;
 /// `info` lists the Vulkan devices.
@@ -94,6 +95,41 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         debug_dir: Option<PathBuf>,
     },
+    /// Open a window on a scene: fly around it, change the method, ε, λ
+    /// and the view live, and watch the GPU's figures.
+    ///
+    /// Mouse: left drag orbits, right drag looks around, the wheel zooms.
+    /// Keys: W A S D (and Q E) fly, R resets the camera, P plays or pauses
+    /// the scene's camera path, F12 saves a screenshot (the rendered frame
+    /// without the overlay, with the same stats JSON as `render`; to
+    /// --screenshot, else out/<scene>-view-<k>.png), Tab hides the
+    /// overlay, Escape quits. The overlay switches method, draw path, ε, λ,
+    /// l_max, culling, wedges, the view (shaded, wireframe, depth heat map,
+    /// wedges, normals) and MSAA, and computes FLIP against the ground
+    /// truth on demand. Needs a display (X11); `xvfb-run -a` gives one.
+    View {
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Shading at start (changed live in the overlay).
+        #[arg(long, value_enum, default_value = "normal")]
+        shade: Shade,
+        /// on: wait for vertical blank (FIFO); off: present as fast as
+        /// possible (mailbox or immediate where the display offers them).
+        #[arg(long, value_name = "on|off", default_value = "on", value_parser = parse_on_off)]
+        vsync: bool,
+        /// Close after N presented frames (scripted captures); with
+        /// --screenshot the last one is saved.
+        #[arg(long, value_name = "N")]
+        frames: Option<u64>,
+        /// Where screenshots go (F12, and the end of --frames): a PNG, with
+        /// its stats beside it as .json.
+        #[arg(long, value_name = "FILE.png")]
+        screenshot: Option<PathBuf>,
+        /// With --frames: resize the window to WxH halfway through (checks
+        /// the swapchain's remaking; the screenshot is at the new size).
+        #[arg(long, value_name = "WxH", value_parser = parse_size)]
+        resize: Option<(u32, u32)>,
+    },
     /// List the Vulkan devices and what they support.
     Info {
         /// Also enable the Khronos validation layer (checks it is installed).
@@ -133,9 +169,10 @@ struct ViewArgs {
     /// (default: the scene's, else 0.5).
     #[arg(long, value_name = "L")]
     lambda: Option<f64>,
-    /// Image size; ε is measured in its pixels.
-    #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
-    size: (u32, u32),
+    /// Image size; ε is measured in its pixels (default 1920x1080, the
+    /// paper's; view: the window's first size, default 1280x720).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    size: Option<(u32, u32)>,
 }
 
 /// Flags shared by the commands that render.
@@ -167,10 +204,11 @@ struct FrameArgs {
     /// per level).
     #[arg(long, value_name = "D", default_value_t = bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH)]
     max_depth: u32,
-    /// Samples per pixel: 1 (no anti-aliasing), 2, 4 or 8. validate's
-    /// oracle comparisons and hole test run single-sampled whatever this is.
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    msaa: u32,
+    /// Samples per pixel: 1 (no anti-aliasing), 2, 4 or 8 (default 1;
+    /// view: 4). validate's oracle comparisons and hole test run
+    /// single-sampled whatever this is.
+    #[arg(long, value_name = "N")]
+    msaa: Option<u32>,
     /// subdiv: persistent workgroups to launch (default: about what the
     /// device keeps resident), for profiling.
     #[arg(long, value_name = "N")]
@@ -183,22 +221,36 @@ struct FrameArgs {
     vk_validation: bool,
 }
 
+/// Image size of render, validate and stats when --size is not given.
+const IMAGE_SIZE: (u32, u32) = (1920, 1080);
+/// The window's first size in view.
+const WINDOW_SIZE: (u32, u32) = (1280, 720);
+
 impl FrameArgs {
-    fn request(&self) -> GpuRequest {
+    /// The request, with `size` and `msaa` where they were not given.
+    fn request(&self, size: (u32, u32), msaa: u32) -> GpuRequest {
         GpuRequest {
             scene: resolve_scene(Some(&self.view.scene)),
             method: self.method.clone(),
             eps: self.view.eps,
             lambda: self.view.lambda,
-            size: self.view.size,
+            size: self.view.size.unwrap_or(size),
             draw: self.draw,
             grid: self.grid,
             max_depth: self.max_depth,
             groups: self.groups,
-            msaa: self.msaa,
+            msaa: self.msaa.unwrap_or(msaa),
             device: self.device.clone(),
             validation: self.vk_validation,
         }
+    }
+}
+
+fn parse_on_off(s: &str) -> Result<bool, String> {
+    match s {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("expected on or off, got `{s}`")),
     }
 }
 
@@ -227,7 +279,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             args.frame = frame;
             args.eps = view.eps;
             args.lambda = view.lambda;
-            args.size = view.size;
+            args.size = view.size.unwrap_or(IMAGE_SIZE);
             args.preview = preview;
             args.preview_shade = preview_shade;
             let report = commands::stats::run(&args)?;
@@ -250,7 +302,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         } => {
             let args = RenderArgs {
                 frame: frame.frame.unwrap_or(0),
-                gpu: frame.request(),
+                gpu: frame.request(IMAGE_SIZE, 1),
                 shade,
                 out,
                 repeat,
@@ -265,7 +317,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         } => {
             let args = ValidateArgs {
                 frame: frame.frame,
-                gpu: frame.request(),
+                gpu: frame.request(IMAGE_SIZE, 1),
                 skip_holes: no_holes,
                 debug_dir,
             };
@@ -276,6 +328,26 @@ fn run(command: Command) -> anyhow::Result<()> {
             } else {
                 Err(anyhow::anyhow!("validation failed"))
             }
+        }
+        Command::View {
+            frame,
+            shade,
+            vsync,
+            frames,
+            screenshot,
+            resize,
+        } => {
+            let args = bezier_subdiv::app::ViewArgs {
+                frame: frame.frame.unwrap_or(0),
+                gpu: frame.request(WINDOW_SIZE, 4),
+                shade,
+                vsync,
+                frames,
+                screenshot,
+                resize,
+            };
+            print!("{}", bezier_subdiv::app::run(&args)?);
+            Ok(())
         }
         Command::Info { vk_validation } => {
             print!("{}", commands::info::run(vk_validation)?);

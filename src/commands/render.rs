@@ -223,7 +223,7 @@ fn add_timing(stats: &mut Value, t: &Timing) {
 }
 
 /// Writes the image and its stats as one set: both appear or neither.
-fn write_outputs(
+pub(crate) fn write_outputs(
     png: &Path,
     json_path: &Path,
     (w, h): (u32, u32),
@@ -249,7 +249,7 @@ fn write_outputs(
 
 /// The stats file: the run's setup, the common keys, GPU time per pass,
 /// memory per purpose, and the method's own figures under `method_stats`.
-fn stats_json(
+pub(crate) fn stats_json(
     args: &RenderArgs,
     scene: &Scene,
     eps: f64,
@@ -286,6 +286,7 @@ fn stats_json(
         "method": report.method,
         "draw_path": report.draw_path,
         "shade": args.shade.name(),
+        "msaa": renderer.target().samples().as_raw(),
         "eps": eps,
         "lambda": lambda,
         "l_max": crate::constants::L_MAX,

@@ -49,16 +49,20 @@ pub fn flip(reference: &[u8], test: &[u8], width: u32, height: u32) -> Option<Fl
 }
 
 impl FlipResult {
-    /// The error map as a PNG heat map (FLIP's magma colour map: black is
-    /// no difference), written atomically to `path`.
-    pub fn save_heat_map(&self, path: &Path) -> Result<(), ImageError> {
+    /// The error map as RGBA8 rows in FLIP's magma colour map (black is no
+    /// difference).
+    pub fn heat_map_rgba(&self) -> Vec<u8> {
         let map = nv_flip::FlipImageFloat::with_data(self.width, self.height, &self.errors);
         let rgb = map.apply_color_lut(&nv_flip::magma_lut()).to_vec();
-        let rgba: Vec<u8> = rgb
-            .chunks_exact(3)
+        rgb.chunks_exact(3)
             .flat_map(|p| [p[0], p[1], p[2], 255])
-            .collect();
-        write_png(path, self.width, self.height, &rgba)
+            .collect()
+    }
+
+    /// The heat map ([`FlipResult::heat_map_rgba`]) as a PNG, written
+    /// atomically to `path`.
+    pub fn save_heat_map(&self, path: &Path) -> Result<(), ImageError> {
+        write_png(path, self.width, self.height, &self.heat_map_rgba())
     }
 }
 

@@ -1,0 +1,299 @@
+//! The overlay's content: the live controls (method, draw path, ε, λ,
+//! l_max, culling, view, anti-aliasing, the ground truth's grid) and the
+//! live statistics of the frames the GPU finished.
+
+use crate::commands::render::Shade;
+use crate::draw::DrawPath;
+use crate::methods::METHODS;
+use crate::renderer::FrameReport;
+
+/// What the user asked for with a button or key this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Save the image and its stats (F12).
+    Screenshot,
+    /// Compute FLIP of this view against the ground truth.
+    Flip,
+    /// Back to the scene camera (R).
+    ResetCamera,
+    /// Play or pause the camera path (P).
+    TogglePath,
+    /// Close the FLIP window.
+    CloseFlip,
+}
+
+/// The settings the user changes live.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Controls {
+    /// Registry name of the method.
+    pub method: String,
+    /// Draw path of the ready-list methods.
+    pub draw: DrawPath,
+    /// Pixel tolerance ε.
+    pub eps: f64,
+    /// Blend λ.
+    pub lambda: f64,
+    /// Deepest subdivision level.
+    pub l_max: u32,
+    /// Frustum culling on.
+    pub frustum: bool,
+    /// Back-face culling on.
+    pub backface: bool,
+    /// Crack-closing wedges on.
+    pub wedges: bool,
+    /// How to shade.
+    pub shade: Shade,
+    /// Samples per pixel.
+    pub msaa: u32,
+    /// The ground truth's grid cells per side.
+    pub grid: u32,
+}
+
+/// Figures of the finished frames, smoothed where they jitter.
+#[derive(Clone, Debug, Default)]
+pub struct LiveStats {
+    /// GPU milliseconds per scope, exponentially smoothed, in the order
+    /// the method timed them ("frame" first).
+    pub gpu_ms: Vec<(String, f64)>,
+    /// Host frame time, smoothed, in milliseconds.
+    pub frame_ms: f64,
+    /// The last finished frame's report.
+    pub last: Option<FrameReport>,
+    /// GPU memory in bytes, by purpose.
+    pub memory: Vec<(&'static str, u64)>,
+    /// Device name.
+    pub device: String,
+    /// The last thing worth telling the user (a refused setting, a saved
+    /// file).
+    pub notice: Option<String>,
+}
+
+impl LiveStats {
+    /// Folds in a finished frame.
+    pub fn add(&mut self, report: FrameReport) {
+        for (name, ms) in &report.gpu_ms {
+            match self.gpu_ms.iter_mut().find(|(n, _)| n == name) {
+                Some((_, e)) => *e += 0.1 * (ms - *e),
+                None => self.gpu_ms.push((name.clone(), *ms)),
+            }
+        }
+        self.last = Some(report);
+    }
+
+    /// Folds in the host's time for one frame.
+    pub fn add_frame_time(&mut self, ms: f64) {
+        if self.frame_ms == 0.0 {
+            self.frame_ms = ms;
+        }
+        self.frame_ms += 0.1 * (ms - self.frame_ms);
+    }
+}
+
+/// The result of the last FLIP request, shown in its own window.
+pub struct FlipView {
+    /// Mean FLIP against the ground truth.
+    pub mean: f64,
+    /// The heat map, uploaded.
+    pub texture: egui::TextureHandle,
+    /// Where the heat map was written.
+    pub file: String,
+}
+
+const SHADES: [(Shade, &str); 5] = [
+    (Shade::Normal, "shaded"),
+    (Shade::Wireframe, "wireframe"),
+    (Shade::Depth, "depth heat map"),
+    (Shade::Wedges, "wedges"),
+    (Shade::Normals, "normals"),
+];
+
+impl Controls {
+    /// Lays out the panel; returns the buttons pressed.
+    pub fn ui(
+        &mut self,
+        ctx: &egui::Context,
+        stats: &LiveStats,
+        flip: Option<&FlipView>,
+        has_mesh: bool,
+    ) -> Vec<Action> {
+        let mut actions = Vec::new();
+        // Scrolls rather than running off a small window.
+        let height = ctx.content_rect().height() - 24.0;
+        egui::Window::new("bezier-subdiv")
+            .default_pos([12.0, 12.0])
+            .auto_sized()
+            .show(ctx, |ui| {
+                egui::ScrollArea::vertical()
+                    .max_height((height - 40.0).max(80.0))
+                    .show(ui, |ui| {
+                        actions.extend(self.panel_ui(ui, stats, has_mesh));
+                    });
+            });
+        if let Some(f) = flip {
+            let mut open = true;
+            egui::Window::new("FLIP against the ground truth")
+                .default_pos([372.0, 12.0])
+                .open(&mut open)
+                .show(ctx, |ui| {
+                    ui.label(format!("mean {:.5}  ({})", f.mean, f.file));
+                    let size = f.texture.size_vec2();
+                    let scale = (480.0 / size.x).min(1.0);
+                    ui.image((f.texture.id(), size * scale));
+                });
+            if !open {
+                actions.push(Action::CloseFlip);
+            }
+        }
+        actions
+    }
+
+    /// The panel's content; returns the buttons pressed.
+    fn panel_ui(&mut self, ui: &mut egui::Ui, stats: &LiveStats, has_mesh: bool) -> Vec<Action> {
+        let mut actions = Vec::new();
+        // Auto-sized: the wrapped rows would otherwise take the screen.
+        ui.set_max_width(330.0);
+        self.method_ui(ui, has_mesh);
+        ui.separator();
+        self.criterion_ui(ui);
+        ui.separator();
+        self.view_ui(ui);
+        ui.separator();
+        ui.horizontal(|ui| {
+            if ui.button("Screenshot (F12)").clicked() {
+                actions.push(Action::Screenshot);
+            }
+            if ui.button("FLIP vs ground truth").clicked() {
+                actions.push(Action::Flip);
+            }
+        });
+        ui.horizontal(|ui| {
+            if ui.button("Reset camera (R)").clicked() {
+                actions.push(Action::ResetCamera);
+            }
+            if ui.button("Play/pause path (P)").clicked() {
+                actions.push(Action::TogglePath);
+            }
+        });
+        ui.separator();
+        egui::CollapsingHeader::new("statistics")
+            .default_open(true)
+            .show(ui, |ui| stats_ui(ui, stats));
+        actions
+    }
+
+    fn method_ui(&mut self, ui: &mut egui::Ui, has_mesh: bool) {
+        egui::ComboBox::from_label("method")
+            .selected_text(self.method.clone())
+            .show_ui(ui, |ui| {
+                for m in METHODS {
+                    ui.selectable_value(&mut self.method, m.name.to_string(), m.name)
+                        .on_hover_text(m.about);
+                }
+            });
+        let subdivides = self.method != crate::methods::ground_truth::INFO.name;
+        ui.add_enabled_ui(subdivides, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("draw path");
+                ui.add_enabled_ui(has_mesh, |ui| {
+                    ui.radio_value(&mut self.draw, DrawPath::Mesh, "mesh");
+                });
+                ui.radio_value(&mut self.draw, DrawPath::Fallback, "fallback");
+            })
+        });
+        if self.method == "ground-truth" {
+            let mut exp = self.grid.max(1).ilog2();
+            ui.add(egui::Slider::new(&mut exp, 0..=6).text("grid (log2)"));
+            self.grid = 1 << exp;
+        }
+    }
+
+    fn criterion_ui(&mut self, ui: &mut egui::Ui) {
+        // The ground truth is a fixed grid: no criterion, no depths, no
+        // wedges.
+        let subdivides = self.method != crate::methods::ground_truth::INFO.name;
+        ui.add_enabled_ui(subdivides, |ui| {
+            ui.add(
+                egui::Slider::new(&mut self.eps, 0.1..=16.0)
+                    .logarithmic(true)
+                    .text("ε (pixels)"),
+            );
+            ui.add(egui::Slider::new(&mut self.lambda, 0.0..=1.0).text("λ"));
+            ui.add(egui::Slider::new(&mut self.l_max, 1..=crate::constants::L_MAX).text("l_max"));
+        });
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.frustum, "frustum cull");
+            ui.checkbox(&mut self.backface, "back-face cull");
+            ui.add_enabled_ui(subdivides, |ui| ui.checkbox(&mut self.wedges, "wedges"));
+        });
+    }
+
+    fn view_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            for (shade, name) in SHADES {
+                ui.radio_value(&mut self.shade, shade, name);
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("MSAA");
+            for n in [1, 2, 4, 8] {
+                ui.radio_value(&mut self.msaa, n, format!("{n}x"));
+            }
+        });
+    }
+}
+
+fn stats_ui(ui: &mut egui::Ui, stats: &LiveStats) {
+    ui.label(format!(
+        "{}  ·  {:.1} ms/frame ({:.0} fps)",
+        stats.device,
+        stats.frame_ms,
+        1000.0 / stats.frame_ms.max(1e-3)
+    ));
+    egui::Grid::new("gpu").num_columns(2).show(ui, |ui| {
+        for (name, ms) in &stats.gpu_ms {
+            ui.label(name);
+            ui.label(format!("{ms:.3} ms"));
+            ui.end_row();
+        }
+    });
+    if let Some(n) = &stats.notice {
+        ui.label(n);
+    }
+    let Some(r) = &stats.last else {
+        return;
+    };
+    let s = &r.stats;
+    ui.label(format!(
+        "{} ({} path): {} triangles",
+        r.method,
+        r.draw_path,
+        crate::commands::thousands(s.triangles)
+    ));
+    if let Some(w) = s.get_u64("wedge_triangles") {
+        ui.label(format!(
+            "wedges {:.1} %, ready quads {}",
+            100.0 * w as f64 / s.triangles.max(1) as f64,
+            crate::commands::thousands(s.get_u64("ready_quads").unwrap_or(0))
+        ));
+    }
+    if let Some(peak) = s.get_u64("queue_peak_items") {
+        ui.label(format!(
+            "queue peak {}, spills {}",
+            crate::commands::thousands(peak),
+            s.get_u64("queue_spills").unwrap_or(0)
+        ));
+    }
+    let total: u64 = stats.memory.iter().map(|(_, b)| b).sum();
+    ui.label(format!(
+        "GPU memory {:.1} MiB",
+        total as f64 / (1 << 20) as f64
+    ))
+    .on_hover_text(
+        stats
+            .memory
+            .iter()
+            .map(|(k, b)| format!("{k}: {:.2} MiB", *b as f64 / (1 << 20) as f64))
+            .collect::<Vec<_>>()
+            .join("\n"),
+    );
+}

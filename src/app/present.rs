@@ -1,0 +1,290 @@
+//! Getting a frame to the window: acquire a swapchain image, blit the
+//! renderer's (resolved) target into it, draw the overlay on top, present.
+//! Its own ring of frame slots, so the host prepares the next frame while
+//! the GPU presents this one; an image-acquired semaphore per slot, a
+//! rendering-done semaphore per swapchain image.
+
+use std::time::Duration;
+
+use ash::vk;
+
+use crate::gpu::DrawTarget;
+use crate::vk::swapchain::color_range;
+use crate::vk::{Acquired, Context, FrameRing, PresentPacing, Swapchain, VkError, VkResult};
+
+/// Frames the presenter keeps in flight.
+pub const PRESENT_SLOTS: usize = 2;
+
+/// What one presented frame needs recorded into it besides the blit.
+pub trait Overlay {
+    /// Records the overlay into `cmd` inside rendering on the swapchain
+    /// image (colour attachment, loaded).
+    fn record(
+        &mut self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        extent: vk::Extent2D,
+    ) -> VkResult<()>;
+}
+
+/// The presenter.
+pub struct Presenter {
+    // Dropped first: waits for the frames still presenting.
+    ring: FrameRing,
+    acquired: Vec<vk::Semaphore>,
+    swapchain: Option<Swapchain>,
+    pacing: PresentPacing,
+    /// The swapchain must be remade before the next frame.
+    stale: bool,
+    ctx: std::sync::Arc<Context>,
+}
+
+impl Presenter {
+    /// A presenter for the context's window.
+    pub fn new(ctx: std::sync::Arc<Context>, pacing: PresentPacing) -> VkResult<Self> {
+        let ring = FrameRing::new(&ctx, PRESENT_SLOTS)?;
+        let mut acquired = Vec::new();
+        for i in 0..PRESENT_SLOTS {
+            let s = unsafe {
+                ctx.device()
+                    .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+            }
+            .map_err(|result| VkError::Call {
+                context: "vkCreateSemaphore(image acquired)".into(),
+                result,
+            })?;
+            ctx.set_name(s, &format!("image acquired {i}"));
+            acquired.push(s);
+        }
+        Ok(Self {
+            ring,
+            acquired,
+            swapchain: None,
+            pacing,
+            stale: true,
+            ctx,
+        })
+    }
+
+    /// The swapchain's format (after the first [`Presenter::prepare`]).
+    pub fn format(&self) -> Option<vk::Format> {
+        self.swapchain.as_ref().map(Swapchain::format)
+    }
+
+    /// The swapchain's size (after the first [`Presenter::prepare`]).
+    pub fn extent(&self) -> Option<(u32, u32)> {
+        self.swapchain.as_ref().map(|s| {
+            let e = s.extent();
+            (e.width, e.height)
+        })
+    }
+
+    /// Marks the swapchain for remaking (the window was resized).
+    pub fn invalidate(&mut self) {
+        self.stale = true;
+    }
+
+    /// Makes the swapchain fit `size` if it is stale; false while the
+    /// window has no area (minimised).
+    pub fn prepare(&mut self, size: (u32, u32)) -> VkResult<bool> {
+        if size.0 == 0 || size.1 == 0 {
+            return Ok(false);
+        }
+        let fits = self.swapchain.as_ref().is_some_and(|s| {
+            let e = s.extent();
+            (e.width, e.height) == size
+        });
+        if self.stale || !fits {
+            // Nothing may still use the old swapchain's images.
+            self.ring.wait_all()?;
+            let new = Swapchain::new(&self.ctx, size, self.pacing, self.swapchain.as_ref())?;
+            self.swapchain = new;
+            self.stale = false;
+        }
+        Ok(self.swapchain.is_some())
+    }
+
+    /// Presents `target` (left in `DrawTarget::FINAL_LAYOUT` by the frame
+    /// submitted before) with `overlay` on top. Returns false when the frame
+    /// was dropped because the swapchain must be remade.
+    pub fn present(&mut self, target: &DrawTarget, overlay: &mut dyn Overlay) -> VkResult<bool> {
+        let Some(chain) = self.swapchain.as_ref() else {
+            return Ok(false);
+        };
+        let slot = self.ring.next_slot();
+        // The slot's previous frame has finished with its semaphore.
+        self.ring.wait(slot)?;
+        let ready = self.acquired[slot];
+        let index = match chain.acquire(ready, Duration::from_secs(10))? {
+            Acquired::Image { index, suboptimal } => {
+                self.stale |= suboptimal;
+                index
+            }
+            Acquired::OutOfDate => {
+                self.stale = true;
+                return Ok(false);
+            }
+        };
+        let (slot, cmd) = self.ring.begin()?;
+        let recorded = record(&self.ctx, cmd, chain, index, target, overlay);
+        if let Err(e) = recorded {
+            self.ring.abandon(slot);
+            return Err(e);
+        }
+        let waits = [(
+            ready,
+            vk::PipelineStageFlags2::ALL_TRANSFER
+                | vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        )];
+        let signals = [chain.render_done(index)];
+        self.ring
+            .submit_with(&self.ctx, slot, "present", &waits, &signals)?;
+        if !chain.present(&self.ctx, index)? {
+            self.stale = true;
+        }
+        Ok(true)
+    }
+
+    /// Waits for every frame still presenting.
+    pub fn wait_idle(&mut self) -> VkResult<()> {
+        self.ring.wait_all()
+    }
+}
+
+impl Drop for Presenter {
+    fn drop(&mut self) {
+        let _ = self.ring.wait_all();
+        if self.ctx.is_hung() {
+            return;
+        }
+        for &s in &self.acquired {
+            unsafe { self.ctx.device().destroy_semaphore(s, None) };
+        }
+    }
+}
+
+/// An image barrier on a swapchain image.
+#[allow(clippy::too_many_arguments)]
+fn transition(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    from: vk::ImageLayout,
+    to: vk::ImageLayout,
+    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+) {
+    let barrier = [vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)
+        .old_layout(from)
+        .new_layout(to)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(color_range())];
+    let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+    unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
+}
+
+/// Records the blit of `target` into swapchain image `index`, the overlay,
+/// and the transition for presenting.
+fn record(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    chain: &Swapchain,
+    index: u32,
+    target: &DrawTarget,
+    overlay: &mut dyn Overlay,
+) -> VkResult<()> {
+    let image = chain.image(index);
+    let transfer = vk::PipelineStageFlags2::ALL_TRANSFER;
+    let color_out = vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT;
+    // The target was written by the renderer's frame, submitted earlier:
+    // its transfer reads wait for all earlier commands.
+    crate::vk::image_barrier(
+        ctx,
+        cmd,
+        target.color(),
+        DrawTarget::FINAL_LAYOUT,
+        DrawTarget::FINAL_LAYOUT,
+        crate::vk::Access::ALL,
+        crate::vk::Access::TRANSFER_READ,
+    );
+    transition(
+        ctx,
+        cmd,
+        image,
+        vk::ImageLayout::UNDEFINED,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        (transfer | color_out, vk::AccessFlags2::NONE),
+        (transfer, vk::AccessFlags2::TRANSFER_WRITE),
+    );
+    let src = target.extent();
+    let dst = chain.extent();
+    let corner = |e: vk::Extent2D| vk::Offset3D {
+        x: e.width as i32,
+        y: e.height as i32,
+        z: 1,
+    };
+    let layers = vk::ImageSubresourceLayers::default()
+        .aspect_mask(vk::ImageAspectFlags::COLOR)
+        .layer_count(1);
+    let region = [vk::ImageBlit::default()
+        .src_subresource(layers)
+        .src_offsets([vk::Offset3D::default(), corner(src)])
+        .dst_subresource(layers)
+        .dst_offsets([vk::Offset3D::default(), corner(dst)])];
+    unsafe {
+        ctx.device().cmd_blit_image(
+            cmd,
+            target.color().handle(),
+            DrawTarget::FINAL_LAYOUT,
+            image,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &region,
+            vk::Filter::NEAREST,
+        )
+    };
+    let attach = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+    transition(
+        ctx,
+        cmd,
+        image,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        attach,
+        (transfer, vk::AccessFlags2::TRANSFER_WRITE),
+        (
+            color_out,
+            vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        ),
+    );
+    let colors = [vk::RenderingAttachmentInfo::default()
+        .image_view(chain.view(index))
+        .image_layout(attach)
+        .load_op(vk::AttachmentLoadOp::LOAD)
+        .store_op(vk::AttachmentStoreOp::STORE)];
+    let area = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent: dst,
+    };
+    let info = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .color_attachments(&colors);
+    unsafe { ctx.device().cmd_begin_rendering(cmd, &info) };
+    let drawn = overlay.record(ctx, cmd, dst);
+    unsafe { ctx.device().cmd_end_rendering(cmd) };
+    transition(
+        ctx,
+        cmd,
+        image,
+        attach,
+        vk::ImageLayout::PRESENT_SRC_KHR,
+        (color_out, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
+        (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+    );
+    drawn
+}

@@ -1,0 +1,557 @@
+//! One open window: the Vulkan context made for its surface, the renderer,
+//! the presenter and the overlay, and what one frame does.
+//!
+//! A frame: the actions asked for last frame (screenshot, FLIP, camera
+//! reset, path), the camera, the controls applied to the renderer, the
+//! oldest frame in flight collected for the statistics, the new frame
+//! submitted, the overlay laid out and the image presented. Frames stay in
+//! flight across calls: the renderer's slots let the host prepare frame
+//! n+1 while the GPU draws frame n.
+
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{anyhow, Context as _};
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use serde_json::json;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::event_loop::ActiveEventLoop;
+use winit::window::Window;
+
+use super::camera::CameraRig;
+use super::input::{Command, Input};
+use super::overlay::Gui;
+use super::panel::{Action, Controls, FlipView, LiveStats};
+use super::present::Presenter;
+use super::ViewArgs;
+use crate::commands::render::{stats_json, stats_path, write_outputs, RenderArgs};
+use crate::constants::{FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES, L_MAX, SHADE_NORMAL};
+use crate::frame::View;
+use crate::methods::{MethodOptions, RenderError};
+use crate::renderer::{FrameReport, FrameTicket, Renderer, DEFAULT_FRAMES_IN_FLIGHT};
+use crate::scene::camera::Camera;
+use crate::scene::file::{Scene, SceneGeometry};
+use crate::vk::{Context, ContextOptions, PresentPacing, WindowHandles};
+
+/// What the session is made from.
+pub struct Start {
+    /// The command line.
+    pub args: ViewArgs,
+    /// The scene.
+    pub scene: Scene,
+    /// Its patches.
+    pub geo: SceneGeometry,
+    /// Where the camera starts.
+    pub camera: Camera,
+    /// The scene's (or the command line's) ε.
+    pub eps: f64,
+    /// … and λ.
+    pub lambda: f64,
+}
+
+/// Whether the window stays open.
+pub enum Flow {
+    /// Keep going.
+    Continue,
+    /// Close the window.
+    Exit,
+}
+
+/// The open window and everything drawn into it.
+pub struct Session {
+    // Vulkan objects first: fields drop in order, and the window (whose
+    // surface the context owns) must outlive them all.
+    gui: Gui,
+    presenter: Presenter,
+    renderer: Renderer,
+    ctx: Arc<Context>,
+    window: Arc<Window>,
+    args: ViewArgs,
+    scene: Scene,
+    rig: CameraRig,
+    input: Input,
+    controls: Controls,
+    stats: LiveStats,
+    flip: Option<FlipView>,
+    /// Submitted frames not collected yet, oldest first.
+    pending: VecDeque<FrameTicket>,
+    /// The view and camera of the last submitted frame.
+    last: Option<(View, Camera)>,
+    /// The last collected frame was incomplete (the method grew a buffer).
+    last_redone: bool,
+    /// Asked for in the last frame's overlay or by keys.
+    actions: Vec<Action>,
+    show_overlay: bool,
+    clock: Instant,
+    presented: u64,
+    written: Vec<PathBuf>,
+}
+
+impl Session {
+    /// Opens the window and makes the context, renderer, presenter and
+    /// overlay for it.
+    pub fn new(event_loop: &ActiveEventLoop, start: Start) -> anyhow::Result<Self> {
+        let Start {
+            args,
+            scene,
+            geo,
+            camera,
+            eps,
+            lambda,
+        } = start;
+        let (w, h) = args.gpu.size;
+        let attrs = Window::default_attributes()
+            .with_title(format!("bezier-subdiv: {}", scene.name))
+            .with_inner_size(PhysicalSize::new(w, h));
+        let window = Arc::new(
+            event_loop
+                .create_window(attrs)
+                .context("opening the window")?,
+        );
+        let handles = WindowHandles {
+            display: window.display_handle()?.as_raw(),
+            window: window.window_handle()?.as_raw(),
+        };
+        let ctx = Arc::new(Context::new(&ContextOptions {
+            selector: args.gpu.device.clone(),
+            validation: args.gpu.validation,
+            window: Some(handles),
+            ..ContextOptions::default()
+        })?);
+        let size = window.inner_size();
+        let mut request = args.gpu.clone();
+        request.size = (size.width.max(1), size.height.max(1));
+        let renderer = request.renderer(&ctx, &geo)?;
+        let pacing = if args.vsync {
+            PresentPacing::Vsync
+        } else {
+            PresentPacing::Unlimited
+        };
+        let presenter = Presenter::new(Arc::clone(&ctx), pacing)?;
+        let gui = Gui::new(&ctx, &window)?;
+        let controls = Controls {
+            method: renderer.method().name().to_string(),
+            draw: renderer.options().draw,
+            eps,
+            lambda,
+            l_max: L_MAX,
+            frustum: true,
+            backface: true,
+            wedges: true,
+            shade: args.shade,
+            msaa: args.gpu.msaa,
+            grid: args.gpu.grid,
+        };
+        let stats = LiveStats {
+            device: ctx.info().name.clone(),
+            ..LiveStats::default()
+        };
+        Ok(Self {
+            gui,
+            presenter,
+            renderer,
+            ctx,
+            window,
+            args,
+            scene,
+            rig: CameraRig::new(camera),
+            input: Input::default(),
+            controls,
+            stats,
+            flip: None,
+            pending: VecDeque::new(),
+            last: None,
+            last_redone: false,
+            actions: Vec::new(),
+            show_overlay: true,
+            clock: Instant::now(),
+            presented: 0,
+            written: Vec::new(),
+        })
+    }
+
+    /// Whether the window has an area to draw into.
+    pub fn visible(&self) -> bool {
+        let s = self.window.inner_size();
+        s.width > 0 && s.height > 0 && self.window.is_minimized() != Some(true)
+    }
+
+    /// Asks winit for the next frame.
+    pub fn request_redraw(&self) {
+        self.window.request_redraw();
+    }
+
+    /// Handles one window event: egui first, then the camera and keys.
+    pub fn on_window_event(&mut self, event: &WindowEvent) -> anyhow::Result<Flow> {
+        let used = self.gui.on_event(&self.window, event);
+        match event {
+            WindowEvent::CloseRequested => return Ok(Flow::Exit),
+            WindowEvent::Resized(_) | WindowEvent::ScaleFactorChanged { .. } => {
+                self.presenter.invalidate();
+            }
+            WindowEvent::RedrawRequested => return self.frame(),
+            _ => {}
+        }
+        // Releases always reach the camera, so a drag that ends over the
+        // overlay does not stick.
+        let release = matches!(
+            event,
+            WindowEvent::MouseInput {
+                state: ElementState::Released,
+                ..
+            } | WindowEvent::KeyboardInput {
+                event: KeyEvent {
+                    state: ElementState::Released,
+                    ..
+                },
+                ..
+            }
+        );
+        let typing =
+            matches!(event, WindowEvent::KeyboardInput { .. }) && self.gui.wants_keyboard();
+        if (used || typing) && !release {
+            return Ok(Flow::Continue);
+        }
+        let pointer_free = !self.gui.wants_pointer();
+        match self.input.on_event(event, &mut self.rig, pointer_free) {
+            Some(Command::Action(a)) => self.actions.push(a),
+            Some(Command::ToggleOverlay) => self.show_overlay = !self.show_overlay,
+            Some(Command::Quit) => return Ok(Flow::Exit),
+            None => {}
+        }
+        Ok(Flow::Continue)
+    }
+
+    /// Draws and presents one frame.
+    fn frame(&mut self) -> anyhow::Result<Flow> {
+        let now = Instant::now();
+        let dt = (now - self.clock).as_secs_f64().min(0.25);
+        self.clock = now;
+        self.stats.add_frame_time(dt * 1000.0);
+        for action in std::mem::take(&mut self.actions) {
+            self.act(action)?;
+        }
+        let size = self.window.inner_size();
+        if !self.presenter.prepare((size.width, size.height))? {
+            return Ok(Flow::Continue);
+        }
+        let extent = self
+            .presenter
+            .extent()
+            .ok_or_else(|| anyhow!("no swapchain after preparing one"))?;
+        let camera = match self.rig.advance_path(&self.scene, dt) {
+            Some(c) => c,
+            None => {
+                self.rig.fly(self.input.fly_keys(), dt);
+                self.rig.camera()
+            }
+        };
+        self.apply_controls(extent)?;
+        let view = self.view(&camera, extent);
+        self.submit(&view, camera)?;
+        self.lay_out_overlay()?;
+        self.presenter
+            .present(self.renderer.target(), &mut self.gui)?;
+        self.presented += 1;
+        self.scripted()
+    }
+
+    /// The frame's view: the camera, the window's size and the controls.
+    fn view(&self, camera: &Camera, size: (u32, u32)) -> View {
+        let c = &self.controls;
+        let mut view = View::new(camera, size, c.eps, c.lambda, c.shade.code());
+        view.params.l_max = c.l_max;
+        let mut flags = view.params.flags & !(FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL | FLAG_WEDGES);
+        for (on, flag) in [
+            (c.frustum, FLAG_FRUSTUM_CULL),
+            (c.backface, FLAG_BACKFACE_CULL),
+            (c.wedges, FLAG_WEDGES),
+        ] {
+            if on {
+                flags |= flag;
+            }
+        }
+        view.params.flags = flags;
+        view
+    }
+
+    /// Brings the renderer in line with the window's size and the
+    /// controls. A change the device refuses (a sample count it lacks) is
+    /// shown in the overlay and the control set back; a lost device ends
+    /// the session.
+    fn apply_controls(&mut self, size: (u32, u32)) -> anyhow::Result<()> {
+        let c = &self.controls;
+        let wanted = MethodOptions {
+            draw: c.draw,
+            grid: c.grid,
+            samples: c.msaa,
+            ..self.renderer.options().clone()
+        };
+        let resize = self.renderer.target().size() != size;
+        let reconfigure = wanted != *self.renderer.options();
+        let switch = c.method != self.renderer.method().name();
+        if !(resize || reconfigure || switch) {
+            return Ok(());
+        }
+        // Frames in flight belong to the old setup, and the presenter may
+        // still be copying the old target.
+        self.drain()?;
+        self.presenter.wait_idle()?;
+        self.stats.gpu_ms.clear();
+        if resize {
+            self.renderer.set_size(size)?;
+        }
+        let method = self.controls.method.clone();
+        let changed = (if reconfigure {
+            self.renderer.set_options(wanted)
+        } else {
+            Ok(())
+        })
+        .and_then(|()| self.renderer.set_method(&method));
+        if let Err(e) = changed {
+            if self.ctx.is_hung() {
+                return Err(e.into());
+            }
+            self.stats.notice = Some(e.to_string());
+            let o = self.renderer.options();
+            self.controls.draw = o.draw;
+            self.controls.grid = o.grid;
+            self.controls.msaa = o.samples;
+            self.controls.method = self.renderer.method().name().to_string();
+        }
+        Ok(())
+    }
+
+    /// Collects the oldest frames until a slot is free, then submits.
+    fn submit(&mut self, view: &View, camera: Camera) -> anyhow::Result<()> {
+        while self.pending.len() >= DEFAULT_FRAMES_IN_FLIGHT {
+            self.collect_oldest()?;
+        }
+        self.pending.push_back(self.renderer.submit(view)?);
+        self.last = Some((*view, camera));
+        Ok(())
+    }
+
+    fn collect_oldest(&mut self) -> anyhow::Result<()> {
+        let Some(ticket) = self.pending.pop_front() else {
+            return Ok(());
+        };
+        let (report, redone) = self.renderer.collect(ticket)?;
+        self.last_redone = redone;
+        if !redone {
+            self.stats.add(report);
+        }
+        self.stats.memory = self.renderer.memory();
+        Ok(())
+    }
+
+    /// Collects every frame in flight.
+    fn drain(&mut self) -> anyhow::Result<()> {
+        while !self.pending.is_empty() {
+            self.collect_oldest()?;
+        }
+        Ok(())
+    }
+
+    fn lay_out_overlay(&mut self) -> anyhow::Result<()> {
+        let format = self
+            .presenter
+            .format()
+            .ok_or_else(|| anyhow!("no swapchain format"))?;
+        let has_mesh = self.ctx.info().has_mesh_shader();
+        let Self {
+            gui,
+            controls,
+            stats,
+            flip,
+            window,
+            ctx,
+            show_overlay,
+            actions,
+            ..
+        } = self;
+        gui.run(ctx, window, format, |c| {
+            if *show_overlay {
+                actions.extend(controls.ui(c, stats, flip.as_ref(), has_mesh));
+            }
+        })?;
+        Ok(())
+    }
+
+    fn act(&mut self, action: Action) -> anyhow::Result<()> {
+        match action {
+            Action::ResetCamera => self.rig.reset(),
+            Action::TogglePath => self.rig.toggle_path(),
+            Action::Screenshot => {
+                let path = match &self.args.screenshot {
+                    Some(p) => p.clone(),
+                    None => self.free_path("view")?,
+                };
+                self.screenshot(&path)?;
+            }
+            Action::Flip => self.flip()?,
+            Action::CloseFlip => self.flip = None,
+        }
+        Ok(())
+    }
+
+    /// `out/<scene>-<what>-<k>.png` for the first k not taken.
+    fn free_path(&self, what: &str) -> anyhow::Result<PathBuf> {
+        let dir = PathBuf::from("out");
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        (1..)
+            .map(|k| dir.join(format!("{}-{what}-{k}.png", self.scene.name)))
+            .find(|p| !p.exists())
+            .ok_or_else(|| anyhow!("no free file name in {}", dir.display()))
+    }
+
+    /// Saves the last frame (without the overlay) and the same stats JSON
+    /// as `render`, plus the camera and the live controls.
+    fn screenshot(&mut self, path: &std::path::Path) -> anyhow::Result<()> {
+        self.drain()?;
+        let Some((view, camera)) = self.last else {
+            self.stats.notice = Some("nothing drawn yet to save".into());
+            return Ok(());
+        };
+        let report = match (&self.stats.last, self.last_redone) {
+            (Some(r), false) => r.clone(),
+            // The last frame was incomplete: draw it again, complete.
+            _ => self.renderer.render(&view)?,
+        };
+        let rgba = self.renderer.read_image()?;
+        let size = self.renderer.target().size();
+        let mut stats = stats_json(
+            &self.render_args(path, size, &report),
+            &self.scene,
+            self.controls.eps,
+            self.controls.lambda,
+            &self.renderer,
+            &report,
+        );
+        let c = &self.controls;
+        stats["source"] = json!("view");
+        stats["frame"] = serde_json::Value::Null;
+        stats["l_max"] = json!(c.l_max);
+        stats["culling"] = json!({"frustum": c.frustum, "backface": c.backface});
+        stats["wedges"] = json!(c.wedges);
+        stats["camera"] = json!({
+            "position": camera.position,
+            "target": camera.target,
+            "up": camera.up,
+            "fov_y_deg": camera.fov_y_deg,
+            "near": camera.near,
+            "far": camera.far,
+        });
+        write_outputs(path, &stats_path(path), size, &rgba, &stats)?;
+        self.stats.notice = Some(format!("saved {}", path.display()));
+        self.written.push(path.to_path_buf());
+        Ok(())
+    }
+
+    /// The `render` request the live state amounts to (for the stats JSON).
+    fn render_args(
+        &self,
+        path: &std::path::Path,
+        size: (u32, u32),
+        report: &FrameReport,
+    ) -> RenderArgs {
+        let c = &self.controls;
+        let mut gpu = self.args.gpu.clone();
+        gpu.method = report.method.to_string();
+        gpu.eps = Some(c.eps);
+        gpu.lambda = Some(c.lambda);
+        gpu.size = size;
+        gpu.grid = c.grid;
+        gpu.msaa = c.msaa;
+        RenderArgs {
+            gpu,
+            frame: self.args.frame,
+            shade: c.shade,
+            out: Some(path.to_path_buf()),
+            repeat: 0,
+        }
+    }
+
+    /// FLIP of the last view (lit) against the ground truth, shown in the
+    /// overlay and written as a heat map.
+    fn flip(&mut self) -> anyhow::Result<()> {
+        let Some((mut view, _)) = self.last else {
+            return Ok(());
+        };
+        self.drain()?;
+        // The ground truth is drawn into the target the presenter copies.
+        self.presenter.wait_idle()?;
+        view.shade = SHADE_NORMAL;
+        let reference = crate::eval::ground_truth_image(&mut self.renderer, &view)?;
+        self.renderer.render(&view)?;
+        let test = self.renderer.read_image()?;
+        let (w, h) = self.renderer.target().size();
+        let result = crate::eval::flip::flip(&reference, &test, w, h)
+            .ok_or_else(|| RenderError::Request("FLIP: the images differ in size".into()))?;
+        let file = self.free_path("flip")?;
+        result.save_heat_map(&file)?;
+        let image = egui::ColorImage::from_rgba_unmultiplied(
+            [w as usize, h as usize],
+            &result.heat_map_rgba(),
+        );
+        let texture = self
+            .gui
+            .egui()
+            .load_texture("flip", image, egui::TextureOptions::LINEAR);
+        self.flip = Some(FlipView {
+            mean: result.mean,
+            texture,
+            file: file.display().to_string(),
+        });
+        Ok(())
+    }
+
+    /// `--frames N`: the resize halfway, the screenshot and the end.
+    fn scripted(&mut self) -> anyhow::Result<Flow> {
+        let Some(n) = self.args.frames else {
+            return Ok(Flow::Continue);
+        };
+        if let Some((w, h)) = self.args.resize {
+            if self.presented == n / 2 {
+                // The new size arrives as a Resized event (or right away).
+                if let Some(now) = self.window.request_inner_size(PhysicalSize::new(w, h)) {
+                    log::info!("resized to {}x{}", now.width, now.height);
+                }
+                self.presenter.invalidate();
+            }
+        }
+        if self.presented < n {
+            return Ok(Flow::Continue);
+        }
+        if let Some(path) = self.args.screenshot.clone() {
+            self.screenshot(&path)?;
+        }
+        Ok(Flow::Exit)
+    }
+
+    /// Waits for the GPU, checks the validation layer and says what was
+    /// done; the Vulkan objects are dropped before the window.
+    pub fn close(mut self) -> anyhow::Result<String> {
+        let finished = self.drain();
+        self.renderer.wait_idle()?;
+        self.presenter.wait_idle()?;
+        finished?;
+        if self.args.gpu.validation {
+            self.ctx.check_validation()?;
+        }
+        let (w, h) = self.renderer.target().size();
+        let mut s = format!(
+            "view: {} frames of {} on {}, last {w}x{h}\n",
+            self.presented,
+            self.scene.name,
+            self.ctx.info().name
+        );
+        for p in &self.written {
+            s += &format!("wrote {} and {}\n", p.display(), stats_path(p).display());
+        }
+        Ok(s)
+    }
+}
