@@ -115,7 +115,7 @@ enum Command {
         shade: Shade,
         /// on: wait for vertical blank (FIFO); off: present as fast as
         /// possible (mailbox or immediate where the display offers them).
-        #[arg(long, value_name = "on|off", default_value = "on", value_parser = parse_on_off)]
+        #[arg(long, value_name = "on|off", default_value = "on", action = clap::ArgAction::Set, value_parser = parse_on_off)]
         vsync: bool,
         /// Close after N presented frames (scripted captures); with
         /// --screenshot the last one is saved.

@@ -141,14 +141,14 @@ fn the_window_shows_what_render_draws() {
     );
 }
 
-/// The other draw path, another method and a heat-map view start and run
-/// clean too.
+/// The other draw path, another method, a heat-map view and presenting
+/// without vsync start and run clean too.
 #[test]
 fn other_methods_and_views_run_in_the_window() {
     let dir = temp_dir("methods");
-    for (method, draw, shade) in [
-        ("subdiv-indirect", "fallback", "wedges"),
-        ("ground-truth", "auto", "wireframe"),
+    for (method, draw, shade, vsync) in [
+        ("subdiv-indirect", "fallback", "wedges", "off"),
+        ("ground-truth", "auto", "wireframe", "on"),
     ] {
         let shot = dir.join(format!("{method}.png"));
         let run = view(&[
@@ -168,6 +168,8 @@ fn other_methods_and_views_run_in_the_window() {
             "8",
             "--msaa",
             "1",
+            "--vsync",
+            vsync,
             "--screenshot",
             shot.to_str().unwrap(),
             "--vk-validation",
@@ -181,6 +183,10 @@ fn other_methods_and_views_run_in_the_window() {
             serde_json::from_slice(&std::fs::read(shot.with_extension("json")).unwrap()).unwrap();
         assert_eq!(stats["method"], method);
         assert_eq!(stats["shade"], shade);
+        // FIFO is always there; without vsync anything the display offers.
+        if vsync == "on" {
+            assert_eq!(stats["present_mode"], "fifo");
+        }
     }
 }
 

@@ -79,6 +79,17 @@ impl Presenter {
         })
     }
 
+    /// The swapchain's present mode, in words (after the first
+    /// [`Presenter::prepare`]).
+    pub fn present_mode(&self) -> Option<&'static str> {
+        self.swapchain.as_ref().map(|s| match s.present_mode() {
+            vk::PresentModeKHR::FIFO => "fifo",
+            vk::PresentModeKHR::MAILBOX => "mailbox",
+            vk::PresentModeKHR::IMMEDIATE => "immediate",
+            _ => "other",
+        })
+    }
+
     /// Marks the swapchain for remaking (the window was resized).
     pub fn invalidate(&mut self) {
         self.stale = true;

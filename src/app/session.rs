@@ -437,6 +437,7 @@ impl Session {
         stats["l_max"] = json!(c.l_max);
         stats["culling"] = json!({"frustum": c.frustum, "backface": c.backface});
         stats["wedges"] = json!(c.wedges);
+        stats["present_mode"] = json!(self.presenter.present_mode());
         stats["camera"] = json!({
             "position": camera.position,
             "target": camera.target,
@@ -544,10 +545,11 @@ impl Session {
         }
         let (w, h) = self.renderer.target().size();
         let mut s = format!(
-            "view: {} frames of {} on {}, last {w}x{h}\n",
+            "view: {} frames of {} on {}, last {w}x{h}, present mode {}\n",
             self.presented,
             self.scene.name,
-            self.ctx.info().name
+            self.ctx.info().name,
+            self.presenter.present_mode().unwrap_or("none")
         );
         for p in &self.written {
             s += &format!("wrote {} and {}\n", p.display(), stats_path(p).display());
