@@ -39,11 +39,19 @@ const uint SET_PASS = 1;
 const uint SET_PRODUCER = 2;
 
 // Set 0, the scene (every pass): the view (a dynamic uniform buffer,
-// one ViewParams per frame slot), the base patches, their flags.
+// one ViewParams per frame slot), the base patches, their flags, their
+// shading (tangent) patches.
 const uint BIND_VIEW = 0;
 const uint BIND_PATCHES = 1;
 const uint BIND_PATCH_FLAGS = 2;
-const uint SCENE_BINDINGS = 3;
+// SHADING_FLOATS per base patch: the two tangent patches whose cross
+// product is the shading normal (src/scene/shading.rs).
+const uint BIND_SHADING = 3;
+const uint SCENE_BINDINGS = 4;
+
+// Floats per base patch in the shading buffer: the 12 control vectors of
+// the u tangent patch, then the 12 of the v tangent patch, x, y, z each.
+const uint SHADING_FLOATS = 72;
 
 // Set 1 of the ready-list passes: the ready QuadNodes, the counters, the
 // fallback's vertices, the validation capture.

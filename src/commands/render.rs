@@ -149,12 +149,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
     check_writable(&out, args.out.is_none()).map_err(|e| anyhow!(e))?;
     let json_path = stats_path(&out);
-    let geo = scene
-        .geometry()
+    let (geo, shading) = scene
+        .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
 
     let ctx = args.gpu.context()?;
-    let mut renderer = args.gpu.renderer(&ctx, &geo)?;
+    let mut renderer = args.gpu.renderer(&ctx, &geo, &shading)?;
     let view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
     let mut report = renderer.render(&view)?;
     let mut times = Vec::new();
