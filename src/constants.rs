@@ -357,5 +357,10 @@ shared_constants! {
         SHADE_WIREFRAME = 6;
         /// The shading normal as colour (x, y, z to r, g, b).
         SHADE_NORMALS = 7;
+        /// Tests: the base patch id as a 24-bit RGB code.
+        SHADE_PATCH_ID = 8;
+        /// Tests: the base patch parameters (u, v) as 12 bits each
+        /// (round(u * 4095) in r and the top of g, v below it and in b).
+        SHADE_PARAMS = 9;
     }
 }

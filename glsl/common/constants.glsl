@@ -222,5 +222,10 @@ const uint SHADE_FACING = 5;
 const uint SHADE_WIREFRAME = 6;
 // The shading normal as colour (x, y, z to r, g, b).
 const uint SHADE_NORMALS = 7;
+// Tests: the base patch id as a 24-bit RGB code.
+const uint SHADE_PATCH_ID = 8;
+// Tests: the base patch parameters (u, v) as 12 bits each
+// (round(u * 4095) in r and the top of g, v below it and in b).
+const uint SHADE_PARAMS = 9;
 
 #endif

@@ -20,7 +20,8 @@ pub const BACKGROUND: [f32; 4] = [0.09, 0.10, 0.12, 1.0];
 /// Shading of the rendered image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Shade {
-    /// Lit surface, normals from the base patches' own derivatives.
+    /// Lit surface, with the shading normals (the scene's tangent patches,
+    /// smooth across extraordinary vertices).
     Normal,
     /// Heat map of the QuadNode depth.
     Depth,
