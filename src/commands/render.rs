@@ -12,7 +12,8 @@ use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
 use crate::renderer::{FrameReport, Renderer};
-use crate::scene::file::Scene;
+use crate::scene::file::{Scene, GEOMETRY_BYTES_PER_PATCH};
+use crate::scene::shading::SHADING_BYTES_PER_PATCH;
 
 /// The background of rendered images.
 pub const BACKGROUND: [f32; 4] = [0.09, 0.10, 0.12, 1.0];
@@ -249,7 +250,8 @@ fn write_outputs(
 }
 
 /// The stats file: the run's setup, the common keys, GPU time per pass,
-/// memory per purpose, and the method's own figures under `method_stats`.
+/// memory per purpose (and the scene's per base patch), and the method's
+/// own figures under `method_stats`.
 fn stats_json(
     args: &RenderArgs,
     scene: &Scene,
@@ -297,6 +299,10 @@ fn stats_json(
         "frames_redone": report.redone,
         "gpu_ms": gpu_ms,
         "memory_bytes": memory,
+        "memory_per_patch_bytes": {
+            "base_patches": GEOMETRY_BYTES_PER_PATCH,
+            "shading_patches": SHADING_BYTES_PER_PATCH,
+        },
         "method_stats": own,
     })
 }
