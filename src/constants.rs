@@ -145,12 +145,21 @@ shared_constants! {
         SET_PRODUCER = 2;
     }
     /// Set 0, the scene (every pass): the view (a dynamic uniform buffer,
-    /// one ViewParams per frame slot), the base patches, their flags.
+    /// one ViewParams per frame slot), the base patches, their flags, their
+    /// shading (tangent) patches.
     group {
         BIND_VIEW = 0;
         BIND_PATCHES = 1;
         BIND_PATCH_FLAGS = 2;
-        SCENE_BINDINGS = 3;
+        /// SHADING_FLOATS per base patch: the two tangent patches whose cross
+        /// product is the shading normal (src/scene/shading.rs).
+        BIND_SHADING = 3;
+        SCENE_BINDINGS = 4;
+    }
+    /// Floats per base patch in the shading buffer: the 12 control vectors of
+    /// the u tangent patch, then the 12 of the v tangent patch, x, y, z each.
+    group {
+        SHADING_FLOATS = 72;
     }
     /// Set 1 of the ready-list passes: the ready QuadNodes, the counters, the
     /// fallback's vertices, the validation capture.
@@ -348,5 +357,10 @@ shared_constants! {
         SHADE_WIREFRAME = 6;
         /// The shading normal as colour (x, y, z to r, g, b).
         SHADE_NORMALS = 7;
+        /// Tests: the base patch id as a 24-bit RGB code.
+        SHADE_PATCH_ID = 8;
+        /// Tests: the base patch parameters (u, v) as 12 bits each
+        /// (round(u * 4095) in r and the top of g, v below it and in b).
+        SHADE_PARAMS = 9;
     }
 }

@@ -27,7 +27,7 @@ use crate::methods::{
     self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
 };
 use crate::patch::view::ViewParams;
-use crate::scene::file::SceneGeometry;
+use crate::scene::file::{SceneGeometry, SceneShading};
 use crate::vk::{
     host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, VkError, VkResult,
 };
@@ -116,17 +116,27 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// Uploads `geo`, creates the frame slots and the target, and makes
-    /// method `method`.
+    /// Uploads `geo` and the shading normals' tangent patches `shading`
+    /// (`Scene::geometry_and_shading`; `SceneShading::from_geometry` shades
+    /// with the patches' own derivatives), creates the frame slots and the
+    /// target, and makes method `method`.
     pub fn new(
         ctx: Arc<Context>,
         geo: &SceneGeometry,
+        shading: &SceneShading,
         method: &str,
         options: RendererOptions,
     ) -> Result<Self, RenderError> {
         let n = options.frames_in_flight.max(1);
         let scene_layout = SceneLayout::new(&ctx)?;
-        let scene = SceneGpu::new(&ctx, &scene_layout, &geo.patches, &geo.flags, n)?;
+        let scene = SceneGpu::new(
+            &ctx,
+            &scene_layout,
+            &geo.patches,
+            &geo.flags,
+            &shading.patches,
+            n,
+        )?;
         let (w, h) = options.size;
         let target =
             DrawTarget::with_samples(&ctx, w, h, options.background, options.methods.samples)?;
@@ -287,14 +297,19 @@ impl Renderer {
         Ok(())
     }
 
-    /// Replaces the scene. The new patches are uploaded first, so a failure
-    /// leaves the renderer as it was and usable.
-    pub fn set_geometry(&mut self, geo: &SceneGeometry) -> Result<(), RenderError> {
+    /// Replaces the scene and its shading patches. The new ones are uploaded
+    /// first, so a failure leaves the renderer as it was and usable.
+    pub fn set_geometry(
+        &mut self,
+        geo: &SceneGeometry,
+        shading: &SceneShading,
+    ) -> Result<(), RenderError> {
         let scene = SceneGpu::new(
             &self.ctx,
             &self.scene_layout,
             &geo.patches,
             &geo.flags,
+            &shading.patches,
             self.frames.len(),
         )?;
         self.frames.wait_all()?;
@@ -347,7 +362,10 @@ impl Renderer {
 
     /// GPU memory per purpose: the scene's and the active method's.
     pub fn memory(&self) -> Vec<(&'static str, u64)> {
-        let mut v = vec![("base_patches", self.scene.bytes())];
+        let mut v = vec![
+            ("base_patches", self.scene.bytes()),
+            ("shading_patches", self.scene.shading_bytes()),
+        ];
         v.extend(self.method().memory());
         v
     }

@@ -186,6 +186,13 @@ fn copied_binary_renders_anywhere() {
             serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
         assert_eq!(stats["method"], method);
         assert!(stats["triangles"].as_u64().unwrap() > 0, "{stats}");
+        // The scene's memory: control points and flags, shading patches.
+        let patches = stats["patches"].as_u64().unwrap();
+        assert_eq!(patches, 32);
+        for (key, per_patch) in [("base_patches", 196), ("shading_patches", 288)] {
+            assert_eq!(stats["memory_per_patch_bytes"][key], per_patch, "{key}");
+            assert_eq!(stats["memory_bytes"][key], patches * per_patch, "{key}");
+        }
         let commit = stats["commit"].as_str().unwrap();
         let head = Command::new("git")
             .args(["rev-parse", "--short=12", "HEAD"])

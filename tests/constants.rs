@@ -139,7 +139,7 @@ fn bindings_number_each_set_from_zero() {
     let sets: [(&str, Vec<u32>, u32); 4] = [
         (
             "scene",
-            vec![BIND_VIEW, BIND_PATCHES, BIND_PATCH_FLAGS],
+            vec![BIND_VIEW, BIND_PATCHES, BIND_PATCH_FLAGS, BIND_SHADING],
             SCENE_BINDINGS,
         ),
         (

@@ -81,18 +81,21 @@ fn differing_pixels(a: &[u8], b: &[u8]) -> usize {
 #[test]
 fn grid_of_eps_and_lambda_on_both_paths() {
     let gpu = common::gpu();
-    let (teapot, teapot_geo) = scene("teapot.toml");
-    let (kitchen, kitchen_geo) = scene("kitchen.toml");
+    let (teapot, teapot_geo, teapot_shading) = common::scene_with_shading("teapot.toml");
+    let (kitchen, kitchen_geo, kitchen_shading) = common::scene_with_shading("kitchen.toml");
     let mut mesh = subdiv(&gpu, &teapot_geo, DrawPath::Mesh);
     let mut fallback = subdiv(&gpu, &teapot_geo, DrawPath::Fallback);
     let mut indirect = method(&gpu, &teapot_geo, "subdiv-indirect", DrawPath::Mesh);
     let total = (SIZE.0 * SIZE.1) as usize;
     let mut worst = 0usize;
     let mut same_as_persistent = 0;
-    for (s, geo) in [(&teapot, &teapot_geo), (&kitchen, &kitchen_geo)] {
-        mesh.set_geometry(geo).unwrap();
-        fallback.set_geometry(geo).unwrap();
-        indirect.set_geometry(geo).unwrap();
+    for (s, geo, shading) in [
+        (&teapot, &teapot_geo, &teapot_shading),
+        (&kitchen, &kitchen_geo, &kitchen_shading),
+    ] {
+        mesh.set_geometry(geo, shading).unwrap();
+        fallback.set_geometry(geo, shading).unwrap();
+        indirect.set_geometry(geo, shading).unwrap();
         for frame in [0, s.frame_count() - 1] {
             let cam = s.frame_camera(frame).unwrap();
             for eps in [0.5, 1.0, 2.0] {

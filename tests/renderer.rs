@@ -15,7 +15,7 @@ use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::{MethodOptions, RenderError};
 use bezier_subdiv::patch::oracle::subdivide;
 use bezier_subdiv::renderer::{Renderer, RendererOptions};
-use bezier_subdiv::scene::file::SceneGeometry;
+use bezier_subdiv::scene::file::{SceneGeometry, SceneShading};
 use bezier_subdiv::vk::{Context, ContextOptions, VkError};
 
 const SIZE: (u32, u32) = (256, 144);
@@ -133,8 +133,9 @@ fn switching_reuses_scene_shaders_and_methods() {
     gpu.finish();
 }
 
-/// A scene that cannot be uploaded is refused and the renderer keeps
-/// drawing the old one, identically.
+/// A scene that cannot be uploaded (flags or shading patches that do not
+/// match the patches) is refused and the renderer keeps drawing the old
+/// one, identically.
 #[test]
 fn failed_scene_replacement_leaves_the_old_one() {
     let gpu = common::gpu();
@@ -147,8 +148,12 @@ fn failed_scene_replacement_leaves_the_old_one() {
         flags: vec![0; 3],
         models: Vec::new(),
     };
-    let err = r.set_geometry(&bad).err().unwrap();
+    let shading = SceneShading::from_geometry(&geo.patches);
+    let err = r.set_geometry(&bad, &shading).err().unwrap();
     assert!(err.to_string().contains("flag words"), "{err}");
+    let short = SceneShading::from_geometry(&geo.patches[1..]);
+    let err = r.set_geometry(&geo, &short).err().unwrap();
+    assert!(err.to_string().contains("shading patches"), "{err}");
     let report = r.render(&views[0]).unwrap();
     assert_eq!(
         report.stats.get_u64("ready_quads"),
@@ -166,6 +171,7 @@ fn short_timeout_renderer(ctx: &Arc<Context>, geo: &SceneGeometry) -> Renderer {
     Renderer::new(
         Arc::clone(ctx),
         geo,
+        &SceneShading::from_geometry(&geo.patches),
         "subdiv",
         RendererOptions {
             size: SIZE,

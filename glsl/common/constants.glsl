@@ -39,11 +39,19 @@ const uint SET_PASS = 1;
 const uint SET_PRODUCER = 2;
 
 // Set 0, the scene (every pass): the view (a dynamic uniform buffer,
-// one ViewParams per frame slot), the base patches, their flags.
+// one ViewParams per frame slot), the base patches, their flags, their
+// shading (tangent) patches.
 const uint BIND_VIEW = 0;
 const uint BIND_PATCHES = 1;
 const uint BIND_PATCH_FLAGS = 2;
-const uint SCENE_BINDINGS = 3;
+// SHADING_FLOATS per base patch: the two tangent patches whose cross
+// product is the shading normal (src/scene/shading.rs).
+const uint BIND_SHADING = 3;
+const uint SCENE_BINDINGS = 4;
+
+// Floats per base patch in the shading buffer: the 12 control vectors of
+// the u tangent patch, then the 12 of the v tangent patch, x, y, z each.
+const uint SHADING_FLOATS = 72;
 
 // Set 1 of the ready-list passes: the ready QuadNodes, the counters, the
 // fallback's vertices, the validation capture.
@@ -214,5 +222,10 @@ const uint SHADE_FACING = 5;
 const uint SHADE_WIREFRAME = 6;
 // The shading normal as colour (x, y, z to r, g, b).
 const uint SHADE_NORMALS = 7;
+// Tests: the base patch id as a 24-bit RGB code.
+const uint SHADE_PATCH_ID = 8;
+// Tests: the base patch parameters (u, v) as 12 bits each
+// (round(u * 4095) in r and the top of g, v below it and in b).
+const uint SHADE_PARAMS = 9;
 
 #endif

@@ -1,6 +1,6 @@
-// Descriptor set 0, shared by every pass of every method: the view (one
-// ViewParams per frame slot, chosen by a dynamic offset), the base patches
-// and their flags. The Rust side is src/gpu/scene.rs.
+// Descriptor set 0, shared by every pass of every method: the view (one ViewParams per
+// frame slot, chosen by a dynamic offset), the base patches and their flags; the shading
+// patches (BIND_SHADING) are in shading.glsl. The Rust side is src/gpu/scene.rs.
 #ifndef SCENE_GLSL
 #define SCENE_GLSL
 

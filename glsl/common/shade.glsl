@@ -5,6 +5,8 @@
 #ifndef SHADE_GLSL
 #define SHADE_GLSL
 
+#include "shading.glsl"
+
 // Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT, wraps).
 const vec3 PALETTE[8] = vec3[8](
     vec3(0.90, 0.62, 0.38),
@@ -44,22 +46,35 @@ const vec3 KEY_FRONT = vec3(1.0, 1.0, 1.0);
 const vec3 KEY_GRAZING = vec3(1.0, 1.0, 0.0);
 const float GRAZING_COS = 0.15;
 
-// Unit normal of the base patch at (u, v) from its own partial derivatives
-// (not the flat triangle's), turned towards the viewer on back faces. A
-// wedge's facing says nothing about which side of the surface is seen:
-// where the fine polyline dips below the coarse chord the wedge folds over
-// and faces the other way than its neighbours, so a wedge takes the side of
-// the patch normal that faces the eye.
-vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge) {
-    vec3 P[16];
-    load_patch(patch_id, P);
-    vec3 n = patch_normal(P, uv.x, uv.y);
+// `n` (unnormalised) as a unit normal turned towards the viewer on back
+// faces. A wedge's facing says nothing about which side of the surface is
+// seen: where the fine polyline dips below the coarse chord the wedge folds
+// over and faces the other way than its neighbours, so a wedge takes the
+// side of the normal that faces the eye.
+vec3 facing_normal(vec3 n, vec3 to_eye, bool front, bool wedge) {
     if (!(dot(n, n) > 0.0)) {
         return to_eye;
     }
     n = normalize(n);
     bool towards = wedge ? dot(n, to_eye) >= 0.0 : front;
     return towards ? n : -n;
+}
+
+// The normal to light with at the base patch's (u, v): the shading
+// patches' (shading.glsl), not the flat triangle's nor the geometry
+// patch's own, which jump across patch edges next to extraordinary
+// vertices.
+vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge) {
+    return facing_normal(shading_patch_normal(patch_id, uv.x, uv.y), to_eye, front, wedge);
+}
+
+// The geometry patch's own unit normal at (u, v), unturned (the eye
+// direction where it vanishes): which side of the surface is seen, for the
+// hole test's key colours.
+vec3 surface_normal(uint patch_id, vec2 uv, vec3 to_eye) {
+    vec3 P[16];
+    load_patch(patch_id, P);
+    return facing_normal(patch_normal(P, uv.x, uv.y), to_eye, true, false);
 }
 
 // Lambert term for the push-constant light; a zero light_dir means "light
@@ -84,15 +99,26 @@ float cell_outline(vec2 uv, uint depth) {
     return 1.0 - clamp(min(to_line.x, to_line.y) - 0.25, 0.0, 1.0);
 }
 
+// Three bytes of `code` (24 bits) as an exact UNORM8 colour.
+vec4 code_color(uint code) {
+    return vec4(float(code >> 16) / 255.0, float((code >> 8) & 255u) / 255.0, float(code & 255u) / 255.0, 1.0);
+}
+
 vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool front) {
     if (pc.shade == SHADE_FACING) {
         return vec4(front ? KEY_FRONT : KEY_BACK, 1.0);
     }
+    if (pc.shade == SHADE_PATCH_ID) {
+        return code_color(patch_id & 0xffffffu);
+    }
+    if (pc.shade == SHADE_PARAMS) {
+        uvec2 q = uvec2(clamp(uv, 0.0, 1.0) * 4095.0 + 0.5);
+        return code_color((q.x << 12) | q.y);
+    }
     vec3 to_eye = view.eye.xyz - world;
     if (pc.shade == SHADE_DISTANCE) {
         float d = clamp(length(to_eye) / pc.light_dir.w, 0.0, 1.0);
-        uint code = uint(d * 16777214.0);
-        return vec4(float(code >> 16) / 255.0, float((code >> 8) & 255u) / 255.0, float(code & 255u) / 255.0, 1.0);
+        return code_color(uint(d * 16777214.0));
     }
     to_eye = dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : vec3(0.0, 0.0, 1.0);
     if (pc.shade == SHADE_KEY) {
@@ -101,7 +127,7 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
         // even a quad triangle can fold over and show its back from outside
         // without any hole. Through a crack one sees the background or the
         // far side of the model, whose normals face away.
-        float c = dot(shading_normal(patch_id, uv, to_eye, true, false), to_eye);
+        float c = dot(surface_normal(patch_id, uv, to_eye), to_eye);
         bool facing = c >= 0.0;
         if (!facing) {
             return vec4(KEY_BACK, 1.0);

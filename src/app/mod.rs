@@ -62,8 +62,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<String> {
     let scene = Scene::load(&args.gpu.scene)?;
     let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
     let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
-    let geo = scene
-        .geometry()
+    let (geo, shading) = scene
+        .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
@@ -76,6 +76,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<String> {
             args: args.clone(),
             scene,
             geo,
+            shading,
             camera,
             eps,
             lambda,

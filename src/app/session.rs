@@ -33,7 +33,7 @@ use crate::frame::View;
 use crate::methods::{MethodOptions, RenderError};
 use crate::renderer::{FrameReport, FrameTicket, Renderer, DEFAULT_FRAMES_IN_FLIGHT};
 use crate::scene::camera::Camera;
-use crate::scene::file::{Scene, SceneGeometry};
+use crate::scene::file::{Scene, SceneGeometry, SceneShading};
 use crate::vk::{Context, ContextOptions, PresentPacing, WindowHandles};
 
 /// What the session is made from.
@@ -44,6 +44,8 @@ pub struct Start {
     pub scene: Scene,
     /// Its patches.
     pub geo: SceneGeometry,
+    /// Their shading normals.
+    pub shading: SceneShading,
     /// Where the camera starts.
     pub camera: Camera,
     /// The scene's (or the command line's) ε.
@@ -98,6 +100,7 @@ impl Session {
             args,
             scene,
             geo,
+            shading,
             camera,
             eps,
             lambda,
@@ -124,7 +127,7 @@ impl Session {
         let size = window.inner_size();
         let mut request = args.gpu.clone();
         request.size = (size.width.max(1), size.height.max(1));
-        let renderer = request.renderer(&ctx, &geo)?;
+        let renderer = request.renderer(&ctx, &geo, &shading)?;
         let pacing = if args.vsync {
             PresentPacing::Vsync
         } else {

@@ -103,12 +103,14 @@ impl GpuRequest {
         Ok(crate::methods::find(&self.method)?)
     }
 
-    /// The renderer for `geo` on `ctx`: the requested method and draw path,
-    /// the default buffer budget, the requested size, the render background.
+    /// The renderer for `geo` and its shading patches on `ctx`: the
+    /// requested method and draw path, the default buffer budget, the
+    /// requested size, the render background.
     pub fn renderer(
         &self,
         ctx: &Arc<crate::vk::Context>,
         geo: &crate::scene::file::SceneGeometry,
+        shading: &crate::scene::file::SceneShading,
     ) -> anyhow::Result<Renderer> {
         let draw = crate::draw::choose(ctx, self.draw)?;
         let methods = crate::methods::MethodOptions {
@@ -124,7 +126,13 @@ impl GpuRequest {
             frames_in_flight: crate::renderer::DEFAULT_FRAMES_IN_FLIGHT,
             methods,
         };
-        Ok(Renderer::new(Arc::clone(ctx), geo, &self.method, options)?)
+        Ok(Renderer::new(
+            Arc::clone(ctx),
+            geo,
+            shading,
+            &self.method,
+            options,
+        )?)
     }
 
     /// A Vulkan context on the requested device.

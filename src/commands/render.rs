@@ -12,7 +12,8 @@ use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
 use crate::renderer::{FrameReport, Renderer};
-use crate::scene::file::Scene;
+use crate::scene::file::{Scene, GEOMETRY_BYTES_PER_PATCH};
+use crate::scene::shading::SHADING_BYTES_PER_PATCH;
 
 /// The background of rendered images.
 pub const BACKGROUND: [f32; 4] = [0.09, 0.10, 0.12, 1.0];
@@ -20,7 +21,8 @@ pub const BACKGROUND: [f32; 4] = [0.09, 0.10, 0.12, 1.0];
 /// Shading of the rendered image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Shade {
-    /// Lit surface, normals from the base patches' own derivatives.
+    /// Lit surface, with the shading normals (the scene's tangent patches,
+    /// smooth across extraordinary vertices).
     Normal,
     /// Heat map of the QuadNode depth.
     Depth,
@@ -149,12 +151,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
     check_writable(&out, args.out.is_none()).map_err(|e| anyhow!(e))?;
     let json_path = stats_path(&out);
-    let geo = scene
-        .geometry()
+    let (geo, shading) = scene
+        .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
 
     let ctx = args.gpu.context()?;
-    let mut renderer = args.gpu.renderer(&ctx, &geo)?;
+    let mut renderer = args.gpu.renderer(&ctx, &geo, &shading)?;
     let view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
     let mut report = renderer.render(&view)?;
     let mut times = Vec::new();
@@ -248,7 +250,8 @@ pub(crate) fn write_outputs(
 }
 
 /// The stats file: the run's setup, the common keys, GPU time per pass,
-/// memory per purpose, and the method's own figures under `method_stats`.
+/// memory per purpose (and the scene's per base patch), and the method's
+/// own figures under `method_stats`.
 pub(crate) fn stats_json(
     args: &RenderArgs,
     scene: &Scene,
@@ -297,6 +300,10 @@ pub(crate) fn stats_json(
         "frames_redone": report.redone,
         "gpu_ms": gpu_ms,
         "memory_bytes": memory,
+        "memory_per_patch_bytes": {
+            "base_patches": GEOMETRY_BYTES_PER_PATCH,
+            "shading_patches": SHADING_BYTES_PER_PATCH,
+        },
         "method_stats": own,
     })
 }

@@ -72,8 +72,8 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         None => (0..scene.frame_count()).collect(),
     };
     let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
-    let geo = scene
-        .geometry()
+    let (geo, shading) = scene
+        .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     let ctx = args.gpu.context()?;
     // Single-sampled: the hole test counts exact key colours.
@@ -81,7 +81,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         msaa: 1,
         ..args.gpu.clone()
     };
-    let mut renderer = request.renderer(&ctx, &geo)?;
+    let mut renderer = request.renderer(&ctx, &geo, &shading)?;
 
     let mut results = Vec::new();
     if renderer.method().ready().is_some() {

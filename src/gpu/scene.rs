@@ -1,12 +1,18 @@
-//! The scene on the GPU, shared by every method and pass: the base patches
-//! and their flags, uploaded once, and one `ViewParams` per frame slot, all
-//! behind descriptor set 0 (`glsl/common/scene.glsl`).
+//! The scene on the GPU, shared by every method and pass: the base patches,
+//! their flags and their shading (tangent) patches, uploaded once, and one
+//! `ViewParams` per frame slot, all behind descriptor set 0
+//! (`glsl/common/scene.glsl`; the shading normal is evaluated by
+//! `glsl/common/shading.glsl`).
 
 use ash::vk;
 
-use crate::constants::{BIND_PATCHES, BIND_PATCH_FLAGS, BIND_VIEW, SET_SCENE};
+use crate::constants::{
+    BIND_PATCHES, BIND_PATCH_FLAGS, BIND_SHADING, BIND_VIEW, SCENE_BINDINGS, SET_SCENE,
+    SHADING_FLOATS,
+};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::view::ViewParams;
+use crate::scene::shading::ShadingPatch;
 use crate::vk::{
     Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout, SetLayout,
     VkError, VkResult,
@@ -30,7 +36,8 @@ pub fn all_stages(ctx: &Context) -> vk::ShaderStageFlags {
 }
 
 /// The layout of set 0: the view (a uniform buffer with a dynamic offset
-/// per frame slot), the patches, their flags. Made once per renderer;
+/// per frame slot), the patches, their flags, their shading patches. Made
+/// once per renderer;
 /// every pipeline layout starts with it.
 pub struct SceneLayout {
     set: SetLayout,
@@ -40,7 +47,7 @@ pub struct SceneLayout {
 impl SceneLayout {
     /// Creates the set layout.
     pub fn new(ctx: &Context) -> VkResult<Self> {
-        let mut types = [vk::DescriptorType::STORAGE_BUFFER; 3];
+        let mut types = [vk::DescriptorType::STORAGE_BUFFER; SCENE_BINDINGS as usize];
         types[BIND_VIEW as usize] = vk::DescriptorType::UNIFORM_BUFFER_DYNAMIC;
         let stages = all_stages(ctx);
         Ok(Self {
@@ -80,12 +87,15 @@ impl SceneLayout {
     }
 }
 
-/// The uploaded scene: patches, flags, the per-slot views and set 0.
+/// The uploaded scene: patches, flags, shading patches, the per-slot views
+/// and set 0.
 pub struct SceneGpu {
     /// 48 floats per patch.
     pub patches: Buffer,
     /// One flags word per patch.
     pub flags: Buffer,
+    /// `SHADING_FLOATS` per patch: the tangent patches of the shading normals.
+    pub shading: Buffer,
     /// Number of base patches.
     pub count: u32,
     /// `ViewParams` per frame slot, `view_stride` bytes apart.
@@ -96,12 +106,14 @@ pub struct SceneGpu {
 }
 
 impl SceneGpu {
-    /// Uploads `patches` and `flags` and makes room for `slots` views.
+    /// Uploads `patches`, `flags` and `shading` (one tangent-patch pair per
+    /// patch, in the same order) and makes room for `slots` views.
     pub fn new(
         ctx: &Context,
         layout: &SceneLayout,
         patches: &[BezierPatch],
         flags: &[u32],
+        shading: &[ShadingPatch],
         slots: usize,
     ) -> VkResult<Self> {
         if patches.is_empty() || patches.len() != flags.len() {
@@ -111,6 +123,28 @@ impl SceneGpu {
                 flags.len()
             )));
         }
+        if shading.len() != patches.len() {
+            return Err(VkError::Usage(format!(
+                "{} patches with {} shading patches",
+                patches.len(),
+                shading.len()
+            )));
+        }
+        // Refused before anything is allocated: a binding beyond the range
+        // is invalid usage, not an allocation failure.
+        let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
+        let n = patches.len() as u64;
+        for (what, bytes) in [
+            ("base patches", n * 48 * 4),
+            ("shading patches", n * u64::from(SHADING_FLOATS) * 4),
+        ] {
+            if bytes > limit {
+                return Err(VkError::Usage(format!(
+                    "the {what} of {n} base patches need {bytes} bytes, more than this \
+                     device's storage-buffer range of {limit} bytes (draw fewer instances)"
+                )));
+            }
+        }
         let floats: Vec<f32> = patches
             .iter()
             .flat_map(|p| p.pts.iter().flat_map(|q| q.to_array()))
@@ -119,6 +153,8 @@ impl SceneGpu {
         let gpu = MemoryLocation::GpuOnly;
         let patches = Buffer::with_data(ctx, "base patches", &floats, storage, gpu)?;
         let flags = Buffer::with_data(ctx, "patch flags", flags, storage, gpu)?;
+        let shading_floats: Vec<f32> = shading.iter().flat_map(|s| s.to_floats()).collect();
+        let shading = Buffer::with_data(ctx, "shading patches", &shading_floats, storage, gpu)?;
         let size = std::mem::size_of::<ViewParams>() as u64;
         let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
         let view_stride = size.div_ceil(align) * align;
@@ -129,18 +165,20 @@ impl SceneGpu {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
-        let mut bound = [BufferBinding::from(&patches); 3];
+        let mut bound = [BufferBinding::from(&patches); SCENE_BINDINGS as usize];
         bound[BIND_VIEW as usize] = BufferBinding {
             buffer: &views,
             range: size,
         };
         bound[BIND_PATCHES as usize] = BufferBinding::from(&patches);
         bound[BIND_PATCH_FLAGS as usize] = BufferBinding::from(&flags);
+        bound[BIND_SHADING as usize] = BufferBinding::from(&shading);
         let set = DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)?;
         Ok(Self {
             count: floats.len() as u32 / 48,
             patches,
             flags,
+            shading,
             views,
             view_stride,
             slots: slots.max(1),
@@ -178,5 +216,10 @@ impl SceneGpu {
     /// Bytes of the patches and their flags.
     pub fn bytes(&self) -> u64 {
         self.patches.size() + self.flags.size()
+    }
+
+    /// Bytes of the shading patches.
+    pub fn shading_bytes(&self) -> u64 {
+        self.shading.size()
     }
 }

@@ -59,6 +59,15 @@ pub struct SceneShading {
 }
 
 impl SceneShading {
+    /// Shading with the patches' own derivatives (what a scene without
+    /// tangent patches, or a caller that does not need smooth normals,
+    /// draws with).
+    pub fn from_geometry(patches: &[BezierPatch]) -> Self {
+        SceneShading {
+            patches: patches.iter().map(ShadingPatch::from_geometry).collect(),
+        }
+    }
+
     /// Unnormalised shading normal of base patch `patch` at (u, v).
     pub fn normal(&self, patch: usize, u: f32, v: f32) -> glam::Vec3 {
         self.patches[patch].normal(u, v)

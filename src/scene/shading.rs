@@ -28,6 +28,7 @@ use std::collections::HashMap;
 
 use glam::{DMat4, DVec3, Vec3};
 
+use crate::constants::SHADING_FLOATS;
 use crate::patch::bezier::BezierPatch;
 
 /// The tangent patches of one base patch (see the module doc).
@@ -40,7 +41,7 @@ pub struct ShadingPatch {
 }
 
 /// Bytes per base patch of tightly packed tangent patches.
-pub const SHADING_BYTES_PER_PATCH: usize = 72 * 4;
+pub const SHADING_BYTES_PER_PATCH: usize = SHADING_FLOATS as usize * 4;
 
 fn bern2(t: f32) -> [f32; 3] {
     let s = 1.0 - t;
@@ -125,8 +126,8 @@ impl ShadingPatch {
     }
 
     /// The 72 floats of the GPU layout: `du` then `dv`, x, y, z each.
-    pub fn to_floats(&self) -> [f32; 72] {
-        let mut out = [0.0; 72];
+    pub fn to_floats(&self) -> [f32; SHADING_FLOATS as usize] {
+        let mut out = [0.0; SHADING_FLOATS as usize];
         for (k, v) in self.du.iter().chain(&self.dv).enumerate() {
             out[3 * k..3 * k + 3].copy_from_slice(&v.to_array());
         }

@@ -29,7 +29,7 @@ use crate::patch::bezier::BezierPatch;
 use crate::patch::view::FLAG_WEDGES;
 use crate::renderer::Renderer;
 use crate::scene::camera::Camera;
-use crate::scene::file::SceneGeometry;
+use crate::scene::file::{SceneGeometry, SceneShading};
 
 /// Background of the subdivided image: the key colour.
 pub const KEY_BACKGROUND: [f32; 4] = [0.0, 1.0, 0.0, 1.0];
@@ -294,7 +294,9 @@ pub fn run_model(
     debug_dir: Option<&std::path::Path>,
 ) -> Result<Vec<HoleView>, RenderError> {
     let (eps, lambda) = view_setup;
-    renderer.set_geometry(geo)?;
+    // The key colours come from the patches' own normals (which side of
+    // the surface is seen), never from the shading patches.
+    renderer.set_geometry(geo, &SceneShading::from_geometry(&geo.patches))?;
     let tested = renderer.method().name();
     let with_wedges_too = renderer.method().has_wedges();
     let (w, h) = renderer.target().size();

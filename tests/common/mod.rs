@@ -118,8 +118,25 @@ pub fn scene(
     (s, g)
 }
 
+/// A scene of `scenes/`, its geometry and its shading patches.
+pub fn scene_with_shading(
+    name: &str,
+) -> (
+    bezier_subdiv::scene::file::Scene,
+    bezier_subdiv::scene::file::SceneGeometry,
+    bezier_subdiv::scene::file::SceneShading,
+) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let s = bezier_subdiv::scene::file::Scene::load(&path).unwrap();
+    let (g, sh) = s.geometry_and_shading().unwrap();
+    (s, g, sh)
+}
+
 /// A renderer on the shared context for `geo` with `method`, `size` and
-/// the knobs `options` (a dark background, two frames in flight).
+/// the knobs `options` (a dark background, two frames in flight), shading
+/// with the patches' own derivatives (`set_geometry` replaces them).
 pub fn renderer(
     gpu: &Gpu,
     geo: &bezier_subdiv::scene::file::SceneGeometry,
@@ -130,6 +147,7 @@ pub fn renderer(
     bezier_subdiv::renderer::Renderer::new(
         gpu.arc(),
         geo,
+        &bezier_subdiv::scene::file::SceneShading::from_geometry(&geo.patches),
         method,
         bezier_subdiv::renderer::RendererOptions {
             size,

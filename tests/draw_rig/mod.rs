@@ -20,6 +20,7 @@ use bezier_subdiv::patch::view::ViewParams;
 use bezier_subdiv::patch::wedge::node_mesh;
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::file::{load_model, Scene};
+use bezier_subdiv::scene::shading::ShadingPatch;
 use bezier_subdiv::vk::{Buffer, Context, GpuTimer, MemoryLocation};
 
 use super::common;
@@ -191,8 +192,20 @@ impl Rig {
 
     /// Uploads the case's patches (one frame slot, with its view).
     pub fn scene(&self, case: &Case) -> SceneGpu {
-        let mut scene = SceneGpu::new(&self.ctx, &self.scene_layout, &case.patches, &case.flags, 1)
-            .expect("upload scene");
+        let shading: Vec<ShadingPatch> = case
+            .patches
+            .iter()
+            .map(ShadingPatch::from_geometry)
+            .collect();
+        let mut scene = SceneGpu::new(
+            &self.ctx,
+            &self.scene_layout,
+            &case.patches,
+            &case.flags,
+            &shading,
+            1,
+        )
+        .expect("upload scene");
         scene.set_view(&self.ctx, 0, &case.vp).expect("view");
         scene
     }
