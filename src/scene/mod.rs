@@ -7,6 +7,7 @@ pub mod camera;
 pub mod error;
 pub mod file;
 pub mod obj;
+pub mod orbit;
 
 pub use error::SceneError;
 
