@@ -99,7 +99,7 @@ impl BenchArgs {
 /// A checked request: what the run will do.
 #[derive(Clone, Debug)]
 pub struct Plan {
-    /// The configurations, in run order (method, then λ, then ε).
+    /// The configurations (method, then λ, then ε), taken in turn per frame.
     pub configs: Vec<Config>,
     /// Frames timed per configuration (0 from [`check`] when the path's
     /// own count applies, which is known once the path is chosen).
@@ -201,8 +201,11 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
         check_writable(&dir.join(f), false).map_err(|e| anyhow!(e))?;
     }
     plot::load_font().map_err(|e| anyhow!(e))?;
+    // Given, else --quick's, else the full run's (0 frames: the path's own).
+    let pick = |given: Option<u32>, quick: u32, full: u32| {
+        given.unwrap_or(if args.quick { quick } else { full })
+    };
     let (qf, qw, qp) = QUICK;
-    let quick = |q: u32, full: Option<u32>| if args.quick { Some(q) } else { full };
     let mut configs = Vec::new();
     for m in &methods {
         for &lambda in &args.lambda {
@@ -218,12 +221,9 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
     }
     Ok(Plan {
         configs,
-        frames: args.frames.or(quick(qf, None)).unwrap_or(0),
-        warmup: args.warmup.or(quick(qw, None)).unwrap_or(DEFAULT_WARMUP),
-        flip_frames: args
-            .flip_frames
-            .or(quick(qp, None))
-            .unwrap_or(DEFAULT_FLIP_FRAMES),
+        frames: pick(args.frames, qf, 0),
+        warmup: pick(args.warmup, qw, DEFAULT_WARMUP),
+        flip_frames: pick(args.flip_frames, qp, DEFAULT_FLIP_FRAMES),
         scene,
     })
 }
@@ -378,8 +378,9 @@ struct Measured {
 }
 
 /// The measuring loop: a probe frame per method (for the CSV's columns),
-/// then per configuration its warm-up, its timed frames and its FLIP
-/// perspectives. Returns early, with what it has, on `cancel`.
+/// every configuration's warm-up, then frame by frame along the path every
+/// configuration in turn, then per FLIP perspective the ground truth and
+/// every configuration. Returns early, with what it has, on `cancel`.
 #[allow(clippy::too_many_arguments)]
 fn measure(
     renderer: &mut Renderer,
@@ -426,24 +427,31 @@ fn measure(
     let mut frames_csv = CsvLog::create(&args.out.join("frames.csv"), &columns)?;
     let flip_columns: Vec<String> = FLIP_COLUMNS.iter().map(|s| s.to_string()).collect();
     let mut flip_csv = CsvLog::create(&args.out.join("flip.csv"), &flip_columns)?;
-    let mut truth: Vec<Option<Vec<u8>>> = vec![None; setup.flip_t.len()];
     let (w, h) = args.size;
-    for ci in 0..m.configs.len() {
+    let n = m.configs.len();
+    let label = |c: &Config, what: &str| format!("{} ({what})", c.label());
+    for ci in 0..n {
         let c = m.configs[ci].clone();
-        let label = format!("{} ({}/{})", c.label(), ci + 1, m.configs.len());
         renderer.set_method(&c.method)?;
         for _ in 0..plan.warmup {
             if cancel.load(Ordering::Relaxed) {
                 return Ok(());
             }
             renderer.render(&view(0.0, &c))?;
-            step(m, &label);
+            step(m, &label(&c, "warm-up"));
         }
-        for i in 0..plan.frames {
+    }
+    // Frame by frame, every configuration in turn: whatever else slows the
+    // device down (other processes on a CPU device, clocks on a GPU) then
+    // falls on every configuration alike.
+    for i in 0..plan.frames {
+        let t = path.t(i, plan.frames);
+        for ci in 0..n {
             if cancel.load(Ordering::Relaxed) {
                 return Ok(());
             }
-            let t = path.t(i, plan.frames);
+            let c = m.configs[ci].clone();
+            renderer.set_method(&c.method)?;
             let report = renderer.render(&view(t, &c))?;
             m.configs[ci].draw_path = report.draw_path.to_string();
             let row = FrameRow {
@@ -454,29 +462,31 @@ fn measure(
             };
             frames_csv.append(&frame_cells(&m.configs[ci], &row, &keys))?;
             m.rows.push(row);
-            step(m, &label);
+            step(m, &label(&c, &format!("frame {}/{}", i + 1, plan.frames)));
         }
-        for (k, &t) in setup.flip_t.iter().enumerate() {
+    }
+    for (k, &t) in setup.flip_t.iter().enumerate() {
+        if cancel.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        // The reference does not depend on ε or λ: one per perspective.
+        let truth = ground_truth_image(renderer, &view(t, &m.configs[0]))?;
+        write_png(
+            &args.out.join(format!("flip/ground-truth-p{}.png", k + 1)),
+            w,
+            h,
+            &truth,
+        )?;
+        step(m, &format!("ground truth, perspective {}", k + 1));
+        for ci in 0..n {
             if cancel.load(Ordering::Relaxed) {
                 return Ok(());
             }
-            let v = view(t, &c);
-            if truth[k].is_none() {
-                // The reference does not depend on ε or λ: one per perspective.
-                let img = ground_truth_image(renderer, &v)?;
-                write_png(
-                    &args.out.join(format!("flip/ground-truth-p{}.png", k + 1)),
-                    w,
-                    h,
-                    &img,
-                )?;
-                truth[k] = Some(img);
-                step(m, &format!("ground truth, perspective {}", k + 1));
-            }
-            let report = renderer.render(&v)?;
+            let c = m.configs[ci].clone();
+            renderer.set_method(&c.method)?;
+            let report = renderer.render(&view(t, &c))?;
             let img = renderer.read_image()?;
-            let reference = truth[k].as_deref().unwrap_or_default();
-            let f = flip(reference, &img, w, h)
+            let f = flip(&truth, &img, w, h)
                 .ok_or_else(|| anyhow!("FLIP: images of different sizes"))?;
             let image = format!("flip/{}-p{}.png", c.stem(), k + 1);
             let heat_map = format!("flip/{}-p{}-flip.png", c.stem(), k + 1);
@@ -493,7 +503,7 @@ fn measure(
             };
             flip_csv.append(&flip_cells(&m.configs[ci], &row))?;
             m.flips.push(row);
-            step(m, &label);
+            step(m, &label(&c, &format!("FLIP perspective {}", k + 1)));
         }
     }
     Ok(())
