@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Installs what bezier-subdiv needs to build and test on Debian/Ubuntu:
 # the Vulkan loader, Mesa's lavapipe (with VK_EXT_mesh_shader), the Khronos
-# validation layer, a C/C++ toolchain, and the shaderc/glslang/SPIRV-Tools
-# libraries used by the shader tool under tools/. Idempotent: rerunning it
-# installs nothing that is already there.
+# validation layer, a C/C++ toolchain, the shaderc/glslang/SPIRV-Tools
+# libraries used by the shader tool under tools/, and a font for bench's
+# plots. Idempotent: rerunning it installs nothing that is already there.
 #
 # On Debian 12 the Mesa in the main suite (22.x) has no mesh shaders on
 # lavapipe, so Mesa comes from bookworm-backports. The backports source is
@@ -14,8 +14,10 @@ set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
+# fonts-dejavu-core: the TTF `bench` draws its plots' text with.
 MAIN_PKGS=(build-essential pkg-config libvulkan1 vulkan-tools
-  vulkan-validationlayers libshaderc-dev glslc spirv-tools glslang-tools)
+  vulkan-validationlayers libshaderc-dev glslc spirv-tools glslang-tools
+  fonts-dejavu-core)
 
 have_all() {
   for p in "$@"; do
