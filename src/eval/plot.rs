@@ -93,12 +93,15 @@ struct Series {
     points: Vec<(f64, f64)>,
 }
 
-/// Axis labels: integers with thousands separators from 100 up, else three
-/// decimals (FLIP means are around 0.01).
+/// Axis labels for an axis reaching `span`: integers (with thousands
+/// separators from 100 up), one decimal below 10, three below 1 (FLIP
+/// means are around 0.01).
 fn label(v: &f64, span: f64) -> String {
     if span >= 100.0 {
         crate::commands::thousands(v.round().max(0.0) as u64)
     } else if span >= 10.0 {
+        format!("{v:.0}")
+    } else if span >= 1.0 {
         format!("{v:.1}")
     } else {
         format!("{v:.3}")
@@ -179,6 +182,7 @@ fn draw_panel(
         .y_label_formatter(&yf)
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
+        .light_line_style(WHITE)
         .draw()
         .map_err(err)?;
     let last = panel.series.iter().map(|s| s.colour).max().unwrap_or(0);
@@ -194,10 +198,12 @@ fn draw_panel(
         }
         let pts = s.points.iter().copied();
         let (dot, ring) = (colour.filled(), colour.stroke_width(2));
+        // Small marks where the points are dense (a path of many frames).
+        let r = if s.points.len() > 30 { 2 } else { 5 };
         let anno = match s.marker % 3 {
-            0 => chart.draw_series(pts.map(|p| Circle::new(p, 5, dot))),
-            1 => chart.draw_series(pts.map(|p| Circle::new(p, 5, ring))),
-            _ => chart.draw_series(pts.map(|p| Cross::new(p, 5, ring))),
+            0 => chart.draw_series(pts.map(|p| Circle::new(p, r, dot))),
+            1 => chart.draw_series(pts.map(|p| Circle::new(p, r, ring))),
+            _ => chart.draw_series(pts.map(|p| Cross::new(p, r, ring))),
         }
         .map_err(err)?
         .label(&s.label);
