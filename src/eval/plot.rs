@@ -171,7 +171,8 @@ fn draw_panel(
         .margin(10)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d(0f64..(x_max * 1.02).max(1.0), 0f64..(y_max * 1.1).max(1e-9))
+        // Headroom above the data for the legend in the upper right.
+        .build_cartesian_2d(0f64..(x_max * 1.02).max(1.0), 0f64..(y_max * 1.3).max(1e-9))
         .map_err(err)?;
     let (xf, yf) = (|v: &f64| label(v, x_max), |v: &f64| label(v, y_max));
     chart
