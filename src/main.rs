@@ -6,6 +6,7 @@ use std::str::FromStr;
 
 use clap::{Parser, Subcommand};
 
+use bezier_subdiv::commands::bench::{BenchArgs, DEFAULT_EPS, DEFAULT_LAMBDA};
 use bezier_subdiv::commands::render::{RenderArgs, Shade};
 use bezier_subdiv::commands::validate::ValidateArgs;
 use bezier_subdiv::commands::{self, parse_size, resolve_scene, stats::StatsArgs, GpuRequest};
@@ -20,7 +21,9 @@ use bezier_subdiv::vk::DeviceSelector;
 /// `render` draws one frame offscreen to a PNG with its statistics as JSON;
 /// `view` opens a window to fly around and change everything live;
 /// `validate` checks the GPU against the CPU reference and looks for holes;
-/// `stats` prints the CPU reference's figures; `import` converts models;
+/// `bench` measures every method along a camera path and writes the
+/// paper's tables; `stats` prints the CPU reference's figures; `import`
+/// converts models;
 /// `info` lists the Vulkan devices.
 #[derive(Parser)]
 #[command(name = "bezier-subdiv", version, about, long_about)]
@@ -129,6 +132,65 @@ enum Command {
         /// the swapchain's remaking; the screenshot is at the new size).
         #[arg(long, value_name = "WxH", value_parser = parse_size)]
         resize: Option<(u32, u32)>,
+    },
+    /// Measure every method at every ε and λ along the scene's camera path
+    /// and write the paper's tables.
+    ///
+    /// Per frame: GPU time per named pass and the whole frame, triangles,
+    /// wedge share, memory by purpose and the method's own figures (the
+    /// `render` stats keys), into DIR/frames.csv as they are measured. At
+    /// --flip-frames perspectives each configuration's image is compared
+    /// with the ground truth by FLIP (renders and heat maps in DIR/flip/).
+    /// Then DIR/summary.json (medians per method × ε × λ), DIR/report.md
+    /// (the paper's Tables 1 and 2, time per pass, memory by purpose, the
+    /// targets) and plots. Ctrl-C stops after the current frame and writes
+    /// every report from what was measured.
+    Bench {
+        /// Scene file (TOML); its [camera_orbit] is the path, else its
+        /// [camera_path] keys, else an orbit of its bounding box.
+        #[arg(long, default_value = commands::DEFAULT_SCENE)]
+        scene: PathBuf,
+        /// Methods, comma-separated (default: every built method except
+        /// ground-truth, the reference).
+        #[arg(long, value_name = "LIST", value_delimiter = ',')]
+        methods: Option<Vec<String>>,
+        /// Pixel tolerances, comma-separated.
+        #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_EPS)]
+        eps: Vec<f64>,
+        /// Distance blends, comma-separated.
+        #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_LAMBDA)]
+        lambda: Vec<f64>,
+        /// Frames timed along the path per configuration (default: the
+        /// path's `frames`; 5 with --quick).
+        #[arg(long, value_name = "N")]
+        frames: Option<u32>,
+        /// Image size; ε is measured in its pixels.
+        #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Untimed frames before each configuration (default 5; 2 with --quick).
+        #[arg(long, value_name = "N")]
+        warmup: Option<u32>,
+        /// FLIP perspectives spread along the path, 0 for none (default 6,
+        /// like the paper's Table 1; 2 with --quick).
+        #[arg(long, value_name = "N")]
+        flip_frames: Option<u32>,
+        /// The ground truth's grid cells per patch side (a power of two;
+        /// lower it on CPU devices: 32 is ~18 s per kitchen image there).
+        #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
+        grid: u32,
+        /// Output directory (created).
+        #[arg(long, value_name = "DIR", default_value = "out/bench")]
+        out: PathBuf,
+        /// Vulkan device: an index from `info`, or part of its name.
+        #[arg(long, value_name = "ID", default_value = "auto")]
+        device: DeviceSelector,
+        /// A few frames per configuration, every method: a run of minutes
+        /// on a GPU that still writes every report file.
+        #[arg(long)]
+        quick: bool,
+        /// Enable the Khronos validation layer; any error fails the run.
+        #[arg(long)]
+        vk_validation: bool,
     },
     /// List the Vulkan devices and what they support.
     Info {
@@ -348,6 +410,49 @@ fn run(command: Command) -> anyhow::Result<()> {
             };
             print!("{}", bezier_subdiv::app::run(&args)?);
             Ok(())
+        }
+        Command::Bench {
+            scene,
+            methods,
+            eps,
+            lambda,
+            frames,
+            size,
+            warmup,
+            flip_frames,
+            grid,
+            out,
+            device,
+            quick,
+            vk_validation,
+        } => {
+            let args = BenchArgs {
+                methods,
+                eps,
+                lambda,
+                frames,
+                size,
+                warmup,
+                flip_frames,
+                grid,
+                device,
+                quick,
+                validation: vk_validation,
+                ..BenchArgs::new(resolve_scene(Some(&scene)), out)
+            };
+            let done = commands::bench::run(&args)?;
+            println!(
+                "wrote {}: frames.csv ({} frames), flip.csv ({} images), summary.json, report.md, plots",
+                done.out.display(),
+                done.rows,
+                done.flips
+            );
+            match done.stopped {
+                None => Ok(()),
+                Some(why) => Err(anyhow::anyhow!(
+                    "the run stopped early ({why}); the reports cover what was measured"
+                )),
+            }
         }
         Command::Info { vk_validation } => {
             print!("{}", commands::info::run(vk_validation)?);

@@ -4,7 +4,7 @@
 # validation layer, a C/C++ toolchain, the shaderc/glslang/SPIRV-Tools
 # libraries used by the shader tool under tools/, and for the `view` window
 # the X11 client libraries winit opens at run time plus Xvfb, the virtual
-# X server its test runs under. Idempotent: rerunning it
+# X server its test runs under, and a font for bench's plots. Idempotent: rerunning it
 # installs nothing that is already there.
 #
 # On Debian 12 the Mesa in the main suite (22.x) has no mesh shaders on
@@ -16,9 +16,11 @@ set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
+# fonts-dejavu-core: the TTF `bench` draws its plots' text with.
 MAIN_PKGS=(build-essential pkg-config libvulkan1 vulkan-tools
   vulkan-validationlayers libshaderc-dev glslc spirv-tools glslang-tools
-  xvfb xauth libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
+  xvfb xauth libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
+  fonts-dejavu-core)
 
 have_all() {
   for p in "$@"; do

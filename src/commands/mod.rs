@@ -1,5 +1,6 @@
 //! The command-line verbs, as library functions the binary and the tests call.
 
+pub mod bench;
 pub mod import;
 pub mod info;
 pub mod render;

@@ -1,7 +1,13 @@
-//! Judging images and runs: FLIP against a reference ([`flip`]), and the
-//! reference itself: the `ground-truth` method's image of the same view.
+//! Judging images and runs: FLIP against a reference ([`flip`]), the
+//! reference itself (the `ground-truth` method's image of the same view),
+//! and what `bench` makes of its measurements: the per-frame records and
+//! their medians ([`record`]), the Markdown and JSON reports ([`report`]),
+//! the plots ([`plot`]).
 
 pub mod flip;
+pub mod plot;
+pub mod record;
+pub mod report;
 
 use crate::frame::View;
 use crate::methods::{ground_truth, RenderError};

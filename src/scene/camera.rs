@@ -28,16 +28,16 @@ pub struct Camera {
     pub far: f64,
 }
 
-fn default_up() -> [f64; 3] {
+pub(crate) fn default_up() -> [f64; 3] {
     [0.0, 0.0, 1.0]
 }
-fn default_fov() -> f64 {
+pub(crate) fn default_fov() -> f64 {
     45.0
 }
-fn default_near() -> f64 {
+pub(crate) fn default_near() -> f64 {
     0.05
 }
-fn default_far() -> f64 {
+pub(crate) fn default_far() -> f64 {
     1000.0
 }
 

@@ -1,5 +1,5 @@
 //! Scene files (TOML): models with instance transforms, a camera, an optional
-//! camera path, and default ε and λ.
+//! camera path and camera orbit, and default ε and λ.
 //!
 //! ```toml
 //! name = "teapot"
@@ -18,6 +18,16 @@
 //! [[camera_path.key]]
 //! position = [...]
 //! target = [...]
+//! [camera_orbit]              # optional; the path `bench` samples (else the
+//!                             # keys above, else an orbit of the bounding box)
+//! center = [0.0, 0.0, 1.2]    # looked at, circled about `up`
+//! distance = [3.0, 12.0]      # eye distance from the axis: nearest, farthest
+//! height = [0.5, 4.0]         # eye above center when nearest, when farthest
+//! turns = 1.0                 # revolutions over the path (default 1)
+//! waves = 2.0                 # far → near → far cycles (default 2)
+//! start_deg = 0.0             # azimuth of the first frame (from the x axis)
+//! frames = 240                # frames `bench` samples (default 240)
+//! # up, fov_y_deg, near, far: as in [camera]
 //! [[model]]
 //! name = "teapot"
 //! file = "models/teapot.bpt"  # .bpt or Catmull–Clark .obj, relative to this file
@@ -48,6 +58,7 @@ use serde::Deserialize;
 use super::camera::Camera;
 use super::geometry::{bytes_text, thousands};
 use super::obj::CageOptions;
+use super::orbit::Orbit;
 use super::sharpness::BoundaryRule;
 use super::SceneError;
 
@@ -71,6 +82,7 @@ struct SceneToml {
     view: ViewDefaults,
     camera: Camera,
     camera_path: Option<PathToml>,
+    camera_orbit: Option<Orbit>,
     #[serde(default)]
     model: Vec<ModelToml>,
 }
@@ -189,6 +201,8 @@ pub struct Scene {
     pub keys: Vec<Camera>,
     /// Frames `bench` samples along the path.
     pub path_frames: u32,
+    /// The orbit `bench` samples instead of the keyframe path, if given.
+    pub orbit: Option<Orbit>,
     /// Models.
     pub models: Vec<ModelDesc>,
 }
@@ -227,6 +241,10 @@ impl Scene {
             key.check().map_err(|m| {
                 invalid(format!("camera_path key {} (frame {}): {m}", k + 1, k + 1))
             })?;
+        }
+        if let Some(o) = &raw.camera_orbit {
+            o.check()
+                .map_err(|m| invalid(format!("[camera_orbit]: {m}")))?;
         }
         let v = raw.view;
         if !(v.eps.is_finite() && v.eps > 0.0) {
@@ -285,6 +303,7 @@ impl Scene {
             camera: raw.camera,
             keys,
             path_frames,
+            orbit: raw.camera_orbit,
             models,
         })
     }
@@ -529,6 +548,26 @@ file = "teapot.bpt"
         assert_eq!(s.path_camera(0.5).position, [6.0, -5.0, 3.0]);
         assert_eq!(s.frame_camera(1).unwrap().position[0], 7.0);
         assert!(s.frame_camera(2).is_none());
+    }
+
+    #[test]
+    fn orbits_parse_and_bad_ones_are_explained() {
+        let orbit = "[camera_orbit]\ncenter = [0.0, 0.0, 1.0]\ndistance = [2.0, 6.0]\nheight = [0.5, 3.0]\nframes = 12\n";
+        let s = parse(&format!("{MINIMAL}{orbit}")).unwrap();
+        let o = s.orbit.unwrap();
+        assert_eq!((o.frames, o.turns, o.fov_y_deg), (12, 1.0, 45.0));
+        assert!(parse(MINIMAL).unwrap().orbit.is_none());
+        let e = parse(&format!(
+            "{MINIMAL}{}",
+            orbit.replace("[2.0, 6.0]", "[6.0, 2.0]")
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("[camera_orbit]") && e.contains("nearest"), "{e}");
+        let e = parse(&format!("{MINIMAL}{orbit}radius = 3.0\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("scene.toml:") && e.contains("radius"), "{e}");
     }
 
     #[test]

@@ -8,6 +8,7 @@ pub mod error;
 pub mod file;
 pub mod geometry;
 pub mod obj;
+pub mod orbit;
 pub mod refine;
 pub mod shading;
 pub mod sharpness;

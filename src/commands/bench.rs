@@ -1,0 +1,581 @@
+//! `bench`: every method at every ε and λ along a camera path, GPU time
+//! per pass and the frame's figures per frame; at a few perspectives the
+//! image error against the ground truth; then the reports (see
+//! `eval::record`, `eval::report`, `eval::plot`).
+//!
+//! Everything that can be refused is refused before any GPU work: the
+//! lists, the methods, the scene and its path, the output directory, the
+//! plot font. A run stopped early (Ctrl-C, or a frame that failed) still
+//! writes every report from what was measured; `frames.csv` is written
+//! row by row as the run goes.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use anyhow::{anyhow, Context as _};
+
+use super::render::commit_id;
+use super::GpuRequest;
+use crate::constants::SHADE_NORMAL;
+use crate::eval::record::{
+    figure_keys, flatten, flip_cells, frame_cells, Config, ConfigSummary, CsvLog, FlipRow,
+    FrameRow, FLIP_COLUMNS, FRAME_COLUMNS,
+};
+use crate::eval::report::{markdown, summary_json, Setup};
+use crate::eval::{flip::flip, ground_truth_image, plot};
+use crate::files::{check_writable, write_atomic};
+use crate::frame::View;
+use crate::gpu::write_png;
+use crate::methods::{self, ground_truth};
+use crate::renderer::Renderer;
+use crate::scene::file::Scene;
+use crate::scene::orbit::ScenePath;
+use crate::vk::{Context, DeviceSelector};
+
+/// Default ε list (the paper's Table 2).
+pub const DEFAULT_EPS: [f64; 3] = [0.5, 1.0, 2.0];
+/// Default λ list (the paper's Table 2).
+pub const DEFAULT_LAMBDA: [f64; 2] = [0.0, 0.5];
+/// Warm-up frames per configuration unless told.
+pub const DEFAULT_WARMUP: u32 = 5;
+/// FLIP perspectives unless told (the paper's six).
+pub const DEFAULT_FLIP_FRAMES: u32 = 6;
+/// `--quick`: frames, warm-up frames and FLIP perspectives.
+pub const QUICK: (u32, u32, u32) = (5, 2, 2);
+
+/// What `bench` is asked for; `None` takes the default (or `--quick`'s).
+#[derive(Clone, Debug)]
+pub struct BenchArgs {
+    /// Scene file.
+    pub scene: PathBuf,
+    /// Methods (`None`: every built method but the ground truth).
+    pub methods: Option<Vec<String>>,
+    /// ε list.
+    pub eps: Vec<f64>,
+    /// λ list.
+    pub lambda: Vec<f64>,
+    /// Frames along the path (`None`: the path's own count).
+    pub frames: Option<u32>,
+    /// Image size.
+    pub size: (u32, u32),
+    /// Untimed frames before each configuration.
+    pub warmup: Option<u32>,
+    /// FLIP perspectives spread along the path (0: none).
+    pub flip_frames: Option<u32>,
+    /// The ground truth's grid.
+    pub grid: u32,
+    /// Output directory (created).
+    pub out: PathBuf,
+    /// Device.
+    pub device: DeviceSelector,
+    /// A few frames per configuration.
+    pub quick: bool,
+    /// Khronos validation layer on.
+    pub validation: bool,
+}
+
+impl BenchArgs {
+    /// The defaults for `scene` writing to `out`.
+    pub fn new(scene: PathBuf, out: PathBuf) -> Self {
+        BenchArgs {
+            scene,
+            methods: None,
+            eps: DEFAULT_EPS.to_vec(),
+            lambda: DEFAULT_LAMBDA.to_vec(),
+            frames: None,
+            size: (1920, 1080),
+            warmup: None,
+            flip_frames: None,
+            grid: ground_truth::DEFAULT_GRID,
+            out,
+            device: DeviceSelector::Auto,
+            quick: false,
+            validation: false,
+        }
+    }
+}
+
+/// A checked request: what the run will do.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// The configurations (method, then λ, then ε), taken in turn per frame.
+    pub configs: Vec<Config>,
+    /// Frames timed per configuration (0 from [`check`] when the path's
+    /// own count applies, which is known once the path is chosen).
+    pub frames: u32,
+    /// Warm-up frames per configuration.
+    pub warmup: u32,
+    /// FLIP perspectives.
+    pub flip_frames: u32,
+    /// The scene.
+    pub scene: Scene,
+}
+
+impl Plan {
+    /// Frames the run renders, for the progress bar: per configuration
+    /// its warm-up, timed and FLIP frames; plus one probe per method and
+    /// one ground-truth image per perspective.
+    pub fn total_steps(&self) -> u64 {
+        let per = u64::from(self.warmup + self.frames + self.flip_frames);
+        let methods = self.methods().len() as u64;
+        self.configs.len() as u64 * per + methods + u64::from(self.flip_frames)
+    }
+
+    /// The methods, in run order.
+    pub fn methods(&self) -> Vec<String> {
+        let mut m: Vec<String> = Vec::new();
+        for c in &self.configs {
+            if !m.contains(&c.method) {
+                m.push(c.method.clone());
+            }
+        }
+        m
+    }
+}
+
+fn check_list(name: &str, v: &[f64], ok: impl Fn(f64) -> bool, want: &str) -> anyhow::Result<()> {
+    if v.is_empty() {
+        return Err(anyhow!("--{name} needs at least one value"));
+    }
+    if let Some(x) = v.iter().find(|&&x| !ok(x)) {
+        return Err(anyhow!("--{name}: {x} is not {want}"));
+    }
+    if let Some((_, x)) = v.iter().enumerate().find(|(i, x)| v[..*i].contains(x)) {
+        return Err(anyhow!("--{name}: {x} is given twice"));
+    }
+    Ok(())
+}
+
+/// Checks `args` without touching the GPU: the lists, the methods, the
+/// scene, the output directory (created) and the plot font.
+pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
+    check_list(
+        "eps",
+        &args.eps,
+        |x| x.is_finite() && x > 0.0,
+        "a positive number of pixels",
+    )?;
+    check_list(
+        "lambda",
+        &args.lambda,
+        |x| (0.0..=1.0).contains(&x),
+        "in [0, 1]",
+    )?;
+    let methods: Vec<String> = match &args.methods {
+        Some(list) => {
+            if list.is_empty() {
+                return Err(anyhow!("--methods needs at least one method"));
+            }
+            for (i, m) in list.iter().enumerate() {
+                methods::find(m).map_err(|e| anyhow!("--methods: {e}"))?;
+                if list[..i].contains(m) {
+                    return Err(anyhow!("--methods: {m} is given twice"));
+                }
+            }
+            list.clone()
+        }
+        None => methods::METHODS
+            .iter()
+            .filter(|m| m.name != ground_truth::INFO.name)
+            .map(|m| m.name.to_string())
+            .collect(),
+    };
+    let mut request = GpuRequest::new(args.scene.clone());
+    request.grid = args.grid;
+    request.method_info()?;
+    if args.frames == Some(0) {
+        return Err(anyhow!("--frames must be at least 1"));
+    }
+    let scene = Scene::load(&args.scene)?;
+    let dir = &args.out;
+    std::fs::create_dir_all(dir.join("flip"))
+        .map_err(|e| anyhow!("cannot write to {}: {e}", dir.display()))?;
+    for f in [
+        "frames.csv",
+        "flip.csv",
+        "summary.json",
+        "report.md",
+        "flip/x.png",
+    ] {
+        check_writable(&dir.join(f), false).map_err(|e| anyhow!(e))?;
+    }
+    plot::load_font().map_err(|e| anyhow!(e))?;
+    // Given, else --quick's, else the full run's (0 frames: the path's own).
+    let pick = |given: Option<u32>, quick: u32, full: u32| {
+        given.unwrap_or(if args.quick { quick } else { full })
+    };
+    let (qf, qw, qp) = QUICK;
+    let mut configs = Vec::new();
+    for m in &methods {
+        for &lambda in &args.lambda {
+            for &eps in &args.eps {
+                configs.push(Config {
+                    method: m.clone(),
+                    eps,
+                    lambda,
+                    draw_path: String::new(),
+                });
+            }
+        }
+    }
+    Ok(Plan {
+        configs,
+        frames: pick(args.frames, qf, 0),
+        warmup: pick(args.warmup, qw, DEFAULT_WARMUP),
+        flip_frames: pick(args.flip_frames, qp, DEFAULT_FLIP_FRAMES),
+        scene,
+    })
+}
+
+/// What the run tells whoever watches it, after every frame.
+#[derive(Clone, Debug)]
+pub struct Step<'a> {
+    /// Frames rendered so far (of `total`).
+    pub done: u64,
+    /// All the frames the run will render.
+    pub total: u64,
+    /// The configuration being measured (or the ground truth).
+    pub what: &'a str,
+    /// Rows in `frames.csv` so far.
+    pub rows: usize,
+}
+
+/// How the run ended.
+#[derive(Clone, Debug)]
+pub struct BenchOutcome {
+    /// The output directory.
+    pub out: PathBuf,
+    /// Frames timed (rows of `frames.csv`).
+    pub rows: usize,
+    /// FLIP images compared.
+    pub flips: usize,
+    /// `None` if complete, else why it stopped early.
+    pub stopped: Option<String>,
+    /// The report, for printing.
+    pub report: String,
+}
+
+/// The command line that repeats a run.
+fn command_line(args: &BenchArgs, plan: &Plan) -> String {
+    let join = |v: &[f64]| {
+        v.iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let mut c = format!(
+        "bezier-subdiv bench --scene {} --methods {} --eps {} --lambda {} --frames {} --warmup {} --flip-frames {} --size {}x{} --grid {} --out {}",
+        args.scene.display(),
+        plan.methods().join(","),
+        join(&args.eps),
+        join(&args.lambda),
+        plan.frames,
+        plan.warmup,
+        plan.flip_frames,
+        args.size.0,
+        args.size.1,
+        args.grid,
+        args.out.display()
+    );
+    if args.device != DeviceSelector::Auto {
+        c += &format!(" --device {}", args.device);
+    }
+    c
+}
+
+/// Runs the benchmark on `ctx`; `cancel` stops it after the current frame,
+/// `watch` hears of every frame. Reports are written however it ends; an
+/// error comes back only when no report could be written.
+pub fn run_on(
+    ctx: &Arc<Context>,
+    args: &BenchArgs,
+    cancel: &AtomicBool,
+    watch: &mut dyn FnMut(&Step<'_>),
+) -> anyhow::Result<BenchOutcome> {
+    let mut plan = check(args)?;
+    let (geo, shading) = plan
+        .scene
+        .geometry_and_shading()
+        .with_context(|| format!("loading the models of {}", args.scene.display()))?;
+    let path = ScenePath::of(&plan.scene, &geo);
+    if plan.frames == 0 {
+        plan.frames = path.default_frames();
+    }
+    // Rows of an earlier run must not pass for this one's.
+    for f in ["frames.csv", "flip.csv"] {
+        let _ = std::fs::remove_file(args.out.join(f));
+    }
+    let mut request = GpuRequest::new(args.scene.clone());
+    request.grid = args.grid;
+    request.size = args.size;
+    request.method = plan.configs[0].method.clone();
+    let mut renderer = request.renderer(ctx, &geo, &shading)?;
+    let info = ctx.info();
+    let flip_t: Vec<f64> = (0..plan.flip_frames)
+        .map(|k| path.t(k, plan.flip_frames))
+        .collect();
+    let mut setup = Setup {
+        command: command_line(args, &plan),
+        scene: args.scene.display().to_string(),
+        scene_name: plan.scene.name.clone(),
+        patches: geo.patches.len(),
+        device: info.name.clone(),
+        device_is_cpu: info.is_cpu,
+        driver: format!("{} {}", info.driver_name, info.driver_info),
+        size: args.size,
+        path: path.describe(),
+        frames: plan.frames,
+        warmup: plan.warmup,
+        flip_t,
+        grid: args.grid,
+        commit: commit_id().to_string(),
+        stopped: None,
+    };
+    let mut m = Measured {
+        configs: plan.configs.clone(),
+        rows: Vec::new(),
+        flips: Vec::new(),
+        steps: 0,
+    };
+    let result = measure(
+        &mut renderer,
+        args,
+        &plan,
+        &path,
+        &setup,
+        cancel,
+        watch,
+        &mut m,
+    );
+    setup.stopped = match &result {
+        Ok(()) if cancel.load(Ordering::Relaxed) => Some("interrupted".into()),
+        Ok(()) => None,
+        Err(e) => Some(format!("{e:#}")),
+    };
+    let report = finish(&args.out, &setup, &m).map_err(|e| match &result {
+        Err(r) => e.context(format!("writing the reports after the run failed: {r:#}")),
+        Ok(()) => e,
+    })?;
+    if let (Err(e), true) = (result, m.rows.is_empty()) {
+        return Err(e.context("no frame was measured"));
+    }
+    Ok(BenchOutcome {
+        out: args.out.clone(),
+        rows: m.rows.len(),
+        flips: m.flips.len(),
+        stopped: setup.stopped,
+        report,
+    })
+}
+
+/// What has been measured so far.
+struct Measured {
+    configs: Vec<Config>,
+    rows: Vec<FrameRow>,
+    flips: Vec<FlipRow>,
+    steps: u64,
+}
+
+/// The measuring loop: a probe frame per method (for the CSV's columns),
+/// every configuration's warm-up, then frame by frame along the path every
+/// configuration in turn, then per FLIP perspective the ground truth and
+/// every configuration. Returns early, with what it has, on `cancel`.
+#[allow(clippy::too_many_arguments)]
+fn measure(
+    renderer: &mut Renderer,
+    args: &BenchArgs,
+    plan: &Plan,
+    path: &ScenePath,
+    setup: &Setup,
+    cancel: &AtomicBool,
+    watch: &mut dyn FnMut(&Step<'_>),
+    m: &mut Measured,
+) -> anyhow::Result<()> {
+    let total = plan.total_steps();
+    let view =
+        |t: f64, c: &Config| View::new(&path.camera(t), args.size, c.eps, c.lambda, SHADE_NORMAL);
+    let mut step = |m: &mut Measured, what: &str| {
+        m.steps += 1;
+        watch(&Step {
+            done: m.steps,
+            total,
+            what,
+            rows: m.rows.len(),
+        });
+    };
+    // Probe every method once: its scopes, memory and figures name the
+    // CSV's columns, which must be known before the first row.
+    let mut probes = Vec::new();
+    for name in plan.methods() {
+        if cancel.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        let c = m
+            .configs
+            .iter()
+            .find(|c| c.method == name)
+            .expect("a method has configurations");
+        renderer.set_method(&name)?;
+        let report = renderer.render(&view(0.0, c))?;
+        probes.push(flatten(&report, &renderer.memory()));
+        step(m, &format!("{name}: first frame"));
+    }
+    let keys = figure_keys(probes.iter().map(Vec::as_slice));
+    let mut columns: Vec<String> = FRAME_COLUMNS.iter().map(|s| s.to_string()).collect();
+    columns.extend(keys.iter().cloned());
+    let mut frames_csv = CsvLog::create(&args.out.join("frames.csv"), &columns)?;
+    let flip_columns: Vec<String> = FLIP_COLUMNS.iter().map(|s| s.to_string()).collect();
+    let mut flip_csv = CsvLog::create(&args.out.join("flip.csv"), &flip_columns)?;
+    let (w, h) = args.size;
+    let n = m.configs.len();
+    let label = |c: &Config, what: &str| format!("{} ({what})", c.label());
+    for ci in 0..n {
+        let c = m.configs[ci].clone();
+        renderer.set_method(&c.method)?;
+        for _ in 0..plan.warmup {
+            if cancel.load(Ordering::Relaxed) {
+                return Ok(());
+            }
+            renderer.render(&view(0.0, &c))?;
+            step(m, &label(&c, "warm-up"));
+        }
+    }
+    // Frame by frame, every configuration in turn: whatever else slows the
+    // device down (other processes on a CPU device, clocks on a GPU) then
+    // falls on every configuration alike.
+    for i in 0..plan.frames {
+        let t = path.t(i, plan.frames);
+        for ci in 0..n {
+            if cancel.load(Ordering::Relaxed) {
+                return Ok(());
+            }
+            let c = m.configs[ci].clone();
+            renderer.set_method(&c.method)?;
+            let report = renderer.render(&view(t, &c))?;
+            m.configs[ci].draw_path = report.draw_path.to_string();
+            let row = FrameRow {
+                config: ci,
+                frame: i,
+                t,
+                values: flatten(&report, &renderer.memory()),
+            };
+            frames_csv.append(&frame_cells(&m.configs[ci], &row, &keys))?;
+            m.rows.push(row);
+            step(m, &label(&c, &format!("frame {}/{}", i + 1, plan.frames)));
+        }
+    }
+    for (k, &t) in setup.flip_t.iter().enumerate() {
+        if cancel.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        // The reference does not depend on ε or λ: one per perspective.
+        let truth = ground_truth_image(renderer, &view(t, &m.configs[0]))?;
+        write_png(
+            &args.out.join(format!("flip/ground-truth-p{}.png", k + 1)),
+            w,
+            h,
+            &truth,
+        )?;
+        step(m, &format!("ground truth, perspective {}", k + 1));
+        for ci in 0..n {
+            if cancel.load(Ordering::Relaxed) {
+                return Ok(());
+            }
+            let c = m.configs[ci].clone();
+            renderer.set_method(&c.method)?;
+            let report = renderer.render(&view(t, &c))?;
+            let img = renderer.read_image()?;
+            let f = flip(&truth, &img, w, h)
+                .ok_or_else(|| anyhow!("FLIP: images of different sizes"))?;
+            let image = format!("flip/{}-p{}.png", c.stem(), k + 1);
+            let heat_map = format!("flip/{}-p{}-flip.png", c.stem(), k + 1);
+            write_png(&args.out.join(&image), w, h, &img)?;
+            f.save_heat_map(&args.out.join(&heat_map))?;
+            let row = FlipRow {
+                config: ci,
+                perspective: k,
+                t,
+                mean: f.mean,
+                triangles: report.stats.triangles,
+                image,
+                heat_map,
+            };
+            flip_csv.append(&flip_cells(&m.configs[ci], &row))?;
+            m.flips.push(row);
+            step(m, &label(&c, &format!("FLIP perspective {}", k + 1)));
+        }
+    }
+    Ok(())
+}
+
+/// Writes `summary.json`, `report.md` and the plots; returns the report.
+fn finish(out: &Path, setup: &Setup, m: &Measured) -> anyhow::Result<String> {
+    // Stopped before the columns were known (during the probes): the CSV
+    // files still exist, with the columns every run has.
+    for (f, cols) in [
+        ("frames.csv", &FRAME_COLUMNS[..]),
+        ("flip.csv", &FLIP_COLUMNS[..]),
+    ] {
+        if !out.join(f).exists() {
+            let cols: Vec<String> = cols.iter().map(|s| s.to_string()).collect();
+            CsvLog::create(&out.join(f), &cols)?;
+        }
+    }
+    let summaries: Vec<ConfigSummary> = (0..m.configs.len())
+        .map(|i| ConfigSummary::of(i, &m.rows, &m.flips))
+        .filter(|s| s.stats.frames > 0 || !s.flips.is_empty())
+        .collect();
+    let json = summary_json(setup, &m.configs, &summaries);
+    write_atomic(
+        &out.join("summary.json"),
+        (serde_json::to_string_pretty(&json)? + "\n").as_bytes(),
+    )
+    .with_context(|| format!("writing {}", out.join("summary.json").display()))?;
+    let plots = plot::write_plots(out, &m.configs, &m.rows, &summaries).map_err(|e| anyhow!(e))?;
+    let md = markdown(setup, &m.configs, &summaries, &plots);
+    write_atomic(&out.join("report.md"), md.as_bytes())
+        .with_context(|| format!("writing {}", out.join("report.md").display()))?;
+    Ok(md)
+}
+
+/// Set by Ctrl-C: the run stops after the frame in flight.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// The command: checks, a context on the requested device, a progress bar,
+/// Ctrl-C handling (a second Ctrl-C ends the process at once; the CSV
+/// files are whole up to the last row either way), the run.
+pub fn run(args: &BenchArgs) -> anyhow::Result<BenchOutcome> {
+    check(args)?;
+    if let Err(e) = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            eprintln!("\nbench: stopped at once (frames.csv holds every whole row)");
+            std::process::exit(130);
+        }
+        eprintln!("\nbench: stopping after this frame and writing the reports (Ctrl-C again to stop at once)");
+    }) {
+        log::warn!("Ctrl-C will not stop bench cleanly: {e}");
+    }
+    let mut request = GpuRequest::new(args.scene.clone());
+    request.device = args.device.clone();
+    request.validation = args.validation;
+    let ctx = request.context()?;
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} frames, ETA {eta}: {msg}",
+        )
+        .map_err(|e| anyhow!("progress bar: {e}"))?
+        .progress_chars("=> "),
+    );
+    let outcome = run_on(&ctx, args, &INTERRUPTED, &mut |s| {
+        bar.set_length(s.total);
+        bar.set_position(s.done);
+        bar.set_message(s.what.to_string());
+    });
+    bar.finish_and_clear();
+    if args.validation {
+        ctx.check_validation()?;
+    }
+    outcome
+}

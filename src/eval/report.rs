@@ -1,0 +1,562 @@
+//! `summary.json` and `report.md` of a `bench` run: the paper's Table 1
+//! (FLIP per perspective), Table 2 (time and triangles per ε, method and
+//! λ), GPU time per pass, the subdivision figures, memory by purpose (its
+//! §4.3), and the issue's targets, each figure computed from the frames
+//! measured (nothing here is typed in by hand).
+
+use serde_json::{json, Value};
+
+use super::record::{Config, ConfigSummary};
+use crate::commands::thousands;
+
+/// What the run was: everything a reader needs to reproduce it.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    /// The command line that makes the same run.
+    pub command: String,
+    /// Scene file as given.
+    pub scene: String,
+    /// Scene name.
+    pub scene_name: String,
+    /// Base patches.
+    pub patches: usize,
+    /// Device name.
+    pub device: String,
+    /// A CPU (software) device.
+    pub device_is_cpu: bool,
+    /// Driver name and version.
+    pub driver: String,
+    /// Image size.
+    pub size: (u32, u32),
+    /// The camera path, in words.
+    pub path: String,
+    /// Frames timed per configuration.
+    pub frames: u32,
+    /// Warm-up frames per configuration.
+    pub warmup: u32,
+    /// Where the FLIP perspectives are on the path.
+    pub flip_t: Vec<f64>,
+    /// The ground truth's grid.
+    pub grid: u32,
+    /// The commit the binary was built from.
+    pub commit: String,
+    /// `None` when the run completed, else why it stopped early.
+    pub stopped: Option<String>,
+}
+
+/// `summary.json`: the setup, then one entry per configuration.
+pub fn summary_json(setup: &Setup, configs: &[Config], summaries: &[ConfigSummary]) -> Value {
+    let entries: Vec<Value> = summaries
+        .iter()
+        .map(|s| s.to_json(&configs[s.config]))
+        .collect();
+    json!({
+        "command": setup.command,
+        "scene": setup.scene,
+        "scene_name": setup.scene_name,
+        "patches": setup.patches,
+        "device": setup.device,
+        "device_is_cpu": setup.device_is_cpu,
+        "driver": setup.driver,
+        "width": setup.size.0,
+        "height": setup.size.1,
+        "path": setup.path,
+        "frames": setup.frames,
+        "warmup": setup.warmup,
+        "flip_t": setup.flip_t,
+        "grid": setup.grid,
+        "l_max": crate::constants::L_MAX,
+        "commit": setup.commit,
+        "complete": setup.stopped.is_none(),
+        "stopped": setup.stopped,
+        "configs": entries,
+    })
+}
+
+/// Numbers as the paper prints them.
+fn ms(x: f64) -> String {
+    format!("{x:.3} ms")
+}
+
+fn mib(bytes: f64) -> String {
+    if bytes < 1024.0 * 1024.0 {
+        format!("{:.2} KiB", bytes / 1024.0)
+    } else {
+        format!("{:.2} MiB", bytes / (1024.0 * 1024.0))
+    }
+}
+
+/// Table rows group configurations by ε, then by λ (the paper's order: λ
+/// descending), then by method in run order.
+struct Index<'a> {
+    configs: &'a [Config],
+    summaries: &'a [ConfigSummary],
+    eps: Vec<f64>,
+    lambdas: Vec<f64>,
+    methods: Vec<String>,
+}
+
+impl<'a> Index<'a> {
+    fn new(configs: &'a [Config], summaries: &'a [ConfigSummary]) -> Self {
+        let mut eps: Vec<f64> = Vec::new();
+        let mut lambdas: Vec<f64> = Vec::new();
+        let mut methods: Vec<String> = Vec::new();
+        for c in configs {
+            if !eps.contains(&c.eps) {
+                eps.push(c.eps);
+            }
+            if !lambdas.contains(&c.lambda) {
+                lambdas.push(c.lambda);
+            }
+            if !methods.contains(&c.method) {
+                methods.push(c.method.clone());
+            }
+        }
+        eps.sort_by(f64::total_cmp);
+        lambdas.sort_by(|a, b| b.total_cmp(a));
+        Index {
+            configs,
+            summaries,
+            eps,
+            lambdas,
+            methods,
+        }
+    }
+
+    /// The summary of `method` at `eps`, `lambda`, if it was measured.
+    fn get(&self, method: &str, eps: f64, lambda: f64) -> Option<&'a ConfigSummary> {
+        self.summaries.iter().find(|s| {
+            let c = &self.configs[s.config];
+            c.method == method && c.eps == eps && c.lambda == lambda
+        })
+    }
+
+    /// Every measured summary in table order, with its configuration.
+    fn rows(&self) -> Vec<(&'a Config, &'a ConfigSummary)> {
+        let mut out = Vec::new();
+        for &e in &self.eps {
+            for &l in &self.lambdas {
+                for m in &self.methods {
+                    if let Some(s) = self.get(m, e, l) {
+                        out.push((&self.configs[s.config], s));
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// `report.md`: setup, tables, targets and the plots beside it.
+pub fn markdown(
+    setup: &Setup,
+    configs: &[Config],
+    summaries: &[ConfigSummary],
+    plots: &[(&str, &str)],
+) -> String {
+    let ix = Index::new(configs, summaries);
+    let mut md = format!("# bench: {}\n\n", setup.scene_name);
+    md += &format!("```sh\n{}\n```\n\n", setup.command);
+    md += &setup_table(setup);
+    md += &table1(&ix, setup);
+    md += &table2(&ix);
+    md += &passes_table(&ix);
+    md += &figures_table(&ix);
+    md += &memory_table(&ix);
+    md += &targets(&ix);
+    md += "## Plots\n\n";
+    for (file, what) in plots {
+        md += &format!("![{what}]({file})\n\n");
+    }
+    md
+}
+
+fn setup_table(s: &Setup) -> String {
+    let (w, h) = s.size;
+    let device = if s.device_is_cpu {
+        format!(
+            "{} (CPU device: its times say nothing about a GPU)",
+            s.device
+        )
+    } else {
+        s.device.clone()
+    };
+    let flip_t: Vec<String> = s.flip_t.iter().map(|t| format!("{t:.3}")).collect();
+    let status = match &s.stopped {
+        None => "complete".to_string(),
+        Some(why) => format!("**stopped early** ({why}): the tables cover the frames measured"),
+    };
+    let rows = [
+        ("device", device),
+        ("driver", s.driver.clone()),
+        ("resolution", format!("{w}×{h}")),
+        (
+            "scene",
+            format!(
+                "{} (`{}`), {} base patches",
+                s.scene_name,
+                s.scene,
+                thousands(s.patches as u64)
+            ),
+        ),
+        ("camera path", s.path.clone()),
+        (
+            "frames",
+            format!(
+                "{} per configuration after {} warm-up frames",
+                s.frames, s.warmup
+            ),
+        ),
+        (
+            "FLIP",
+            format!(
+                "{} perspectives at t = {} against `ground-truth` at grid {}",
+                s.flip_t.len(),
+                flip_t.join(", "),
+                s.grid
+            ),
+        ),
+        ("l_max", crate::constants::L_MAX.to_string()),
+        ("commit", format!("`{}`", s.commit)),
+        ("run", status),
+    ];
+    let mut md = "| | |\n|---|---|\n".to_string();
+    for (k, v) in rows {
+        md += &format!("| {k} | {v} |\n");
+    }
+    md + "\nTimes are medians over the frames of the path of the GPU timestamps \
+           around the whole frame (`gpu_ms.frame`); min–max beside them.\n\n"
+}
+
+/// Table 1: FLIP per perspective, per ε, per method and λ; the best of
+/// each ε and perspective in bold (the paper underlines it).
+fn table1(ix: &Index<'_>, setup: &Setup) -> String {
+    let n = setup.flip_t.len();
+    let mut md = "## Table 1: image error (FLIP against the ground truth)\n\n".to_string();
+    if n == 0 || ix.summaries.iter().all(|s| s.flips.is_empty()) {
+        return md + "No FLIP perspectives were measured.\n\n";
+    }
+    md += "| ε | method | λ |";
+    for k in 0..n {
+        md += &format!(" {} |", k + 1);
+    }
+    md += " median |\n|---|---|---|";
+    md += &"---:|".repeat(n + 1);
+    md += "\n";
+    for &e in &ix.eps {
+        let group: Vec<_> = ix.rows().into_iter().filter(|(c, _)| c.eps == e).collect();
+        let best: Vec<Option<f64>> = (0..n)
+            .map(|k| {
+                group
+                    .iter()
+                    .filter_map(|(_, s)| s.flips.iter().find(|f| f.perspective == k))
+                    .map(|f| f.mean)
+                    .min_by(f64::total_cmp)
+            })
+            .collect();
+        for (c, s) in &group {
+            md += &format!("| {} | {} | {} |", c.eps, c.method, c.lambda);
+            for (k, b) in best.iter().enumerate() {
+                match s.flips.iter().find(|f| f.perspective == k) {
+                    Some(f) if group.len() > 1 && Some(f.mean) == *b => {
+                        md += &format!(" **{:.5}** |", f.mean)
+                    }
+                    Some(f) => md += &format!(" {:.5} |", f.mean),
+                    None => md += " – |",
+                }
+            }
+            md += &match s.flip_median() {
+                Some(m) => format!(" {m:.5} |\n"),
+                None => " – |\n".into(),
+            };
+        }
+    }
+    md + "\n"
+}
+
+/// Table 2: per ε, render time and triangles (wedge share) per λ and
+/// method.
+fn table2(ix: &Index<'_>) -> String {
+    let mut md = "## Table 2: render time and triangles (% wedges)\n\n| ε | |".to_string();
+    let mut cols = Vec::new();
+    for &l in &ix.lambdas {
+        for m in &ix.methods {
+            cols.push((m.as_str(), l));
+            md += &format!(" {m}, λ = {l} |");
+        }
+    }
+    md += "\n|---|---|";
+    md += &"---:|".repeat(cols.len());
+    md += "\n";
+    for &e in &ix.eps {
+        let mut time = format!("| {e} | render time |");
+        let mut tris = format!("| {e} | triangles (% wedges) |");
+        for &(m, l) in &cols {
+            let s = ix.get(m, e, l);
+            match s.and_then(|s| s.get("gpu_ms.frame")) {
+                Some((med, lo, hi)) => time += &format!(" {} ({:.3}–{:.3}) |", ms(med), lo, hi),
+                None => time += " – |",
+            }
+            match s.and_then(|s| s.get("triangles")) {
+                Some((med, lo, hi)) => {
+                    let share = s
+                        .and_then(|s| s.get("wedge_share"))
+                        .map_or(String::new(), |w| format!(" ({:.1} %)", 100.0 * w.0));
+                    tris += &format!(
+                        " {}{share} ({}–{}) |",
+                        thousands(med.round() as u64),
+                        thousands(lo as u64),
+                        thousands(hi as u64)
+                    );
+                }
+                None => tris += " – |",
+            }
+        }
+        md += &format!("{time}\n{tris}\n");
+    }
+    md + "\n"
+}
+
+/// GPU time per named pass (medians), every scope any method reported.
+fn passes_table(ix: &Index<'_>) -> String {
+    let rows = ix.rows();
+    let mut scopes: Vec<&str> = Vec::new();
+    for (_, s) in &rows {
+        for sc in &s.stats.scopes {
+            if let Some(name) = sc.0.strip_prefix("gpu_ms.") {
+                if !scopes.contains(&name) {
+                    scopes.push(name);
+                }
+            }
+        }
+    }
+    let mut md = "## GPU time per pass (median ms)\n\n| method | λ | ε |".to_string();
+    for sc in &scopes {
+        md += &format!(" {sc} |");
+    }
+    md += "\n|---|---|---|";
+    md += &"---:|".repeat(scopes.len());
+    md += "\n";
+    for (c, s) in rows {
+        md += &format!("| {} | {} | {} |", c.method, c.lambda, c.eps);
+        for sc in &scopes {
+            md += &match s.get(&format!("gpu_ms.{sc}")) {
+                Some((m, _, _)) => format!(" {m:.3} |"),
+                None => " – |".into(),
+            };
+        }
+        md += "\n";
+    }
+    md + "\n"
+}
+
+/// Subdivision figures: medians, and the worst frame for depth and queue.
+fn figures_table(ix: &Index<'_>) -> String {
+    let cols: [(&str, &str, bool); 7] = [
+        ("method_stats.ready_quads", "ready quads", false),
+        ("culled_patches", "culled patches", false),
+        ("method_stats.nodes_processed", "nodes processed", false),
+        ("method_stats.max_depth", "max depth (max)", true),
+        ("method_stats.queue_peak_items", "queue peak (max)", true),
+        ("method_stats.queue_spills", "queue spills (max)", true),
+        ("frames_redone", "frames redone (max)", true),
+    ];
+    let mut md = "## Subdivision figures (median over the path; (max): the worst frame)\n\n\
+                  | method | λ | ε |"
+        .to_string();
+    for (_, name, _) in &cols {
+        md += &format!(" {name} |");
+    }
+    md += "\n|---|---|---|";
+    md += &"---:|".repeat(cols.len());
+    md += "\n";
+    for (c, s) in ix.rows() {
+        md += &format!("| {} | {} | {} |", c.method, c.lambda, c.eps);
+        for (key, _, worst) in &cols {
+            md += &match s.get(key) {
+                Some((m, _, hi)) => format!(
+                    " {} |",
+                    thousands(if *worst { hi } else { m }.round() as u64)
+                ),
+                None => " – |".into(),
+            };
+        }
+        md += "\n";
+    }
+    md + "\n"
+}
+
+/// Memory by purpose per method (the largest seen over the run: buffers
+/// only grow), the paper's §4.3 comparison.
+fn memory_table(ix: &Index<'_>) -> String {
+    let mut purposes: Vec<&str> = Vec::new();
+    for s in ix.summaries {
+        for sc in &s.stats.scopes {
+            if let Some(p) = sc.0.strip_prefix("memory_bytes.") {
+                if !purposes.contains(&p) {
+                    purposes.push(p);
+                }
+            }
+        }
+    }
+    let held = |m: &str, p: &str| -> Option<f64> {
+        ix.summaries
+            .iter()
+            .filter(|s| ix.configs[s.config].method == m)
+            .filter_map(|s| s.get(&format!("memory_bytes.{p}")).map(|x| x.2))
+            .max_by(f64::total_cmp)
+    };
+    let mut md = "## Memory by purpose (GPU buffers, the largest held during the run)\n\n\
+                  | purpose |"
+        .to_string();
+    for m in &ix.methods {
+        md += &format!(" {m} |");
+    }
+    md += "\n|---|";
+    md += &"---:|".repeat(ix.methods.len());
+    md += "\n";
+    for p in &purposes {
+        md += &format!("| {p} |");
+        for m in &ix.methods {
+            md += &held(m, p).map_or(" – |".into(), |b| format!(" {} |", mib(b)));
+        }
+        md += "\n";
+    }
+    md += "| **total** |";
+    for m in &ix.methods {
+        let total: f64 = purposes.iter().filter_map(|p| held(m, p)).sum();
+        md += &format!(" **{}** |", mib(total));
+    }
+    md += "\n\n";
+    // Whether the per-depth buffers hold the worst case or were capped.
+    if let Some(s) = ix
+        .summaries
+        .iter()
+        .find(|s| ix.configs[s.config].method == "subdiv-indirect")
+    {
+        let capped = s.fact("method_stats.node_buffers_worst_case") == Some(&json!(false));
+        if capped {
+            md += "`subdiv-indirect`'s node buffers do not hold the worst case of its depth \
+                   limit on this device (capped by the storage-buffer range; a frame that \
+                   needs more fails).\n\n";
+        }
+    }
+    md
+}
+
+/// The issue's targets at ε = 1, each with what was measured and by how
+/// much it is missed.
+fn targets(ix: &Index<'_>) -> String {
+    let mut md =
+        "## Targets (ε = 1)\n\n| target | measured | verdict |\n|---|---|---|\n".to_string();
+    let e = 1.0;
+    let tris = |m: &str, l: f64| {
+        ix.get(m, e, l)
+            .and_then(|s| s.get("triangles"))
+            .map(|x| x.0)
+    };
+    let flip = |m: &str, l: f64| ix.get(m, e, l).and_then(|s| s.flip_median());
+    let verdict = |ratio: f64, limit: f64| {
+        if ratio <= limit {
+            "met".to_string()
+        } else {
+            format!("missed by {:.0} %", 100.0 * (ratio / limit - 1.0))
+        }
+    };
+    let absent = |what: &str| {
+        format!("| {what} | – | not measured (needs `subdiv` and `tess` at ε = 1 in one run) |\n")
+    };
+    for (l, limit) in [(0.5, 0.45), (0.0, 0.12)] {
+        let what = format!("`subdiv` λ = {l}: ≤ {limit}× the triangles of `tess`");
+        md += &match (tris("subdiv", l), tris("tess", l)) {
+            (Some(a), Some(b)) if b > 0.0 => format!(
+                "| {what} | {} / {} = {:.3}× | {} |\n",
+                thousands(a as u64),
+                thousands(b as u64),
+                a / b,
+                verdict(a / b, limit)
+            ),
+            _ => absent(&what),
+        };
+    }
+    let what = "`subdiv` λ = 0.5: FLIP ≤ `tess` + 10 %";
+    md += &match (flip("subdiv", 0.5), flip("tess", 0.5)) {
+        (Some(a), Some(b)) if b > 0.0 => format!(
+            "| {what} | {a:.5} / {b:.5} = {:.3}× | {} |\n",
+            a / b,
+            verdict(a / b, 1.1)
+        ),
+        _ => absent(what),
+    };
+    for &l in &ix.lambdas {
+        let what = format!("`subdiv` subdivide pass ≤ 0.9× `subdiv-indirect`'s (λ = {l})");
+        let pass = |m: &str| {
+            ix.get(m, e, l)
+                .and_then(|s| s.get("gpu_ms.subdivide"))
+                .map(|x| x.0)
+        };
+        md += &match (pass("subdiv"), pass("subdiv-indirect")) {
+            (Some(a), Some(b)) if b > 0.0 => format!(
+                "| {what} | {} / {} = {:.3}× | {} |\n",
+                ms(a),
+                ms(b),
+                a / b,
+                verdict(a / b, 0.9)
+            ),
+            _ => format!("| {what} | – | not measured (needs both methods at ε = 1) |\n"),
+        };
+    }
+    // Memory and spills over every configuration of `subdiv`.
+    let subdiv: Vec<&ConfigSummary> = ix
+        .summaries
+        .iter()
+        .filter(|s| ix.configs[s.config].method == "subdiv")
+        .collect();
+    let queue = subdiv
+        .iter()
+        .filter_map(|s| s.get("memory_bytes.queue").map(|x| x.2))
+        .max_by(f64::total_cmp);
+    let spills = subdiv
+        .iter()
+        .filter_map(|s| s.get("method_stats.queue_spills").map(|x| x.2))
+        .max_by(f64::total_cmp);
+    let what = "`subdiv` queue ≤ 8 MiB with no spills on the path";
+    md += &match (queue, spills) {
+        (Some(q), Some(sp)) => {
+            let mut v = Vec::new();
+            if q > 8.0 * 1024.0 * 1024.0 {
+                v.push(format!(
+                    "queue over by {:.0} %",
+                    100.0 * (q / (8.0 * 1048576.0) - 1.0)
+                ));
+            }
+            if sp > 0.0 {
+                v.push(format!(
+                    "{} spills in the worst frame",
+                    thousands(sp as u64)
+                ));
+            }
+            let held = ix
+                .summaries
+                .iter()
+                .filter(|s| ix.configs[s.config].method == "subdiv-indirect")
+                .filter_map(|s| s.get("memory_bytes.node_buffers").map(|x| x.2))
+                .max_by(f64::total_cmp)
+                .map_or(String::new(), |b| {
+                    format!("; `subdiv-indirect` node buffers {}", mib(b))
+                });
+            format!(
+                "| {what} | queue {}, worst frame {} spills{held} | {} |\n",
+                mib(q),
+                thousands(sp as u64),
+                if v.is_empty() {
+                    "met".into()
+                } else {
+                    format!("missed: {}", v.join(", "))
+                }
+            )
+        }
+        _ => format!("| {what} | – | not measured (`subdiv` not in this run) |\n"),
+    };
+    md + "\n"
+}
