@@ -236,9 +236,12 @@ void donate(uint t) {
         if (run < m && (won || run == 0u)) {
             // A slot that is not free holds an item of the previous lap: the
             // queue is full when that item is still queued (its position is
-            // not below the head), else a consumer is still reading it.
+            // not below the head), else a consumer is still reading it, or
+            // `tail` was stale: others pushed there and consumers may since
+            // have moved the head past it. The distance is signed so that
+            // last case reads as a retry, not as a wrapped, huge "full".
             uint head_now = queue_state[Q_HEAD];
-            bool full = (tail + run) - head_now >= pc.queue_capacity;
+            bool full = int((tail + run) - head_now) >= int(pc.queue_capacity);
             spills += full ? m - run : 0u;
             retries += full ? 0u : 1u;
         }
