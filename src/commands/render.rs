@@ -175,7 +175,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         info.name,
         if info.is_cpu { " (CPU device)" } else { "" },
         report.draw_path,
-        thousands(s.triangles),
+        thousands(report.triangles()),
         wedges.map_or(String::new(), |w| format!(
             " ({:.1} % wedges)",
             100.0 * w as f64 / s.triangles.max(1) as f64
@@ -259,12 +259,18 @@ fn stats_json(
         .into_iter()
         .map(|(name, bytes)| (name.to_string(), json!(bytes)))
         .collect();
-    let own: Map<String, Value> = report
+    let mut own: Map<String, Value> = report
         .stats
         .own
         .iter()
         .map(|(k, v)| (k.to_string(), v.clone()))
         .collect();
+    // The method's own count beside the query's, where it keeps one: the
+    // two differ by what the method hands the rasterizer beyond its
+    // triangles (the fallback path's degenerate wedge slots).
+    if report.primitives.is_some() && report.stats.triangles > 0 {
+        own.insert("method_triangles".into(), json!(report.stats.triangles));
+    }
     json!({
         "scene": args.gpu.scene.display().to_string(),
         "scene_name": scene.name,
@@ -282,7 +288,8 @@ fn stats_json(
         "l_max": crate::constants::L_MAX,
         "commit": commit_id(),
         "patches": renderer.scene().count,
-        "triangles": report.stats.triangles,
+        "triangles": report.triangles(),
+        "triangles_source": report.triangles_source(),
         "culled_patches": report.stats.culled_patches,
         "frames_redone": report.redone,
         "gpu_ms": gpu_ms,

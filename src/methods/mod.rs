@@ -181,6 +181,12 @@ pub trait Method {
         None
     }
 
+    /// Whether the frame is drawn with mesh pipelines (the triangle count
+    /// then comes from the mesh-primitives query).
+    fn uses_mesh_shaders(&self) -> bool {
+        self.ready().is_some_and(|s| s.path() == DrawPath::Mesh)
+    }
+
     /// Whether the method draws the crack-closing wedges (the hole test
     /// then also looks with them off, to show it can see cracks).
     fn has_wedges(&self) -> bool {
