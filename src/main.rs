@@ -141,9 +141,11 @@ struct FrameArgs {
     #[arg(long)]
     frame: Option<usize>,
     /// Method: subdiv (recursive subdivision, persistent threads),
-    /// subdiv-indirect (the same, one indirect dispatch per depth), or
+    /// subdiv-indirect (the same, one indirect dispatch per depth),
     /// ground-truth (a dense grid per patch, the reference images are
-    /// compared with). Planned: tess, tess-reparam, cudatess.
+    /// compared with), tess (hardware tessellation, Buchenau-Guthe uniform
+    /// levels) or tess-reparam (their re-parameterised samples). Planned:
+    /// cudatess.
     #[arg(long, default_value = "subdiv")]
     method: String,
     /// Draw path of the subdivision methods: auto (mesh shaders where
