@@ -77,6 +77,11 @@ enum Command {
         /// gpu_ms_max beside them.
         #[arg(long, value_name = "N", default_value_t = 0)]
         repeat: u32,
+        /// Also draw the same view with ground-truth (at --grid) and compare:
+        /// the mean FLIP goes into the stats file (flip_mean), the FLIP heat
+        /// map to NAME.flip.png beside the image.
+        #[arg(long)]
+        flip: bool,
     },
     /// Check the GPU against the CPU reference on every keyframe (or one):
     /// the ready QuadNode set, vertex positions bit for bit, the paper's §4.4
@@ -237,6 +242,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             shade,
             out,
             repeat,
+            flip,
         } => {
             let args = RenderArgs {
                 frame: frame.frame.unwrap_or(0),
@@ -244,6 +250,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 shade,
                 out,
                 repeat,
+                flip,
             };
             print!("{}", commands::render::run(&args)?);
             Ok(())

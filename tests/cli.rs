@@ -89,7 +89,7 @@ fn refused_files_name_themselves_and_fail() {
 fn render_refuses_bad_requests_before_gpu_work() {
     let dir = temp_dir("render");
     let cases: [(&[&str], &str); 4] = [
-        (&["--method", "tess"], "not built yet"),
+        (&["--method", "cudatess"], "not built yet"),
         (&["--method", "magic"], "unknown method"),
         (&["--out", "/nonexistent-dir/x.png"], "does not exist"),
         (&["--frame", "99"], "frame 99 does not exist"),
@@ -176,6 +176,54 @@ fn copied_binary_renders_anywhere() {
         !elsewhere.join("out").exists(),
         "nothing written beside the cwd"
     );
+}
+
+/// `render --flip` writes the mean FLIP against the ground truth of the
+/// same view into the stats and the heat map beside the image; the ground
+/// truth against itself scores 0; with the heat map's place blocked nothing
+/// at all is written.
+#[test]
+fn render_flip_writes_mean_and_heat_map() {
+    let dir = temp_dir("flip");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml");
+    let render = |method: &str, out: &Path| {
+        bin()
+            .args([
+                "render", "--size", "128x96", "--grid", "16", "--flip", "--method", method,
+            ])
+            .arg("--scene")
+            .arg(&scene)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    for (method, zero) in [("tess", false), ("ground-truth", true)] {
+        let out = dir.join(format!("{method}.png"));
+        let run = render(method, &out);
+        let text = String::from_utf8_lossy(&run.stdout);
+        assert!(
+            run.status.success(),
+            "{method}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(text.contains("FLIP mean"), "{text}");
+        let stats: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
+        let mean = stats["flip_mean"].as_f64().unwrap();
+        assert_eq!(stats["flip_reference"]["grid"], 16);
+        assert_eq!(mean == 0.0, zero, "{method}: FLIP {mean}");
+        assert!((0.0..0.2).contains(&mean), "{method}: FLIP {mean}");
+        let heat = image::open(dir.join(format!("{method}.flip.png"))).unwrap();
+        assert_eq!((heat.width(), heat.height()), (128, 96));
+    }
+    // A directory where the heat map goes: refused before any GPU work.
+    let out = dir.join("blocked.png");
+    std::fs::create_dir_all(dir.join("blocked.flip.png")).unwrap();
+    let run = render("tess", &out);
+    assert!(!run.status.success());
+    assert!(String::from_utf8_lossy(&run.stderr).contains("blocked.flip.png"));
+    assert!(!out.exists() && !out.with_extension("json").exists());
 }
 
 #[test]
