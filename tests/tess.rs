@@ -7,7 +7,6 @@
 
 mod common;
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use bezier_subdiv::commands::validate::{run, ValidateArgs};
@@ -17,64 +16,14 @@ use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::eval::flip::flip;
 use bezier_subdiv::eval::ground_truth_image;
 use bezier_subdiv::frame::View;
-use bezier_subdiv::methods::tess::{EdgeVertex, PatchLevels};
+use bezier_subdiv::methods::tess::PatchLevels;
 use bezier_subdiv::methods::MethodOptions;
-use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::file::SceneGeometry;
+use bezier_subdiv::validate::edges::{check_edge_vertices, check_levels, shared_edges};
 use bezier_subdiv::vk::PrimitiveQuery;
-use glam::Vec3;
 
 const SIZE: (u32, u32) = (320, 180);
-
-/// The control points of outer edge `k` as the tessellation stages see it
-/// (0: u = 0, 1: v = 0, 2: u = 1, 3: v = 1), in its parameter's direction.
-fn tess_edge(p: &BezierPatch, k: usize) -> [Vec3; 4] {
-    let at = |i: usize, j: usize| p.pts[4 * j + i];
-    match k {
-        0 => [at(0, 0), at(0, 1), at(0, 2), at(0, 3)],
-        1 => [at(0, 0), at(1, 0), at(2, 0), at(3, 0)],
-        2 => [at(3, 0), at(3, 1), at(3, 2), at(3, 3)],
-        _ => [at(0, 3), at(1, 3), at(2, 3), at(3, 3)],
-    }
-}
-
-type EdgeKey = [u32; 12];
-
-/// An edge's points as bits, in the smaller of its two directions, and
-/// whether that is the reverse of the given one.
-fn edge_key(e: &[Vec3; 4]) -> (EdgeKey, bool) {
-    let bits = |pts: [Vec3; 4]| -> EdgeKey {
-        let mut k = [0u32; 12];
-        for (i, p) in pts.iter().enumerate() {
-            k[3 * i] = p.x.to_bits();
-            k[3 * i + 1] = p.y.to_bits();
-            k[3 * i + 2] = p.z.to_bits();
-        }
-        k
-    };
-    let fwd = bits(*e);
-    let rev = bits([e[3], e[2], e[1], e[0]]);
-    if rev < fwd {
-        (rev, true)
-    } else {
-        (fwd, false)
-    }
-}
-
-/// Every (patch, edge) by edge key: the groups with more than one member
-/// are the shared edges.
-fn shared_edges(patches: &[BezierPatch]) -> HashMap<EdgeKey, Vec<(usize, usize, bool)>> {
-    let mut map: HashMap<EdgeKey, Vec<(usize, usize, bool)>> = HashMap::new();
-    for (p, patch) in patches.iter().enumerate() {
-        for k in 0..4 {
-            let (key, reversed) = edge_key(&tess_edge(patch, k));
-            map.entry(key).or_default().push((p, k, reversed));
-        }
-    }
-    map.retain(|_, v| v.len() > 1);
-    map
-}
 
 /// A view of the scene's first camera with culling off, so that every
 /// patch is tessellated.
@@ -104,8 +53,6 @@ fn shared_edges_get_equal_levels_from_both_sides() {
     let gpu = common::gpu();
     let (s, geo) = common::scene("kitchen.toml");
     let shared = shared_edges(&geo.patches);
-    let pairs: usize = shared.values().map(|v| v.len() - 1).sum();
-    assert!(pairs > 60_000, "only {pairs} shared edges found");
     let max = gpu.info().limits.max_tessellation_generation_level as f32;
     for method in ["tess", "tess-reparam"] {
         let mut r = tess_renderer(&gpu, &geo, method);
@@ -122,17 +69,9 @@ fn shared_edges_get_equal_levels_from_both_sides() {
                 above_one += l.outer.iter().filter(|&&x| x > 1.0).count();
             }
             assert!(above_one > 1000, "{method} ε {eps}: the levels must vary");
-            for members in shared.values() {
-                let (p0, k0, _) = members[0];
-                let want = lv[p0].outer[k0].to_bits();
-                for &(p, k, _) in &members[1..] {
-                    assert_eq!(
-                        lv[p].outer[k].to_bits(),
-                        want,
-                        "{method} ε {eps}: edge {k} of patch {p} against edge {k0} of patch {p0}"
-                    );
-                }
-            }
+            let c = check_levels(&shared, &lv);
+            assert!(c.checked > 60_000, "{method} ε {eps}: {c:?}");
+            assert_eq!(c.bad, 0, "{method} ε {eps}: {c:?}");
         }
     }
     gpu.finish();
@@ -148,95 +87,41 @@ fn shared_edge_vertices_meet_bit_for_bit() {
     let gpu = common::gpu();
     let (s, geo) = common::scene("kitchen.toml");
     let shared = shared_edges(&geo.patches);
-    // (patch, edge) → (edge key, reversed)
-    let mut side: HashMap<(usize, usize), (EdgeKey, bool)> = HashMap::new();
-    for (key, members) in &shared {
-        for &(p, k, rev) in members {
-            side.insert((p, k), (*key, rev));
-        }
-    }
     for method in ["tess", "tess-reparam"] {
         let mut r = tess_renderer(&gpu, &geo, method);
         r.render(&unculled(&s.camera, 0.25)).unwrap();
-        let (vertices, total) = r
-            .method()
-            .tess()
-            .unwrap()
-            .read_edge_vertices(r.context())
-            .unwrap();
+        let tess = r.method().tess().unwrap();
+        let (vertices, total) = tess.read_edge_vertices(r.context()).unwrap();
         assert_eq!(
             vertices.len() as u64,
             total,
             "{method}: the capture overflowed"
         );
-        // Per shared edge and coordinate (in the key's direction, on a
-        // 2^-24 grid): the position bits of every patch that has it.
-        type Positions = HashMap<usize, [u32; 3]>;
-        let mut at: HashMap<(EdgeKey, i64), Positions> = HashMap::new();
-        let mut checked = 0usize;
-        for EdgeVertex {
-            patch,
-            edge,
-            t,
-            position,
-        } in &vertices
-        {
-            if method == "tess" {
-                // Uniform samples: the point of the CPU twin of eval_patch
-                // at the shader's parameter, bit for bit.
-                let t = if *t < 0.5 { 1.0 - (1.0 - *t) } else { *t };
-                let (u, v) = match edge {
+        if method == "tess" {
+            // Uniform samples: the point of the CPU twin of eval_patch at
+            // the shader's parameter, bit for bit.
+            for v in &vertices {
+                let t = if v.t < 0.5 { 1.0 - (1.0 - v.t) } else { v.t };
+                let (u, w) = match v.edge {
                     0 => (0.0, t),
                     1 => (t, 0.0),
                     2 => (1.0, t),
                     _ => (t, 1.0),
                 };
-                let want = geo.patches[*patch as usize].eval(u, v);
+                let want = geo.patches[v.patch as usize].eval(u, w);
                 assert_eq!(
                     want.to_array().map(f32::to_bits),
-                    position.map(f32::to_bits),
-                    "tess: edge {edge} of patch {patch} at {t}"
-                );
-            }
-            let Some(&(key, rev)) = side.get(&(*patch as usize, *edge as usize)) else {
-                continue;
-            };
-            let t = if rev {
-                1.0 - f64::from(*t)
-            } else {
-                f64::from(*t)
-            };
-            let slot = (t * f64::from(1u32 << 24)).round() as i64;
-            let bits = position.map(f32::to_bits);
-            let seen = at.entry((key, slot)).or_default();
-            if let Some(old) = seen.insert(*patch as usize, bits) {
-                assert_eq!(
-                    old, bits,
-                    "{method}: one vertex evaluated twice differently"
+                    v.position.map(f32::to_bits),
+                    "tess: edge {} of patch {} at {t}",
+                    v.edge,
+                    v.patch
                 );
             }
         }
-        for ((key, slot), seen) in &at {
-            let members = &shared[key];
-            let patches: Vec<usize> = members.iter().map(|m| m.0).collect();
-            // Degenerate edges (the teapot's poles) have every vertex at one
-            // point; every other edge must have the vertex on all sides.
-            assert_eq!(
-                seen.len(),
-                patches.len(),
-                "{method}: coordinate {slot} of a shared edge only on patches {:?} of {:?}",
-                seen.keys().collect::<Vec<_>>(),
-                patches
-            );
-            let first = seen.values().next().unwrap();
-            assert!(
-                seen.values().all(|b| b == first),
-                "{method}: a shared edge vertex differs between patches {patches:?}: {seen:?}"
-            );
-            checked += 1;
-        }
-        println!("{method}: {checked} shared edge vertices meet bit for bit");
-        assert!(checked > 20_000, "{method}: only {checked} checked");
+        let c = check_edge_vertices(&shared, &levels(&r), &vertices);
+        println!("{method}: {c:?}");
+        assert_eq!(c.bad, 0, "{method}: {c:?}");
+        assert!(c.checked > 20_000, "{method}: {c:?}");
     }
     gpu.finish();
 }
@@ -332,8 +217,9 @@ fn flip_orders_coarse_and_fine_renders() {
     gpu.finish();
 }
 
-/// `validate --method tess` and `--method tess-reparam`: the hole test on
-/// every kitchen model finds nothing, and the validation layer is quiet.
+/// `validate --method tess` and `--method tess-reparam`: equal levels and
+/// vertices on the shared edges of every keyframe, the hole test on every
+/// kitchen model finds nothing, and the validation layer is quiet.
 #[test]
 fn no_holes_on_the_kitchen_models() {
     let _gpu = common::gpu();
@@ -358,6 +244,12 @@ fn no_holes_on_the_kitchen_models() {
             .filter(|r| r.check.starts_with("holes"))
             .count();
         assert_eq!(holes, 5, "{}", report.table);
+        let edges = report
+            .results
+            .iter()
+            .filter(|r| r.check.starts_with("edge") && r.frame.is_some())
+            .count();
+        assert!(edges >= 4, "{}", report.table);
         assert!(
             report.table.contains("tessellation path"),
             "{}",
