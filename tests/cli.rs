@@ -126,6 +126,21 @@ fn render_refuses_bad_requests_before_gpu_work() {
     assert!(!dir.join("out").exists(), "nothing written on failure");
 }
 
+/// Runs `cmd`, again while the executable is "busy": a freshly copied
+/// binary can be, for as long as a process forked meanwhile by another
+/// test thread still holds the copy's write handle (until it execs).
+fn output_when_free(cmd: &mut Command) -> std::process::Output {
+    for _ in 0..100 {
+        match cmd.output() {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy => {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            other => return other.unwrap(),
+        }
+    }
+    panic!("the copied binary stayed busy")
+}
+
 /// A copy of the binary, run from an unrelated directory without the SPIR-V
 /// override, renders with both kinds of method and records the commit it
 /// was built from.
@@ -139,18 +154,18 @@ fn copied_binary_renders_anywhere() {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml");
     for method in ["subdiv", "ground-truth"] {
         let out = dir.join(format!("{method}.png"));
-        let run = Command::new(&copy)
-            .args([
-                "render", "--size", "96x64", "--grid", "8", "--method", method,
-            ])
-            .arg("--scene")
-            .arg(&scene)
-            .arg("--out")
-            .arg(&out)
-            .env_remove("BEZIER_SUBDIV_SPIRV_DIR")
-            .current_dir(&elsewhere)
-            .output()
-            .unwrap();
+        let run = output_when_free(
+            Command::new(&copy)
+                .args([
+                    "render", "--size", "96x64", "--grid", "8", "--method", method,
+                ])
+                .arg("--scene")
+                .arg(&scene)
+                .arg("--out")
+                .arg(&out)
+                .env_remove("BEZIER_SUBDIV_SPIRV_DIR")
+                .current_dir(&elsewhere),
+        );
         let err = String::from_utf8_lossy(&run.stderr);
         assert!(run.status.success(), "{method}: {err}");
         let stats: serde_json::Value =
