@@ -83,6 +83,11 @@ enum Command {
         /// gpu_ms_max beside them.
         #[arg(long, value_name = "N", default_value_t = 0)]
         repeat: u32,
+        /// Also draw the same view with ground-truth (at --grid) and compare:
+        /// the mean FLIP goes into the stats file (flip_mean), the FLIP heat
+        /// map to NAME.flip.png beside the image.
+        #[arg(long)]
+        flip: bool,
     },
     /// Check the GPU against the CPU reference on every keyframe (or one):
     /// the ready QuadNode set, vertex positions bit for bit, the paper's §4.4
@@ -247,9 +252,11 @@ struct FrameArgs {
     #[arg(long)]
     frame: Option<usize>,
     /// Method: subdiv (recursive subdivision, persistent threads),
-    /// subdiv-indirect (the same, one indirect dispatch per depth), or
+    /// subdiv-indirect (the same, one indirect dispatch per depth),
     /// ground-truth (a dense grid per patch, the reference images are
-    /// compared with). Planned: tess, tess-reparam, cudatess.
+    /// compared with), tess (hardware tessellation, Buchenau-Guthe uniform
+    /// levels) or tess-reparam (their re-parameterised samples). Planned:
+    /// cudatess.
     #[arg(long, default_value = "subdiv")]
     method: String,
     /// Draw path of the subdivision methods: auto (mesh shaders where
@@ -361,6 +368,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             shade,
             out,
             repeat,
+            flip,
         } => {
             let args = RenderArgs {
                 frame: frame.frame.unwrap_or(0),
@@ -368,6 +376,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 shade,
                 out,
                 repeat,
+                flip,
             };
             print!("{}", commands::render::run(&args)?);
             Ok(())

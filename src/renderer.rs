@@ -29,7 +29,8 @@ use crate::methods::{
 use crate::patch::view::ViewParams;
 use crate::scene::file::{SceneGeometry, SceneShading};
 use crate::vk::{
-    host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, VkError, VkResult,
+    host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, PrimitiveCounter,
+    PrimitiveQuery, VkError, VkResult,
 };
 
 /// Frames in flight unless told otherwise.
@@ -64,9 +65,23 @@ pub struct FrameReport {
     pub gpu_ms: Vec<(String, f64)>,
     /// Times the frame was drawn again after the method grew a buffer.
     pub redone: u32,
+    /// The primitives the frame's draws generated, counted by a query (the
+    /// same for every method), and which query; `None` where the device
+    /// has no query for the frame's kind of pipeline.
+    pub primitives: Option<(PrimitiveQuery, u64)>,
 }
 
 impl FrameReport {
+    /// Triangles drawn: the query's count, else the method's own.
+    pub fn triangles(&self) -> u64 {
+        self.primitives.map_or(self.stats.triangles, |(_, n)| n)
+    }
+
+    /// Where [`FrameReport::triangles`] comes from, in words.
+    pub fn triangles_source(&self) -> &'static str {
+        self.primitives.map_or("method", |(q, _)| q.name())
+    }
+
     /// GPU milliseconds of scope `name`, if it was timed.
     pub fn ms(&self, name: &str) -> Option<f64> {
         self.gpu_ms
@@ -87,6 +102,7 @@ pub struct FrameTicket {
 /// Per frame slot: its timestamps, its copy-out area, and what it ran.
 struct SlotData {
     timer: GpuTimer,
+    primitives: PrimitiveCounter,
     copy_out: Buffer,
     /// (method index, serial) of the frame recorded here and not yet
     /// collected.
@@ -147,6 +163,7 @@ impl Renderer {
             .map(|i| {
                 Ok(SlotData {
                     timer: GpuTimer::new(&ctx, MAX_SCOPES)?,
+                    primitives: PrimitiveCounter::new(&ctx)?,
                     copy_out: Buffer::new(
                         &ctx,
                         &format!("copy-out of frame slot {i}"),
@@ -416,6 +433,9 @@ impl Renderer {
     ) -> Result<(), RenderError> {
         let data = &mut self.slots[slot];
         data.timer.reset(cmd);
+        data.primitives.reset(cmd);
+        let mesh = self.methods[self.active].uses_mesh_shaders();
+        data.primitives.begin(cmd, mesh)?;
         data.timer.begin(cmd, "frame")?;
         let mut f = FrameRec::new(
             &self.ctx,
@@ -431,6 +451,7 @@ impl Renderer {
         );
         self.methods[self.active].record(&mut f)?;
         data.timer.end(cmd, "frame")?;
+        data.primitives.end(cmd)?;
         host_read_barrier(&self.ctx, cmd);
         Ok(())
     }
@@ -455,6 +476,7 @@ impl Renderer {
         self.slots[slot].frame = None;
         let data = &self.slots[slot];
         let gpu_ms = data.timer.read()?;
+        let primitives = data.primitives.read()?;
         let words: Vec<u32> = data
             .copy_out
             .mapped()
@@ -482,6 +504,7 @@ impl Renderer {
                 stats,
                 gpu_ms,
                 redone: 0,
+                primitives,
             },
             redo,
         ))

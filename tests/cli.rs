@@ -118,7 +118,7 @@ fn refused_files_name_themselves_and_fail() {
 fn render_refuses_bad_requests_before_gpu_work() {
     let dir = temp_dir("render");
     let cases: [(&[&str], &str); 4] = [
-        (&["--method", "tess"], "not built yet"),
+        (&["--method", "cudatess"], "not built yet"),
         (&["--method", "magic"], "unknown method"),
         (&["--out", "/nonexistent-dir/x.png"], "does not exist"),
         (&["--frame", "99"], "frame 99 does not exist"),
@@ -155,6 +155,21 @@ fn render_refuses_bad_requests_before_gpu_work() {
     assert!(!dir.join("out").exists(), "nothing written on failure");
 }
 
+/// Runs `cmd`, again while the executable is "busy": a freshly copied
+/// binary can be, for as long as a process forked meanwhile by another
+/// test thread still holds the copy's write handle (until it execs).
+fn output_when_free(cmd: &mut Command) -> std::process::Output {
+    for _ in 0..100 {
+        match cmd.output() {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy => {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            other => return other.unwrap(),
+        }
+    }
+    panic!("the copied binary stayed busy")
+}
+
 /// A copy of the binary, run from an unrelated directory without the SPIR-V
 /// override, renders with both kinds of method and records the commit it
 /// was built from.
@@ -168,18 +183,18 @@ fn copied_binary_renders_anywhere() {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml");
     for method in ["subdiv", "ground-truth"] {
         let out = dir.join(format!("{method}.png"));
-        let run = Command::new(&copy)
-            .args([
-                "render", "--size", "96x64", "--grid", "8", "--method", method,
-            ])
-            .arg("--scene")
-            .arg(&scene)
-            .arg("--out")
-            .arg(&out)
-            .env_remove("BEZIER_SUBDIV_SPIRV_DIR")
-            .current_dir(&elsewhere)
-            .output()
-            .unwrap();
+        let run = output_when_free(
+            Command::new(&copy)
+                .args([
+                    "render", "--size", "96x64", "--grid", "8", "--method", method,
+                ])
+                .arg("--scene")
+                .arg(&scene)
+                .arg("--out")
+                .arg(&out)
+                .env_remove("BEZIER_SUBDIV_SPIRV_DIR")
+                .current_dir(&elsewhere),
+        );
         let err = String::from_utf8_lossy(&run.stderr);
         assert!(run.status.success(), "{method}: {err}");
         let stats: serde_json::Value =
@@ -212,6 +227,54 @@ fn copied_binary_renders_anywhere() {
         !elsewhere.join("out").exists(),
         "nothing written beside the cwd"
     );
+}
+
+/// `render --flip` writes the mean FLIP against the ground truth of the
+/// same view into the stats and the heat map beside the image; the ground
+/// truth against itself scores 0; with the heat map's place blocked nothing
+/// at all is written.
+#[test]
+fn render_flip_writes_mean_and_heat_map() {
+    let dir = temp_dir("flip");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml");
+    let render = |method: &str, out: &Path| {
+        bin()
+            .args([
+                "render", "--size", "128x96", "--grid", "16", "--flip", "--method", method,
+            ])
+            .arg("--scene")
+            .arg(&scene)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    for (method, zero) in [("tess", false), ("ground-truth", true)] {
+        let out = dir.join(format!("{method}.png"));
+        let run = render(method, &out);
+        let text = String::from_utf8_lossy(&run.stdout);
+        assert!(
+            run.status.success(),
+            "{method}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(text.contains("FLIP mean"), "{text}");
+        let stats: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
+        let mean = stats["flip_mean"].as_f64().unwrap();
+        assert_eq!(stats["flip_reference"]["grid"], 16);
+        assert_eq!(mean == 0.0, zero, "{method}: FLIP {mean}");
+        assert!((0.0..0.2).contains(&mean), "{method}: FLIP {mean}");
+        let heat = image::open(dir.join(format!("{method}.flip.png"))).unwrap();
+        assert_eq!((heat.width(), heat.height()), (128, 96));
+    }
+    // A directory where the heat map goes: refused before any GPU work.
+    let out = dir.join("blocked.png");
+    std::fs::create_dir_all(dir.join("blocked.flip.png")).unwrap();
+    let run = render("tess", &out);
+    assert!(!run.status.success());
+    assert!(String::from_utf8_lossy(&run.stderr).contains("blocked.flip.png"));
+    assert!(!out.exists() && !out.with_extension("json").exists());
 }
 
 #[test]

@@ -133,6 +133,56 @@ fn switching_reuses_scene_shaders_and_methods() {
     gpu.finish();
 }
 
+/// Every frame's triangles come from one primitive query, so the count
+/// means the same for every method: on the mesh path it equals the
+/// subdivision's own count (wedges included, missing wedges culled), on the
+/// fallback path it also counts the degenerate triangle standing in for
+/// each missing wedge (4 per ready node), and for the ground truth it is
+/// 2·grid² per visible patch.
+#[test]
+fn the_triangle_query_counts_what_each_method_draws() {
+    use bezier_subdiv::vk::PrimitiveQuery;
+    let gpu = common::gpu();
+    let (geo, views) = views();
+    let options = MethodOptions {
+        grid: 8,
+        ..MethodOptions::new(DrawPath::Mesh)
+    };
+    let mut r = common::renderer(&gpu, &geo, "subdiv", SIZE, options.clone());
+    for v in &views[..2] {
+        let mesh = r.render(v).unwrap();
+        assert_eq!(
+            mesh.primitives.map(|(q, _)| q),
+            Some(PrimitiveQuery::MeshGenerated)
+        );
+        assert!(mesh.stats.triangles > 0);
+        assert_eq!(mesh.triangles(), mesh.stats.triangles, "mesh path");
+        assert!(
+            mesh.stats.get_u64("wedge_triangles").unwrap() > 0,
+            "the view must have wedges for the comparison to mean anything"
+        );
+    }
+    r.set_method("ground-truth").unwrap();
+    let gt = r.render(&views[0]).unwrap();
+    assert_eq!(
+        gt.primitives.map(|(q, _)| q),
+        Some(PrimitiveQuery::Generated)
+    );
+    let visible = gt.stats.get_u64("visible_patches").unwrap();
+    assert_eq!(gt.triangles(), visible * 2 * 64);
+    r.set_options(MethodOptions {
+        draw: DrawPath::Fallback,
+        ..options
+    })
+    .unwrap();
+    r.set_method("subdiv").unwrap();
+    let fallback = r.render(&views[0]).unwrap();
+    let quads = fallback.stats.get_u64("ready_quads").unwrap();
+    assert_eq!(fallback.triangles(), 4 * quads, "fallback path");
+    assert!(fallback.stats.triangles < 4 * quads);
+    gpu.finish();
+}
+
 /// A scene that cannot be uploaded (flags or shading patches that do not
 /// match the patches) is refused and the renderer keeps drawing the old
 /// one, identically.

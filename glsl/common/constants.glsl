@@ -105,6 +105,32 @@ const uint G_CULLED = 0;
 const uint G_DRAW_ARGS = 4;
 const uint GRID_WORDS = 16;
 
+// Set 1 of the tessellation methods: their counters, and what validation
+// captures: the levels of every patch and the vertices on patch edges.
+const uint BIND_TESS_COUNTERS = 0;
+const uint BIND_TESS_LEVELS = 1;
+const uint BIND_TESS_EDGE_VERTICES = 2;
+const uint TESS_BINDINGS = 3;
+
+// Words of the tessellation counters: patches frustum-culled, back-face
+// culled and tessellated, and edge vertices captured (counted on past the
+// capture's capacity).
+const uint T_CULLED = 0;
+const uint T_BACKFACE = 1;
+const uint T_TESSELLATED = 2;
+const uint T_EDGE_VERTICES = 3;
+const uint TESS_WORDS = 8;
+
+// Tessellation capture records: per patch outer levels 0-3, inner 0-1,
+// the mixed bound and a culled flag; per edge vertex the patch, the edge,
+// the tessellator's coordinate along it and the position.
+const uint TESS_LEVEL_WORDS = 8;
+const uint TESS_EDGE_VERTEX_WORDS = 6;
+
+// tess-reparam rounds re-parameterised edge samples to multiples of
+// 1 / TESS_WARP_STEPS, so the patch across the edge gets exactly 1 - s.
+const uint TESS_WARP_STEPS = 0x100000;
+
 // Indices into the counters buffer (uint words).
 const uint C_READY_COUNT = 0;
 const uint C_IN_FLIGHT = 1;

@@ -267,7 +267,7 @@ fn stats_ui(ui: &mut egui::Ui, stats: &LiveStats) {
         "{} ({} path): {} triangles",
         r.method,
         r.draw_path,
-        crate::commands::thousands(s.triangles)
+        crate::commands::thousands(r.triangles())
     ));
     if let Some(w) = s.get_u64("wedge_triangles") {
         ui.label(format!(

@@ -449,7 +449,7 @@ impl Session {
             "near": camera.near,
             "far": camera.far,
         });
-        write_outputs(path, &stats_path(path), size, &rgba, &stats)?;
+        write_outputs(path, &stats_path(path), size, &rgba, &stats, None)?;
         self.stats.notice = Some(format!("saved {}", path.display()));
         self.written.push(path.to_path_buf());
         Ok(())
@@ -476,6 +476,7 @@ impl Session {
             shade: c.shade,
             out: Some(path.to_path_buf()),
             repeat: 0,
+            flip: false,
         }
     }
 

@@ -497,7 +497,7 @@ fn measure(
                 perspective: k,
                 t,
                 mean: f.mean,
-                triangles: report.stats.triangles,
+                triangles: report.triangles(),
                 image,
                 heat_map,
             };

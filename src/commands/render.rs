@@ -8,6 +8,8 @@ use serde_json::{json, Map, Value};
 
 use super::{eps_lambda, keyframe, thousands, GpuRequest};
 use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_NORMALS, SHADE_WEDGES, SHADE_WIREFRAME};
+use crate::eval::flip::{flip, FlipResult};
+use crate::eval::ground_truth_image;
 use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
@@ -72,6 +74,9 @@ pub struct RenderArgs {
     pub out: Option<PathBuf>,
     /// Timed frames after a warm-up one (0: just the one frame).
     pub repeat: u32,
+    /// Also compare with `ground-truth` of the same view: the mean FLIP
+    /// goes into the stats, the heat map beside the image.
+    pub flip: bool,
 }
 
 /// GPU time per scope over repeated frames: median, min, max (ms), in the
@@ -133,6 +138,18 @@ pub fn stats_path(png: &Path) -> PathBuf {
     png.with_extension("json")
 }
 
+/// The FLIP heat map path for an image path: `NAME.flip.png`.
+pub fn flip_path(png: &Path) -> PathBuf {
+    png.with_extension("flip.png")
+}
+
+/// The mean FLIP of an image against its ground truth, and its heat map.
+pub(crate) struct FlipOutput {
+    result: FlipResult,
+    /// Grid cells per patch side of the reference.
+    grid: u32,
+}
+
 /// The commit this binary was built from (short hash, `-dirty` when the
 /// tracked files differed from it; see `build.rs`).
 pub fn commit_id() -> &'static str {
@@ -151,6 +168,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
     check_writable(&out, args.out.is_none()).map_err(|e| anyhow!(e))?;
     let json_path = stats_path(&out);
+    let heat_path = args.flip.then(|| flip_path(&out));
+    if let Some(p) = &heat_path {
+        check_writable(p, false).map_err(|e| anyhow!(e))?;
+    }
     let (geo, shading) = scene
         .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
@@ -166,6 +187,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     }
     let timing = (args.repeat > 0).then(|| Timing::of(&times));
     let rgba = renderer.read_image()?;
+    let (w, h) = args.gpu.size;
+    let flipped = if args.flip {
+        let reference = ground_truth_image(&mut renderer, &view)?;
+        let result = flip(&reference, &rgba, w, h)
+            .ok_or_else(|| anyhow!("FLIP: the reference and the image differ in size"))?;
+        Some(FlipOutput {
+            result,
+            grid: renderer.options().grid,
+        })
+    } else {
+        None
+    };
     if args.gpu.validation {
         ctx.check_validation()?;
     }
@@ -174,19 +207,32 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     if let Some(t) = &timing {
         add_timing(&mut stats, t);
     }
-    let (w, h) = args.gpu.size;
-    write_outputs(&out, &json_path, (w, h), &rgba, &stats)?;
+    if let Some(f) = &flipped {
+        stats["flip_mean"] = json!(f.result.mean);
+        stats["flip_reference"] = json!({ "method": "ground-truth", "grid": f.grid });
+    }
+    let heat = flipped.as_ref().zip(heat_path.as_deref());
+    write_outputs(&out, &json_path, (w, h), &rgba, &stats, heat)?;
     let info = ctx.info();
     let s = &report.stats;
     let wedges = s.get_u64("wedge_triangles");
+    let flip_line = match (&flipped, &heat_path) {
+        (Some(f), Some(p)) => format!(
+            "FLIP mean {:.4} against ground-truth (grid {}); heat map {}\n",
+            f.result.mean,
+            f.grid,
+            p.display()
+        ),
+        _ => String::new(),
+    };
     Ok(format!(
-        "{} ({}) on {}{}, {} path: {} triangles{}, {:.3} ms GPU{}\nwrote {} and {}\n",
+        "{} ({}) on {}{}, {} path: {} triangles{}, {:.3} ms GPU{}\n{flip_line}wrote {} and {}\n",
         args.gpu.scene.display(),
         method.name,
         info.name,
         if info.is_cpu { " (CPU device)" } else { "" },
         report.draw_path,
-        thousands(s.triangles),
+        thousands(report.triangles()),
         wedges.map_or(String::new(), |w| format!(
             " ({:.1} % wedges)",
             100.0 * w as f64 / s.triangles.max(1) as f64
@@ -224,29 +270,40 @@ fn add_timing(stats: &mut Value, t: &Timing) {
     stats["repeat"] = json!(t.frames);
 }
 
-/// Writes the image and its stats as one set: both appear or neither.
+/// Writes the image, its stats and (with `--flip`) the FLIP heat map as
+/// one set: all appear or none.
 pub(crate) fn write_outputs(
     png: &Path,
     json_path: &Path,
     (w, h): (u32, u32),
     rgba: &[u8],
     stats: &Value,
+    heat: Option<(&FlipOutput, &Path)>,
 ) -> anyhow::Result<()> {
-    let tmp_png = temp_sibling(png);
-    write_png(&tmp_png, w, h, rgba)?;
-    let json = serde_json::to_string_pretty(stats)? + "\n";
-    let tmp_json = match stage(json_path, json.as_bytes()) {
-        Ok(t) => t,
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp_png);
-            return Err(e).with_context(|| format!("writing {}", json_path.display()));
+    let mut staged: Vec<(PathBuf, PathBuf)> = Vec::new();
+    let result = (|| -> anyhow::Result<()> {
+        let tmp_png = temp_sibling(png);
+        staged.push((tmp_png.clone(), png.to_path_buf()));
+        write_png(&tmp_png, w, h, rgba)?;
+        if let Some((f, path)) = heat {
+            let tmp = temp_sibling(path);
+            staged.push((tmp.clone(), path.to_path_buf()));
+            f.result.save_heat_map(&tmp)?;
         }
-    };
-    commit(&[
-        (tmp_png, png.to_path_buf()),
-        (tmp_json, json_path.to_path_buf()),
-    ])
-    .map_err(|(file, e)| anyhow::Error::new(e).context(format!("writing {}", file.display())))
+        let json = serde_json::to_string_pretty(stats)? + "\n";
+        let tmp_json = stage(json_path, json.as_bytes())
+            .with_context(|| format!("writing {}", json_path.display()))?;
+        staged.push((tmp_json, json_path.to_path_buf()));
+        Ok(())
+    })();
+    if let Err(e) = result {
+        for (tmp, _) in &staged {
+            let _ = std::fs::remove_file(tmp);
+        }
+        return Err(e);
+    }
+    commit(&staged)
+        .map_err(|(file, e)| anyhow::Error::new(e).context(format!("writing {}", file.display())))
 }
 
 /// The stats file: the run's setup, the common keys, GPU time per pass,
@@ -271,12 +328,18 @@ pub(crate) fn stats_json(
         .into_iter()
         .map(|(name, bytes)| (name.to_string(), json!(bytes)))
         .collect();
-    let own: Map<String, Value> = report
+    let mut own: Map<String, Value> = report
         .stats
         .own
         .iter()
         .map(|(k, v)| (k.to_string(), v.clone()))
         .collect();
+    // The method's own count beside the query's, where it keeps one: the
+    // two differ by what the method hands the rasterizer beyond its
+    // triangles (the fallback path's degenerate wedge slots).
+    if report.primitives.is_some() && report.stats.triangles > 0 {
+        own.insert("method_triangles".into(), json!(report.stats.triangles));
+    }
     json!({
         "scene": args.gpu.scene.display().to_string(),
         "scene_name": scene.name,
@@ -295,7 +358,8 @@ pub(crate) fn stats_json(
         "l_max": crate::constants::L_MAX,
         "commit": commit_id(),
         "patches": renderer.scene().count,
-        "triangles": report.stats.triangles,
+        "triangles": report.triangles(),
+        "triangles_source": report.triangles_source(),
         "culled_patches": report.stats.culled_patches,
         "frames_redone": report.redone,
         "gpu_ms": gpu_ms,

@@ -1,10 +1,12 @@
 //! `validate`: the checks that apply to the method, on every keyframe of a
 //! scene (or one). Methods with a ready list are held against the CPU
 //! oracle (ready set, vertex positions bit for bit, the §4.4 reordering
-//! test on the GPU); every method gets the hole test on every model.
+//! test on the GPU); the tessellation methods' shared edges are checked
+//! for equal levels and vertices from both sides; every method gets the
+//! hole test on every model.
 //! Prints a table; the binary exits non-zero when any check fails.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
@@ -17,6 +19,7 @@ use crate::patch::oracle::subdivide_parallel;
 use crate::patch::view::FLAG_WEDGES;
 use crate::renderer::Renderer;
 use crate::scene::file::{Scene, SceneGeometry};
+use crate::validate::edges::{check_edge_vertices, check_levels, shared_edges, EdgeKey, EdgeSide};
 use crate::validate::holes::run_model;
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
@@ -90,6 +93,16 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             let cam = keyframe(&scene, &args.gpu.scene, k)?;
             let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
             results.extend(oracle_checks(&mut renderer, &geo, &view, k)?);
+        }
+        renderer.capture = false;
+    }
+    if renderer.method().tess().is_some() {
+        let shared = shared_edges(&geo.patches);
+        renderer.capture = true;
+        for &k in &frames {
+            let cam = keyframe(&scene, &args.gpu.scene, k)?;
+            let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
+            results.extend(edge_checks(&mut renderer, &shared, &view, k)?);
         }
         renderer.capture = false;
     }
@@ -169,6 +182,59 @@ fn oracle_checks(
             "{} nodes x 8 domain orderings on the GPU, {failed} differ",
             thousands(u64::from(checked))
         ),
+    ));
+    Ok(out)
+}
+
+/// The shared-edge checks of a tessellation method for one keyframe.
+fn edge_checks(
+    renderer: &mut Renderer,
+    shared: &HashMap<EdgeKey, Vec<EdgeSide>>,
+    view: &View,
+    k: usize,
+) -> anyhow::Result<Vec<CheckResult>> {
+    renderer.render(view)?;
+    let ctx = renderer.context().clone();
+    let tess = renderer
+        .method()
+        .tess()
+        .context("not a tessellation method")?;
+    let levels = tess.read_levels(&ctx)?;
+    let (vertices, total) = tess.read_edge_vertices(&ctx)?;
+    let lv = check_levels(shared, &levels);
+    let mut out = vec![line(
+        "edge levels",
+        Some(k),
+        lv.bad == 0,
+        format!(
+            "{} shared edges, {} with different levels on their sides{}",
+            thousands(lv.checked),
+            lv.bad,
+            lv.first.map_or(String::new(), |f| format!(": {f}"))
+        ),
+    )];
+    // A full capture holds some sides' vertices and not others': that
+    // would read as T-junctions, so the check says it could not run.
+    let full = (vertices.len() as u64) < total;
+    let vx = check_edge_vertices(shared, &levels, &vertices);
+    out.push(line(
+        "edge vertices",
+        Some(k),
+        vx.bad == 0 && !full,
+        if full {
+            format!(
+                "the capture holds {} of {} edge vertices; validate at a smaller --size",
+                thousands(vertices.len() as u64),
+                thousands(total)
+            )
+        } else {
+            format!(
+                "{} shared edge vertices, {} differing or missing on a side{}",
+                thousands(vx.checked),
+                vx.bad,
+                vx.first.map_or(String::new(), |f| format!(": {f}"))
+            )
+        },
     ));
     Ok(out)
 }

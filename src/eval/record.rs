@@ -79,7 +79,9 @@ pub struct FlipRow {
 pub fn flatten(report: &FrameReport, memory: &[(&'static str, u64)]) -> Vec<(String, Value)> {
     let s = &report.stats;
     let mut v = vec![
-        ("triangles".to_string(), json!(s.triangles)),
+        // The query's count, the same for every method (as in `render`).
+        ("triangles".to_string(), json!(report.triangles())),
+        ("method_triangles".to_string(), json!(s.triangles)),
         ("culled_patches".to_string(), json!(s.culled_patches)),
         ("frames_redone".to_string(), json!(report.redone)),
     ];
@@ -390,6 +392,7 @@ mod tests {
             },
             gpu_ms: vec![("frame".into(), frame_ms), ("draw".into(), 1.0)],
             redone: 0,
+            primitives: None,
         }
     }
 
@@ -415,6 +418,7 @@ mod tests {
             keys,
             [
                 "triangles",
+                "method_triangles",
                 "culled_patches",
                 "frames_redone",
                 "wedge_share",

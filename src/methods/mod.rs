@@ -8,7 +8,7 @@
 //!   of QuadNodes and hand it to the shared [`ReadyStage`] (sort, mesh or
 //!   fallback draw path), which is also what validation compares with the
 //!   CPU oracle;
-//! - *self-drawing* methods (`ground-truth`; later `tess`, `tess-reparam`,
+//! - *self-drawing* methods (`ground-truth`, `tess`, `tess-reparam`; later
 //!   `cudatess`) record their own draw with the same fragment shading.
 //!
 //! Adding a method means a new file here with a [`MethodInfo`] and one line
@@ -17,6 +17,7 @@
 pub mod ground_truth;
 pub mod subdiv;
 pub mod subdiv_indirect;
+pub mod tess;
 
 use serde_json::Value;
 
@@ -185,6 +186,18 @@ pub trait Method {
         None
     }
 
+    /// Whether the frame is drawn with mesh pipelines (the triangle count
+    /// then comes from the mesh-primitives query).
+    fn uses_mesh_shaders(&self) -> bool {
+        self.ready().is_some_and(|s| s.path() == DrawPath::Mesh)
+    }
+
+    /// The tessellation method behind this one, for its captures (levels
+    /// and edge vertices) in validation.
+    fn tess(&self) -> Option<&tess::Tess> {
+        None
+    }
+
     /// Whether the method draws the crack-closing wedges (the hole test
     /// then also looks with them off, to show it can see cracks).
     fn has_wedges(&self) -> bool {
@@ -203,10 +216,16 @@ pub struct MethodInfo {
 }
 
 /// Every method that is built, by command-line name.
-pub const METHODS: &[MethodInfo] = &[subdiv::INFO, subdiv_indirect::INFO, ground_truth::INFO];
+pub const METHODS: &[MethodInfo] = &[
+    subdiv::INFO,
+    subdiv_indirect::INFO,
+    ground_truth::INFO,
+    tess::INFO,
+    tess::INFO_REPARAM,
+];
 
 /// Names reserved for the comparison methods still to come.
-pub const PLANNED: &[&str] = &["tess", "tess-reparam", "cudatess"];
+pub const PLANNED: &[&str] = &["cudatess"];
 
 /// The registry entry named `name`; unknown and unbuilt names get their
 /// own sentences.
@@ -240,7 +259,7 @@ mod tests {
             );
             assert_eq!(METHODS.iter().filter(|x| x.name == m.name).count(), 1);
         }
-        let e = find("tess").err().unwrap().to_string();
+        let e = find("cudatess").err().unwrap().to_string();
         assert!(e.contains("not built yet") && e.contains("subdiv"), "{e}");
         let e = find("nope").err().unwrap().to_string();
         assert!(

@@ -1,7 +1,9 @@
 //! The checks behind `validate`: the GPU against the CPU oracle (ready set,
 //! vertex positions bit for bit), the paper's §4.4 reordering test on the
-//! GPU, and the hole test (`holes`).
+//! GPU, the shared-edge checks of the tessellation methods (`edges`), and
+//! the hole test (`holes`).
 
+pub mod edges;
 pub mod holes;
 
 use ash::vk;

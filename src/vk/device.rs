@@ -125,8 +125,16 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
     let extensions = unsafe { instance.enumerate_device_extension_properties(pd) }
         .ctx("vkEnumerateDeviceExtensionProperties")?;
     let mesh_ext = has_extension(&extensions, ash::ext::mesh_shader::NAME);
+    // The primitives-generated query extension depends on transform feedback.
+    let prims_ext = has_extension(&extensions, ash::ext::primitives_generated_query::NAME)
+        && has_extension(&extensions, ash::ext::transform_feedback::NAME);
     let mesh_props = read_properties(instance, pd, mesh_ext, &mut info);
-    problems.extend(read_features(instance, pd, mesh_ext, &mut info));
+    problems.extend(read_features(
+        instance,
+        pd,
+        (mesh_ext, prims_ext),
+        &mut info,
+    ));
     if info.features.mesh_shader {
         info.mesh = Some(mesh_info(&mesh_props));
     }
@@ -226,17 +234,21 @@ fn read_properties(
 fn read_features(
     instance: &ash::Instance,
     pd: vk::PhysicalDevice,
-    mesh_ext: bool,
+    (mesh_ext, prims_ext): (bool, bool),
     info: &mut DeviceInfo,
 ) -> Vec<String> {
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut fmesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();
+    let mut fprims = vk::PhysicalDevicePrimitivesGeneratedQueryFeaturesEXT::default();
     let mut feats = vk::PhysicalDeviceFeatures2::default()
         .push_next(&mut f12)
         .push_next(&mut f13);
     if mesh_ext {
         feats = feats.push_next(&mut fmesh);
+    }
+    if prims_ext {
+        feats = feats.push_next(&mut fprims);
     }
     unsafe { instance.get_physical_device_features2(pd, &mut feats) };
     let f10 = feats.features;
@@ -253,6 +265,8 @@ fn read_features(
         pipeline_statistics_query: on(f10.pipeline_statistics_query),
         tessellation_shader: on(f10.tessellation_shader),
         geometry_shader: on(f10.geometry_shader),
+        primitives_generated_query: prims_ext && on(fprims.primitives_generated_query),
+        mesh_shader_queries: mesh_ext && on(fmesh.mesh_shader_queries),
     };
     [
         (f13.synchronization2, "synchronization2"),
@@ -413,7 +427,10 @@ pub(crate) fn create_device(
         .compute_full_subgroups(f.compute_full_subgroups);
     let mut fmesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default()
         .task_shader(true)
-        .mesh_shader(true);
+        .mesh_shader(true)
+        .mesh_shader_queries(f.mesh_shader_queries);
+    let mut fprims = vk::PhysicalDevicePrimitivesGeneratedQueryFeaturesEXT::default()
+        .primitives_generated_query(true);
 
     let mut extensions: Vec<*const std::ffi::c_char> = Vec::new();
     if f.mesh_shader {
@@ -421,6 +438,10 @@ pub(crate) fn create_device(
     }
     if present {
         extensions.push(ash::khr::swapchain::NAME.as_ptr());
+    }
+    if f.primitives_generated_query {
+        extensions.push(ash::ext::transform_feedback::NAME.as_ptr());
+        extensions.push(ash::ext::primitives_generated_query::NAME.as_ptr());
     }
 
     let priorities = [1.0f32];
@@ -433,6 +454,9 @@ pub(crate) fn create_device(
         .push_next(&mut f13);
     if f.mesh_shader {
         features2 = features2.push_next(&mut fmesh);
+    }
+    if f.primitives_generated_query {
+        features2 = features2.push_next(&mut fprims);
     }
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)

@@ -68,11 +68,17 @@ pub struct OptionalFeatures {
     pub tessellation_shader: bool,
     /// `geometryShader`.
     pub geometry_shader: bool,
+    /// VK_EXT_primitives_generated_query with `primitivesGeneratedQuery`:
+    /// primitives counted at the end of vertex and tessellation pipelines.
+    pub primitives_generated_query: bool,
+    /// `meshShaderQueries` (VK_EXT_mesh_shader): primitives counted at the end
+    /// of mesh pipelines.
+    pub mesh_shader_queries: bool,
 }
 
 impl OptionalFeatures {
     /// (name, enabled) pairs in a stable order, for reports.
-    pub fn list(&self) -> [(&'static str, bool); 11] {
+    pub fn list(&self) -> [(&'static str, bool); 13] {
         [
             ("mesh shader (VK_EXT_mesh_shader)", self.mesh_shader),
             ("multiDrawIndirect", self.multi_draw_indirect),
@@ -88,6 +94,11 @@ impl OptionalFeatures {
             ("pipelineStatisticsQuery", self.pipeline_statistics_query),
             ("tessellationShader", self.tessellation_shader),
             ("geometryShader", self.geometry_shader),
+            (
+                "primitivesGeneratedQuery (VK_EXT_primitives_generated_query)",
+                self.primitives_generated_query,
+            ),
+            ("meshShaderQueries", self.mesh_shader_queries),
         ]
     }
 }

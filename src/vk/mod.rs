@@ -26,7 +26,7 @@ pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, O
 pub use layout::{BufferBinding, DescriptorSet, PipelineLayout, SetLayout};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{DepthState, GraphicsDesc, Pipeline, Specialization};
-pub use query::GpuTimer;
+pub use query::{GpuTimer, PrimitiveCounter, PrimitiveQuery};
 pub use shader::{
     embedded_shaders, load_spirv, load_spirv_file, spirv_override_dir, spirv_words, ShaderModule,
     SPIRV_DIR_ENV,

@@ -1,4 +1,6 @@
-//! GPU timestamps with named scopes.
+//! GPU queries of a frame slot: timestamps with named scopes
+//! ([`GpuTimer`]) and the primitives a frame's draws generate
+//! ([`PrimitiveCounter`]).
 //!
 //! Usage: `reset` at the start of a command buffer, `begin`/`end` around the
 //! work, and `read` after that command buffer's fence was waited on.
@@ -158,5 +160,199 @@ impl Drop for GpuTimer {
             return;
         }
         unsafe { self.core.device.destroy_query_pool(self.pool, None) };
+    }
+}
+
+/// The query a [`PrimitiveCounter`] counts a frame with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrimitiveQuery {
+    /// VK_EXT_primitives_generated_query: primitives leaving the last
+    /// vertex-processing stage (vertex or tessellation evaluation) of
+    /// vertex pipelines.
+    Generated,
+    /// VK_EXT_mesh_shader's mesh-primitives query: primitives a mesh shader
+    /// emits (those it culls with `gl_CullPrimitiveEXT` are not counted).
+    MeshGenerated,
+    /// The pipeline-statistics query's clipping invocations: primitives
+    /// reaching the clipper, where the extension is missing.
+    ClippingInvocations,
+}
+
+impl PrimitiveQuery {
+    /// How the stats name the source of a triangle count.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Generated => "primitives-generated query",
+            Self::MeshGenerated => "mesh-primitives query",
+            Self::ClippingInvocations => "clipping-invocations query",
+        }
+    }
+
+    fn query_type(self) -> vk::QueryType {
+        match self {
+            Self::Generated => vk::QueryType::PRIMITIVES_GENERATED_EXT,
+            Self::MeshGenerated => vk::QueryType::MESH_PRIMITIVES_GENERATED_EXT,
+            Self::ClippingInvocations => vk::QueryType::PIPELINE_STATISTICS,
+        }
+    }
+}
+
+/// Counts the primitives a frame's draws generate, so every method's
+/// triangle count means the same thing: what the rasterizer is handed.
+///
+/// One query per frame, chosen by the kind of pipeline the frame draws with
+/// (mesh pipelines need their own query type; lavapipe counts a mesh draw
+/// in both the mesh and the generic query, so both at once would count it
+/// twice). Compute work inside the query is not counted.
+pub struct PrimitiveCounter {
+    core: Arc<Core>,
+    /// The device's queries, one pool of one query each.
+    pools: Vec<(PrimitiveQuery, vk::QueryPool)>,
+    /// The query begun in the current command buffer, and whether it ended.
+    active: Option<(PrimitiveQuery, bool)>,
+}
+
+impl PrimitiveCounter {
+    /// The queries the device offers (possibly none: then frames report the
+    /// methods' own counts).
+    pub fn new(ctx: &Context) -> VkResult<Self> {
+        let f = ctx.info().features;
+        let available = [
+            (PrimitiveQuery::Generated, f.primitives_generated_query),
+            (PrimitiveQuery::MeshGenerated, f.mesh_shader_queries),
+            (
+                PrimitiveQuery::ClippingInvocations,
+                f.pipeline_statistics_query,
+            ),
+        ];
+        let mut counter = Self {
+            core: ctx.core.clone(),
+            pools: Vec::new(),
+            active: None,
+        };
+        for (query, _) in available.into_iter().filter(|(_, on)| *on) {
+            let mut create = vk::QueryPoolCreateInfo::default()
+                .query_type(query.query_type())
+                .query_count(1);
+            if query == PrimitiveQuery::ClippingInvocations {
+                create = create
+                    .pipeline_statistics(vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS);
+            }
+            let pool = unsafe { ctx.device().create_query_pool(&create, None) }
+                .ctx("vkCreateQueryPool(primitives)")?;
+            ctx.set_name(pool, &format!("PrimitiveCounter ({})", query.name()));
+            // Pushed at once so that Drop destroys it if a later one fails.
+            counter.pools.push((query, pool));
+        }
+        Ok(counter)
+    }
+
+    /// The query a frame drawn with mesh pipelines (`mesh`) or vertex
+    /// pipelines is counted with, if the device has one.
+    pub fn choice(&self, mesh: bool) -> Option<PrimitiveQuery> {
+        let has = |q| self.pools.iter().any(|(p, _)| *p == q);
+        let order: &[PrimitiveQuery] = if mesh {
+            // Lavapipe counts no clipping invocations for mesh draws, so
+            // the statistics query is no stand-in there.
+            &[PrimitiveQuery::MeshGenerated]
+        } else {
+            &[
+                PrimitiveQuery::Generated,
+                PrimitiveQuery::ClippingInvocations,
+            ]
+        };
+        order.iter().copied().find(|&q| has(q))
+    }
+
+    fn pool(&self, query: PrimitiveQuery) -> Option<vk::QueryPool> {
+        self.pools
+            .iter()
+            .find(|(q, _)| *q == query)
+            .map(|(_, p)| *p)
+    }
+
+    /// Resets the queries in `cmd` (outside any render pass) and forgets
+    /// the previous frame's choice. Call before [`PrimitiveCounter::begin`].
+    pub fn reset(&mut self, cmd: vk::CommandBuffer) {
+        for &(_, pool) in &self.pools {
+            unsafe { self.core.device.cmd_reset_query_pool(cmd, pool, 0, 1) };
+        }
+        self.active = None;
+    }
+
+    /// Begins counting a frame drawn with mesh pipelines (`mesh`) or vertex
+    /// pipelines; without a suitable query nothing is recorded.
+    pub fn begin(&mut self, cmd: vk::CommandBuffer, mesh: bool) -> VkResult<()> {
+        if self.active.is_some() {
+            return Err(VkError::Usage(
+                "PrimitiveCounter begun twice in one command buffer".into(),
+            ));
+        }
+        let Some(query) = self.choice(mesh) else {
+            return Ok(());
+        };
+        if let Some(pool) = self.pool(query) {
+            unsafe {
+                self.core
+                    .device
+                    .cmd_begin_query(cmd, pool, 0, vk::QueryControlFlags::empty())
+            };
+            self.active = Some((query, false));
+        }
+        Ok(())
+    }
+
+    /// Ends counting (outside any render pass).
+    pub fn end(&mut self, cmd: vk::CommandBuffer) -> VkResult<()> {
+        match self.active {
+            None => Ok(()),
+            Some((_, true)) => Err(VkError::Usage("PrimitiveCounter ended twice".into())),
+            Some((query, false)) => {
+                if let Some(pool) = self.pool(query) {
+                    unsafe { self.core.device.cmd_end_query(cmd, pool, 0) };
+                }
+                self.active = Some((query, true));
+                Ok(())
+            }
+        }
+    }
+
+    /// The count and the query it came from, or `None` when the frame was
+    /// not counted. Call only after the recording command buffer's fence
+    /// was waited on.
+    pub fn read(&self) -> VkResult<Option<(PrimitiveQuery, u64)>> {
+        let Some((query, ended)) = self.active else {
+            return Ok(None);
+        };
+        if !ended {
+            return Err(VkError::Usage("PrimitiveCounter was never ended".into()));
+        }
+        let Some(pool) = self.pool(query) else {
+            return Ok(None);
+        };
+        // Every query type here has exactly one 64-bit result (the
+        // statistics pool counts one statistic).
+        let mut count = [0u64; 1];
+        unsafe {
+            self.core.device.get_query_pool_results(
+                pool,
+                0,
+                &mut count,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .ctx("vkGetQueryPoolResults(primitives)")?;
+        Ok(Some((query, count[0])))
+    }
+}
+
+impl Drop for PrimitiveCounter {
+    fn drop(&mut self) {
+        if self.core.hung.load(std::sync::atomic::Ordering::SeqCst) {
+            return;
+        }
+        for &(_, pool) in &self.pools {
+            unsafe { self.core.device.destroy_query_pool(pool, None) };
+        }
     }
 }
