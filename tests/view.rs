@@ -141,14 +141,15 @@ fn the_window_shows_what_render_draws() {
     );
 }
 
-/// The other draw path, another method, a heat-map view and presenting
-/// without vsync start and run clean too.
+/// The other draw path, the other kinds of method (multisampled too), the
+/// heat-map views and presenting without vsync start and run clean too.
 #[test]
 fn other_methods_and_views_run_in_the_window() {
     let dir = temp_dir("methods");
-    for (method, draw, shade, vsync) in [
-        ("subdiv-indirect", "fallback", "wedges", "off"),
-        ("ground-truth", "auto", "wireframe", "on"),
+    for (method, draw, shade, vsync, msaa) in [
+        ("subdiv-indirect", "fallback", "wedges", "off", "1"),
+        ("ground-truth", "auto", "wireframe", "on", "1"),
+        ("tess", "auto", "depth", "on", "4"),
     ] {
         let shot = dir.join(format!("{method}.png"));
         let run = view(&[
@@ -167,7 +168,7 @@ fn other_methods_and_views_run_in_the_window() {
             "--grid",
             "8",
             "--msaa",
-            "1",
+            msaa,
             "--vsync",
             vsync,
             "--screenshot",

@@ -154,6 +154,7 @@ impl Tess {
             ],
         )
         .targets(&[COLOR_FORMAT], DEPTH_FORMAT)
+        .samples(setup.shaders.samples)
         .tessellation(16)
         .specialize(&[
             (SPEC_REPARAM, u32::from(variant == Variant::Reparam)),
