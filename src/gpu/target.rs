@@ -20,23 +20,23 @@ pub enum ImageError {
     /// A Vulkan failure (readback).
     #[error(transparent)]
     Vk(#[from] VkError),
-    /// Creating, writing or renaming a file failed.
-    #[error("{}: {source}", path.display())]
+    /// Creating, writing or renaming a file failed. The cause is part of
+    /// the message, not an error source, so that error chains (`{:#}`)
+    /// print it once (as `SceneError::Io` does).
+    #[error("{}: {cause}", path.display())]
     Io {
         /// The file.
         path: std::path::PathBuf,
-        /// The cause.
-        #[source]
-        source: std::io::Error,
+        /// What the OS said.
+        cause: std::io::Error,
     },
-    /// PNG encoding failed.
-    #[error("encoding {} as PNG: {source}", path.display())]
+    /// PNG encoding failed (the cause in the message, as for `Io`).
+    #[error("encoding {} as PNG: {cause}", path.display())]
     Png {
         /// The file.
         path: std::path::PathBuf,
-        /// The cause.
-        #[source]
-        source: image::ImageError,
+        /// The encoder's error.
+        cause: image::ImageError,
     },
 }
 
@@ -320,13 +320,13 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()
     let mut png = Vec::new();
     image::codecs::png::PngEncoder::new(&mut png)
         .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
-        .map_err(|source| ImageError::Png {
+        .map_err(|cause| ImageError::Png {
             path: path.to_path_buf(),
-            source,
+            cause,
         })?;
-    crate::files::write_atomic(path, &png).map_err(|source| ImageError::Io {
+    crate::files::write_atomic(path, &png).map_err(|cause| ImageError::Io {
         path: path.to_path_buf(),
-        source,
+        cause,
     })
 }
 
@@ -350,7 +350,10 @@ mod tests {
         assert_eq!(back.into_raw(), pixels);
         // Wrong size and a missing directory fail and leave nothing behind.
         assert!(write_png(&dir.join("short.png"), 3, 3, &pixels).is_err());
-        assert!(write_png(&dir.join("missing/x.png"), 3, 2, &pixels).is_err());
+        let missing = write_png(&dir.join("missing/x.png"), 3, 2, &pixels).unwrap_err();
+        // The chain `main` prints says the OS's words once.
+        let chain = format!("{:#}", anyhow::Error::from(missing));
+        assert_eq!(chain.matches("No such file").count(), 1, "{chain}");
         let names: Vec<_> = std::fs::read_dir(&dir)
             .unwrap()
             .map(|e| e.unwrap().file_name())

@@ -521,9 +521,9 @@ fn create_allocator(
             .with_max_device_memblock_size(256 << 20)
             .with_max_host_memblock_size(256 << 20),
     })
-    .map_err(|source| VkError::Allocation {
+    .map_err(|cause| VkError::Allocation {
         name: String::from("allocator"),
-        source,
+        cause,
     })
 }
 

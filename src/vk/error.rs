@@ -68,14 +68,15 @@ pub enum VkError {
     )]
     ValidationLayerMissing,
 
-    /// gpu-allocator failed to create itself or an allocation.
-    #[error("memory allocation for `{name}` failed: {source}")]
+    /// gpu-allocator failed to create itself or an allocation. The
+    /// allocator's words are part of the message, not an error source, so
+    /// that error chains (`{:#}`) print them once.
+    #[error("memory allocation for `{name}` failed: {cause}")]
     Allocation {
         /// The resource the memory was for.
         name: String,
         /// The allocator's error.
-        #[source]
-        source: gpu_allocator::AllocationError,
+        cause: gpu_allocator::AllocationError,
     },
 
     /// A fence did not signal in time: the GPU work probably hangs.

@@ -57,11 +57,11 @@ impl Buffer {
         });
         let allocation = match allocated {
             Ok(a) => a,
-            Err(source) => {
+            Err(cause) => {
                 unsafe { core.device.destroy_buffer(handle, None) };
                 return Err(VkError::Allocation {
                     name: name.to_owned(),
-                    source,
+                    cause,
                 });
             }
         };
@@ -382,11 +382,11 @@ impl Image {
         });
         let allocation = match allocated {
             Ok(a) => a,
-            Err(source) => {
+            Err(cause) => {
                 unsafe { core.device.destroy_image(handle, None) };
                 return Err(VkError::Allocation {
                     name: name.to_owned(),
-                    source,
+                    cause,
                 });
             }
         };
