@@ -256,11 +256,7 @@ fn hole_checks(
             continue;
         }
         let range = start..start + m.patches_per_instance;
-        let one = SceneGeometry {
-            patches: geo.patches[range.clone()].to_vec(),
-            flags: geo.flags[range].to_vec(),
-            models: vec![m.clone()],
-        };
+        let one = geo.subset(range, m.clone());
         let name = m
             .file
             .file_name()

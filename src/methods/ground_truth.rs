@@ -34,6 +34,7 @@ use crate::vk::{
 pub const INFO: MethodInfo = MethodInfo {
     name: "ground-truth",
     about: "every patch as a uniform grid (64x64 quads by default, the paper's reference)",
+    rational: false,
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };
 
