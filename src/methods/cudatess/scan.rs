@@ -179,9 +179,16 @@ mod tests {
                 count: 2
             }
         );
+        // b * b entries fill b blocks exactly: their b sums fit one block.
+        let p = ScanPlan::new(b * b);
+        assert_eq!(p.levels.len(), 2);
+        assert_eq!(p.levels[1].count, b);
+        // Three more spill into a (b + 1)-th block, whose b + 1 sums need
+        // two blocks of their own, whose 2 sums make the top level.
         let p = ScanPlan::new(b * b + 3);
         assert_eq!(p.levels.len(), 3);
-        assert_eq!(p.levels[2].count, 1);
-        assert_eq!(p.entries(), p.levels[2].offset + 1);
+        assert_eq!(p.levels[1].count, b + 1);
+        assert_eq!(p.levels[2].count, 2);
+        assert_eq!(p.entries(), p.levels[2].offset + 2);
     }
 }
