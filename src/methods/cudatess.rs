@@ -147,6 +147,8 @@ pub struct CudaTess {
     outputs: Outputs,
     set: Option<DescriptorSet>,
     forward_differencing: bool,
+    /// The first capacities asked for (`MethodOptions::cudatess_capacity`).
+    first_capacity: Option<(u32, u32)>,
     copied: Option<CopyRange>,
 }
 
@@ -193,7 +195,11 @@ impl CudaTess {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
-        let outputs = Outputs::new(ctx, INITIAL_VERTICES, INITIAL_INDICES)?;
+        let (v, i) = setup
+            .options
+            .cudatess_capacity
+            .unwrap_or((INITIAL_VERTICES, INITIAL_INDICES));
+        let outputs = Outputs::new(ctx, v.max(1), i.max(1))?;
         Ok(Self {
             set_layout,
             compute_layout,
@@ -210,6 +216,7 @@ impl CudaTess {
             outputs,
             set: None,
             forward_differencing: setup.options.forward_differencing,
+            first_capacity: setup.options.cudatess_capacity,
             copied: None,
         })
     }
@@ -615,7 +622,8 @@ impl Method for CudaTess {
         _retired: &mut Retired,
     ) -> Result<bool, RenderError> {
         self.forward_differencing = setup.options.forward_differencing;
-        Ok(true)
+        // Other first capacities: made again, with the buffers they ask for.
+        Ok(setup.options.cudatess_capacity == self.first_capacity)
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {

@@ -85,6 +85,9 @@ pub struct MethodOptions {
     /// `cudatess`: interior vertices by forward differencing along rows
     /// instead of evaluating each one.
     pub forward_differencing: bool,
+    /// `cudatess`: the vertex and index buffers' first capacities instead
+    /// of the defaults (small ones make the first frames grow them).
+    pub cudatess_capacity: Option<(u32, u32)>,
 }
 
 impl MethodOptions {
@@ -103,6 +106,7 @@ impl MethodOptions {
             samples: 1,
             plant_endless_loop: false,
             forward_differencing: false,
+            cudatess_capacity: None,
         }
     }
 }
