@@ -354,6 +354,9 @@ fn de_casteljau(p: &RationalPatch, u: f64, v: f64) -> DVec3 {
     h.truncate() / h.w
 }
 
+/// A signed distance from an exact surface.
+type Quadric = fn(DVec3) -> f64;
+
 fn samples() -> Vec<(f32, f32)> {
     let t = [0.0, 0.05, 0.25, 1.0 / 3.0, 0.5, 0.71, 0.9, 1.0];
     t.iter()
@@ -381,16 +384,13 @@ fn rational_evaluation_matches_references() {
     let sphere = rational_model("rational_sphere.rbpt");
     let torus = rational_model("rational_torus.rbpt");
     assert_eq!((sphere.len(), torus.len()), (8, 16));
-    let on_sphere = |p: DVec3| p.length() - 1.0;
-    let on_torus = |p: DVec3| ((p.x.hypot(p.y) - 1.0).powi(2) + p.z * p.z).sqrt() - 0.35;
-    let cases: Vec<(&str, &RationalPatch, Option<&dyn Fn(DVec3) -> f64>)> = sphere
+    // Signed distances from the exact surfaces.
+    let on_sphere: Quadric = |p| p.length() - 1.0;
+    let on_torus: Quadric = |p| ((p.x.hypot(p.y) - 1.0).powi(2) + p.z * p.z).sqrt() - 0.35;
+    let cases: Vec<(&str, &RationalPatch, Option<Quadric>)> = sphere
         .iter()
-        .map(|p| ("sphere", p, Some(&on_sphere as &dyn Fn(DVec3) -> f64)))
-        .chain(
-            torus
-                .iter()
-                .map(|p| ("torus", p, Some(&on_torus as &dyn Fn(DVec3) -> f64))),
-        )
+        .map(|p| ("sphere", p, Some(on_sphere)))
+        .chain(torus.iter().map(|p| ("torus", p, Some(on_torus))))
         .chain([("wavy", &wavy, None)])
         .collect();
     for (name, p, surface) in cases {

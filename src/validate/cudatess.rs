@@ -28,10 +28,10 @@ pub fn levels(frame: &FrameData) -> Vec<PatchLevels> {
         .collect()
 }
 
-/// The slot of `r`'s vertices, or `None` when its record points outside
-/// what the frame wrote.
-fn slot<'a, T>(frame: &'a [T], offset: u32, count: u32) -> Option<&'a [T]> {
-    frame.get(offset as usize..offset as usize + count as usize)
+/// A patch's `count` entries from `offset`, or `None` when its record
+/// points outside what the frame wrote.
+fn slot<T>(all: &[T], offset: u32, count: u32) -> Option<&[T]> {
+    all.get(offset as usize..offset as usize + count as usize)
 }
 
 /// Every vertex strictly inside an edge of a drawn patch, with its
