@@ -1,6 +1,12 @@
 // cudatess, stage 1 (Schwarz and Stamminger, Fig. 1: "determine tessellation
 // factors element-locally"): one invocation per base patch. A patch whose
-// control points lie wholly outside the frustum gets factor 0 (culled).
+// control points lie wholly outside the frustum gets factor 0 (culled), and
+// so does a one-sided polynomial patch whose every normal faces away from
+// the eye (back_facing, the test subdiv and tess make; their §2 allows
+// back-face culling here), so a closed model's far side is not drawn. A
+// rational patch is never culled as back-facing: the interval test bounds
+// tangents by the differences of consecutive control points, which holds
+// for polynomial patches only.
 // Otherwise the Zheng–Sederberg bound of their §3 gives factors m along u
 // and n along v for the tolerance of ε pixels at the patch's nearest control
 // point (as tess.glsl turns ε into object space), and each edge's factor
@@ -31,10 +37,14 @@ void process(uint id) {
     load_patch(id, P);
     vec3 lo, hi;
     patch_bbox(P, lo, hi);
-    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view)) {
+    bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
+    bool one_sided = (patch_flags[id] & (PATCH_TWO_SIDED | PATCH_RATIONAL)) == 0u;
+    bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
+        && back_facing(P, lo, hi, view.eye.xyz);
+    if (frustum || away) {
         ct_patches[rec + CT_REC_M] = 0u;
         ct_patches[rec + CT_REC_N] = 0u;
-        atomicAdd(ct_counters[CT_CULLED], 1u);
+        atomicAdd(ct_counters[frustum ? CT_CULLED : CT_BACKFACE], 1u);
         return;
     }
     // ε pixels at the nearest control point's depth (the surface lies in

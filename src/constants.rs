@@ -272,15 +272,17 @@ shared_constants! {
         BIND_CT_INDICES = 6;
         CT_BINDINGS = 7;
     }
-    /// Words of the cudatess counters: patches culled, error bits, the totals
-    /// the scan found (vertices, indices), the largest factor, and from
-    /// CT_DRAW_ARGS the VkDrawIndexedIndirectCommand of the draw.
+    /// Words of the cudatess counters: patches culled (frustum), error bits,
+    /// the totals the scan found (vertices, indices), the largest factor,
+    /// patches culled as back-facing, and from CT_DRAW_ARGS the
+    /// VkDrawIndexedIndirectCommand of the draw.
     group {
         CT_CULLED = 0;
         CT_ERROR = 1;
         CT_VERTEX_TOTAL = 2;
         CT_INDEX_TOTAL = 3;
         CT_MAX_FACTOR_SEEN = 4;
+        CT_BACKFACE = 5;
         CT_DRAW_ARGS = 8;
         CT_WORDS = 16;
     }

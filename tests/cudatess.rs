@@ -433,3 +433,34 @@ fn rational_evaluation_matches_references() {
         }
     }
 }
+
+/// Back-patch culling (the test subdiv and tess make): with frustum
+/// culling off, the kitchen's far sides are culled, never a two-sided (or
+/// rational) patch, and turning it off draws them again.
+#[test]
+fn back_facing_one_sided_polynomial_patches_are_culled() {
+    let gpu = common::gpu();
+    let (s, geo) = common::scene("kitchen.toml");
+    let mut r = ct_renderer(&gpu, &geo, options());
+    let mut v = view(&s, 0, 1.0, false);
+    v.params.flags |= FLAG_BACKFACE_CULL;
+    let on = r.render(&v).unwrap();
+    let culled = on.stats.get_u64("backface_culled_patches").unwrap();
+    assert!(culled > 1000, "{culled} back-facing patches culled");
+    let f = frame(&r);
+    for (id, rec) in f.records.iter().enumerate() {
+        let keep = PATCH_TWO_SIDED | PATCH_RATIONAL;
+        assert!(
+            !rec.culled() || geo.flags[id] & keep == 0,
+            "patch {id} (flags {}) culled",
+            geo.flags[id]
+        );
+    }
+    let n = f.records.iter().filter(|r| r.culled()).count() as u64;
+    assert_eq!(n, culled);
+    v.params.flags &= !FLAG_BACKFACE_CULL;
+    let off = r.render(&v).unwrap();
+    assert_eq!(off.stats.get_u64("backface_culled_patches"), Some(0));
+    assert!(off.triangles() > on.triangles());
+    gpu.finish();
+}

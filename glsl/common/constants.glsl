@@ -150,14 +150,16 @@ const uint BIND_CT_VERTICES = 5;
 const uint BIND_CT_INDICES = 6;
 const uint CT_BINDINGS = 7;
 
-// Words of the cudatess counters: patches culled, error bits, the totals
-// the scan found (vertices, indices), the largest factor, and from
-// CT_DRAW_ARGS the VkDrawIndexedIndirectCommand of the draw.
+// Words of the cudatess counters: patches culled (frustum), error bits,
+// the totals the scan found (vertices, indices), the largest factor,
+// patches culled as back-facing, and from CT_DRAW_ARGS the
+// VkDrawIndexedIndirectCommand of the draw.
 const uint CT_CULLED = 0;
 const uint CT_ERROR = 1;
 const uint CT_VERTEX_TOTAL = 2;
 const uint CT_INDEX_TOTAL = 3;
 const uint CT_MAX_FACTOR_SEEN = 4;
+const uint CT_BACKFACE = 5;
 const uint CT_DRAW_ARGS = 8;
 const uint CT_WORDS = 16;
 

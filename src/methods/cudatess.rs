@@ -3,7 +3,8 @@
 //! bicubic patches, rational ones included (their §3):
 //!
 //! 1. **factors** (`glsl/ct_factors.comp`, one invocation per patch):
-//!    frustum culling (factor 0), then factors m along u and n along v from
+//!    frustum culling and, for one-sided polynomial patches, back-patch
+//!    culling (factor 0), then factors m along u and n along v from
 //!    the Zheng–Sederberg bound for ε pixels at the patch's nearest control
 //!    point; each edge's factor becomes the largest of its patches'
 //!    (atomicMax into the scene's edge table: sides with bit-identical
@@ -596,14 +597,16 @@ impl Method for CudaTess {
         }
         let patches = self.scene.as_ref().map_or(0, |s| s.patches);
         let culled = u64::from(at(CT_CULLED));
+        let backface = u64::from(at(CT_BACKFACE));
         Ok(Finished::Done(MethodStats {
             triangles: u64::from(ni / 3),
             culled_patches: culled,
             own: vec![
                 (
                     "tessellated_patches",
-                    json!(u64::from(patches).saturating_sub(culled)),
+                    json!(u64::from(patches).saturating_sub(culled + backface)),
                 ),
+                ("backface_culled_patches", json!(backface)),
                 ("vertices", json!(nv)),
                 ("indices", json!(ni)),
                 ("largest_factor", json!(at(CT_MAX_FACTOR_SEEN))),
