@@ -4,10 +4,14 @@
 // are exact and neighbouring patches compute their shared edge's points
 // bit for bit. Shaded by draw_vert.frag like the fallback path; the depth
 // heat map shows log2(grid), the level a uniform subdivision to the same
-// density would reach.
+// density would reach. A rational patch (PATCH_RATIONAL) is evaluated in
+// homogeneous coordinates (common/rational.glsl, Schwarz and Stamminger
+// §3) and projected; curve4 is reversal-symmetric like curve, so its shared
+// edges meet bit for bit too. Shaded by grid.frag (its own rational normal).
 #version 460
 
 #include "common/grid.glsl"
+#include "common/rational.glsl"
 #include "common/draw.glsl"
 
 layout(location = 0) out vec3 out_world;
@@ -23,9 +27,16 @@ void main() {
     uint j = uint(gl_VertexIndex) / row;
     float step = 1.0 / float(pc.grid);
     vec2 uv = vec2(float(i) * step, float(j) * step);
-    vec3 P[16];
-    load_patch(id, P);
-    vec3 p = eval_patch(P, uv.x, uv.y);
+    vec3 p;
+    if (patch_is_rational(id)) {
+        vec4 H[16];
+        load_homogeneous(id, H);
+        p = project(eval_patch4(H, uv.x, uv.y));
+    } else {
+        vec3 P[16];
+        load_patch(id, P);
+        p = eval_patch(P, uv.x, uv.y);
+    }
     gl_Position = clip_position(p);
     out_world = p;
     out_uv = uv;

@@ -1,6 +1,7 @@
 // Ground truth, pass 1: one invocation per base patch. A patch whose control
 // points lie wholly outside the view frustum cannot draw a pixel (the patch
-// lies in their convex hull) and is counted as culled; the others are
+// lies in their convex hull, a rational one too, its weights being
+// positive) and is counted as culled; the others are
 // appended to the visible list, their count going straight into the
 // instance count of the indexed indirect draw that follows.
 #version 460

@@ -255,8 +255,8 @@ struct FrameArgs {
     /// subdiv-indirect (the same, one indirect dispatch per depth),
     /// ground-truth (a dense grid per patch, the reference images are
     /// compared with), tess (hardware tessellation, Buchenau-Guthe uniform
-    /// levels) or tess-reparam (their re-parameterised samples). Planned:
-    /// cudatess.
+    /// levels), tess-reparam (their re-parameterised samples) or cudatess
+    /// (Schwarz-Stamminger compute tessellation; rational patches too).
     #[arg(long, default_value = "subdiv")]
     method: String,
     /// Draw path of the subdivision methods: auto (mesh shaders where
@@ -288,6 +288,10 @@ struct FrameArgs {
     /// Enable the Khronos validation layer; any error fails the run.
     #[arg(long)]
     vk_validation: bool,
+    /// cudatess: interior vertices by forward differences along each row
+    /// (the paper's option) instead of evaluating every one.
+    #[arg(long)]
+    forward_diff: bool,
 }
 
 /// Image size of render, validate and stats when --size is not given.
@@ -311,6 +315,7 @@ impl FrameArgs {
             msaa: self.msaa.unwrap_or(msaa),
             device: self.device.clone(),
             validation: self.vk_validation,
+            forward_differencing: self.forward_diff,
         }
     }
 }

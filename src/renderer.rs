@@ -145,12 +145,13 @@ impl Renderer {
     ) -> Result<Self, RenderError> {
         let n = options.frames_in_flight.max(1);
         let scene_layout = SceneLayout::new(&ctx)?;
-        let scene = SceneGpu::new(
+        let scene = SceneGpu::with_weights(
             &ctx,
             &scene_layout,
             &geo.patches,
             &geo.flags,
             &shading.patches,
+            &geo.weights,
             n,
         )?;
         let (w, h) = options.size;
@@ -203,6 +204,7 @@ impl Renderer {
     /// Switches to method `name`, making it on first use.
     pub fn set_method(&mut self, name: &str) -> Result<(), RenderError> {
         let info = methods::find(name)?;
+        methods::check_rational(info, &self.scene)?;
         if let Some(i) = self.methods.iter().position(|m| m.name() == info.name) {
             self.active = i;
             return Ok(());
@@ -321,14 +323,16 @@ impl Renderer {
         geo: &SceneGeometry,
         shading: &SceneShading,
     ) -> Result<(), RenderError> {
-        let scene = SceneGpu::new(
+        let scene = SceneGpu::with_weights(
             &self.ctx,
             &self.scene_layout,
             &geo.patches,
             &geo.flags,
             &shading.patches,
+            &geo.weights,
             self.frames.len(),
         )?;
+        methods::check_rational(methods::find(self.method().name())?, &scene)?;
         self.frames.wait_all()?;
         self.scene = scene;
         Ok(())
@@ -383,6 +387,9 @@ impl Renderer {
             ("base_patches", self.scene.bytes()),
             ("shading_patches", self.scene.shading_bytes()),
         ];
+        if let Some(bytes) = self.scene.weight_bytes() {
+            v.push(("patch_weights", bytes));
+        }
         v.extend(self.method().memory());
         v
     }

@@ -286,7 +286,7 @@ fn bad_requests_are_refused_before_gpu_work() {
         (&["--eps", "one"], "invalid value 'one'"),
         (&["--lambda", "0,2"], "--lambda: 2 is not in [0, 1]"),
         (&["--methods", "subdiv,magic"], "unknown method `magic`"),
-        (&["--methods", "cudatess"], "not built yet"),
+        (&["--methods", "subdiv,subdiv"], "subdiv is given twice"),
         (&["--frames", "0"], "--frames must be at least 1"),
         (&["--grid", "3"], "--grid"),
         (&["--out", "/proc/bench"], "cannot write to /proc/bench"),

@@ -118,7 +118,7 @@ fn refused_files_name_themselves_and_fail() {
 fn render_refuses_bad_requests_before_gpu_work() {
     let dir = temp_dir("render");
     let cases: [(&[&str], &str); 4] = [
-        (&["--method", "cudatess"], "not built yet"),
+        (&["--eps", "0"], "--eps must be a positive number"),
         (&["--method", "magic"], "unknown method"),
         (&["--out", "/nonexistent-dir/x.png"], "does not exist"),
         (&["--frame", "99"], "frame 99 does not exist"),

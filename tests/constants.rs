@@ -136,10 +136,16 @@ fn flags_and_error_bits_are_distinct_single_bits() {
 
 #[test]
 fn bindings_number_each_set_from_zero() {
-    let sets: [(&str, Vec<u32>, u32); 4] = [
+    let sets: [(&str, Vec<u32>, u32); 5] = [
         (
             "scene",
-            vec![BIND_VIEW, BIND_PATCHES, BIND_PATCH_FLAGS, BIND_SHADING],
+            vec![
+                BIND_VIEW,
+                BIND_PATCHES,
+                BIND_PATCH_FLAGS,
+                BIND_SHADING,
+                BIND_WEIGHTS,
+            ],
             SCENE_BINDINGS,
         ),
         (
@@ -162,6 +168,19 @@ fn bindings_number_each_set_from_zero() {
             "grid",
             vec![BIND_GRID_VISIBLE, BIND_GRID_COUNTERS],
             GRID_BINDINGS,
+        ),
+        (
+            "cudatess",
+            vec![
+                BIND_CT_COUNTERS,
+                BIND_CT_EDGE_IDS,
+                BIND_CT_EDGE_FACTORS,
+                BIND_CT_PATCHES,
+                BIND_CT_SCAN,
+                BIND_CT_VERTICES,
+                BIND_CT_INDICES,
+            ],
+            CT_BINDINGS,
         ),
     ];
     for (name, mut bindings, count) in sets {

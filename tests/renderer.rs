@@ -197,6 +197,7 @@ fn failed_scene_replacement_leaves_the_old_one() {
         patches: geo.patches.clone(),
         flags: vec![0; 3],
         models: Vec::new(),
+        weights: Vec::new(),
     };
     let shading = SceneShading::from_geometry(&geo.patches);
     let err = r.set_geometry(&bad, &shading).err().unwrap();

@@ -6,6 +6,12 @@
 #define SHADE_GLSL
 
 #include "shading.glsl"
+// A shader that draws rational patches defines SHADE_RATIONAL before this
+// include: patches flagged PATCH_RATIONAL are then lit (and keyed) with
+// their own rational normal; everything else is shaded exactly as before.
+#ifdef SHADE_RATIONAL
+#include "rational.glsl"
+#endif
 
 // Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT, wraps).
 const vec3 PALETTE[8] = vec3[8](
@@ -65,6 +71,11 @@ vec3 facing_normal(vec3 n, vec3 to_eye, bool front, bool wedge) {
 // patch's own, which jump across patch edges next to extraordinary
 // vertices.
 vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge) {
+#ifdef SHADE_RATIONAL
+    if (patch_is_rational(patch_id)) {
+        return facing_normal(rational_patch_normal(patch_id, uv.x, uv.y), to_eye, front, wedge);
+    }
+#endif
     return facing_normal(shading_patch_normal(patch_id, uv.x, uv.y), to_eye, front, wedge);
 }
 
@@ -72,6 +83,11 @@ vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge)
 // direction where it vanishes): which side of the surface is seen, for the
 // hole test's key colours.
 vec3 surface_normal(uint patch_id, vec2 uv, vec3 to_eye) {
+#ifdef SHADE_RATIONAL
+    if (patch_is_rational(patch_id)) {
+        return facing_normal(rational_patch_normal(patch_id, uv.x, uv.y), to_eye, true, false);
+    }
+#endif
     vec3 P[16];
     load_patch(patch_id, P);
     return facing_normal(patch_normal(P, uv.x, uv.y), to_eye, true, false);

@@ -62,6 +62,8 @@ pub struct GpuRequest {
     pub device: crate::vk::DeviceSelector,
     /// Khronos validation layer on (any error fails the run).
     pub validation: bool,
+    /// `cudatess`: interior vertices by forward differencing.
+    pub forward_differencing: bool,
 }
 
 impl GpuRequest {
@@ -81,6 +83,7 @@ impl GpuRequest {
             msaa: 1,
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
+            forward_differencing: false,
         }
     }
 
@@ -119,6 +122,7 @@ impl GpuRequest {
             max_depth: self.max_depth,
             groups: self.groups,
             samples: self.msaa,
+            forward_differencing: self.forward_differencing,
             ..crate::methods::MethodOptions::new(draw)
         };
         let options = RendererOptions {

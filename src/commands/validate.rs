@@ -2,7 +2,9 @@
 //! scene (or one). Methods with a ready list are held against the CPU
 //! oracle (ready set, vertex positions bit for bit, the §4.4 reordering
 //! test on the GPU); the tessellation methods' shared edges are checked
-//! for equal levels and vertices from both sides; every method gets the
+//! for equal levels and vertices from both sides (cudatess on the buffers
+//! its frame wrote: equal and largest edge factors, bit-identical edge
+//! vertices, every patch's indices its pattern's); every method gets the
 //! hole test on every model.
 //! Prints a table; the binary exits non-zero when any check fails.
 
@@ -19,7 +21,10 @@ use crate::patch::oracle::subdivide_parallel;
 use crate::patch::view::FLAG_WEDGES;
 use crate::renderer::Renderer;
 use crate::scene::file::{Scene, SceneGeometry};
-use crate::validate::edges::{check_edge_vertices, check_levels, shared_edges, EdgeKey, EdgeSide};
+use crate::validate::cudatess as ct_checks;
+use crate::validate::edges::{
+    check_edge_vertices, check_levels, shared_edges, EdgeCheck, EdgeKey, EdgeSide,
+};
 use crate::validate::holes::run_model;
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
@@ -105,6 +110,14 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             results.extend(edge_checks(&mut renderer, &shared, &view, k)?);
         }
         renderer.capture = false;
+    }
+    if renderer.method().cudatess().is_some() {
+        let shared = shared_edges(&geo.patches);
+        for &k in &frames {
+            let cam = keyframe(&scene, &args.gpu.scene, k)?;
+            let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
+            results.extend(cudatess_checks(&mut renderer, &shared, &view, k)?);
+        }
     }
     if !args.skip_holes {
         let debug = args.debug_dir.as_deref();
@@ -239,6 +252,75 @@ fn edge_checks(
     Ok(out)
 }
 
+/// cudatess's checks for one keyframe, on what the frame left in its
+/// buffers.
+fn cudatess_checks(
+    renderer: &mut Renderer,
+    shared: &HashMap<EdgeKey, Vec<EdgeSide>>,
+    view: &View,
+    k: usize,
+) -> anyhow::Result<Vec<CheckResult>> {
+    renderer.render(view)?;
+    let ctx = renderer.context().clone();
+    let frame = renderer
+        .method()
+        .cudatess()
+        .context("not cudatess")?
+        .read_frame(&ctx)?;
+    let first = |c: &EdgeCheck| c.first.as_ref().map_or(String::new(), |f| format!(": {f}"));
+    let levels = ct_checks::levels(&frame);
+    let equal = check_levels(shared, &levels);
+    let largest = ct_checks::check_max_factors(shared, &frame);
+    let vx = check_edge_vertices(shared, &levels, &ct_checks::edge_vertices(&frame));
+    let ix = ct_checks::check_indices(&frame);
+    Ok(vec![
+        line(
+            "edge factors",
+            Some(k),
+            equal.bad == 0,
+            format!(
+                "{} shared edges, {} with different factors on their sides{}",
+                thousands(equal.checked),
+                equal.bad,
+                first(&equal)
+            ),
+        ),
+        line(
+            "largest factor",
+            Some(k),
+            largest.bad == 0,
+            format!(
+                "{} patch edges and every shared edge: {} not the largest asked for{}",
+                thousands(largest.checked),
+                largest.bad,
+                first(&largest)
+            ),
+        ),
+        line(
+            "edge vertices",
+            Some(k),
+            vx.bad == 0,
+            format!(
+                "{} shared edge vertices, {} differing or missing on a side{}",
+                thousands(vx.checked),
+                vx.bad,
+                first(&vx)
+            ),
+        ),
+        line(
+            "indices",
+            Some(k),
+            ix.bad == 0 && ix.checked > 0,
+            format!(
+                "{} drawn patches' index slots against their patterns, {} wrong{}",
+                thousands(ix.checked),
+                ix.bad,
+                first(&ix)
+            ),
+        ),
+    ])
+}
+
 /// The hole test for the first instance of every distinct model file.
 fn hole_checks(
     renderer: &mut Renderer,
@@ -256,11 +338,7 @@ fn hole_checks(
             continue;
         }
         let range = start..start + m.patches_per_instance;
-        let one = SceneGeometry {
-            patches: geo.patches[range.clone()].to_vec(),
-            flags: geo.flags[range].to_vec(),
-            models: vec![m.clone()],
-        };
+        let one = geo.subset(range, m.clone());
         let name = m
             .file
             .file_name()

@@ -1,17 +1,23 @@
 //! The scene on the GPU, shared by every method and pass: the base patches,
-//! their flags and their shading (tangent) patches, uploaded once, and one
-//! `ViewParams` per frame slot, all behind descriptor set 0
+//! their flags, their shading (tangent) patches and their weights, uploaded
+//! once, and one `ViewParams` per frame slot, all behind descriptor set 0
 //! (`glsl/common/scene.glsl`; the shading normal is evaluated by
-//! `glsl/common/shading.glsl`).
+//! `glsl/common/shading.glsl`, rational patches by
+//! `glsl/common/rational.glsl`). Beside it, on the host, the scene's edge
+//! table (which patch sides are one curve), for the methods that need it.
+
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use ash::vk;
 
 use crate::constants::{
-    BIND_PATCHES, BIND_PATCH_FLAGS, BIND_SHADING, BIND_VIEW, SCENE_BINDINGS, SET_SCENE,
-    SHADING_FLOATS,
+    BIND_PATCHES, BIND_PATCH_FLAGS, BIND_SHADING, BIND_VIEW, BIND_WEIGHTS, PATCH_RATIONAL,
+    SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
 };
 use crate::patch::bezier::BezierPatch;
+use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::view::ViewParams;
+use crate::scene::adjacency::{edge_table, EdgeTable};
 use crate::scene::shading::ShadingPatch;
 use crate::vk::{
     Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout, SetLayout,
@@ -87,8 +93,12 @@ impl SceneLayout {
     }
 }
 
-/// The uploaded scene: patches, flags, shading patches, the per-slot views
-/// and set 0.
+/// Numbers every uploaded scene, so a method that keeps data derived from
+/// one (its copy of the edge table) sees when the scene was replaced.
+static SCENE_SERIAL: AtomicU64 = AtomicU64::new(1);
+
+/// The uploaded scene: patches, flags, shading patches, weights, the
+/// per-slot views and set 0.
 pub struct SceneGpu {
     /// 48 floats per patch.
     pub patches: Buffer,
@@ -96,8 +106,16 @@ pub struct SceneGpu {
     pub flags: Buffer,
     /// `SHADING_FLOATS` per patch: the tangent patches of the shading normals.
     pub shading: Buffer,
+    /// 16 weights per patch for a scene with rational patches, else 16 ones.
+    pub weights: Buffer,
+    /// Patches with a weight other than 1.
+    pub rational_patches: u32,
     /// Number of base patches.
     pub count: u32,
+    /// Which patch sides are one curve (computed on the host at upload).
+    pub edges: EdgeTable,
+    /// This upload's number (a new scene gets a new one).
+    pub serial: u64,
     /// `ViewParams` per frame slot, `view_stride` bytes apart.
     views: Buffer,
     view_stride: u64,
@@ -116,6 +134,27 @@ impl SceneGpu {
         shading: &[ShadingPatch],
         slots: usize,
     ) -> VkResult<Self> {
+        Self::with_weights(ctx, layout, patches, flags, shading, &[], slots)
+    }
+
+    /// [`SceneGpu::new`] with the patches' weights (`weights` empty: a
+    /// polynomial scene; else one set per patch).
+    pub fn with_weights(
+        ctx: &Context,
+        layout: &SceneLayout,
+        patches: &[BezierPatch],
+        flags: &[u32],
+        shading: &[ShadingPatch],
+        weights: &[Weights],
+        slots: usize,
+    ) -> VkResult<Self> {
+        if !weights.is_empty() && weights.len() != patches.len() {
+            return Err(VkError::Usage(format!(
+                "{} patches with {} weight sets",
+                patches.len(),
+                weights.len()
+            )));
+        }
         if patches.is_empty() || patches.len() != flags.len() {
             return Err(VkError::Usage(format!(
                 "{} patches with {} flag words",
@@ -149,12 +188,36 @@ impl SceneGpu {
             .iter()
             .flat_map(|p| p.pts.iter().flat_map(|q| q.to_array()))
             .collect();
+        let rational_patches = weights.iter().filter(|w| !is_polynomial(w)).count() as u32;
+        let edges = edge_table(patches, if rational_patches > 0 { weights } else { &[] });
+        // The shaders read a patch's weights where its flags say
+        // PATCH_RATIONAL: the flag follows the weights uploaded with it.
+        let flags: Vec<u32> = if rational_patches > 0 {
+            flags
+                .iter()
+                .zip(weights)
+                .map(|(&f, w)| {
+                    let bit = if is_polynomial(w) { 0 } else { PATCH_RATIONAL };
+                    (f & !PATCH_RATIONAL) | bit
+                })
+                .collect()
+        } else {
+            flags.to_vec()
+        };
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let gpu = MemoryLocation::GpuOnly;
         let patches = Buffer::with_data(ctx, "base patches", &floats, storage, gpu)?;
-        let flags = Buffer::with_data(ctx, "patch flags", flags, storage, gpu)?;
+        let flags = Buffer::with_data(ctx, "patch flags", &flags, storage, gpu)?;
         let shading_floats: Vec<f32> = shading.iter().flat_map(|s| s.to_floats()).collect();
         let shading = Buffer::with_data(ctx, "shading patches", &shading_floats, storage, gpu)?;
+        // A polynomial scene binds 16 ones: no shader reads them (only
+        // patches flagged PATCH_RATIONAL have weights to read).
+        let weight_floats: Vec<f32> = if rational_patches > 0 {
+            weights.iter().flatten().copied().collect()
+        } else {
+            UNIT_WEIGHTS.to_vec()
+        };
+        let weights_buffer = Buffer::with_data(ctx, "patch weights", &weight_floats, storage, gpu)?;
         let size = std::mem::size_of::<ViewParams>() as u64;
         let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
         let view_stride = size.div_ceil(align) * align;
@@ -173,12 +236,17 @@ impl SceneGpu {
         bound[BIND_PATCHES as usize] = BufferBinding::from(&patches);
         bound[BIND_PATCH_FLAGS as usize] = BufferBinding::from(&flags);
         bound[BIND_SHADING as usize] = BufferBinding::from(&shading);
+        bound[BIND_WEIGHTS as usize] = BufferBinding::from(&weights_buffer);
         let set = DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)?;
         Ok(Self {
             count: floats.len() as u32 / 48,
             patches,
             flags,
             shading,
+            weights: weights_buffer,
+            rational_patches,
+            edges,
+            serial: SCENE_SERIAL.fetch_add(1, Ordering::Relaxed),
             views,
             view_stride,
             slots: slots.max(1),
@@ -221,5 +289,11 @@ impl SceneGpu {
     /// Bytes of the shading patches.
     pub fn shading_bytes(&self) -> u64 {
         self.shading.size()
+    }
+
+    /// Bytes of the weights, where the scene has rational patches (a
+    /// polynomial scene's 16 ones are not worth a line).
+    pub fn weight_bytes(&self) -> Option<u64> {
+        (self.rational_patches > 0).then(|| self.weights.size())
     }
 }

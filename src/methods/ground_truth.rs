@@ -12,7 +12,11 @@
 //! vertex shader (`glsl/grid.vert`) evaluates the base patch at
 //! `(i / grid, j / grid)` with the shared precise evaluation. Grids are
 //! powers of two, so those parameters are exact and shared patch edges meet
-//! bit for bit: the reference is watertight too.
+//! bit for bit: the reference is watertight too. Rational patches are
+//! evaluated in homogeneous coordinates and projected (`glsl/grid.vert`),
+//! and shaded with their own normal (`glsl/grid.frag`); the frustum test
+//! on the control points' box holds for them too (positive weights keep a
+//! rational patch inside its control points' hull).
 //!
 //! Cost: 2·grid² triangles per visible patch (8,192 at 64). On lavapipe a
 //! 1920×1080 kitchen frame (~32,000 visible patches, 2.6·10⁸ triangles)
@@ -34,6 +38,7 @@ use crate::vk::{
 pub const INFO: MethodInfo = MethodInfo {
     name: "ground-truth",
     about: "every patch as a uniform grid (64x64 quads by default, the paper's reference)",
+    rational: true,
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };
 
@@ -136,7 +141,7 @@ impl GroundTruth {
             "draw (grid)",
             &[
                 (vk::ShaderStageFlags::VERTEX, "grid.vert"),
-                (vk::ShaderStageFlags::FRAGMENT, "draw_vert.frag"),
+                (vk::ShaderStageFlags::FRAGMENT, "grid.frag"),
             ],
         )?;
         let indices = grid_index_buffer(ctx, grid)?;

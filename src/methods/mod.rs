@@ -8,12 +8,17 @@
 //!   of QuadNodes and hand it to the shared [`ReadyStage`] (sort, mesh or
 //!   fallback draw path), which is also what validation compares with the
 //!   CPU oracle;
-//! - *self-drawing* methods (`ground-truth`, `tess`, `tess-reparam`; later
+//! - *self-drawing* methods (`ground-truth`, `tess`, `tess-reparam`,
 //!   `cudatess`) record their own draw with the same fragment shading.
+//!
+//! A scene with rational patches (weights other than 1) is only accepted by
+//! methods whose [`MethodInfo::rational`] says so; the others refuse it with
+//! a sentence rather than draw it wrong.
 //!
 //! Adding a method means a new file here with a [`MethodInfo`] and one line
 //! in [`METHODS`].
 
+pub mod cudatess;
 pub mod ground_truth;
 pub mod subdiv;
 pub mod subdiv_indirect;
@@ -23,7 +28,7 @@ use serde_json::Value;
 
 use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::{FrameOut, FrameRec, Retired};
-use crate::gpu::{SceneLayout, Shaders};
+use crate::gpu::{SceneGpu, SceneLayout, Shaders};
 use crate::patch::view::ViewParams;
 use crate::vk::{Context, VkError};
 
@@ -77,6 +82,12 @@ pub struct MethodOptions {
     /// Samples per pixel of the draw target (1: no multisampling). The
     /// draw pipelines are made for it.
     pub samples: u32,
+    /// `cudatess`: interior vertices by forward differencing along rows
+    /// instead of evaluating each one.
+    pub forward_differencing: bool,
+    /// `cudatess`: the vertex and index buffers' first capacities instead
+    /// of the defaults (small ones make the first frames grow them).
+    pub cudatess_capacity: Option<(u32, u32)>,
 }
 
 impl MethodOptions {
@@ -94,6 +105,8 @@ impl MethodOptions {
             node_capacity: None,
             samples: 1,
             plant_endless_loop: false,
+            forward_differencing: false,
+            cudatess_capacity: None,
         }
     }
 }
@@ -198,6 +211,12 @@ pub trait Method {
         None
     }
 
+    /// The `cudatess` method behind this one, for reading its buffers back
+    /// in validation.
+    fn cudatess(&self) -> Option<&cudatess::CudaTess> {
+        None
+    }
+
     /// Whether the method draws the crack-closing wedges (the hole test
     /// then also looks with them off, to show it can see cracks).
     fn has_wedges(&self) -> bool {
@@ -211,6 +230,8 @@ pub struct MethodInfo {
     pub name: &'static str,
     /// One line for `--help`.
     pub about: &'static str,
+    /// Whether it draws rational patches (scenes with weights other than 1).
+    pub rational: bool,
     /// Makes the method.
     pub build: fn(&mut MethodSetup<'_>) -> Result<Box<dyn Method>, RenderError>,
 }
@@ -222,19 +243,51 @@ pub const METHODS: &[MethodInfo] = &[
     ground_truth::INFO,
     tess::INFO,
     tess::INFO_REPARAM,
+    cudatess::INFO,
 ];
 
-/// Names reserved for the comparison methods still to come.
-pub const PLANNED: &[&str] = &["cudatess"];
+/// Names reserved for methods still to come (none at present; a name put
+/// here is refused with "not built yet" instead of "unknown").
+pub const PLANNED: &[&str] = &[];
 
 /// The registry entry named `name`; unknown and unbuilt names get their
 /// own sentences.
 pub fn find(name: &str) -> Result<&'static MethodInfo, RenderError> {
-    if let Some(m) = METHODS.iter().find(|m| m.name == name) {
+    find_in(name, METHODS, PLANNED)
+}
+
+/// Refuses to draw `scene` with method `info` when the scene has rational
+/// patches the method cannot draw.
+pub fn check_rational(info: &MethodInfo, scene: &SceneGpu) -> Result<(), RenderError> {
+    if info.rational || scene.rational_patches == 0 {
+        return Ok(());
+    }
+    let able: Vec<&str> = METHODS
+        .iter()
+        .filter(|m| m.rational)
+        .map(|m| m.name)
+        .collect();
+    Err(RenderError::Request(format!(
+        "method `{}` cannot draw rational patches, and {} of the scene's {} base patches \
+         have weights other than 1; use {}",
+        info.name,
+        scene.rational_patches,
+        scene.count,
+        able.join(" or ")
+    )))
+}
+
+/// [`find`] over the registry `methods` and the reserved names `planned`.
+fn find_in<'a>(
+    name: &str,
+    methods: &'a [MethodInfo],
+    planned: &[&str],
+) -> Result<&'a MethodInfo, RenderError> {
+    if let Some(m) = methods.iter().find(|m| m.name == name) {
         return Ok(m);
     }
-    let built: Vec<&str> = METHODS.iter().map(|m| m.name).collect();
-    Err(RenderError::Request(if PLANNED.contains(&name) {
+    let built: Vec<&str> = methods.iter().map(|m| m.name).collect();
+    Err(RenderError::Request(if planned.contains(&name) {
         format!(
             "method `{name}` is not built yet; available: {}",
             built.join(", ")
@@ -259,8 +312,13 @@ mod tests {
             );
             assert_eq!(METHODS.iter().filter(|x| x.name == m.name).count(), 1);
         }
-        let e = find("cudatess").err().unwrap().to_string();
+        // The planned-name sentence, with a stand-in reserved name.
+        let e = find_in("pn-tess", METHODS, &["pn-tess"])
+            .err()
+            .unwrap()
+            .to_string();
         assert!(e.contains("not built yet") && e.contains("subdiv"), "{e}");
+        assert!(find_in("subdiv", METHODS, &["pn-tess"]).is_ok());
         let e = find("nope").err().unwrap().to_string();
         assert!(
             e.contains("unknown method") && e.contains("ground-truth"),

@@ -38,6 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "subdiv-indirect",
     about: "recursive subdivision, one indirect dispatch per depth (the paper's \
             execute-indirect variant)",
+    rational: false,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
 

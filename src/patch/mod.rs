@@ -8,5 +8,6 @@ pub mod cull;
 pub mod ops;
 pub mod oracle;
 pub mod quadnode;
+pub mod rational;
 pub mod view;
 pub mod wedge;

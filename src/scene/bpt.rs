@@ -23,6 +23,27 @@
 //! point count, a coordinate that is NaN or infinite, a point line without
 //! exactly three coordinates, anything after the last point, and a patch
 //! count of 0. -0.0 is read as +0.0 (see `BezierPatch::canonical_zeros`).
+//!
+//! # `.rbpt`: rational patches
+//!
+//! The same layout with a weight column: every point line is `x,y,z,w`,
+//! the Cartesian point p and its weight w (not the homogeneous w·p), so a
+//! file with every w = 1 describes exactly the patches of the `.bpt` file
+//! without the column. A patch's weights are those of its 16 points, in the
+//! patch line's order (`w[4 * j + i]` with `pts[4 * j + i]`); two patches
+//! that share a boundary must share its points *and* weights to meet. Refused
+//! besides the `.bpt` cases, with file and line: a point line without exactly
+//! four fields, and a weight that is not a number in
+//! [`MIN_WEIGHT`]..=[`MAX_WEIGHT`] (zero and negative weights included).
+//!
+//! ```text
+//! 1
+//! 1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16
+//! 16
+//! 1,0,0,1                             x,y,z,w per point
+//! 1,0.4142135,0,0.8047379
+//! ...
+//! ```
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -32,6 +53,7 @@ use glam::Vec3;
 
 use super::SceneError;
 use crate::patch::bezier::BezierPatch;
+use crate::patch::rational::{weight_ok, Weights, MAX_WEIGHT, MIN_WEIGHT};
 
 /// Storage slot (`pts` index) of the value at position `k` (0..16) of a
 /// patch line. The file order is our storage order (see the module doc); the
@@ -52,12 +74,35 @@ pub fn parse(path_for_errors: &Path, text: &str) -> Result<Vec<BezierPatch>, Sce
     parse_with_points(path_for_errors, text).map(|(patches, _)| patches)
 }
 
+/// Reads a `.rbpt` file: the patches and their weights.
+pub fn read_rational(path: &Path) -> Result<(Vec<BezierPatch>, Vec<Weights>), SceneError> {
+    let text = super::read_text(path)?;
+    parse_rational(path, &text)
+}
+
+/// Parses `.rbpt` text; `path_for_errors` only names the source in errors.
+pub fn parse_rational(
+    path_for_errors: &Path,
+    text: &str,
+) -> Result<(Vec<BezierPatch>, Vec<Weights>), SceneError> {
+    parse_any(path_for_errors, text, true).map(|(patches, weights, _)| (patches, weights))
+}
+
 /// [`parse`], also returning the file's point list (for tests and tools that
 /// want the declared points, duplicates included).
 fn parse_with_points(
     path_for_errors: &Path,
     text: &str,
 ) -> Result<(Vec<BezierPatch>, Vec<Vec3>), SceneError> {
+    parse_any(path_for_errors, text, false).map(|(patches, _, points)| (patches, points))
+}
+
+/// What [`parse_any`] reads: the patches, their weights and the points.
+type Parsed = (Vec<BezierPatch>, Vec<Weights>, Vec<Vec3>);
+
+/// Both formats: `weighted` reads `.rbpt` point lines (x,y,z,w). Returns
+/// the patches, their weights (all 1 without the column) and the points.
+fn parse_any(path_for_errors: &Path, text: &str, weighted: bool) -> Result<Parsed, SceneError> {
     let path = path_for_errors;
     let mut lines = Lines::new(text);
 
@@ -100,6 +145,7 @@ fn parse_with_points(
     let point_count = parse_count(path, line_no, line, "point count")?;
 
     let mut points: Vec<Vec3> = Vec::new();
+    let mut point_weights: Vec<f32> = Vec::new();
     for p in 0..point_count {
         let (line_no, line) = lines.next().ok_or_else(|| {
             SceneError::at(
@@ -108,7 +154,9 @@ fn parse_with_points(
                 format!("file ends early: expected point {} of {point_count}", p + 1),
             )
         })?;
-        points.push(parse_point(path, line_no, line)?);
+        let (point, w) = parse_point(path, line_no, line, weighted)?;
+        points.push(point);
+        point_weights.push(w);
     }
 
     while let Some((line_no, line)) = lines.next() {
@@ -123,8 +171,10 @@ fn parse_with_points(
     }
 
     let mut patches = Vec::with_capacity(index_lines.len());
+    let mut weights = Vec::with_capacity(index_lines.len());
     for (line_no, idx) in index_lines {
         let mut pts = [Vec3::ZERO; 16];
+        let mut w = [1.0f32; 16];
         for (k, &i) in idx.iter().enumerate() {
             if i == 0 || i > point_count {
                 return Err(SceneError::at(
@@ -134,10 +184,12 @@ fn parse_with_points(
                 ));
             }
             pts[slot_of_line_position(k)] = points[i - 1];
+            w[slot_of_line_position(k)] = point_weights[i - 1];
         }
         patches.push(BezierPatch { pts }.canonical_zeros());
+        weights.push(w);
     }
-    Ok((patches, points))
+    Ok((patches, weights, points))
 }
 
 /// Writes patches as a `.bpt` file. Control points are deduplicated by exact
@@ -147,6 +199,43 @@ fn parse_with_points(
 /// written beside its destination and renamed into place, so a failure never
 /// leaves a half-written file under `path`.
 pub fn write(path: &Path, patches: &[BezierPatch]) -> Result<(), SceneError> {
+    write_any(path, patches, None)
+}
+
+/// Writes patches and their weights as a `.rbpt` file, as [`write`] does
+/// (points are shared by exact bits of the point *and* its weight).
+pub fn write_rational(
+    path: &Path,
+    patches: &[BezierPatch],
+    weights: &[Weights],
+) -> Result<(), SceneError> {
+    if weights.len() != patches.len() {
+        return Err(SceneError::invalid(
+            path,
+            format!(
+                "{} patches with {} weight sets",
+                patches.len(),
+                weights.len()
+            ),
+        ));
+    }
+    if let Some(i) = weights
+        .iter()
+        .position(|w| !w.iter().all(|&x| weight_ok(x)))
+    {
+        return Err(SceneError::invalid(
+            path,
+            format!("patch {i} has a weight outside {MIN_WEIGHT}..={MAX_WEIGHT}"),
+        ));
+    }
+    write_any(path, patches, Some(weights))
+}
+
+fn write_any(
+    path: &Path,
+    patches: &[BezierPatch],
+    weights: Option<&[Weights]>,
+) -> Result<(), SceneError> {
     if patches.is_empty() {
         return Err(SceneError::invalid(
             path,
@@ -160,16 +249,18 @@ pub fn write(path: &Path, patches: &[BezierPatch]) -> Result<(), SceneError> {
         ));
     }
 
-    let mut index_of: HashMap<[u32; 3], usize> = HashMap::new();
-    let mut points: Vec<Vec3> = Vec::new();
+    let mut index_of: HashMap<[u32; 4], usize> = HashMap::new();
+    let mut points: Vec<(Vec3, f32)> = Vec::new();
     let mut text = String::new();
     let _ = writeln!(text, "{}", patches.len());
-    for patch in patches {
+    for (n, patch) in patches.iter().enumerate() {
         for k in 0..16 {
-            let p = patch.pts[slot_of_line_position(k)];
-            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            let slot = slot_of_line_position(k);
+            let p = patch.pts[slot];
+            let w = weights.map_or(1.0, |w| w[n][slot]);
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits(), w.to_bits()];
             let index = *index_of.entry(key).or_insert_with(|| {
-                points.push(p);
+                points.push((p, w));
                 points.len()
             });
             let sep = if k == 15 { "\n" } else { "," };
@@ -177,8 +268,12 @@ pub fn write(path: &Path, patches: &[BezierPatch]) -> Result<(), SceneError> {
         }
     }
     let _ = writeln!(text, "{}", points.len());
-    for p in &points {
-        let _ = writeln!(text, "{},{},{}", p.x, p.y, p.z);
+    for (p, w) in &points {
+        if weights.is_some() {
+            let _ = writeln!(text, "{},{},{},{w}", p.x, p.y, p.z);
+        } else {
+            let _ = writeln!(text, "{},{},{}", p.x, p.y, p.z);
+        }
     }
 
     write_atomically(path, text.as_bytes())
@@ -272,20 +367,27 @@ fn parse_indices(path: &Path, line_no: usize, line: &str) -> Result<[usize; 16],
     Ok(out)
 }
 
-fn parse_point(path: &Path, line_no: usize, line: &str) -> Result<Vec3, SceneError> {
+fn parse_point(
+    path: &Path,
+    line_no: usize,
+    line: &str,
+    weighted: bool,
+) -> Result<(Vec3, f32), SceneError> {
     let fields: Vec<&str> = line.split(',').collect();
-    if fields.len() != 3 {
+    let want = if weighted { 4 } else { 3 };
+    if fields.len() != want {
         return Err(SceneError::at(
             path,
             line_no,
             format!(
-                "expected x,y,z, found {} comma-separated fields",
+                "expected {}, found {} comma-separated fields",
+                if weighted { "x,y,z,w" } else { "x,y,z" },
                 fields.len()
             ),
         ));
     }
     let mut c = [0f32; 3];
-    for (k, f) in fields.iter().enumerate() {
+    for (k, f) in fields.iter().take(3).enumerate() {
         let x = f
             .trim()
             .parse::<f32>()
@@ -303,7 +405,28 @@ fn parse_point(path: &Path, line_no: usize, line: &str) -> Result<Vec3, SceneErr
         }
         c[k] = x;
     }
-    Ok(Vec3::from_array(c))
+    let mut w = 1.0;
+    if weighted {
+        let f = fields[3];
+        w = f.trim().parse::<f32>().map_err(|_| {
+            SceneError::at(
+                path,
+                line_no,
+                format!("weight is not a number: {:?}", clip(f)),
+            )
+        })?;
+        if !weight_ok(w) {
+            return Err(SceneError::at(
+                path,
+                line_no,
+                format!(
+                    "weight {:?} is outside {MIN_WEIGHT}..={MAX_WEIGHT}",
+                    clip(f)
+                ),
+            ));
+        }
+    }
+    Ok((Vec3::from_array(c), w))
 }
 
 #[cfg(test)]

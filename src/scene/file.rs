@@ -30,7 +30,10 @@
 //! # up, fov_y_deg, near, far: as in [camera]
 //! [[model]]
 //! name = "teapot"
-//! file = "models/teapot.bpt"  # .bpt or Catmull–Clark .obj, relative to this file
+//! file = "models/teapot.bpt"  # .bpt, rational .rbpt (only methods that take
+//!                             # rational patches draw it: cudatess,
+//!                             # ground-truth) or Catmull–Clark .obj,
+//!                             # relative to this file
 //! two_sided = true            # open or thin models: never back-face culled
 //! boundary = "edge-only"      # cages without a `t interpolateboundary` tag:
 //!                             # none | edge-only | edge-and-corner (default)

@@ -10,8 +10,10 @@ use super::file::{ModelDesc, Scene, MAX_COORD, PATCH_MODEL_SHIFT};
 use super::obj::CageOptions;
 use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
 use super::{bpt, obj, ImportedModel, SceneError};
+use crate::constants::PATCH_RATIONAL;
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::PATCH_TWO_SIDED;
+use crate::patch::rational::{is_polynomial, reoriented_weights, Weights, UNIT_WEIGHTS};
 
 /// Most base patches a scene may have: the subdivision kernel counts the
 /// items in flight, base patches included, in 24 bits.
@@ -43,10 +45,52 @@ pub struct ModelSummary {
 pub struct SceneGeometry {
     /// Base patches of every instance of every model, in scene order.
     pub patches: Vec<BezierPatch>,
-    /// Per patch: `PATCH_TWO_SIDED` and the model index `<< PATCH_MODEL_SHIFT`.
+    /// Per patch: `PATCH_TWO_SIDED`, `PATCH_RATIONAL` and the model index
+    /// `<< PATCH_MODEL_SHIFT`.
     pub flags: Vec<u32>,
     /// Per model, in scene order.
     pub models: Vec<ModelSummary>,
+    /// The weights of every patch, parallel to `patches`, when some patch is
+    /// rational (has a weight other than 1); empty otherwise, which is how
+    /// every polynomial scene stays exactly what it was.
+    pub weights: Vec<Weights>,
+}
+
+impl SceneGeometry {
+    /// Patches with a weight other than 1.
+    pub fn rational_patches(&self) -> usize {
+        self.weights.iter().filter(|w| !is_polynomial(w)).count()
+    }
+
+    /// Whether some patch is rational.
+    pub fn is_rational(&self) -> bool {
+        self.rational_patches() > 0
+    }
+
+    /// The weights of patch `k` (all 1 for a polynomial scene).
+    pub fn weights_of(&self, k: usize) -> Weights {
+        self.weights.get(k).copied().unwrap_or(UNIT_WEIGHTS)
+    }
+
+    /// The patches `range` of this geometry with their flags, weights and
+    /// the one model summary `model` (a model's instance, for the hole test).
+    pub fn subset(&self, range: std::ops::Range<usize>, model: ModelSummary) -> SceneGeometry {
+        let weights = if self.weights.is_empty() {
+            Vec::new()
+        } else {
+            self.weights[range.clone()].to_vec()
+        };
+        let mut geo = SceneGeometry {
+            patches: self.patches[range.clone()].to_vec(),
+            flags: self.flags[range].to_vec(),
+            models: vec![model],
+            weights,
+        };
+        if !geo.is_rational() {
+            geo.weights.clear();
+        }
+        geo
+    }
 }
 
 /// Shading normals of a whole scene, beside its [`SceneGeometry`]: one
@@ -96,22 +140,32 @@ pub fn load_model_with(path: &Path, options: &CageOptions) -> Result<ImportedMod
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
+    let patch_file_warnings = || -> Vec<String> {
+        options
+            .boundary
+            .map(|r| format!("boundary rule {r} ignored: a patch file holds patches, not a cage"))
+            .into_iter()
+            .collect()
+    };
     match ext.as_deref() {
         Some("bpt") => Ok(ImportedModel {
             patches: bpt::read(path)?,
-            warnings: options
-                .boundary
-                .map(|r| {
-                    format!("boundary rule {r} ignored: a .bpt file holds patches, not a cage")
-                })
-                .into_iter()
-                .collect(),
+            warnings: patch_file_warnings(),
             ..Default::default()
         }),
+        Some("rbpt") => {
+            let (patches, weights) = bpt::read_rational(path)?;
+            Ok(ImportedModel {
+                patches,
+                weights,
+                warnings: patch_file_warnings(),
+                ..Default::default()
+            })
+        }
         Some("obj") => obj::read_with(path, options),
         _ => Err(SceneError::Invalid {
             path: path.to_path_buf(),
-            msg: "unknown model format: expected a .bpt patch file or a .obj Catmull-Clark cage"
+            msg: "unknown model format: expected a .bpt patch file, a .rbpt rational patch file or a .obj Catmull-Clark cage"
                 .into(),
         }),
     }
@@ -166,6 +220,10 @@ impl Scene {
         }
         let mut geo = SceneGeometry::default();
         let mut shading = SceneShading::default();
+        let rational = self.models.iter().any(|m| {
+            let model = &cache[&(m.file.clone(), m.options)];
+            !m.instances.is_empty() && model.weights.iter().any(|w| !is_polynomial(w))
+        });
         for (index, m) in self.models.iter().enumerate() {
             let model = &cache[&(m.file.clone(), m.options)];
             let flags =
@@ -185,7 +243,23 @@ impl Scene {
                         ));
                     }
                     geo.patches.push(w);
-                    geo.flags.push(flags);
+                    if rational {
+                        let weights = model.weights.get(k).copied().unwrap_or(UNIT_WEIGHTS);
+                        let weights = if xf.determinant() < 0.0 {
+                            reoriented_weights(&weights, true, false, false)
+                        } else {
+                            weights
+                        };
+                        let extra = if is_polynomial(&weights) {
+                            0
+                        } else {
+                            PATCH_RATIONAL
+                        };
+                        geo.flags.push(flags | extra);
+                        geo.weights.push(weights);
+                    } else {
+                        geo.flags.push(flags);
+                    }
                     if let Some(t) = tangents.get(k) {
                         shading.patches.push(t.transformed(xf));
                     }

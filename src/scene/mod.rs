@@ -1,6 +1,7 @@
 //! Scene input: Bézier patch files, Catmull–Clark cages, scene files, cameras.
 
 pub mod acc;
+pub mod adjacency;
 pub mod bpt;
 pub mod cage;
 pub mod camera;
@@ -77,6 +78,9 @@ pub struct CageInfo {
 pub struct ImportedModel {
     /// Patches in file order.
     pub patches: Vec<BezierPatch>,
+    /// The patches' weights, one set per patch, for `.rbpt` files; empty for
+    /// polynomial models (every weight 1).
+    pub weights: Vec<crate::patch::rational::Weights>,
     /// One entry per patch for cage imports; empty for `.bpt` files.
     pub origins: Vec<PatchOrigin>,
     /// Tangent patches for shading, one per patch; empty when the model has

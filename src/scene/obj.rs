@@ -260,6 +260,7 @@ pub fn parse_with(
     };
     Ok(ImportedModel {
         patches: conversion.patches,
+        weights: Vec::new(),
         origins,
         shading,
         cage: Some(info),

@@ -88,7 +88,8 @@ pub struct EdgeCheck {
 }
 
 impl EdgeCheck {
-    fn fail(&mut self, what: impl FnOnce() -> String) {
+    /// Counts a failure, keeping the first one's words.
+    pub fn fail(&mut self, what: impl FnOnce() -> String) {
         self.bad += 1;
         if self.first.is_none() {
             self.first = Some(what());

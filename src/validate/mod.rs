@@ -1,8 +1,10 @@
 //! The checks behind `validate`: the GPU against the CPU oracle (ready set,
 //! vertex positions bit for bit), the paper's §4.4 reordering test on the
 //! GPU, the shared-edge checks of the tessellation methods (`edges`), and
-//! the hole test (`holes`).
+//! the hole test (`holes`), and cudatess's checks on its own buffers
+//! (`cudatess`).
 
+pub mod cudatess;
 pub mod edges;
 pub mod holes;
 

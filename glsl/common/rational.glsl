@@ -1,0 +1,103 @@
+// Rational bicubic Bézier patches (Schwarz and Stamminger 2009, §3): the
+// weights in set 0, homogeneous evaluation and the rational normal. The CPU
+// twin is src/patch/rational.rs, operation for operation. A patch's weights
+// are only read when its flags say PATCH_RATIONAL; a polynomial scene binds
+// sixteen ones. Include after scene.glsl.
+#ifndef RATIONAL_GLSL
+#define RATIONAL_GLSL
+
+#include "scene.glsl"
+
+// 16 weights per base patch, stored like its control points.
+layout(std430, set = SET_SCENE, binding = BIND_WEIGHTS) readonly buffer PatchWeights {
+    float patch_weights[];
+};
+
+bool patch_is_rational(uint id) {
+    return (patch_flags[id] & PATCH_RATIONAL) != 0u;
+}
+
+// The homogeneous control points (w p, w) of patch `id`; weights 1 where
+// the patch is polynomial (then w p = p exactly).
+void load_homogeneous(uint id, out vec4 H[16]) {
+    vec3 P[16];
+    load_patch(id, P);
+    bool rational = patch_is_rational(id);
+    for (int i = 0; i < 16; ++i) {
+        float w = rational ? patch_weights[id * 16u + uint(i)] : 1.0;
+        precise vec4 h = vec4(P[i].x * w, P[i].y * w, P[i].z * w, w);
+        H[i] = h;
+    }
+}
+
+// Cubic curve of homogeneous points, the order of curve() in patch.glsl:
+// reversal-symmetric for exact complements u0 and 1 - u0.
+precise vec4 curve4(float u0, vec4 p0, vec4 p1, vec4 p2, vec4 p3) {
+    precise float u1 = 1.0 - u0;
+    precise float b0 = u1 * u1 * u1;
+    precise float b1 = 3.0 * u1 * u0 * u1;
+    precise float b2 = 3.0 * u0 * u1 * u0;
+    precise float b3 = u0 * u0 * u0;
+    precise vec4 r = (p0 * b0 + p1 * b1) + (p2 * b2 + p3 * b3);
+    return r;
+}
+
+// b(u, v): rows at u, then the column at v.
+precise vec4 eval_patch4(vec4 H[16], float u, float v) {
+    precise vec4 c0 = curve4(u, H[0], H[1], H[2], H[3]);
+    precise vec4 c1 = curve4(u, H[4], H[5], H[6], H[7]);
+    precise vec4 c2 = curve4(u, H[8], H[9], H[10], H[11]);
+    precise vec4 c3 = curve4(u, H[12], H[13], H[14], H[15]);
+    precise vec4 r = curve4(v, c0, c1, c2, c3);
+    return r;
+}
+
+// The Cartesian point xyz / w.
+precise vec3 project(vec4 h) {
+    precise vec3 r = vec3(h.x / h.w, h.y / h.w, h.z / h.w);
+    return r;
+}
+
+// Derivative of a homogeneous cubic (shading only).
+vec4 curve4_derivative(float u0, vec4 p0, vec4 p1, vec4 p2, vec4 p3) {
+    float u1 = 1.0 - u0;
+    return ((p1 - p0) * (u1 * u1) + (p2 - p1) * (2.0 * u1 * u0) + (p3 - p2) * (u0 * u0)) * 3.0;
+}
+
+// Unnormalised normal t_u x t_v with t_u = (b_u.xyz - b_u.w p) / b.w (the
+// paper's §3; the positive 1 / b.w is left out, it does not turn the
+// normal); where a boundary collapses to a point it is taken a little way
+// into the domain, as patch_normal does.
+vec3 rational_normal(vec4 H[16], float u, float v) {
+    vec3 n = vec3(0.0);
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        vec4 du[4];
+        vec4 pu[4];
+        for (int j = 0; j < 4; ++j) {
+            du[j] = curve4_derivative(u, H[4 * j], H[4 * j + 1], H[4 * j + 2], H[4 * j + 3]);
+            pu[j] = curve4(u, H[4 * j], H[4 * j + 1], H[4 * j + 2], H[4 * j + 3]);
+        }
+        vec4 b = curve4(v, pu[0], pu[1], pu[2], pu[3]);
+        vec4 bu = curve4(v, du[0], du[1], du[2], du[3]);
+        vec4 bv = curve4_derivative(v, pu[0], pu[1], pu[2], pu[3]);
+        vec3 p = b.xyz / b.w;
+        vec3 su = bu.xyz - p * bu.w;
+        vec3 sv = bv.xyz - p * bv.w;
+        n = cross(su, sv);
+        if (dot(n, n) > 1e-12 * dot(su, su) * dot(sv, sv) && dot(su, su) * dot(sv, sv) > 0.0) {
+            return n;
+        }
+        u += (0.5 - u) * 1e-3;
+        v += (0.5 - v) * 1e-3;
+    }
+    return n;
+}
+
+// The rational normal of base patch `id` at (u, v).
+vec3 rational_patch_normal(uint id, float u, float v) {
+    vec4 H[16];
+    load_homogeneous(id, H);
+    return rational_normal(H, u, v);
+}
+
+#endif

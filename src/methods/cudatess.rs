@@ -1,0 +1,661 @@
+//! Method `cudatess`: Schwarz and Stamminger, *Fast GPU-based Adaptive
+//! Tessellation with CUDA* (2009), their Fig. 1 in Vulkan compute, for
+//! bicubic patches, rational ones included (their §3):
+//!
+//! 1. **factors** (`glsl/ct_factors.comp`, one invocation per patch):
+//!    frustum culling and, for one-sided polynomial patches, back-patch
+//!    culling (factor 0), then factors m along u and n along v from
+//!    the Zheng–Sederberg bound for ε pixels at the patch's nearest control
+//!    point; each edge's factor becomes the largest of its patches'
+//!    (atomicMax into the scene's edge table: sides with bit-identical
+//!    control points and weights are one edge).
+//! 2. **scan**: each patch reads its edges' final factors and counts the
+//!    vertices and indices of its pattern (`ct_counts.comp`); an exclusive
+//!    multi-level scan turns the counts into buffer offsets (`ct_scan.comp`,
+//!    planned in [`scan`]); one invocation writes the draw's arguments, or an
+//!    overflow bit (`ct_args.comp`).
+//! 3. **vertices** (`ct_vertices.comp`, [`CT_VERTEX_THREADS`] invocations per
+//!    patch): corners, edge vertices from the edge's own control points in a
+//!    reversal-symmetric order (both patches of an edge write the same bits),
+//!    interior vertices by evaluation or, with
+//!    [`MethodOptions::forward_differencing`](super::MethodOptions), by
+//!    forward differences along rows.
+//! 4. **indices** (`ct_indices.comp`, one invocation per patch): the uniform
+//!    core and Bresenham-like transition strips ([`pattern`]).
+//! 5. **draw**: one `vkCmdDrawIndexedIndirect` through `ct_draw.vert` and the
+//!    shared fragment shading (`ct_draw.frag`: rational patches lit with their
+//!    own normal).
+//!
+//! The vertex and index buffers start small and are grown when a frame's
+//! totals do not fit ([`Finished::Redo`]). After a frame the per-patch
+//! records, offsets and the buffers stay readable for validation
+//! ([`CudaTess::read_frame`]).
+
+pub mod pattern;
+pub mod scan;
+
+use ash::vk;
+use serde_json::json;
+
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
+use crate::constants::*;
+use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
+use crate::gpu::{CtPush, DrawPush};
+use crate::vk::{
+    fill_buffer, memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet,
+    MemoryLocation, Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
+};
+use scan::ScanPlan;
+
+/// The registry entry.
+pub const INFO: MethodInfo = MethodInfo {
+    name: "cudatess",
+    about: "Schwarz-Stamminger compute tessellation: Zheng-Sederberg factors, scan, \
+            vertex and index buffers, one indexed indirect draw (rational patches too)",
+    rational: true,
+    build: |setup| Ok(Box::new(CudaTess::new(setup)?)),
+};
+
+/// Vertices the vertex buffer holds at first (grown on demand).
+pub const INITIAL_VERTICES: u32 = 1 << 18;
+/// Indices the index buffer holds at first (grown on demand).
+pub const INITIAL_INDICES: u32 = 1 << 20;
+
+/// The buffers that follow the scene: its edge table, the edge factors,
+/// the per-patch records and the scan.
+struct SceneBuffers {
+    serial: u64,
+    patches: u32,
+    edges: u32,
+    edge_ids: Buffer,
+    edge_factors: Buffer,
+    records: Buffer,
+    scan: Buffer,
+    plan: ScanPlan,
+}
+
+/// The vertex and index buffers and their capacities.
+struct Outputs {
+    vertices: Buffer,
+    indices: Buffer,
+    vertex_capacity: u32,
+    index_capacity: u32,
+}
+
+/// One patch's record after a frame (`CT_REC_*`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PatchRecord {
+    /// Its own factors along u and v (0, 0: culled).
+    pub own: [u32; 2],
+    /// The final factors of its edges 0-3 (u = 0, v = 0, u = 1, v = 1).
+    pub edges: [u32; 4],
+    /// Vertices and indices its pattern has.
+    pub counts: [u32; 2],
+    /// Where its vertices and indices start (the scan's offsets).
+    pub offsets: [u32; 2],
+}
+
+impl PatchRecord {
+    /// Frustum-culled.
+    pub fn culled(&self) -> bool {
+        self.own[0] == 0
+    }
+}
+
+/// One written vertex.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CtVertex {
+    /// Position.
+    pub position: [f32; 3],
+    /// The base patch's parameters.
+    pub uv: [f32; 2],
+    /// The packed word: patch id, depth, transition bit.
+    pub word: u32,
+}
+
+impl CtVertex {
+    /// The base patch.
+    pub fn patch(&self) -> u32 {
+        self.word & ((1 << CT_PATCH_BITS) - 1)
+    }
+}
+
+/// What a frame left in the buffers, read back.
+#[derive(Clone, Debug, Default)]
+pub struct FrameData {
+    /// Per patch.
+    pub records: Vec<PatchRecord>,
+    /// Every vertex written.
+    pub vertices: Vec<CtVertex>,
+    /// Every index written (absolute).
+    pub indices: Vec<u32>,
+}
+
+/// The method.
+pub struct CudaTess {
+    set_layout: SetLayout,
+    compute_layout: PipelineLayout,
+    draw_layout: PipelineLayout,
+    factors: Pipeline,
+    counts: Pipeline,
+    scan: Pipeline,
+    args: Pipeline,
+    vertices: Pipeline,
+    indices: Pipeline,
+    draw: Pipeline,
+    counters: Buffer,
+    scene: Option<SceneBuffers>,
+    outputs: Outputs,
+    set: Option<DescriptorSet>,
+    forward_differencing: bool,
+    /// The first capacities asked for (`MethodOptions::cudatess_capacity`).
+    first_capacity: Option<(u32, u32)>,
+    copied: Option<CopyRange>,
+}
+
+impl CudaTess {
+    /// Creates the pipelines and the first (small) output buffers.
+    pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
+        let ctx = setup.ctx;
+        check_device(ctx)?;
+        let set_layout = scan::set_layout(ctx)?;
+        let scene = setup.scene_layout;
+        let compute_layout = scene.pipeline_layout::<CtPush>(
+            ctx,
+            "cudatess compute layout",
+            &[&set_layout],
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let draw_layout = scene.pipeline_layout::<DrawPush>(
+            ctx,
+            "cudatess draw layout",
+            &[&set_layout],
+            scene.stages(),
+        )?;
+        let sh = &mut *setup.shaders;
+        let l = &compute_layout;
+        let factors = sh.compute(ctx, l, "cudatess factors", "ct_factors.comp")?;
+        let counts = sh.compute(ctx, l, "cudatess counts", "ct_counts.comp")?;
+        let scan = sh.compute(ctx, l, "cudatess scan", "ct_scan.comp")?;
+        let args = sh.compute(ctx, l, "cudatess args", "ct_args.comp")?;
+        let vertices = sh.compute(ctx, l, "cudatess vertices", "ct_vertices.comp")?;
+        let indices = sh.compute(ctx, l, "cudatess indices", "ct_indices.comp")?;
+        let draw = sh.draw_pipeline(
+            ctx,
+            &draw_layout,
+            "draw (cudatess)",
+            &[
+                (vk::ShaderStageFlags::VERTEX, "ct_draw.vert"),
+                (vk::ShaderStageFlags::FRAGMENT, "ct_draw.frag"),
+            ],
+        )?;
+        let counters = Buffer::new(
+            ctx,
+            "cudatess counters",
+            u64::from(CT_WORDS) * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        let (v, i) = setup
+            .options
+            .cudatess_capacity
+            .unwrap_or((INITIAL_VERTICES, INITIAL_INDICES));
+        let outputs = Outputs::new(ctx, v.max(1), i.max(1))?;
+        Ok(Self {
+            set_layout,
+            compute_layout,
+            draw_layout,
+            factors,
+            counts,
+            scan,
+            args,
+            vertices,
+            indices,
+            draw,
+            counters,
+            scene: None,
+            outputs,
+            set: None,
+            forward_differencing: setup.options.forward_differencing,
+            first_capacity: setup.options.cudatess_capacity,
+            copied: None,
+        })
+    }
+
+    /// The scene's buffers, made (the old ones retired) when the scene is
+    /// new: the edge table is uploaded from the host copy the scene keeps.
+    fn ensure_scene(&mut self, f: &mut FrameRec<'_>) -> VkResult<()> {
+        if self
+            .scene
+            .as_ref()
+            .is_some_and(|s| s.serial == f.scene.serial)
+        {
+            return Ok(());
+        }
+        let ctx = f.ctx;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let gpu = MemoryLocation::GpuOnly;
+        let patches = f.scene.count;
+        let table = &f.scene.edges;
+        let edge_ids = Buffer::with_data(ctx, "cudatess edge table", &table.ids, storage, gpu)?;
+        let edges = table.count.max(1);
+        let edge_factors = Buffer::new(
+            ctx,
+            "cudatess edge factors",
+            u64::from(edges) * 4,
+            storage,
+            gpu,
+        )?;
+        let records = Buffer::new(
+            ctx,
+            "cudatess patch records",
+            u64::from(patches) * u64::from(CT_PATCH_WORDS) * 4,
+            storage,
+            gpu,
+        )?;
+        let plan = ScanPlan::new(patches + 1);
+        let scan = Buffer::new(
+            ctx,
+            "cudatess scan",
+            u64::from(plan.entries()) * 8,
+            storage,
+            gpu,
+        )?;
+        let new = SceneBuffers {
+            serial: f.scene.serial,
+            patches,
+            edges,
+            edge_ids,
+            edge_factors,
+            records,
+            scan,
+            plan,
+        };
+        if let Some(old) = self.scene.replace(new) {
+            f.retired.push(old);
+        }
+        if let Some(old) = self.set.take() {
+            f.retired.push(old);
+        }
+        Ok(())
+    }
+
+    /// Set 1 for the current scene and output buffers.
+    fn ensure_set(&mut self, ctx: &Context) -> VkResult<()> {
+        if self.set.is_some() {
+            return Ok(());
+        }
+        let s = self
+            .scene
+            .as_ref()
+            .ok_or_else(|| VkError::Usage("cudatess: no scene buffers".into()))?;
+        let mut bound = [BufferBinding::from(&self.counters); CT_BINDINGS as usize];
+        bound[BIND_CT_EDGE_IDS as usize] = (&s.edge_ids).into();
+        bound[BIND_CT_EDGE_FACTORS as usize] = (&s.edge_factors).into();
+        bound[BIND_CT_PATCHES as usize] = (&s.records).into();
+        bound[BIND_CT_SCAN as usize] = (&s.scan).into();
+        bound[BIND_CT_VERTICES as usize] = (&self.outputs.vertices).into();
+        bound[BIND_CT_INDICES as usize] = (&self.outputs.indices).into();
+        self.set = Some(DescriptorSet::new(
+            ctx,
+            "cudatess set",
+            &self.set_layout,
+            &bound,
+        )?);
+        Ok(())
+    }
+
+    /// Workgroups for `items` items of `per_group` (capped at the device's
+    /// limit; the shaders loop over the rest).
+    fn groups(ctx: &Context, items: u32, per_group: u32) -> u32 {
+        let max = ctx.info().limits.max_compute_work_group_count[0].max(1);
+        items.div_ceil(per_group).clamp(1, max)
+    }
+
+    /// Records the compute passes and the draw.
+    fn record_frame(&self, f: &mut FrameRec<'_>) -> VkResult<()> {
+        let (Some(s), Some(set)) = (self.scene.as_ref(), self.set.as_ref()) else {
+            return Err(VkError::Usage("cudatess: nothing to record with".into()));
+        };
+        let (ctx, cmd) = (f.ctx, f.cmd);
+        fill_buffer(ctx, cmd, &self.counters, 0);
+        fill_buffer(ctx, cmd, &s.edge_factors, 0);
+        // Also orders the scene uploads (earlier submissions) before the
+        // passes, and the last frame's draw before this frame's writes.
+        memory_barrier(ctx, cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
+        let push = CtPush {
+            patch_count: s.patches,
+            vertex_capacity: self.outputs.vertex_capacity,
+            index_capacity: self.outputs.index_capacity,
+            options: if self.forward_differencing {
+                CT_OPT_FORWARD_DIFF
+            } else {
+                0
+            },
+            scan_offset: 0,
+            scan_count: 0,
+            scan_sums: scan::NO_SUMS,
+            pass: 0,
+        };
+        let per_patch = Self::groups(ctx, s.patches, CT_GROUP_SIZE);
+        let between =
+            || memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+        f.scoped("factors", |f| {
+            self.bind_compute(f, &self.factors, set)?;
+            self.compute_layout.push_block(f.cmd, &push)?;
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
+            Ok(())
+        })?;
+        between();
+        f.scoped("scan", |f| {
+            self.bind_compute(f, &self.counts, set)?;
+            self.compute_layout.push_block(f.cmd, &push)?;
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
+            self.bind_compute(f, &self.scan, set)?;
+            s.plan.record(f.ctx, f.cmd, &self.compute_layout, push)?;
+            memory_barrier(
+                f.ctx,
+                f.cmd,
+                Access::COMPUTE_WRITE,
+                Access::COMPUTE_READ_WRITE,
+            );
+            self.bind_compute(f, &self.args, set)?;
+            self.compute_layout.push_block(f.cmd, &push)?;
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, 1, 1, 1) };
+            Ok(())
+        })?;
+        between();
+        let vertex_groups = Self::groups(ctx, s.patches, CT_GROUP_SIZE / CT_VERTEX_THREADS);
+        f.scoped("vertices", |f| {
+            self.bind_compute(f, &self.vertices, set)?;
+            self.compute_layout.push_block(f.cmd, &push)?;
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, vertex_groups, 1, 1) };
+            Ok(())
+        })?;
+        f.scoped("indices", |f| {
+            self.bind_compute(f, &self.indices, set)?;
+            self.compute_layout.push_block(f.cmd, &push)?;
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
+            Ok(())
+        })?;
+        memory_barrier(
+            ctx,
+            cmd,
+            Access::COMPUTE_WRITE,
+            Access::new(
+                vk::PipelineStageFlags2::DRAW_INDIRECT
+                    | vk::PipelineStageFlags2::INDEX_INPUT
+                    | vk::PipelineStageFlags2::VERTEX_SHADER,
+                vk::AccessFlags2::INDIRECT_COMMAND_READ
+                    | vk::AccessFlags2::INDEX_READ
+                    | vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+        );
+        let pc = f.view.draw_push(0, false, 0);
+        f.scoped("draw", |f| {
+            let (ctx, cmd) = (f.ctx, f.cmd);
+            f.target.begin(ctx, cmd);
+            let bind = vk::PipelineBindPoint::GRAPHICS;
+            self.draw.bind(cmd);
+            f.bind_scene(bind, &self.draw_layout);
+            set.bind(ctx, cmd, bind, &self.draw_layout, SET_PASS, &[]);
+            let pushed = self.draw_layout.push_block(cmd, &pc);
+            if pushed.is_ok() {
+                unsafe {
+                    ctx.device().cmd_bind_index_buffer(
+                        cmd,
+                        self.outputs.indices.handle(),
+                        0,
+                        vk::IndexType::UINT32,
+                    );
+                    ctx.device().cmd_draw_indexed_indirect(
+                        cmd,
+                        self.counters.handle(),
+                        u64::from(CT_DRAW_ARGS) * 4,
+                        1,
+                        20,
+                    );
+                }
+            }
+            f.target.end(ctx, cmd);
+            pushed
+        })
+    }
+
+    /// Binds `pipeline` with set 0 and set 1 for a compute pass.
+    fn bind_compute(
+        &self,
+        f: &FrameRec<'_>,
+        pipeline: &Pipeline,
+        set: &DescriptorSet,
+    ) -> VkResult<()> {
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        pipeline.bind(f.cmd);
+        f.bind_scene(compute, &self.compute_layout);
+        set.bind(f.ctx, f.cmd, compute, &self.compute_layout, SET_PASS, &[]);
+        Ok(())
+    }
+
+    /// What the last finished frame left: every patch's record and offsets,
+    /// the vertices and the indices (read after `render`).
+    pub fn read_frame(&self, ctx: &Context) -> Result<FrameData, RenderError> {
+        let s = self.scene.as_ref().ok_or_else(|| {
+            RenderError::Request("cudatess: render a frame before reading it".into())
+        })?;
+        let counters: Vec<u32> = self.counters.read(ctx)?;
+        if counters[CT_ERROR as usize] != 0 {
+            return Err(RenderError::Request(
+                "cudatess: the last frame overflowed its buffers".into(),
+            ));
+        }
+        let words: Vec<u32> = s.records.read(ctx)?;
+        let scan: Vec<[u32; 2]> = s.scan.read(ctx)?;
+        let w = CT_PATCH_WORDS as usize;
+        let records = words
+            .chunks_exact(w)
+            .take(s.patches as usize)
+            .zip(&scan)
+            .map(|(r, o)| PatchRecord {
+                own: [r[CT_REC_M as usize], r[CT_REC_N as usize]],
+                edges: std::array::from_fn(|k| r[CT_REC_EDGES as usize + k]),
+                counts: [r[CT_REC_VERTICES as usize], r[CT_REC_INDICES as usize]],
+                offsets: *o,
+            })
+            .collect();
+        let nv = counters[CT_VERTEX_TOTAL as usize] as usize;
+        let ni = counters[CT_INDEX_TOTAL as usize] as usize;
+        let vw: Vec<u32> = self.outputs.vertices.read(ctx)?;
+        let vertices = vw
+            .chunks_exact(CT_VERTEX_WORDS as usize)
+            .take(nv)
+            .map(|v| CtVertex {
+                position: [0, 1, 2].map(|k| f32::from_bits(v[k])),
+                uv: [f32::from_bits(v[3]), f32::from_bits(v[4])],
+                word: v[5],
+            })
+            .collect();
+        let mut indices: Vec<u32> = self.outputs.indices.read(ctx)?;
+        indices.truncate(ni);
+        Ok(FrameData {
+            records,
+            vertices,
+            indices,
+        })
+    }
+
+    /// The output buffers' capacities (vertices, indices).
+    pub fn capacities(&self) -> (u32, u32) {
+        (self.outputs.vertex_capacity, self.outputs.index_capacity)
+    }
+}
+
+impl Outputs {
+    fn new(ctx: &Context, vertex_capacity: u32, index_capacity: u32) -> VkResult<Self> {
+        Ok(Self {
+            vertices: Buffer::new(
+                ctx,
+                "cudatess vertices",
+                u64::from(vertex_capacity) * u64::from(CT_VERTEX_WORDS) * 4,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?,
+            indices: Buffer::new(
+                ctx,
+                "cudatess indices",
+                u64::from(index_capacity) * 4,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDEX_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?,
+            vertex_capacity,
+            index_capacity,
+        })
+    }
+}
+
+/// The capacity for `need` entries of `bytes` each after an overflow: a
+/// quarter more than needed, at least double the old, within the device's
+/// storage-buffer range; `None` when even `need` does not fit.
+fn grown(old: u32, need: u32, bytes: u64, range: u64) -> Option<u32> {
+    let most = (range / bytes).min(u64::from(u32::MAX)) as u32;
+    if u64::from(need) * bytes > range {
+        return None;
+    }
+    let want = u64::from(need) + u64::from(need) / 4;
+    Some(want.max(2 * u64::from(old)).min(u64::from(most)) as u32)
+}
+
+/// Refuses a device without what the draw needs.
+fn check_device(ctx: &Context) -> Result<(), RenderError> {
+    let info = ctx.info();
+    if info.limits.max_compute_work_group_invocations < CT_SCAN_GROUP_SIZE {
+        return Err(RenderError::Request(format!(
+            "method `cudatess` needs {CT_SCAN_GROUP_SIZE} invocations per workgroup; {} allows {}",
+            info.name, info.limits.max_compute_work_group_invocations
+        )));
+    }
+    Ok(())
+}
+
+impl Method for CudaTess {
+    fn name(&self) -> &'static str {
+        INFO.name
+    }
+
+    fn draw_path(&self) -> &'static str {
+        "compute + indexed indirect"
+    }
+
+    fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError> {
+        self.ensure_scene(f)?;
+        self.ensure_set(f.ctx)?;
+        self.record_frame(f)?;
+        self.copied = Some(f.copy_out(&self.counters, CT_WORDS)?);
+        Ok(())
+    }
+
+    fn finish(&mut self, out: &mut FrameOut<'_>) -> Result<Finished, RenderError> {
+        let range = self
+            .copied
+            .ok_or_else(|| RenderError::Request("finish() before any frame was recorded".into()))?;
+        let words = out.words(range).to_vec();
+        let at = |k: u32| words[k as usize];
+        let (nv, ni) = (at(CT_VERTEX_TOTAL), at(CT_INDEX_TOTAL));
+        if at(CT_ERROR) != 0 {
+            let range = u64::from(out.ctx.info().limits.max_storage_buffer_range);
+            let o = &self.outputs;
+            let vbytes = u64::from(CT_VERTEX_WORDS) * 4;
+            let too_big = |what: &str, need: u32, bytes: u64| RenderError::Method {
+                method: INFO.name,
+                message: format!(
+                    "the frame needs {need} {what} ({} bytes), more than one storage buffer \
+                     of this device holds ({range} bytes); raise --eps or draw a smaller scene",
+                    u64::from(need) * bytes
+                ),
+            };
+            let v = if nv > o.vertex_capacity {
+                grown(o.vertex_capacity, nv, vbytes, range)
+                    .ok_or_else(|| too_big("vertices", nv, vbytes))?
+            } else {
+                o.vertex_capacity
+            };
+            let i = if ni > o.index_capacity {
+                grown(o.index_capacity, ni, 4, range).ok_or_else(|| too_big("indices", ni, 4))?
+            } else {
+                o.index_capacity
+            };
+            let outputs = Outputs::new(out.ctx, v, i)?;
+            out.retired
+                .push(std::mem::replace(&mut self.outputs, outputs));
+            if let Some(old) = self.set.take() {
+                out.retired.push(old);
+            }
+            return Ok(Finished::Redo {
+                reason: format!(
+                    "{nv} vertices and {ni} indices did not fit; buffers grown to {v} and {i}"
+                ),
+            });
+        }
+        let patches = self.scene.as_ref().map_or(0, |s| s.patches);
+        let culled = u64::from(at(CT_CULLED));
+        let backface = u64::from(at(CT_BACKFACE));
+        Ok(Finished::Done(MethodStats {
+            triangles: u64::from(ni / 3),
+            culled_patches: culled,
+            own: vec![
+                (
+                    "tessellated_patches",
+                    json!(u64::from(patches).saturating_sub(culled + backface)),
+                ),
+                ("backface_culled_patches", json!(backface)),
+                ("vertices", json!(nv)),
+                ("indices", json!(ni)),
+                ("largest_factor", json!(at(CT_MAX_FACTOR_SEEN))),
+                ("max_factor", json!(CT_MAX_FACTOR)),
+                ("edges", json!(self.scene.as_ref().map_or(0, |s| s.edges))),
+                ("forward_differencing", json!(self.forward_differencing)),
+                ("vertex_capacity", json!(self.outputs.vertex_capacity)),
+                ("index_capacity", json!(self.outputs.index_capacity)),
+            ],
+        }))
+    }
+
+    fn reconfigure(
+        &mut self,
+        setup: &mut MethodSetup<'_>,
+        _retired: &mut Retired,
+    ) -> Result<bool, RenderError> {
+        self.forward_differencing = setup.options.forward_differencing;
+        // Other first capacities: made again, with the buffers they ask for.
+        Ok(setup.options.cudatess_capacity == self.first_capacity)
+    }
+
+    fn memory(&self) -> Vec<(&'static str, u64)> {
+        let mut v = vec![("counters", self.counters.size())];
+        if let Some(s) = &self.scene {
+            v.push(("edge_table", s.edge_ids.size()));
+            v.push(("edge_factors", s.edge_factors.size()));
+            v.push(("patch_records", s.records.size()));
+            v.push(("scan", s.scan.size()));
+        }
+        v.push(("vertex_buffer", self.outputs.vertices.size()));
+        v.push(("index_buffer", self.outputs.indices.size()));
+        v
+    }
+
+    fn cudatess(&self) -> Option<&CudaTess> {
+        Some(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn growth_is_bounded_by_the_range() {
+        assert_eq!(grown(100, 120, 4, 1 << 20), Some(200));
+        assert_eq!(grown(100, 1000, 4, 1 << 20), Some(1250));
+        assert_eq!(grown(100, 1000, 4, 4400), Some(1100));
+        assert_eq!(grown(100, 2000, 4, 4400), None);
+    }
+}

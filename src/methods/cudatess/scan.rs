@@ -1,0 +1,194 @@
+//! The exclusive scan of cudatess (`glsl/ct_scan.comp`): its plan of levels,
+//! the commands that run it, and a stand-alone run for the tests.
+//!
+//! Level 0 is the input, `len` pairs; while a level is longer than one block
+//! ([`CT_SCAN_BLOCK`] entries), its block sums form the next level, stored
+//! right after it in the same buffer. Every level is scanned block by block
+//! (the top one in a single block), then from the top down each level's
+//! blocks get the scanned sum of the blocks before them. Any length works:
+//! 0 entries dispatch nothing, one block needs one pass.
+
+use ash::vk;
+
+use crate::constants::*;
+use crate::gpu::{CtPush, SceneLayout};
+use crate::vk::{
+    memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation,
+    Pipeline, PipelineLayout, SetLayout, ShaderModule, VkResult,
+};
+
+/// "No next level" in `CtPush::scan_sums`.
+pub const NO_SUMS: u32 = u32::MAX;
+
+/// One level of the scan: where its entries start, how many there are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Level {
+    /// First entry in the scan buffer.
+    pub offset: u32,
+    /// Entries.
+    pub count: u32,
+}
+
+/// The levels of a scan of `len` entries.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ScanPlan {
+    /// Level 0 is the input; each further level holds the block sums of the
+    /// one before; the last fits one block.
+    pub levels: Vec<Level>,
+}
+
+impl ScanPlan {
+    /// The plan for `len` entries.
+    pub fn new(len: u32) -> Self {
+        let mut levels = vec![Level {
+            offset: 0,
+            count: len,
+        }];
+        while let Some(&last) = levels.last() {
+            if last.count <= CT_SCAN_BLOCK {
+                break;
+            }
+            levels.push(Level {
+                offset: last.offset + last.count,
+                count: last.count.div_ceil(CT_SCAN_BLOCK),
+            });
+        }
+        Self { levels }
+    }
+
+    /// Entries the scan buffer needs (at least one).
+    pub fn entries(&self) -> u32 {
+        self.levels
+            .last()
+            .map_or(1, |l| (l.offset + l.count).max(1))
+    }
+
+    /// Records the scan with `pipeline` (bound) and `layout` (its sets
+    /// bound), pushing `push` with the scan fields filled in per pass;
+    /// every pass waits for the one before (and the first for earlier
+    /// compute writes).
+    pub fn record(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        layout: &PipelineLayout,
+        push: CtPush,
+    ) -> VkResult<()> {
+        let n = self.levels.len();
+        let pass = |level: Level, sums: u32, kind: u32| -> VkResult<()> {
+            if level.count == 0 {
+                return Ok(());
+            }
+            memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+            layout.push_block(
+                cmd,
+                &CtPush {
+                    scan_offset: level.offset,
+                    scan_count: level.count,
+                    scan_sums: sums,
+                    pass: kind,
+                    ..push
+                },
+            )?;
+            let groups = level.count.div_ceil(CT_SCAN_BLOCK);
+            unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
+            Ok(())
+        };
+        for k in 0..n {
+            let sums = self.levels.get(k + 1).map_or(NO_SUMS, |l| l.offset);
+            pass(self.levels[k], sums, CT_SCAN_PASS_BLOCKS)?;
+        }
+        for k in (0..n.saturating_sub(1)).rev() {
+            pass(self.levels[k], self.levels[k + 1].offset, CT_SCAN_PASS_ADD)?;
+        }
+        Ok(())
+    }
+}
+
+/// The set layout of cudatess's set 1 (every binding a storage buffer,
+/// seen by the compute passes and the draw's vertex stage).
+pub fn set_layout(ctx: &Context) -> VkResult<SetLayout> {
+    SetLayout::storage(
+        ctx,
+        "cudatess set",
+        CT_BINDINGS as usize,
+        vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::VERTEX,
+    )
+}
+
+/// The exclusive scan of `input` on the GPU with the method's own shader
+/// and commands (a test entry point: the scan alone, on any length).
+pub fn scan_on_gpu(ctx: &Context, input: &[[u32; 2]]) -> VkResult<Vec<[u32; 2]>> {
+    let scene = SceneLayout::new(ctx)?;
+    let set_layout = set_layout(ctx)?;
+    let layout = scene.pipeline_layout::<CtPush>(
+        ctx,
+        "cudatess scan test layout",
+        &[&set_layout],
+        vk::ShaderStageFlags::COMPUTE,
+    )?;
+    let module = ShaderModule::load(ctx, "ct_scan.comp")?;
+    let pipeline = Pipeline::compute(ctx, "cudatess scan (test)", &layout, &module, &[])?;
+    let plan = ScanPlan::new(input.len() as u32);
+    let mut data = vec![[0u32; 2]; plan.entries() as usize];
+    data[..input.len()].copy_from_slice(input);
+    let buffer = Buffer::with_data(
+        ctx,
+        "cudatess scan (test)",
+        &data,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )?;
+    let bound = [BufferBinding::from(&buffer); CT_BINDINGS as usize];
+    let set = DescriptorSet::new(ctx, "cudatess scan (test)", &set_layout, &bound)?;
+    ctx.one_shot(|cmd| {
+        // The upload was an earlier submission: order it before the scan.
+        memory_barrier(ctx, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+        pipeline.bind(cmd);
+        set.bind(
+            ctx,
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &layout,
+            SET_PASS,
+            &[],
+        );
+        plan.record(ctx, cmd, &layout, bytemuck::Zeroable::zeroed())?;
+        memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::TRANSFER_READ);
+        Ok(())
+    })?;
+    let out: Vec<[u32; 2]> = buffer.read(ctx)?;
+    Ok(out[..input.len()].to_vec())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plans_have_levels_until_one_block() {
+        let b = CT_SCAN_BLOCK;
+        assert_eq!(ScanPlan::new(0).levels.len(), 1);
+        assert_eq!(ScanPlan::new(0).entries(), 1);
+        assert_eq!(ScanPlan::new(b).levels.len(), 1);
+        let p = ScanPlan::new(b + 1);
+        assert_eq!(
+            p.levels[1],
+            Level {
+                offset: b + 1,
+                count: 2
+            }
+        );
+        // b * b entries fill b blocks exactly: their b sums fit one block.
+        let p = ScanPlan::new(b * b);
+        assert_eq!(p.levels.len(), 2);
+        assert_eq!(p.levels[1].count, b);
+        // Three more spill into a (b + 1)-th block, whose b + 1 sums need
+        // two blocks of their own, whose 2 sums make the top level.
+        let p = ScanPlan::new(b * b + 3);
+        assert_eq!(p.levels.len(), 3);
+        assert_eq!(p.levels[1].count, b + 1);
+        assert_eq!(p.levels[2].count, 2);
+        assert_eq!(p.entries(), p.levels[2].offset + 2);
+    }
+}

@@ -1,0 +1,180 @@
+//! The checks of `cudatess` on what a frame left in its buffers
+//! ([`CudaTess::read_frame`](crate::methods::cudatess::CudaTess::read_frame)):
+//! the edge factors are the largest any drawn patch on the edge asked for
+//! (so equal from both sides), the vertices along shared edges are bit
+//! identical from every side (through the generic shared-edge checks of
+//! [`super::edges`]), and every patch's indices are its pattern's
+//! ([`Pattern::triangles`]) inside its own slot of the vertex buffer.
+
+use std::collections::HashMap;
+
+use super::edges::{EdgeCheck, EdgeKey, EdgeSide};
+use crate::methods::cudatess::pattern::Pattern;
+use crate::methods::cudatess::{FrameData, PatchRecord};
+use crate::methods::tess::{EdgeVertex, PatchLevels};
+
+/// The records as the tessellation methods' levels: edge factors as outer
+/// levels, the patch's own factors as inner ones, culled patches marked.
+pub fn levels(frame: &FrameData) -> Vec<PatchLevels> {
+    frame
+        .records
+        .iter()
+        .map(|r| PatchLevels {
+            outer: r.edges.map(|e| e as f32),
+            inner: r.own.map(|f| f as f32),
+            mixed: 0.0,
+            culled: r.culled(),
+        })
+        .collect()
+}
+
+/// A patch's `count` entries from `offset`, or `None` when its record
+/// points outside what the frame wrote.
+fn slot<T>(all: &[T], offset: u32, count: u32) -> Option<&[T]> {
+    all.get(offset as usize..offset as usize + count as usize)
+}
+
+/// Every vertex strictly inside an edge of a drawn patch, with its
+/// coordinate along the edge: `s / e` put on the 2^-24 grid the shared-edge
+/// check compares on (exact in f32; the two sides' coordinates, `s / e` and
+/// `1 - s / e`, then land on complementary slots for every `e` the factors
+/// can take). Patches whose records point outside the buffers are left out
+/// (the index check reports them).
+pub fn edge_vertices(frame: &FrameData) -> Vec<EdgeVertex> {
+    let mut out = Vec::new();
+    for (id, r) in frame.records.iter().enumerate() {
+        if r.culled() {
+            continue;
+        }
+        let p = Pattern::new(r.edges);
+        let Some(vertices) = slot(&frame.vertices, r.offsets[0], p.vertices) else {
+            continue;
+        };
+        for k in 0..4 {
+            let e = p.e[k];
+            for s in 1..e {
+                let t = (f64::from(s) / f64::from(e) * f64::from(1u32 << 24)).round()
+                    / f64::from(1u32 << 24);
+                out.push(EdgeVertex {
+                    patch: id as u32,
+                    edge: k as u32,
+                    t: t as f32,
+                    position: vertices[p.edge_vertex(k, s) as usize].position,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Factor of edge `k` a patch asks for itself: m along u (edges 1 and 3),
+/// n along v (edges 0 and 2).
+fn own_factor(r: &PatchRecord, k: usize) -> u32 {
+    r.own[(k + 1) % 2]
+}
+
+/// Every drawn patch's edge factors are at least its own, and every shared
+/// edge's factor is the largest its drawn sides asked for: the consistent
+/// factors of Schwarz and Stamminger's stage 2.
+pub fn check_max_factors(shared: &HashMap<EdgeKey, Vec<EdgeSide>>, frame: &FrameData) -> EdgeCheck {
+    let mut out = EdgeCheck::default();
+    let recs = &frame.records;
+    for (id, r) in recs.iter().enumerate() {
+        if r.culled() {
+            continue;
+        }
+        for k in 0..4 {
+            out.checked += 1;
+            if r.edges[k] < own_factor(r, k) || r.edges[k] == 0 {
+                out.fail(|| {
+                    format!(
+                        "patch {id} edge {k}: factor {} below its own {}",
+                        r.edges[k],
+                        own_factor(r, k)
+                    )
+                });
+            }
+        }
+    }
+    for sides in shared.values() {
+        let drawn: Vec<&EdgeSide> = sides
+            .iter()
+            .filter(|s| recs.get(s.patch).is_some_and(|r| !r.culled()))
+            .collect();
+        let Some(want) = drawn
+            .iter()
+            .map(|s| own_factor(&recs[s.patch], s.edge))
+            .max()
+        else {
+            continue;
+        };
+        if let Some(s) = drawn.iter().find(|s| recs[s.patch].edges[s.edge] != want) {
+            out.fail(|| {
+                format!(
+                    "edge {} of patch {} has factor {}, the largest its sides asked for is {want}",
+                    s.edge, s.patch, recs[s.patch].edges[s.edge]
+                )
+            });
+        }
+    }
+    out
+}
+
+/// Every drawn patch's slot of the index buffer holds its pattern's
+/// triangles ([`Pattern::triangles`], the CPU twin of `ct_indices.comp`)
+/// offset into its own vertices; every slot lies inside what the frame
+/// wrote, and the slots tile the buffers (the scan's offsets).
+pub fn check_indices(frame: &FrameData) -> EdgeCheck {
+    let mut out = EdgeCheck::default();
+    let (mut next_vertex, mut next_index) = (0u32, 0u32);
+    for (id, r) in frame.records.iter().enumerate() {
+        if r.offsets != [next_vertex, next_index] {
+            out.fail(|| {
+                format!(
+                    "patch {id} starts at {:?}, the counts before it sum to {:?}",
+                    r.offsets,
+                    [next_vertex, next_index]
+                )
+            });
+        }
+        next_vertex = next_vertex.wrapping_add(r.counts[0]);
+        next_index = next_index.wrapping_add(r.counts[1]);
+        if r.culled() {
+            if r.counts != [0, 0] {
+                out.fail(|| format!("culled patch {id} counts {:?}", r.counts));
+            }
+            continue;
+        }
+        out.checked += 1;
+        let p = Pattern::new(r.edges);
+        if r.counts != [p.vertices, p.indices] {
+            out.fail(|| {
+                format!(
+                    "patch {id} counts {:?}, its pattern {:?}",
+                    r.counts,
+                    [p.vertices, p.indices]
+                )
+            });
+            continue;
+        }
+        let Some(got) = slot(&frame.indices, r.offsets[1], p.indices) else {
+            out.fail(|| format!("patch {id}'s indices run past the index buffer"));
+            continue;
+        };
+        let base = r.offsets[0];
+        let want = p.triangles().into_iter().flatten().map(|k| base + k);
+        if !got.iter().copied().eq(want) {
+            out.fail(|| format!("patch {id}'s indices are not its pattern's {:?}", p.e));
+        }
+    }
+    let totals = [frame.vertices.len() as u32, frame.indices.len() as u32];
+    if [next_vertex, next_index] != totals {
+        out.fail(|| {
+            format!(
+                "the counts sum to {:?}, the frame wrote {totals:?}",
+                [next_vertex, next_index]
+            )
+        });
+    }
+    out
+}
