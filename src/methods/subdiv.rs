@@ -21,7 +21,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "subdiv",
     about: "recursive subdivision, one dispatch of persistent workgroups (this project's \
             stand-in for the paper's work graph)",
-    rational: false,
+    rational: true,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
 

@@ -38,7 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "subdiv-indirect",
     about: "recursive subdivision, one indirect dispatch per depth (the paper's \
             execute-indirect variant)",
-    rational: false,
+    rational: true,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
 
