@@ -240,9 +240,9 @@ mod tests {
         let h = HomPatch::of(&base);
         let mut outcomes = [0u32; 2];
         for k in 1..200 {
-            let eps_k = k as f32 * 2e-4;
+            let eps_k = k as f32 * 1e-3;
             let vp = ViewParams {
-                depth_row: Vec4::new(0.0, 0.0, -1.0, -3.0),
+                depth_row: Vec4::new(0.0, 0.0, -1.0, 5.0),
                 planes: [Vec4::ZERO; 6],
                 eye: Vec4::W,
                 eps_k,
