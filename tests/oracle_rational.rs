@@ -2,8 +2,9 @@
 //! sphere (closed; the sphere's poles are collapsed edges), both sides of
 //! every shared boundary curve rebuild the same homogeneous sub-curve bits,
 //! the same edge samples and the same verdict at every depth, and the
-//! triangulation is watertight (wedges needed); a rational patch with all
-//! weights 1 subdivides like the polynomial patch.
+//! triangulation is watertight (wedges needed); back-face culling never
+//! removes a triangle facing the eye; a rational patch with all weights 1
+//! subdivides like the polynomial patch.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -287,8 +288,8 @@ fn closed_rational_models_are_watertight_and_need_wedges() {
 }
 
 /// The teapot's patches flagged rational with all weights 1 subdivide like
-/// the polynomial patches (back-face culling off: rational patches are
-/// never back-face culled): the same ready set and counts in every view,
+/// the polynomial patches (back-face culling off: the rational bound is a
+/// different one): the same ready set and counts in every view,
 /// and the same vertex bits at every node of depth ≤ 8. Why: the sub-patch
 /// control points are the polynomial ones bit for bit with w exactly 1 (the
 /// unit test in `homogeneous.rs`), and the Bernstein weights of a cubic sum
@@ -347,4 +348,96 @@ fn unit_weights_subdivide_like_the_polynomial_patch() {
     }
     println!("{nodes} ready nodes; {exact} of {total} vertices bitwise equal");
     assert!(nodes > 1000);
+}
+
+/// Back-face culling of rational patches only removes triangles that face
+/// away from the eye, wedges included (the closed rational models).
+#[test]
+fn backface_culling_removes_only_triangles_facing_away() {
+    use bezier_subdiv::patch::ops::{cross3, dot3};
+    use bezier_subdiv::patch::oracle::{process_rational, Outcome};
+    let mut culled = 0;
+    for name in MODELS {
+        let m = Model::load(name);
+        for cam in cameras(&m.patches) {
+            for eps in [0.5, 2.0] {
+                let vp = cam.view_params(640, 360, eps, 0.5);
+                let eye = vp.eye.truncate();
+                let mut stack: Vec<QuadNode> =
+                    (0..m.patches.len() as u32).map(QuadNode::root).collect();
+                while let Some(q) = stack.pop() {
+                    let k = q.patch as usize;
+                    let base = RationalPatch::new(m.patches[k], m.weights[k]);
+                    match process_rational(&base, 0, q, &vp) {
+                        Outcome::Split(ch) => stack.extend(ch),
+                        Outcome::BackFacing => {
+                            culled += 1;
+                            for t in triangulate_surfaces(&m.surfaces(), &[q], true) {
+                                let n = cross3(t.v[1] - t.v[0], t.v[2] - t.v[0]);
+                                assert!(
+                                    dot3(n, t.v[0] - eye) > 0.0,
+                                    "{name}: a culled triangle faces the eye: {t:?}"
+                                );
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+    assert!(culled > 200, "the views must cull ({culled})");
+}
+
+/// The rational back-face bound never culls a sub-patch with a point whose
+/// rational normal faces the eye (random nodes of the torus and sphere with
+/// their weights perturbed, random eyes, a dense sample grid).
+#[test]
+fn rational_backface_bound_never_culls_a_visible_part() {
+    use bezier_subdiv::patch::homogeneous::back_facing;
+    use bezier_subdiv::patch::ops::dot3;
+    let mut rng = SmallRng::seed_from_u64(9);
+    let models: Vec<Model> = MODELS.iter().map(|n| Model::load(n)).collect();
+    let mut culled = 0;
+    for _ in 0..10_000 {
+        let m = &models[rng.random_range(0..models.len())];
+        let k = rng.random_range(0..m.patches.len());
+        let mut w = m.weights[k];
+        for x in &mut w {
+            *x *= rng.random_range(0.05..20.0f32);
+        }
+        let base = RationalPatch::new(m.patches[k], w);
+        let l = rng.random_range(0..=5u32);
+        let node = QuadNode::new(
+            k as u32,
+            l,
+            rng.random_range(0..1 << l),
+            rng.random_range(0..1 << l),
+            0,
+            0,
+        );
+        let (a, b, c, d) = node.domain();
+        let sub = HomPatch::of(&base).sub(a, b, c, d);
+        let eye = Vec3::new(
+            rng.random_range(-4.0..4.0),
+            rng.random_range(-4.0..4.0),
+            rng.random_range(-4.0..4.0),
+        );
+        if !back_facing(&sub, eye) {
+            continue;
+        }
+        culled += 1;
+        for i in 0..=12 {
+            for j in 0..=12 {
+                let (u, v) = (a + (b - a) * i as f32 / 12.0, c + (d - c) * j as f32 / 12.0);
+                let n = base.normal(u, v);
+                let p = base.eval(u, v);
+                assert!(
+                    dot3(n, p - eye) > 0.0,
+                    "front-facing point culled: patch {k} at ({u}, {v}), eye {eye}"
+                );
+            }
+        }
+    }
+    assert!(culled > 100, "the test must exercise culling ({culled})");
 }

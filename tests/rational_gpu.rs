@@ -2,7 +2,8 @@
 //! on): on scenes/rational.toml (an exact rational torus and sphere beside
 //! the polynomial teapot) the GPU's ready set equals the oracle's and every
 //! drawn vertex is the oracle's bit for bit, over ε × λ, on both draw paths
-//! of the persistent kernel and on the per-depth one.
+//! of both subdivision methods (back-face culling of the one-sided rational
+//! models included).
 
 mod common;
 
@@ -18,8 +19,10 @@ use bezier_subdiv::validate::{compare_capture, compare_ready, compare_vertices};
 const SIZE: (u32, u32) = (320, 180);
 
 /// Renders `v`, checks ready set and vertex bits against the oracle, and
-/// returns how many ready nodes belong to rational patches.
-fn check_frame(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) -> usize {
+/// returns how many ready nodes belong to rational patches and how many
+/// nodes the oracle culled as back-facing (only the rational models are
+/// one-sided in this scene).
+fn check_frame(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) -> (usize, u64) {
     let report = r.render(v).unwrap_or_else(|e| panic!("{what}: {e}"));
     let ctx = r.context().clone();
     let stage = r.method().ready().unwrap();
@@ -44,10 +47,11 @@ fn check_frame(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) -> u
         let (n, bad) = compare_vertices(&surfaces, &ready, &words, wedges);
         assert_eq!(bad, 0, "{what}: {bad} of {n} fallback vertices differ");
     }
-    ready
+    let rational = ready
         .iter()
         .filter(|q| geo.flags[q.patch as usize] & PATCH_RATIONAL != 0)
-        .count()
+        .count();
+    (rational, oracle.stats.backface_culled)
 }
 
 #[test]
@@ -61,7 +65,7 @@ fn rational_scene_equals_the_oracle_on_both_paths_and_methods() {
         ("subdiv-indirect", DrawPath::Mesh),
         ("subdiv-indirect", DrawPath::Fallback),
     ];
-    let mut rational_nodes = 0;
+    let (mut rational_nodes, mut backfacing) = (0, 0);
     for (method, path) in runs {
         let mut r = common::renderer(&gpu, &geo, method, SIZE, MethodOptions::new(path));
         r.capture = true;
@@ -71,7 +75,9 @@ fn rational_scene_equals_the_oracle_on_both_paths_and_methods() {
                 for lambda in [0.0, 0.5] {
                     let v = View::new(&cam, SIZE, eps, lambda, SHADE_NORMAL);
                     let what = format!("{method} {path:?} frame {frame} eps {eps} lambda {lambda}");
-                    rational_nodes += check_frame(&mut r, &geo, &v, &what);
+                    let (n, b) = check_frame(&mut r, &geo, &v, &what);
+                    rational_nodes += n;
+                    backfacing += b;
                 }
             }
         }

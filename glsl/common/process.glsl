@@ -22,8 +22,8 @@ void split_node(uvec2 q, uvec4 depths, bvec4 flat_now, out uvec2 kids[4]) {
 
 // One work item of a rational patch: the twin of oracle::process_rational.
 // The homogeneous sub-patch, the box of its Cartesian control points (and
-// the pivots) for the frustum, the criterion on projected points, and no
-// back-face culling (see src/patch/homogeneous.rs).
+// the pivots) for the frustum, the criterion on projected points, and the
+// polynomial back-face bound on w (p - eye) (see src/patch/homogeneous.rs).
 uint process_rational(uvec2 q, out uvec2 kids[4]) {
     kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
     vec4 H[16];
@@ -67,6 +67,12 @@ uint process_rational(uvec2 q, out uvec2 kids[4]) {
             split_node(q, depths, flat_now, kids);
             return OUT_SPLIT;
         }
+    }
+    bool one_sided = (patch_flags[q.x] & PATCH_TWO_SIDED) == 0u;
+    bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
+    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing4(S, view.eye.xyz)
+        && wedges_face_away4(H, q, view.eye.xyz, with_wedges)) {
+        return OUT_BACKFACE;
     }
     return OUT_READY;
 }

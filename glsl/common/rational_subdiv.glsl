@@ -108,4 +108,36 @@ bool inner_flat4(vec4 S[16], ViewParams vp) {
     return (d1 && d2) && (t0 && t1);
 }
 
+// Conservative back-face test (homogeneous::back_facing): the polynomial
+// bound on the patch of weighted points relative to the eye,
+// w (p - eye) = h.xyz - h.w * eye, with the eye at the origin.
+bool back_facing4(vec4 S[16], vec3 eye) {
+    vec3 Q[16];
+    for (int i = 0; i < 16; ++i) {
+        precise vec3 q = S[i].xyz - eye * S[i].w;
+        Q[i] = q;
+    }
+    vec3 lo, hi;
+    patch_bbox(Q, lo, hi);
+    return back_facing(Q, lo, hi, vec3(0.0));
+}
+
+// wedges_face_away of patch.glsl with the rational positions.
+bool wedges_face_away4(vec4 H[16], uvec2 q, vec3 eye, bool with_wedges) {
+    NodeMesh mesh = node_mesh(q, with_wedges);
+    bool away = true;
+    for (uint t = 2u; t < 4u; ++t) {
+        if (!(t == 2u ? mesh.wedge.x : mesh.wedge.y)) {
+            continue;
+        }
+        uvec3 k = mesh.tris[t];
+        precise vec3 a = eval_rational(H, mesh.uv[k.x].x, mesh.uv[k.x].y);
+        precise vec3 b = eval_rational(H, mesh.uv[k.y].x, mesh.uv[k.y].y);
+        precise vec3 c = eval_rational(H, mesh.uv[k.z].x, mesh.uv[k.z].y);
+        precise vec3 n = cross3(b - a, c - a);
+        away = away && dot3(n, a - eye) > 0.0;
+    }
+    return away;
+}
+
 #endif

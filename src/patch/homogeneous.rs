@@ -20,17 +20,23 @@
 //!   them (the Bernstein-times-weight coefficients over their sum are
 //!   non-negative and sum to 1), so the box holds the sub-patch.
 //!
-//! Back-face culling is not done for rational patches: the interval bound
-//! of [`back_facing`](super::cull::back_facing) relies on the tangents of a
-//! polynomial patch being convex combinations of control-point differences,
-//! which is false once the weights differ, and no cheap sound bound
-//! replaces it here. A rational patch's ready nodes are all drawn.
+//! Back-face culling reduces to the polynomial bound. With B(u, v) the
+//! homogeneous surface, w = B.w > 0 and p = B.xyz / w, the 4×4 determinant
+//! det[B, B_u, B_v, (eye, 1)] equals w³ (p − eye) · (p_u × p_v), so it has
+//! the sign of the facing test. Subtracting multiples of the last column
+//! turns it into det[Q, Q_u, Q_v] = Q · (Q_u × Q_v) for the *polynomial*
+//! patch Q with control points w_i (p_i − eye) (the homogeneous points with
+//! the eye moved to the origin). [`back_facing`] is therefore
+//! [`cull::back_facing`] on Q with the eye at the origin: its interval
+//! bound is exactly as sound for Q as for any polynomial patch.
 
 use glam::{Vec3, Vec4};
 
+use super::bezier::BezierPatch;
 use super::bezier::{EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
 use super::blossom::reconstruct_points;
 use super::criterion::{line_sample_flat, plane_sample_flat, tolerance2, EdgeSample};
+use super::cull;
 use super::ops::{max3, min3, THIRD, TWO_THIRDS};
 use super::rational::{curve4, homogeneous, project, RationalPatch};
 use super::view::ViewParams;
@@ -154,10 +160,26 @@ pub fn inner_flat(s: &HomPatch, vp: &ViewParams) -> bool {
     (d1 & d2) & (t0 & t1)
 }
 
+/// The polynomial patch Q of weighted control points relative to the eye,
+/// w_i (p_i − eye) = h_i.xyz − h_i.w · eye (see the module docs).
+pub fn eye_patch(s: &HomPatch, eye: Vec3) -> BezierPatch {
+    BezierPatch {
+        pts: std::array::from_fn(|k| s.pts[k].truncate() - eye * s.pts[k].w),
+    }
+}
+
+/// Conservative back-face test of a rational (sub-)patch: true only if
+/// every normal faces away from `eye` at every point (up to f32 rounding in
+/// the bound, as for polynomial patches).
+pub fn back_facing(s: &HomPatch, eye: Vec3) -> bool {
+    let q = eye_patch(s, eye);
+    let (lo, hi) = q.bbox();
+    cull::back_facing(&q, lo, hi, Vec3::ZERO)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::patch::bezier::BezierPatch;
     use crate::patch::blossom::reconstruct;
 
     fn wavy() -> BezierPatch {

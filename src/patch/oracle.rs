@@ -8,7 +8,7 @@
 //!
 //! Rational patches (flag `PATCH_RATIONAL`, with their weights) take
 //! [`process_rational`]: the same steps on the homogeneous sub-patch of
-//! [`super::homogeneous`], without back-face culling; the `*_weighted`
+//! [`super::homogeneous`]; the `*_weighted`
 //! entry points dispatch per patch, and with no weights (or no patch
 //! flagged) they are the polynomial functions exactly.
 
@@ -17,7 +17,7 @@ use glam::Vec3;
 use super::bezier::BezierPatch;
 use super::blossom::reconstruct;
 use super::criterion::{edge_flat, inner_flat};
-use super::cull::{back_facing, outside_frustum, wedges_face_away};
+use super::cull::{back_facing, outside_frustum, wedges_face_away, wedges_face_away_with};
 use super::homogeneous::{self, HomPatch};
 use super::ops::{max3, min3};
 use super::quadnode::QuadNode;
@@ -73,10 +73,16 @@ pub fn process(base: &BezierPatch, flags: u32, node: QuadNode, vp: &ViewParams) 
     Outcome::Ready
 }
 
-/// Processes one node of the rational patch `base`: [`process`] on the
-/// homogeneous sub-patch (see [`super::homogeneous`]), the box of its
-/// Cartesian control points for the frustum, and no back-face culling.
-pub fn process_rational(base: &RationalPatch, node: QuadNode, vp: &ViewParams) -> Outcome {
+/// Processes one node of the rational patch `base` (per-patch flags
+/// `flags`): [`process`] on the homogeneous sub-patch (see
+/// [`super::homogeneous`]), the box of its Cartesian control points for the
+/// frustum, and the rational back-face bound.
+pub fn process_rational(
+    base: &RationalPatch,
+    flags: u32,
+    node: QuadNode,
+    vp: &ViewParams,
+) -> Outcome {
     let (a, b, c, d) = node.domain();
     let h = HomPatch::of(base);
     let sub = h.sub(a, b, c, d);
@@ -89,6 +95,15 @@ pub fn process_rational(base: &RationalPatch, node: QuadNode, vp: &ViewParams) -
     let edge = |e| homogeneous::edge_flat(&sub.edge(e), vp);
     if let Some(kids) = split(node, vp, edge, || homogeneous::inner_flat(&sub, vp)) {
         return Outcome::Split(kids);
+    }
+    let one_sided = flags & PATCH_TWO_SIDED == 0;
+    let eye = vp.eye.truncate();
+    if vp.has(FLAG_BACKFACE_CULL)
+        && one_sided
+        && homogeneous::back_facing(&sub, eye)
+        && wedges_face_away_with(|u, v| h.eval(u, v), node, eye, vp.has(FLAG_WEDGES))
+    {
+        return Outcome::BackFacing;
     }
     Outcome::Ready
 }
@@ -104,7 +119,7 @@ pub fn process_any(
 ) -> Outcome {
     match w {
         Some(w) if flags & PATCH_RATIONAL != 0 => {
-            process_rational(&RationalPatch::new(*base, *w), node, vp)
+            process_rational(&RationalPatch::new(*base, *w), flags, node, vp)
         }
         _ => process(base, flags, node, vp),
     }
