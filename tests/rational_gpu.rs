@@ -86,5 +86,9 @@ fn rational_scene_equals_the_oracle_on_both_paths_and_methods() {
         rational_nodes > 1000,
         "the views must draw the rational models"
     );
+    assert!(
+        backfacing > 100,
+        "the views must cull rational back faces ({backfacing})"
+    );
     gpu.finish();
 }
