@@ -2,6 +2,8 @@
 #version 460
 #extension GL_EXT_mesh_shader : require
 
+// Rational patches are lit with their own rational normal (shade.glsl).
+#define SHADE_RATIONAL
 #include "common/scene.glsl"
 #include "common/draw.glsl"
 #include "common/shade.glsl"

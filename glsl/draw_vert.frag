@@ -2,6 +2,8 @@
 // flat vertex outputs, equal on all three vertices of a triangle.
 #version 460
 
+// Rational patches are lit with their own rational normal (shade.glsl).
+#define SHADE_RATIONAL
 #include "common/scene.glsl"
 #include "common/draw.glsl"
 #include "common/shade.glsl"

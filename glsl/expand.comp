@@ -10,6 +10,7 @@
 #define USE_CAPTURE
 #include "common/ready.glsl"
 #include "common/draw.glsl"
+#include "common/draw_rational.glsl"
 
 layout(local_size_x = EXPAND_GROUP_SIZE) in;
 
@@ -29,12 +30,10 @@ void main() {
     }
     uvec2 q = ready[node];
     NodeMesh mesh = node_mesh(q, (view.flags & FLAG_WEDGES) != 0u);
-    vec3 P[16];
-    load_patch(q.x, P);
 
     // The same evaluation as the mesh path.
     vec3 pos[6];
-    node_positions(P, mesh, pos);
+    patch_node_positions(q.x, mesh, pos);
     for (uint s = 0u; s < 6u; ++s) {
         if (slot_used(mesh, s) && pc.capture_enabled != 0u) {
             capture[6u * node + s] = vec4(pos[s], 1.0);

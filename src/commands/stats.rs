@@ -7,7 +7,9 @@ use anyhow::{anyhow, Context as _};
 use serde::Serialize;
 
 use super::{eps_lambda, keyframe, thousands};
-use crate::patch::oracle::{subdivide_parallel, triangle_counts, triangulate};
+use crate::patch::oracle::{
+    subdivide_parallel_weighted, triangle_counts, triangulate_surfaces, WeightedPatches,
+};
 use crate::patch::view::{FLAGS_DEFAULT, FLAG_WEDGES};
 use crate::raster::{PreviewShade, Raster};
 use crate::scene::file::Scene;
@@ -165,14 +167,19 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     vp.flags = args.flags;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let start = Instant::now();
-    let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, threads);
+    let res = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, threads);
     let (triangles, wedge_triangles) = triangle_counts(&res.ready, vp.has(FLAG_WEDGES));
     let oracle_seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.preview {
         let view_proj = camera.view_proj(w, h);
         let mut img = Raster::new(w, h, PREVIEW_BACKGROUND);
         for batch in res.ready.chunks(PREVIEW_BATCH) {
-            let tris = triangulate(&geo.patches, batch, vp.has(FLAG_WEDGES));
+            let surfaces = WeightedPatches {
+                patches: &geo.patches,
+                weights: &geo.weights,
+                flags: &geo.flags,
+            };
+            let tris = triangulate_surfaces(&surfaces, batch, vp.has(FLAG_WEDGES));
             img.draw_triangles(
                 &tris,
                 &geo.patches,

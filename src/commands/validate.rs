@@ -17,7 +17,7 @@ use super::{eps_lambda, keyframe, thousands, GpuRequest};
 use crate::constants::SHADE_NORMAL;
 use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::View;
-use crate::patch::oracle::subdivide_parallel;
+use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
 use crate::patch::view::FLAG_WEDGES;
 use crate::renderer::Renderer;
 use crate::scene::file::{Scene, SceneGeometry};
@@ -158,7 +158,13 @@ fn oracle_checks(
     let gpu_ready = list.read_ready(&ctx, ready_count)?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let params = renderer.effective_params(view);
-    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &params, threads);
+    let oracle =
+        subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &params, threads);
+    let surfaces = WeightedPatches {
+        patches: &geo.patches,
+        weights: &geo.weights,
+        flags: &geo.flags,
+    };
     let (ok, detail) = compare_ready(&gpu_ready, &oracle.ready);
     let mut out = vec![line("ready set", Some(k), ok, detail)];
 
@@ -166,11 +172,11 @@ fn oracle_checks(
     let (compared, bad) = match stage.path() {
         DrawPath::Mesh => {
             let capture: Vec<[f32; 4]> = list.capture.read(&ctx)?;
-            compare_capture(&geo.patches, &gpu_ready, &capture, wedges)
+            compare_capture(&surfaces, &gpu_ready, &capture, wedges)
         }
         DrawPath::Fallback => {
             let words: Vec<u32> = list.vertices.read(&ctx)?;
-            compare_vertices(&geo.patches, &gpu_ready, &words, wedges)
+            compare_vertices(&surfaces, &gpu_ready, &words, wedges)
         }
     };
     out.push(line(

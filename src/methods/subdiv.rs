@@ -1,7 +1,9 @@
 //! Method `subdiv`: the paper's recursive subdivision in one dispatch of
 //! persistent workgroups (`glsl/subdivide.comp`), which also writes the
 //! indirect arguments of the sort and the draw; then the shared ready-list
-//! stage (sort, mesh or fallback draw).
+//! stage (sort, mesh or fallback draw). Rational patches (`PATCH_RATIONAL`)
+//! are subdivided in homogeneous coordinates by the same kernel
+//! (`oracle::process_rational`; docs/ARCHITECTURE.md, "Rational patches").
 
 use ash::vk;
 use serde_json::json;
@@ -21,7 +23,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "subdiv",
     about: "recursive subdivision, one dispatch of persistent workgroups (this project's \
             stand-in for the paper's work graph)",
-    rational: false,
+    rational: true,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
 

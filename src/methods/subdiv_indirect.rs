@@ -8,8 +8,8 @@
 //! nodes go to the shared [`ReadyStage`]. Between depths one invocation
 //! (`glsl/level_args.comp`) turns the appended count into the next
 //! dispatch's arguments. The same `process()` as the persistent kernel and
-//! the oracle, so the ready set equals the oracle's at this method's depth
-//! limit (`max_depth`, default 6 as in the paper: the worst case of every
+//! the oracle (rational patches included), so the ready set equals the
+//! oracle's at this method's depth limit (`max_depth`, default 6 as in the paper: the worst case of every
 //! deeper level grows fourfold).
 //!
 //! The node buffers are sized for the worst case of `max_depth`
@@ -38,7 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "subdiv-indirect",
     about: "recursive subdivision, one indirect dispatch per depth (the paper's \
             execute-indirect variant)",
-    rational: false,
+    rational: true,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
 

@@ -11,16 +11,48 @@
 //! on their common edge. The paper's listing prints the final output index as
 //! `P[2+l+k][2+j+i]`; from the blossom the v index is `2l+k` and the u index
 //! `2j+i`, with arrays indexed `[v][u]`.
+//!
+//! Rational patches are rebuilt the same way on their homogeneous control
+//! points (w·p, w) ([`reconstruct_points`] on `Vec4`): every operation is
+//! component by component, so each of the four components goes through
+//! exactly the operation sequence a polynomial coordinate does, and the
+//! §4.4 argument carries over unchanged. For weights 1 the w components
+//! stay exactly 1 (node domains are dyadic with at most `L_MAX` fraction
+//! bits, so every product and sum of the round is exact) and the xyz
+//! components are the polynomial bits.
+
+use std::ops::{Add, Mul};
 
 use glam::Vec3;
 
 use super::bezier::BezierPatch;
+
+/// A control point the blossom rounds can interpolate: `Vec3` (Cartesian)
+/// or `Vec4` (homogeneous), with component-wise IEEE operations.
+pub trait BlossomPoint: Copy + Mul<f32, Output = Self> + Add<Output = Self> {
+    /// The zero point.
+    const ZERO: Self;
+}
+
+impl BlossomPoint for Vec3 {
+    const ZERO: Self = Vec3::ZERO;
+}
+
+impl BlossomPoint for glam::Vec4 {
+    const ZERO: Self = glam::Vec4::ZERO;
+}
 
 /// Bilinear interpolation with the paper's parenthesisation:
 /// `(P00 + P11) + (P10 + P01)`, weights `u1*v1`, `u0*v1`, `u1*v0`, `u0*v0`.
 /// `p10` is the neighbour along u, `p01` along v.
 #[inline]
 pub fn bilerp(u0: f32, v0: f32, p00: Vec3, p10: Vec3, p01: Vec3, p11: Vec3) -> Vec3 {
+    bilerp_points(u0, v0, p00, p10, p01, p11)
+}
+
+/// [`bilerp`] for any [`BlossomPoint`].
+#[inline]
+pub fn bilerp_points<T: BlossomPoint>(u0: f32, v0: f32, p00: T, p10: T, p01: T, p11: T) -> T {
     let u1 = 1.0 - u0;
     let v1 = 1.0 - v0;
     let w00 = p00 * (u1 * v1);
@@ -32,17 +64,24 @@ pub fn bilerp(u0: f32, v0: f32, p00: Vec3, p10: Vec3, p01: Vec3, p11: Vec3) -> V
 
 /// The sub-patch of `base` over [a,b]×[c,d].
 pub fn reconstruct(base: &BezierPatch, a: f32, b: f32, c: f32, d: f32) -> BezierPatch {
+    BezierPatch {
+        pts: reconstruct_points(&base.pts, a, b, c, d),
+    }
+}
+
+/// The 16 control points over [a,b]×[c,d] of the patch with control points
+/// `p` (Cartesian or homogeneous), in the order of [`reconstruct`].
+pub fn reconstruct_points<T: BlossomPoint>(p: &[T; 16], a: f32, b: f32, c: f32, d: f32) -> [T; 16] {
     let us = [a, b];
     let vs = [c, d];
-    let p = &base.pts;
 
     // First round: bi-quadratic nets s(U[k], · · | V[l], · ·), 3×3 each.
-    let mut d_net = [[[Vec3::ZERO; 9]; 2]; 2];
+    let mut d_net = [[[T::ZERO; 9]; 2]; 2];
     for l in 0..2 {
         for k in 0..2 {
             for j in 0..3 {
                 for i in 0..3 {
-                    d_net[l][k][3 * j + i] = bilerp(
+                    d_net[l][k][3 * j + i] = bilerp_points(
                         us[k],
                         vs[l],
                         p[4 * j + i],
@@ -56,13 +95,13 @@ pub fn reconstruct(base: &BezierPatch, a: f32, b: f32, c: f32, d: f32) -> Bezier
     }
 
     // Second round: bilinear nets s(U[k], U[k], · | V[l], V[l], ·), 2×2 each.
-    let mut e_net = [[[Vec3::ZERO; 4]; 2]; 2];
+    let mut e_net = [[[T::ZERO; 4]; 2]; 2];
     for l in 0..2 {
         for k in 0..2 {
             let dn = &d_net[l][k];
             for j in 0..2 {
                 for i in 0..2 {
-                    e_net[l][k][2 * j + i] = bilerp(
+                    e_net[l][k][2 * j + i] = bilerp_points(
                         us[k],
                         vs[l],
                         dn[3 * j + i],
@@ -77,19 +116,19 @@ pub fn reconstruct(base: &BezierPatch, a: f32, b: f32, c: f32, d: f32) -> Bezier
 
     // Third round: s(U[j], U[j], U[i] | V[l], V[l], V[k]) is the point with
     // u index 2j+i and v index 2l+k.
-    let mut out = [Vec3::ZERO; 16];
+    let mut out = [T::ZERO; 16];
     for l in 0..2 {
         for k in 0..2 {
             for j in 0..2 {
                 for i in 0..2 {
                     let e = &e_net[l][j];
                     out[4 * (2 * l + k) + (2 * j + i)] =
-                        bilerp(us[i], vs[k], e[0], e[1], e[2], e[3]);
+                        bilerp_points(us[i], vs[k], e[0], e[1], e[2], e[3]);
                 }
             }
         }
     }
-    BezierPatch { pts: out }
+    out
 }
 
 #[cfg(test)]

@@ -113,12 +113,23 @@ pub fn back_facing(s: &BezierPatch, lo: Vec3, hi: Vec3, eye: Vec3) -> bool {
 /// triangles that face away can be removed without uncovering anything.
 /// Positions are the drawn ones ([`BezierPatch::eval`]).
 pub fn wedges_face_away(base: &BezierPatch, node: QuadNode, eye: Vec3, with_wedges: bool) -> bool {
+    wedges_face_away_with(|u, v| base.eval(u, v), node, eye, with_wedges)
+}
+
+/// [`wedges_face_away`] with the drawn positions given by `eval` (a
+/// rational patch's evaluation).
+pub fn wedges_face_away_with(
+    eval: impl Fn(f32, f32) -> Vec3,
+    node: QuadNode,
+    eye: Vec3,
+    with_wedges: bool,
+) -> bool {
     let mesh = node_mesh(node, with_wedges);
     let mut away = true;
     for t in &mesh.tris[2..mesh.tri_count] {
         let [a, b, c] = t.map(|k| {
             let (u, v) = mesh.uv[k as usize];
-            base.eval(u, v)
+            eval(u, v)
         });
         let n = cross3(b - a, c - a);
         away &= dot3(n, a - eye) > 0.0;

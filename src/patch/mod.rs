@@ -5,6 +5,7 @@ pub mod bezier;
 pub mod blossom;
 pub mod criterion;
 pub mod cull;
+pub mod homogeneous;
 pub mod ops;
 pub mod oracle;
 pub mod quadnode;

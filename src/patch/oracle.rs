@@ -5,18 +5,28 @@
 //! children or declare it ready (then back-face cull it). [`subdivide`] runs
 //! it depth-first over every base patch; [`triangulate`] turns ready nodes
 //! into world-space triangles with the one shared evaluation function.
+//!
+//! Rational patches (flag `PATCH_RATIONAL`, with their weights) take
+//! [`process_rational`]: the same steps on the homogeneous sub-patch of
+//! [`super::homogeneous`]; the `*_weighted`
+//! entry points dispatch per patch, and with no weights (or no patch
+//! flagged) they are the polynomial functions exactly.
 
 use glam::Vec3;
 
 use super::bezier::BezierPatch;
 use super::blossom::reconstruct;
 use super::criterion::{edge_flat, inner_flat};
-use super::cull::{back_facing, outside_frustum, wedges_face_away};
+use super::cull::{back_facing, outside_frustum, wedges_face_away, wedges_face_away_with};
+use super::homogeneous::{self, HomPatch};
 use super::ops::{max3, min3};
 use super::quadnode::QuadNode;
+use super::rational::{RationalPatch, Weights};
 use super::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
 use super::wedge::{children, edge_depths, node_mesh, resolve_depths, wedge_pivots, NodeMesh};
 
+/// Per-patch flag: the patch has weights; see [`process_rational`].
+pub use crate::constants::PATCH_RATIONAL;
 /// Per-patch flag: the model is open or thin; never back-face cull it.
 pub use crate::constants::PATCH_TWO_SIDED;
 
@@ -38,38 +48,16 @@ pub fn process(base: &BezierPatch, flags: u32, node: QuadNode, vp: &ViewParams) 
     let (a, b, c, d) = node.domain();
     let sub = reconstruct(base, a, b, c, d);
     let (lo, hi) = sub.bbox();
-    let pivots = wedge_pivots(node);
-    if vp.has(FLAG_FRUSTUM_CULL) {
-        // The node's wedges, and those of every descendant along its outer
-        // edges, reach from its own edge to a pivot that may lie outside its
-        // control points' box: the box must hold the pivots too, or a wedge
-        // reaching into the view would be culled with the node.
-        let (mut clo, mut chi) = (lo, hi);
-        for (u, v) in pivots.into_iter().flatten() {
-            let p = base.eval(u, v);
-            clo = min3(clo, p);
-            chi = max3(chi, p);
-        }
-        if outside_frustum(clo, chi, vp) {
-            return Outcome::Culled;
-        }
+    if vp.has(FLAG_FRUSTUM_CULL) && frustum_culled(lo, hi, node, |u, v| base.eval(u, v), vp) {
+        return Outcome::Culled;
     }
-    let l = node.depth();
-    if l < vp.l_max {
-        let depths = edge_depths(node);
-        let mut flat = [true; 4];
-        let mut edges_flat = true;
-        // Every pending edge is tested, with no early exit: the children
-        // inherit the results.
-        for (e, f) in flat.iter_mut().enumerate() {
-            if depths[e] >= l {
-                *f = edge_flat(&sub.edge(e), vp);
-                edges_flat &= *f;
-            }
-        }
-        if !edges_flat || !inner_flat(&sub, vp) {
-            return Outcome::Split(children(node, resolve_depths(node, depths, flat)));
-        }
+    if let Some(kids) = split(
+        node,
+        vp,
+        |e| edge_flat(&sub.edge(e), vp),
+        || inner_flat(&sub, vp),
+    ) {
+        return Outcome::Split(kids);
     }
     // A back-facing node goes only if its wedges face away too (see
     // `wedges_face_away`): they may reach where the surface faces the eye.
@@ -83,6 +71,109 @@ pub fn process(base: &BezierPatch, flags: u32, node: QuadNode, vp: &ViewParams) 
         return Outcome::BackFacing;
     }
     Outcome::Ready
+}
+
+/// Processes one node of the rational patch `base` (per-patch flags
+/// `flags`): [`process`] on the homogeneous sub-patch (see
+/// [`super::homogeneous`]), the box of its Cartesian control points for the
+/// frustum, and the rational back-face bound.
+pub fn process_rational(
+    base: &RationalPatch,
+    flags: u32,
+    node: QuadNode,
+    vp: &ViewParams,
+) -> Outcome {
+    let (a, b, c, d) = node.domain();
+    let h = HomPatch::of(base);
+    let sub = h.sub(a, b, c, d);
+    if vp.has(FLAG_FRUSTUM_CULL) {
+        let (lo, hi) = sub.bbox();
+        if frustum_culled(lo, hi, node, |u, v| h.eval(u, v), vp) {
+            return Outcome::Culled;
+        }
+    }
+    let edge = |e| homogeneous::edge_flat(&sub.edge(e), vp);
+    if let Some(kids) = split(node, vp, edge, || homogeneous::inner_flat(&sub, vp)) {
+        return Outcome::Split(kids);
+    }
+    let one_sided = flags & PATCH_TWO_SIDED == 0;
+    let eye = vp.eye.truncate();
+    if vp.has(FLAG_BACKFACE_CULL)
+        && one_sided
+        && homogeneous::back_facing(&sub, eye)
+        && wedges_face_away_with(|u, v| h.eval(u, v), node, eye, vp.has(FLAG_WEDGES))
+    {
+        return Outcome::BackFacing;
+    }
+    Outcome::Ready
+}
+
+/// Processes one node of base patch `base` with weights `w` (None: all 1),
+/// rational when `flags` say so.
+pub fn process_any(
+    base: &BezierPatch,
+    w: Option<&Weights>,
+    flags: u32,
+    node: QuadNode,
+    vp: &ViewParams,
+) -> Outcome {
+    match w {
+        Some(w) if flags & PATCH_RATIONAL != 0 => {
+            process_rational(&RationalPatch::new(*base, *w), flags, node, vp)
+        }
+        _ => process(base, flags, node, vp),
+    }
+}
+
+/// The frustum test of a node whose control-point box is [lo, hi]. The
+/// node's wedges, and those of every descendant along its outer edges,
+/// reach from its own edge to a pivot that may lie outside that box: the
+/// box must hold the pivots too (evaluated by `eval`, the drawn
+/// positions), or a wedge reaching into the view would be culled with the
+/// node.
+fn frustum_culled(
+    lo: Vec3,
+    hi: Vec3,
+    node: QuadNode,
+    eval: impl Fn(f32, f32) -> Vec3,
+    vp: &ViewParams,
+) -> bool {
+    let (mut clo, mut chi) = (lo, hi);
+    for (u, v) in wedge_pivots(node).into_iter().flatten() {
+        let p = eval(u, v);
+        clo = min3(clo, p);
+        chi = max3(chi, p);
+    }
+    outside_frustum(clo, chi, vp)
+}
+
+/// The criterion of a node below the depth limit: its four children when
+/// an edge (`edge_flat(e)`) or the inner tier (`inner_flat`) says split.
+fn split(
+    node: QuadNode,
+    vp: &ViewParams,
+    edge_flat: impl Fn(usize) -> bool,
+    inner_flat: impl FnOnce() -> bool,
+) -> Option<[QuadNode; 4]> {
+    let l = node.depth();
+    if l >= vp.l_max {
+        return None;
+    }
+    let depths = edge_depths(node);
+    let mut flat = [true; 4];
+    let mut edges_flat = true;
+    // Every pending edge is tested, with no early exit: the children
+    // inherit the results.
+    for (e, f) in flat.iter_mut().enumerate() {
+        if depths[e] >= l {
+            *f = edge_flat(e);
+            edges_flat &= *f;
+        }
+    }
+    if !edges_flat || !inner_flat() {
+        return Some(children(node, resolve_depths(node, depths, flat)));
+    }
+    None
 }
 
 /// Counts gathered by one subdivision run.
@@ -115,7 +206,20 @@ pub struct SubdivResult {
 
 /// Subdivides every base patch depth-first down to `vp.l_max`.
 pub fn subdivide(patches: &[BezierPatch], flags: &[u32], vp: &ViewParams) -> SubdivResult {
+    subdivide_weighted(patches, &[], flags, vp)
+}
+
+/// [`subdivide`] with the patches' weights (`weights` parallel to
+/// `patches`, or empty for none): patches flagged `PATCH_RATIONAL` take
+/// [`process_rational`].
+pub fn subdivide_weighted(
+    patches: &[BezierPatch],
+    weights: &[Weights],
+    flags: &[u32],
+    vp: &ViewParams,
+) -> SubdivResult {
     assert_eq!(patches.len(), flags.len());
+    assert!(weights.is_empty() || weights.len() == patches.len());
     let mut out = SubdivResult::default();
     out.stats.patches = patches.len() as u64;
     let mut stack = Vec::with_capacity(64);
@@ -123,7 +227,7 @@ pub fn subdivide(patches: &[BezierPatch], flags: &[u32], vp: &ViewParams) -> Sub
         stack.push(QuadNode::root(id as u32));
         while let Some(node) = stack.pop() {
             out.stats.nodes_processed += 1;
-            match process(base, flags[id], node, vp) {
+            match process_any(base, weights.get(id), flags[id], node, vp) {
                 Outcome::Culled => out.stats.culled_patches += 1,
                 Outcome::BackFacing => out.stats.backface_culled += 1,
                 Outcome::Ready => {
@@ -149,9 +253,21 @@ pub fn subdivide_parallel(
     vp: &ViewParams,
     threads: usize,
 ) -> SubdivResult {
+    subdivide_parallel_weighted(patches, &[], flags, vp, threads)
+}
+
+/// [`subdivide_parallel`] with the patches' weights (see
+/// [`subdivide_weighted`]).
+pub fn subdivide_parallel_weighted(
+    patches: &[BezierPatch],
+    weights: &[Weights],
+    flags: &[u32],
+    vp: &ViewParams,
+    threads: usize,
+) -> SubdivResult {
     let threads = threads.clamp(1, 64);
     if threads == 1 || patches.len() < 64 {
-        return subdivide(patches, flags, vp);
+        return subdivide_weighted(patches, weights, flags, vp);
     }
     // Small chunks handed out from a counter balance the uneven cost of
     // patches; results are stored by chunk index to keep the order.
@@ -168,7 +284,12 @@ pub fn subdivide_parallel(
                     break;
                 }
                 let range = k * chunk..((k + 1) * chunk).min(patches.len());
-                let mut r = subdivide(&patches[range.clone()], &flags[range], vp);
+                let w = if weights.is_empty() {
+                    &[][..]
+                } else {
+                    &weights[range.clone()]
+                };
+                let mut r = subdivide_weighted(&patches[range.clone()], w, &flags[range], vp);
                 for q in &mut r.ready {
                     q.patch += (k * chunk) as u32;
                 }
@@ -218,17 +339,86 @@ pub fn node_positions(base: &BezierPatch, mesh: &NodeMesh) -> [Vec3; 6] {
     p
 }
 
+/// [`node_positions`] of a rational patch: every vertex is
+/// [`RationalPatch::eval`] (the homogeneous surface point, divided) at the
+/// same dyadic parameters; on a shared boundary it reduces to the boundary
+/// curve's own homogeneous evaluation, so neighbours get the same bits.
+pub fn node_positions_rational(base: &RationalPatch, mesh: &NodeMesh) -> [Vec3; 6] {
+    let mut p = [Vec3::ZERO; 6];
+    for (i, &(u, v)) in mesh.uv.iter().enumerate().take(mesh.vertex_count) {
+        p[i] = base.eval(u, v);
+    }
+    p
+}
+
+/// Drawn positions of ready nodes, for any mix of patches: what the
+/// comparisons against the GPU's captured vertices evaluate.
+pub trait Surfaces {
+    /// The positions of `node`'s mesh (slots as in [`node_positions`]).
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6];
+}
+
+impl Surfaces for [BezierPatch] {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
+        node_positions(&self[node.patch as usize], mesh)
+    }
+}
+
+impl Surfaces for Vec<BezierPatch> {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
+        self[..].node_positions(node, mesh)
+    }
+}
+
+/// Patches with weights and flags: rational where flagged `PATCH_RATIONAL`
+/// and weights are given (`weights` empty: all polynomial).
+#[derive(Clone, Copy, Debug)]
+pub struct WeightedPatches<'a> {
+    /// The Cartesian control points.
+    pub patches: &'a [BezierPatch],
+    /// Weights parallel to `patches`, or empty.
+    pub weights: &'a [Weights],
+    /// Per-patch flags.
+    pub flags: &'a [u32],
+}
+
+impl WeightedPatches<'_> {
+    /// Patch `k` as a rational patch, if it is one.
+    pub fn rational(&self, k: usize) -> Option<RationalPatch> {
+        let w = self.weights.get(k)?;
+        (self.flags[k] & PATCH_RATIONAL != 0).then(|| RationalPatch::new(self.patches[k], *w))
+    }
+}
+
+impl Surfaces for WeightedPatches<'_> {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
+        let k = node.patch as usize;
+        match self.rational(k) {
+            Some(r) => node_positions_rational(&r, mesh),
+            None => node_positions(&self.patches[k], mesh),
+        }
+    }
+}
+
 /// The triangles of `ready` nodes (two per quad plus wedges, if enabled).
 pub fn triangulate(
     patches: &[BezierPatch],
     ready: &[QuadNode],
     with_wedges: bool,
 ) -> Vec<Triangle> {
+    triangulate_surfaces(patches, ready, with_wedges)
+}
+
+/// [`triangulate`] for any [`Surfaces`] (rational patches included).
+pub fn triangulate_surfaces<S: Surfaces + ?Sized>(
+    patches: &S,
+    ready: &[QuadNode],
+    with_wedges: bool,
+) -> Vec<Triangle> {
     let mut tris = Vec::with_capacity(ready.len() * 2 + ready.len() / 2);
     for &node in ready {
-        let base = &patches[node.patch as usize];
         let mesh = node_mesh(node, with_wedges);
-        let pos = node_positions(base, &mesh);
+        let pos = patches.node_positions(node, &mesh);
         for (t, idx) in mesh.tris[..mesh.tri_count].iter().enumerate() {
             let i = idx.map(|k| k as usize);
             tris.push(Triangle {

@@ -14,8 +14,7 @@ use glam::Vec3;
 use crate::constants::*;
 use crate::draw::{DrawPath, ReadyStage};
 use crate::gpu::ListPush;
-use crate::patch::bezier::BezierPatch;
-use crate::patch::oracle::node_positions;
+use crate::patch::oracle::Surfaces;
 use crate::patch::quadnode::QuadNode;
 use crate::patch::wedge::node_mesh;
 use crate::renderer::Renderer;
@@ -72,8 +71,8 @@ fn used_slots(node: QuadNode, with_wedges: bool) -> (crate::patch::wedge::NodeMe
 /// Compares the captured world positions (`capture[6 i + slot]`, one vec4
 /// per slot, in the GPU's ready order) with the oracle's evaluation.
 /// Returns (vertices compared, mismatches).
-pub fn compare_capture(
-    patches: &[BezierPatch],
+pub fn compare_capture<S: Surfaces + ?Sized>(
+    patches: &S,
     ready: &[QuadNode],
     capture: &[[f32; 4]],
     with_wedges: bool,
@@ -82,7 +81,7 @@ pub fn compare_capture(
     let mut bad = 0;
     for (i, &node) in ready.iter().enumerate() {
         let (mesh, slots) = used_slots(node, with_wedges);
-        let want = node_positions(&patches[node.patch as usize], &mesh);
+        let want = patches.node_positions(node, &mesh);
         for s in slots {
             let c = capture[6 * i + s];
             compared += 1;
@@ -96,8 +95,8 @@ pub fn compare_capture(
 /// `VERTEX_WORDS` words per node, in the GPU's ready order) with the
 /// oracle's triangles; a missing wedge must be a degenerate triangle (three
 /// copies of corner 0). Returns (vertices compared, mismatches).
-pub fn compare_vertices(
-    patches: &[BezierPatch],
+pub fn compare_vertices<S: Surfaces + ?Sized>(
+    patches: &S,
     ready: &[QuadNode],
     words: &[u32],
     with_wedges: bool,
@@ -107,7 +106,7 @@ pub fn compare_vertices(
     let mut bad = 0;
     for (i, &node) in ready.iter().enumerate() {
         let mesh = node_mesh(node, with_wedges);
-        let pos = node_positions(&patches[node.patch as usize], &mesh);
+        let pos = patches.node_positions(node, &mesh);
         // Triangle slots: 0, 1 quad; 2 wedge along u (pivot 4); 3 along v (5).
         let mut slot_tris = [[0usize; 3]; 4];
         slot_tris[0] = [0, 1, 2];

@@ -1,0 +1,143 @@
+// Subdivision of rational patches: the homogeneous sub-patch by blossoms and
+// the criterion on its projected points. The twin of
+// src/patch/homogeneous.rs, operation for operation (see there for why the
+// shared-edge argument of §4.4 carries over to (w p, w)). Include after
+// scene.glsl; the weights come from rational.glsl.
+#ifndef RATIONAL_SUBDIV_GLSL
+#define RATIONAL_SUBDIV_GLSL
+
+#include "rational.glsl"
+
+// bilerp() of patch.glsl on homogeneous points, component by component.
+precise vec4 bilerp4(float u0, float v0, vec4 p00, vec4 p10, vec4 p01, vec4 p11) {
+    precise float u1 = 1.0 - u0;
+    precise float v1 = 1.0 - v0;
+    precise vec4 w00 = p00 * (u1 * v1);
+    precise vec4 w10 = p10 * (u0 * v1);
+    precise vec4 w01 = p01 * (u1 * v0);
+    precise vec4 w11 = p11 * (u0 * v0);
+    precise vec4 r = (w00 + w11) + (w10 + w01);
+    return r;
+}
+
+// reconstruct() of patch.glsl on homogeneous control points.
+void reconstruct4(vec4 P[16], float a, float b, float c, float d, out vec4 S[16]) {
+    float U[2] = float[2](a, b);
+    float V[2] = float[2](c, d);
+    precise vec4 D[36];  // [l][k][3x3]
+    for (int l = 0; l < 2; ++l)
+        for (int k = 0; k < 2; ++k)
+            for (int j = 0; j < 3; ++j)
+                for (int i = 0; i < 3; ++i)
+                    D[(2 * l + k) * 9 + 3 * j + i] = bilerp4(U[k], V[l],
+                        P[4 * j + i], P[4 * j + i + 1], P[4 * (j + 1) + i], P[4 * (j + 1) + i + 1]);
+    precise vec4 E[16];  // [l][k][2x2]
+    for (int l = 0; l < 2; ++l)
+        for (int k = 0; k < 2; ++k)
+            for (int j = 0; j < 2; ++j)
+                for (int i = 0; i < 2; ++i) {
+                    int o = (2 * l + k) * 9;
+                    E[(2 * l + k) * 4 + 2 * j + i] = bilerp4(U[k], V[l],
+                        D[o + 3 * j + i], D[o + 3 * j + i + 1], D[o + 3 * (j + 1) + i], D[o + 3 * (j + 1) + i + 1]);
+                }
+    for (int l = 0; l < 2; ++l)
+        for (int k = 0; k < 2; ++k)
+            for (int j = 0; j < 2; ++j)
+                for (int i = 0; i < 2; ++i) {
+                    int o = (2 * l + j) * 4;
+                    S[4 * (2 * l + k) + 2 * j + i] = bilerp4(U[i], V[k], E[o], E[o + 1], E[o + 2], E[o + 3]);
+                }
+}
+
+// The projected surface point (HomPatch::eval).
+precise vec3 eval_rational(vec4 H[16], float u, float v) {
+    precise vec3 r = project(eval_patch4(H, u, v));
+    return r;
+}
+
+// Boundary curve e, counter-clockwise (patch_edge on homogeneous points).
+void patch_edge4(vec4 S[16], uint e, out vec4 c[4]) {
+    if (e == EDGE_BOTTOM) {
+        c = vec4[4](S[0], S[1], S[2], S[3]);
+    } else if (e == EDGE_RIGHT) {
+        c = vec4[4](S[3], S[7], S[11], S[15]);
+    } else if (e == EDGE_TOP) {
+        c = vec4[4](S[15], S[14], S[13], S[12]);
+    } else {
+        c = vec4[4](S[12], S[8], S[4], S[0]);
+    }
+}
+
+// The box of the Cartesian control points (holds the surface: weights > 0).
+void patch_bbox4(vec4 S[16], out vec3 lo, out vec3 hi) {
+    lo = project(S[0]);
+    hi = lo;
+    for (int i = 1; i < 16; ++i) {
+        precise vec3 p = project(S[i]);
+        lo = min3(lo, p);
+        hi = max3(hi, p);
+    }
+}
+
+// Edge tier on a homogeneous boundary curve: the polynomial line test on
+// the projected end points and the projected samples at 1/3 from each end.
+bool edge_flat4(vec4 h[4], ViewParams vp) {
+    precise vec3 a = project(h[0]);
+    precise vec3 b = project(h[3]);
+    precise vec3 mid = (a + b) * 0.5;
+    precise float t2 = tolerance2(mid, vp);
+    precise vec3 fwd = project(curve4(THIRD, h[0], h[1], h[2], h[3]));
+    precise vec3 bwd = project(curve4(THIRD, h[3], h[2], h[1], h[0]));
+    bool f = line_sample_flat(fwd, a, b, THIRD, t2, vp);
+    bool r = line_sample_flat(bwd, b, a, THIRD, t2, vp);
+    return f && r;
+}
+
+// Inner tier on the projected corners and samples.
+bool inner_flat4(vec4 S[16], ViewParams vp) {
+    precise vec3 q00 = project(S[0]);
+    precise vec3 q10 = project(S[3]);
+    precise vec3 q11 = project(S[15]);
+    precise vec3 q01 = project(S[12]);
+    precise vec3 center = ((q00 + q11) + (q10 + q01)) * 0.25;
+    precise float t2 = tolerance2(center, vp);
+    bool d1 = line_sample_flat(eval_rational(S, THIRD, THIRD), q00, q11, THIRD, t2, vp);
+    bool d2 = line_sample_flat(eval_rational(S, TWO_THIRDS, TWO_THIRDS), q00, q11, TWO_THIRDS, t2, vp);
+    bool t0 = plane_sample_flat(eval_rational(S, TWO_THIRDS, THIRD), q00, q10, q11, t2, vp);
+    bool t1 = plane_sample_flat(eval_rational(S, THIRD, TWO_THIRDS), q00, q11, q01, t2, vp);
+    return (d1 && d2) && (t0 && t1);
+}
+
+// Conservative back-face test (homogeneous::back_facing): the polynomial
+// bound on the patch of weighted points relative to the eye,
+// w (p - eye) = h.xyz - h.w * eye, with the eye at the origin.
+bool back_facing4(vec4 S[16], vec3 eye) {
+    vec3 Q[16];
+    for (int i = 0; i < 16; ++i) {
+        precise vec3 q = S[i].xyz - eye * S[i].w;
+        Q[i] = q;
+    }
+    vec3 lo, hi;
+    patch_bbox(Q, lo, hi);
+    return back_facing(Q, lo, hi, vec3(0.0));
+}
+
+// wedges_face_away of patch.glsl with the rational positions.
+bool wedges_face_away4(vec4 H[16], uvec2 q, vec3 eye, bool with_wedges) {
+    NodeMesh mesh = node_mesh(q, with_wedges);
+    bool away = true;
+    for (uint t = 2u; t < 4u; ++t) {
+        if (!(t == 2u ? mesh.wedge.x : mesh.wedge.y)) {
+            continue;
+        }
+        uvec3 k = mesh.tris[t];
+        precise vec3 a = eval_rational(H, mesh.uv[k.x].x, mesh.uv[k.x].y);
+        precise vec3 b = eval_rational(H, mesh.uv[k.y].x, mesh.uv[k.y].y);
+        precise vec3 c = eval_rational(H, mesh.uv[k.z].x, mesh.uv[k.z].y);
+        precise vec3 n = cross3(b - a, c - a);
+        away = away && dot3(n, a - eye) > 0.0;
+    }
+    return away;
+}
+
+#endif
