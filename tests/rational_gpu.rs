@@ -7,6 +7,10 @@
 
 mod common;
 
+use std::path::Path;
+
+use bezier_subdiv::commands::validate::{run, ValidateArgs};
+use bezier_subdiv::commands::GpuRequest;
 use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
@@ -91,4 +95,33 @@ fn rational_scene_equals_the_oracle_on_both_paths_and_methods() {
         "the views must cull rational back faces ({backfacing})"
     );
     gpu.finish();
+}
+
+/// The hole test (against `ground-truth`, which evaluates rational patches
+/// too) finds nothing on the rational torus and sphere drawn by `subdiv`,
+/// on either draw path.
+#[test]
+fn rational_models_have_no_holes() {
+    let _gpu = common::gpu();
+    for draw in ["mesh", "fallback"] {
+        let mut gpu =
+            GpuRequest::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/rational.toml"));
+        gpu.size = SIZE;
+        gpu.validation = true;
+        gpu.draw = draw.parse().unwrap();
+        let report = run(&ValidateArgs {
+            gpu,
+            frame: Some(0),
+            skip_holes: false,
+            debug_dir: None,
+        })
+        .unwrap();
+        assert!(report.ok(), "{draw}: {}", report.table);
+        let holes: Vec<_> = report
+            .results
+            .iter()
+            .filter(|r| r.check.starts_with("holes rational_"))
+            .collect();
+        assert_eq!(holes.len(), 2, "{draw}: {}", report.table);
+    }
 }
