@@ -185,6 +185,8 @@ pub struct CtPush {
     pub scan_sums: u32,
     /// Scan: `CT_SCAN_PASS_*`.
     pub pass: u32,
+    /// PN triangles (their records and scan entries follow the patches').
+    pub tri_count: u32,
 }
 gpu_block!(
     CtPush,
@@ -197,7 +199,8 @@ gpu_block!(
         scan_offset,
         scan_count,
         scan_sums,
-        pass
+        pass,
+        tri_count
     ]
 );
 

@@ -273,6 +273,21 @@ pub fn check_rational(info: &MethodInfo, scene: &SceneGpu) -> Result<(), RenderE
     )))
 }
 
+/// Refuses to draw `scene` with method `info` when the scene has
+/// PN-triangle models (`surface = "pn-triangles"`), which only `cudatess`
+/// tessellates.
+pub fn check_pn(info: &MethodInfo, scene: &SceneGpu) -> Result<(), RenderError> {
+    if info.name == cudatess::INFO.name || scene.pn.count() == 0 {
+        return Ok(());
+    }
+    Err(RenderError::Request(format!(
+        "method `{}` cannot draw PN triangles, and the scene has {} of them \
+         (models with surface = \"pn-triangles\"); use cudatess",
+        info.name,
+        scene.pn.count()
+    )))
+}
+
 /// [`find`] over the registry `methods` and the reserved names `planned`.
 fn find_in<'a>(
     name: &str,

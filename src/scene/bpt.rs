@@ -102,11 +102,7 @@ type Parsed = (Vec<BezierPatch>, Vec<Weights>, Vec<Vec3>);
 
 /// Both formats: `weighted` reads `.rbpt` point lines (x,y,z,w). Returns
 /// the patches, their weights (all 1 without the column) and the points.
-fn parse_any(
-    path_for_errors: &Path,
-    text: &str,
-    weighted: bool,
-) -> Result<Parsed, SceneError> {
+fn parse_any(path_for_errors: &Path, text: &str, weighted: bool) -> Result<Parsed, SceneError> {
     let path = path_for_errors;
     let mut lines = Lines::new(text);
 

@@ -31,6 +31,9 @@
 //! [[model]]
 //! name = "teapot"
 //! file = "models/teapot.bpt"  # .bpt or Catmull–Clark .obj, relative to this file
+//! surface = "pn-triangles"    # .obj only: draw the mesh's triangles as PN
+//!                             # triangles (cudatess only; quads and n-gons are
+//!                             # fanned); default "cage" (Catmull–Clark)
 //! two_sided = true            # open or thin models: never back-face culled
 //! boundary = "edge-only"      # cages without a `t interpolateboundary` tag:
 //!                             # none | edge-only | edge-and-corner (default)
@@ -136,7 +139,20 @@ struct ModelToml {
     two_sided: bool,
     boundary: Option<BoundaryRule>,
     #[serde(default)]
+    surface: Surface,
+    #[serde(default)]
     instance: Vec<InstanceToml>,
+}
+
+/// What a model file's faces are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Surface {
+    /// A Catmull–Clark cage (or a patch file).
+    #[default]
+    Cage,
+    /// A triangle mesh drawn as PN triangles ([`super::pn`]).
+    PnTriangles,
 }
 
 #[derive(Deserialize)]
@@ -182,6 +198,8 @@ pub struct ModelDesc {
     pub two_sided: bool,
     /// Choices for a cage the file does not make itself.
     pub options: CageOptions,
+    /// A cage or PN triangles.
+    pub surface: Surface,
     /// Object → world transforms.
     pub instances: Vec<DMat4>,
 }
@@ -289,6 +307,7 @@ impl Scene {
                 options: CageOptions {
                     boundary: m.boundary,
                 },
+                surface: m.surface,
                 instances,
             });
         }
