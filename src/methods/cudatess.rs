@@ -210,6 +210,10 @@ pub struct FrameData {
     pub vertices: Vec<CtVertex>,
     /// Every index written (absolute).
     pub indices: Vec<u32>,
+    /// Per PN triangle, its converted net (`glsl/common/pn.glsl`: 10
+    /// points, 6 normal coefficients; a culled triangle's stays as the
+    /// conversion left it).
+    pub pn_nets: Vec<[[f32; 4]; 16]>,
 }
 
 /// The method.
@@ -586,10 +590,13 @@ impl CudaTess {
             .collect();
         let mut indices: Vec<u32> = self.outputs.indices.read(ctx)?;
         indices.truncate(ni);
+        let mut pn_nets: Vec<[[f32; 4]; 16]> = s.pn.nets.read(ctx)?;
+        pn_nets.truncate(s.tris as usize);
         Ok(FrameData {
             records,
             vertices,
             indices,
+            pn_nets,
         })
     }
 
