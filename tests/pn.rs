@@ -93,16 +93,16 @@ fn conversion_matches_the_cpu_twin() {
     assert_eq!(frame.pn_nets.len(), geo.pn.triangles.len());
     for (t, net) in frame.pn_nets.iter().enumerate() {
         let cpu: PnNet = geo.pn.net(t);
-        for k in 0..10 {
-            let g = Vec3::from_slice(&net[k][..3]);
+        for (k, point) in net[..10].iter().enumerate() {
+            let g = Vec3::from_slice(&point[..3]);
             assert!(
                 close(g, cpu.b[k], 1e-5),
                 "triangle {t} point {k}: {g} vs {}",
                 cpu.b[k]
             );
         }
-        for k in 0..6 {
-            let g = Vec3::from_slice(&net[10 + k][..3]);
+        for (k, coefficient) in net[10..].iter().enumerate() {
+            let g = Vec3::from_slice(&coefficient[..3]);
             assert!(
                 close(g, cpu.n[k], 1e-5),
                 "triangle {t} normal {k}: {g} vs {}",
@@ -141,10 +141,10 @@ fn edge_sides(geo: &SceneGeometry, frame: &FrameData) -> EdgeSides {
         let base = rec.offsets[0] as usize;
         let e = &rec.edges;
         let mut edge_base = 3;
-        for k in 0..3 {
+        for (k, &factor) in e[..3].iter().enumerate() {
             let mut local = vec![k, (k + 1) % 3];
-            local.extend((0..e[k] as usize - 1).map(|s| edge_base + s));
-            edge_base += e[k] as usize - 1;
+            local.extend((0..factor as usize - 1).map(|s| edge_base + s));
+            edge_base += factor as usize - 1;
             let mut bits: Vec<[u32; 3]> = local
                 .iter()
                 .map(|&l| frame.vertices[base + l].position.map(f32::to_bits))
@@ -153,7 +153,7 @@ fn edge_sides(geo: &SceneGeometry, frame: &FrameData) -> EdgeSides {
             sides
                 .entry(geo.pn.edge_ids[t][k])
                 .or_default()
-                .push((t, e[k], bits));
+                .push((t, factor, bits));
         }
     }
     sides

@@ -291,7 +291,7 @@ fn build(
     for (line, t) in &triangles_at {
         let [a, b, c] = t.map(|(v, _)| positions[v]);
         let n = (b - a).cross(c - a);
-        if !(n.length_squared() > 0.0) {
+        if !n.is_finite() || n.length_squared() <= 0.0 {
             return Err(SceneError::at(
                 path,
                 *line,
@@ -443,6 +443,33 @@ mod tests {
             let q = net.eval(u, v);
             assert!((q - Vec3::new(u, v, 0.0)).length() < 1e-6, "{q}");
         }
+    }
+
+    #[test]
+    fn control_points_follow_vlachos() {
+        // Off the origin, so a wrong weight on P0 shows.
+        let o = Vec3::new(0.5, -1.0, 2.0);
+        let p = [o, o + Vec3::X, o + Vec3::Y];
+        let n0 = Vec3::new(-0.6, 0.0, 0.8);
+        let net = control_net(p, [n0, Vec3::Z, Vec3::Z]);
+        // b210 = (2 P0 + P1 - w01 N0) / 3, w01 = (P1 - P0).N0 = -0.6.
+        let b210 = o + Vec3::new(1.0 - 0.36, 0.0, 0.48) / 3.0;
+        assert!((net.b[3] - b210).length() < 1e-6, "{}", net.b[3]);
+        // Every edge point lies in its corner's tangent plane.
+        for (k, corner, normal) in [(3, 0, n0), (4, 1, Vec3::Z), (8, 0, n0), (7, 2, Vec3::Z)] {
+            assert!((net.b[k] - p[corner]).dot(normal).abs() < 1e-6, "point {k}");
+        }
+        // b111 = E + (E - V) / 2.
+        let e: Vec3 = net.b[3..9].iter().sum::<Vec3>() / 6.0;
+        let v = (p[0] + p[1] + p[2]) / 3.0;
+        assert!((net.b[9] - (e + (e - v) * 0.5)).length() < 1e-6);
+        // n110 = N0 + N1 - v01 (P1 - P0), v01 = 2 (P1 - P0).(N0 + N1) / 1.
+        let n110 = (n0 + Vec3::Z - Vec3::X * (2.0 * -0.6)).normalize();
+        assert!((net.n[3] - n110).length() < 1e-6, "{}", net.n[3]);
+        // Corners and corner normals are interpolated.
+        assert_eq!(net.eval(0.0, 0.0), p[0]);
+        assert!((net.eval(1.0, 0.0) - p[1]).length() < 1e-6);
+        assert!((net.normal(0.0, 0.0) - n0).length() < 1e-6);
     }
 
     #[test]
