@@ -17,6 +17,10 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("cages.toml", 577, 4),
 ];
 
+/// Scenes of PN triangles alone (no patches: only cudatess draws them),
+/// tested by their own files (tests/pn.rs) instead of the loops here.
+const PN_SCENES: &[&str] = &["pn.toml"];
+
 /// Small viewport: enough for the culling and criterion to act, fast.
 const SIZE: (u32, u32) = (320, 180);
 
@@ -42,6 +46,7 @@ fn every_scene_file_is_listed_here() {
         .collect();
     found.sort();
     let mut listed: Vec<String> = SCENES.iter().map(|s| s.0.to_string()).collect();
+    listed.extend(PN_SCENES.iter().map(|s| s.to_string()));
     listed.sort();
     assert_eq!(
         found, listed,
