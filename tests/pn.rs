@@ -16,7 +16,7 @@ use bezier_subdiv::methods::cudatess::FrameData;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::{Scene, SceneGeometry};
+use bezier_subdiv::scene::file::{Scene, SceneGeometry, SceneShading};
 use bezier_subdiv::scene::pn::{PnNet, PnScene};
 use glam::Vec3;
 
@@ -142,6 +142,7 @@ fn edge_sides(geo: &SceneGeometry, frame: &FrameData) -> EdgeSides {
         let e = &rec.edges;
         let mut edge_base = 3;
         for (k, &factor) in e[..3].iter().enumerate() {
+            assert!(factor >= 1, "triangle {t} edge {k}: factor {factor}");
             let mut local = vec![k, (k + 1) % 3];
             local.extend((0..factor as usize - 1).map(|s| edge_base + s));
             edge_base += factor as usize - 1;
@@ -168,9 +169,17 @@ fn shared_edges_get_equal_factors_and_identical_vertices() {
     let geo = pn_geometry(None);
     let mut r = common::renderer(&gpu, &geo, "cudatess", SIZE, options());
     let (mut shared, mut transitions) = (0, 0);
-    for name in ["icosphere", "torus", "pawn"] {
-        let g = pn_geometry(Some(name));
-        r.set_geometry(&g, &bezier_subdiv::scene::file::SceneShading::default())
+    // Each model alone, then all of them after the teapot's patches (the
+    // triangles' records, scan entries and edges follow the patches').
+    let mut mixed = common::scene("teapot.toml").1;
+    mixed.pn = pn_geometry(None).pn;
+    for name in ["icosphere", "torus", "pawn", "teapot + all"] {
+        let g = if name == "teapot + all" {
+            mixed.clone()
+        } else {
+            pn_geometry(Some(name))
+        };
+        r.set_geometry(&g, &SceneShading::from_geometry(&g.patches))
             .unwrap();
         for cam in cameras(&g.pn) {
             let frame = render_frame(&mut r, &cam, 0.5, SHADE_NORMAL);
@@ -249,7 +258,7 @@ fn closed_pn_models_have_no_holes() {
     let mut r = common::renderer(&gpu, &geo, "cudatess", SIZE, options());
     for name in ["icosphere", "torus", "pawn"] {
         let g = pn_geometry(Some(name));
-        r.set_geometry(&g, &bezier_subdiv::scene::file::SceneShading::default())
+        r.set_geometry(&g, &SceneShading::from_geometry(&g.patches))
             .unwrap();
         for (k, cam) in cameras(&g.pn).iter().enumerate() {
             let reference = image(&mut r, cam, 1e-4);
