@@ -27,22 +27,6 @@ void write_vertex(uint at, vec3 p, vec2 uv, uint word) {
     ct_vertices[o + 5u] = word;
 }
 
-// The cubic at (u, v).
-vec3 pn_eval(uint tri, vec2 uv) {
-    float u = uv.x;
-    float v = uv.y;
-    float w = 1.0 - u - v;
-    vec3 b[10];
-    for (uint k = 0u; k < 10u; ++k) {
-        b[k] = pn_point(tri, k);
-    }
-    return b[0] * (w * w * w) + b[1] * (u * u * u) + b[2] * (v * v * v)
-        + (b[3] * (w * w * u) + b[4] * (w * u * u)) * 3.0
-        + (b[5] * (u * u * v) + b[6] * (u * v * v)) * 3.0
-        + (b[7] * (v * v * w) + b[8] * (v * w * w)) * 3.0
-        + b[9] * (6.0 * w * u * v);
-}
-
 uint with_transition(uint word, bool transition) {
     return word | ((transition ? 1u : 0u) << CT_TRANSITION_SHIFT);
 }

@@ -80,6 +80,22 @@ vec3 pn_point(uint tri, uint k) {
     return pn_nets[tri * CT_PN_NET_VEC4 + k].xyz;
 }
 
+// The cubic at (u, v).
+vec3 pn_eval(uint tri, vec2 uv) {
+    float u = uv.x;
+    float v = uv.y;
+    float w = 1.0 - u - v;
+    vec3 b[10];
+    for (uint k = 0u; k < 10u; ++k) {
+        b[k] = pn_point(tri, k);
+    }
+    return b[0] * (w * w * w) + b[1] * (u * u * u) + b[2] * (v * v * v)
+        + (b[3] * (w * w * u) + b[4] * (w * u * u)) * 3.0
+        + (b[5] * (u * u * v) + b[6] * (u * v * v)) * 3.0
+        + (b[7] * (v * v * w) + b[8] * (v * w * w)) * 3.0
+        + b[9] * (6.0 * w * u * v);
+}
+
 // The unnormalised normal field of triangle `tri` at (u, v) (Vlachos's sum,
 // no binomial weights on the mixed terms).
 vec3 pn_normal(uint tri, vec2 uv) {
