@@ -31,9 +31,9 @@
 //! [[model]]
 //! name = "teapot"
 //! file = "models/teapot.bpt"  # .bpt or Catmull–Clark .obj, relative to this file
-//! surface = "pn-triangles"    # .obj only: draw the mesh's triangles as PN
-//!                             # triangles (cudatess only; quads and n-gons are
-//!                             # fanned); default "cage" (Catmull–Clark)
+//! surface = "pn-triangles"    # .obj only: the mesh's triangles as PN triangles
+//!                             # (quads, n-gons fanned; drawn by cudatess and
+//!                             # ground-truth); default "cage" (Catmull–Clark)
 //! two_sided = true            # open or thin models: never back-face culled
 //! boundary = "edge-only"      # cages without a `t interpolateboundary` tag:
 //!                             # none | edge-only | edge-and-corner (default)
