@@ -187,6 +187,8 @@ pub struct CtPush {
     pub pass: u32,
     /// PN triangles (their records and scan entries follow the patches').
     pub tri_count: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
 }
 gpu_block!(
     CtPush,
@@ -200,7 +202,8 @@ gpu_block!(
         scan_count,
         scan_sums,
         pass,
-        tri_count
+        tri_count,
+        pad
     ]
 );
 

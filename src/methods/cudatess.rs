@@ -437,6 +437,7 @@ impl CudaTess {
             scan_sums: scan::NO_SUMS,
             pass: 0,
             tri_count: s.tris,
+            pad: [0; 3],
         };
         let per_patch = Self::groups(ctx, s.patches, CT_GROUP_SIZE);
         let per_tri = Self::groups(ctx, s.tris, CT_GROUP_SIZE);
