@@ -323,6 +323,18 @@ impl Scene {
                 warnings: model.warnings.clone(),
             });
         }
+        // cudatess's vertex word holds the triangle id in CT_PATCH_BITS.
+        let most = 1u64 << crate::constants::CT_PATCH_BITS;
+        if u64::from(geo.pn.count()) > most {
+            return Err(SceneError::invalid(
+                &self.path,
+                format!(
+                    "the scene has {} PN triangles; at most {} can be drawn",
+                    thousands(u64::from(geo.pn.count())),
+                    thousands(most)
+                ),
+            ));
+        }
         geo.pn.number_edges();
         Ok((geo, shading))
     }
