@@ -11,7 +11,7 @@
 layout(local_size_x = 1) in;
 
 void main() {
-    uvec2 total = ct_scan[ct.patch_count];
+    uvec2 total = ct_scan[ct.patch_count + ct.tri_count];
     ct_counters[CT_VERTEX_TOTAL] = total.x;
     ct_counters[CT_INDEX_TOTAL] = total.y;
     uint err = (total.x > ct.vertex_capacity ? CT_ERR_VERTICES_FULL : 0u)

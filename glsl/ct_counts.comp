@@ -32,7 +32,8 @@ void process(uint id) {
 
 void main() {
     if (gl_GlobalInvocationID.x == 0u) {
-        ct_scan[ct.patch_count] = uvec2(0u);
+        // After the PN triangles' entries (ct_pn_counts.comp), if any.
+        ct_scan[ct.patch_count + ct.tri_count] = uvec2(0u);
     }
     uint stride = gl_NumWorkGroups.x * CT_GROUP_SIZE;
     for (uint id = gl_GlobalInvocationID.x; id < ct.patch_count; id += stride) {

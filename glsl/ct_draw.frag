@@ -1,11 +1,15 @@
 // cudatess's fragment stage: draw_vert.frag's shading, with rational
 // patches lit and keyed by their own rational normal (SHADE_RATIONAL in
 // common/shade.glsl); polynomial patches get exactly the shading of every
-// other method (the shading patches at the base patch's (u, v)).
+// other method (the shading patches at the base patch's (u, v)); PN
+// triangles are lit with their quadratic normal field (SHADE_PN).
 #version 460
 
 #define SHADE_RATIONAL
+#define SHADE_PN
+#define CT_ACCESS readonly
 #include "common/scene.glsl"
+#include "common/pn.glsl"
 #include "common/draw.glsl"
 #include "common/shade.glsl"
 

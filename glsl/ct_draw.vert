@@ -24,7 +24,8 @@ void main() {
     gl_Position = clip_position(p);
     out_world = p;
     out_uv = vec2(uintBitsToFloat(ct_vertices[o + 3u]), uintBitsToFloat(ct_vertices[o + 4u]));
-    out_patch = word & ((1u << CT_PATCH_BITS) - 1u);
+    // A PN triangle's id keeps its CT_PN_SHIFT bit (shade.glsl's SHADE_PN).
+    out_patch = word & (((1u << CT_PATCH_BITS) - 1u) | (1u << CT_PN_SHIFT));
     out_depth = (word >> CT_DEPTH_SHIFT) & 15u;
     out_wedge = (word >> CT_TRANSITION_SHIFT) & 1u;
 }

@@ -270,7 +270,19 @@ shared_constants! {
         BIND_CT_SCAN = 4;
         BIND_CT_VERTICES = 5;
         BIND_CT_INDICES = 6;
-        CT_BINDINGS = 7;
+        BIND_CT_PN_VERTICES = 7;
+        BIND_CT_PN_TRIANGLES = 8;
+        BIND_CT_PN_EDGE_IDS = 9;
+        BIND_CT_PN_NETS = 10;
+        CT_BINDINGS = 11;
+    }
+    /// cudatess PN triangles (src/scene/pn.rs, glsl/common/pn.glsl): a vertex
+    /// word with bit CT_PN_SHIFT set belongs to PN triangle (low
+    /// CT_PATCH_BITS) rather than a patch; a triangle's converted net is
+    /// CT_PN_NET_VEC4 vec4s (10 points, 6 normal coefficients).
+    group {
+        CT_PN_SHIFT = 29;
+        CT_PN_NET_VEC4 = 16;
     }
     /// Words of the cudatess counters: patches culled (frustum), error bits,
     /// the totals the scan found (vertices, indices), the largest factor,

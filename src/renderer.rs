@@ -145,15 +145,7 @@ impl Renderer {
     ) -> Result<Self, RenderError> {
         let n = options.frames_in_flight.max(1);
         let scene_layout = SceneLayout::new(&ctx)?;
-        let scene = SceneGpu::with_weights(
-            &ctx,
-            &scene_layout,
-            &geo.patches,
-            &geo.flags,
-            &shading.patches,
-            &geo.weights,
-            n,
-        )?;
+        let scene = SceneGpu::for_geometry(&ctx, &scene_layout, geo, shading, n)?;
         let (w, h) = options.size;
         let target =
             DrawTarget::with_samples(&ctx, w, h, options.background, options.methods.samples)?;
@@ -205,6 +197,7 @@ impl Renderer {
     pub fn set_method(&mut self, name: &str) -> Result<(), RenderError> {
         let info = methods::find(name)?;
         methods::check_rational(info, &self.scene)?;
+        methods::check_pn(info, &self.scene)?;
         if let Some(i) = self.methods.iter().position(|m| m.name() == info.name) {
             self.active = i;
             return Ok(());
@@ -323,16 +316,15 @@ impl Renderer {
         geo: &SceneGeometry,
         shading: &SceneShading,
     ) -> Result<(), RenderError> {
-        let scene = SceneGpu::with_weights(
+        let scene = SceneGpu::for_geometry(
             &self.ctx,
             &self.scene_layout,
-            &geo.patches,
-            &geo.flags,
-            &shading.patches,
-            &geo.weights,
+            geo,
+            shading,
             self.frames.len(),
         )?;
         methods::check_rational(methods::find(self.method().name())?, &scene)?;
+        methods::check_pn(methods::find(self.method().name())?, &scene)?;
         self.frames.wait_all()?;
         self.scene = scene;
         Ok(())

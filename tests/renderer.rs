@@ -198,6 +198,7 @@ fn failed_scene_replacement_leaves_the_old_one() {
         flags: vec![0; 3],
         models: Vec::new(),
         weights: Vec::new(),
+        ..Default::default()
     };
     let shading = SceneShading::from_geometry(&geo.patches);
     let err = r.set_geometry(&bad, &shading).err().unwrap();

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use bezier_subdiv::commands::stats::{self, StatsArgs};
-use bezier_subdiv::patch::oracle::subdivide_parallel;
+use bezier_subdiv::patch::oracle::subdivide_parallel_weighted;
 use bezier_subdiv::raster::PreviewShade;
 use bezier_subdiv::scene::file::{Scene, SceneGeometry, PATCH_MODEL_SHIFT};
 
@@ -15,7 +15,12 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("teapot.toml", 32, 4),
     ("kitchen.toml", 35_940, 7),
     ("cages.toml", 577, 4),
+    ("rational.toml", 56, 3),
 ];
+
+/// Scenes of PN triangles alone (no patches: only cudatess draws them),
+/// tested by their own files (tests/pn.rs) instead of the loops here.
+const PN_SCENES: &[&str] = &["pn.toml"];
 
 /// Small viewport: enough for the culling and criterion to act, fast.
 const SIZE: (u32, u32) = (320, 180);
@@ -42,6 +47,7 @@ fn every_scene_file_is_listed_here() {
         .collect();
     found.sort();
     let mut listed: Vec<String> = SCENES.iter().map(|s| s.0.to_string()).collect();
+    listed.extend(PN_SCENES.iter().map(|s| s.to_string()));
     listed.sort();
     assert_eq!(
         found, listed,
@@ -134,7 +140,7 @@ fn every_keyframe_sees_something() {
             cam.check()
                 .unwrap_or_else(|e| panic!("{name} frame {k}: {e}"));
             let vp = cam.view_params(SIZE.0, SIZE.1, scene.view.eps, scene.view.lambda);
-            let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
+            let res = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, 2);
             assert!(res.stats.ready_quads > 0, "{name} frame {k} draws nothing");
         }
     }
@@ -146,7 +152,7 @@ fn frame_zero_draws_every_model() {
         let (scene, geo) = load(name);
         let cam = scene.frame_camera(0).unwrap();
         let vp = cam.view_params(SIZE.0, SIZE.1, scene.view.eps, scene.view.lambda);
-        let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
+        let res = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, 2);
         let mut per_model = vec![0u64; geo.models.len()];
         for q in &res.ready {
             per_model[(geo.flags[q.patch as usize] >> PATCH_MODEL_SHIFT) as usize] += 1;

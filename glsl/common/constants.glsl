@@ -148,7 +148,18 @@ const uint BIND_CT_PATCHES = 3;
 const uint BIND_CT_SCAN = 4;
 const uint BIND_CT_VERTICES = 5;
 const uint BIND_CT_INDICES = 6;
-const uint CT_BINDINGS = 7;
+const uint BIND_CT_PN_VERTICES = 7;
+const uint BIND_CT_PN_TRIANGLES = 8;
+const uint BIND_CT_PN_EDGE_IDS = 9;
+const uint BIND_CT_PN_NETS = 10;
+const uint CT_BINDINGS = 11;
+
+// cudatess PN triangles (src/scene/pn.rs, glsl/common/pn.glsl): a vertex
+// word with bit CT_PN_SHIFT set belongs to PN triangle (low
+// CT_PATCH_BITS) rather than a patch; a triangle's converted net is
+// CT_PN_NET_VEC4 vec4s (10 points, 6 normal coefficients).
+const uint CT_PN_SHIFT = 29;
+const uint CT_PN_NET_VEC4 = 16;
 
 // Words of the cudatess counters: patches culled (frustum), error bits,
 // the totals the scan found (vertices, indices), the largest factor,

@@ -14,6 +14,10 @@ layout(push_constant) uniform CtPush {
     uint scan_count;       // scan: entries in the level
     uint scan_sums;        // scan: the next level's first entry (block sums), or ~0u
     uint pass;             // scan: CT_SCAN_PASS_*
+    uint tri_count;        // PN triangles (records and scan entries after the patches')
+    uint pad0;
+    uint pad1;
+    uint pad2;
 } ct;
 
 #endif

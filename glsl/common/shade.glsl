@@ -12,6 +12,28 @@
 #ifdef SHADE_RATIONAL
 #include "rational.glsl"
 #endif
+// A shader that draws cudatess's PN triangles defines SHADE_PN (and
+// includes pn.glsl) before this include: a patch id with bit CT_PN_SHIFT
+// set is then a PN triangle, lit and keyed with its quadratic normal field.
+#ifdef SHADE_PN
+bool shade_is_pn(uint patch_id) {
+    return (patch_id & (1u << CT_PN_SHIFT)) != 0u;
+}
+
+uint shade_pn_triangle(uint patch_id) {
+    return patch_id & ((1u << CT_PATCH_BITS) - 1u);
+}
+#endif
+
+// The flags word (model index, two-sided) of the patch or PN triangle.
+uint shade_flags(uint patch_id) {
+#ifdef SHADE_PN
+    if (shade_is_pn(patch_id)) {
+        return pn_flags(shade_pn_triangle(patch_id));
+    }
+#endif
+    return patch_flags[patch_id];
+}
 
 // Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT, wraps).
 const vec3 PALETTE[8] = vec3[8](
@@ -71,6 +93,11 @@ vec3 facing_normal(vec3 n, vec3 to_eye, bool front, bool wedge) {
 // patch's own, which jump across patch edges next to extraordinary
 // vertices.
 vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge) {
+#ifdef SHADE_PN
+    if (shade_is_pn(patch_id)) {
+        return facing_normal(pn_normal(shade_pn_triangle(patch_id), uv), to_eye, front, wedge);
+    }
+#endif
 #ifdef SHADE_RATIONAL
     if (patch_is_rational(patch_id)) {
         return facing_normal(rational_patch_normal(patch_id, uv.x, uv.y), to_eye, front, wedge);
@@ -83,6 +110,11 @@ vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge)
 // direction where it vanishes): which side of the surface is seen, for the
 // hole test's key colours.
 vec3 surface_normal(uint patch_id, vec2 uv, vec3 to_eye) {
+#ifdef SHADE_PN
+    if (shade_is_pn(patch_id)) {
+        return facing_normal(pn_normal(shade_pn_triangle(patch_id), uv), to_eye, true, false);
+    }
+#endif
 #ifdef SHADE_RATIONAL
     if (patch_is_rational(patch_id)) {
         return facing_normal(rational_patch_normal(patch_id, uv.x, uv.y), to_eye, true, false);
@@ -167,7 +199,7 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
         return vec4(c, 1.0);
     }
     // SHADE_NORMAL: Lambert + ambient + a little Blinn-Phong.
-    vec3 base = PALETTE[(patch_flags[patch_id] >> PATCH_MODEL_SHIFT) & 7u];
+    vec3 base = PALETTE[(shade_flags(patch_id) >> PATCH_MODEL_SHIFT) & 7u];
     vec3 l = pc.light_dir.xyz;
     l = dot(l, l) > 0.0 ? normalize(l) : to_eye;
     vec3 h = l + to_eye;

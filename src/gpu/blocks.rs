@@ -185,6 +185,10 @@ pub struct CtPush {
     pub scan_sums: u32,
     /// Scan: `CT_SCAN_PASS_*`.
     pub pass: u32,
+    /// PN triangles (their records and scan entries follow the patches').
+    pub tri_count: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
 }
 gpu_block!(
     CtPush,
@@ -197,7 +201,9 @@ gpu_block!(
         scan_offset,
         scan_count,
         scan_sums,
-        pass
+        pass,
+        tri_count,
+        pad
     ]
 );
 

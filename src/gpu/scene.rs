@@ -18,6 +18,8 @@ use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
+use crate::scene::file::{SceneGeometry, SceneShading};
+use crate::scene::pn::PnScene;
 use crate::scene::shading::ShadingPatch;
 use crate::vk::{
     Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout, SetLayout,
@@ -116,6 +118,8 @@ pub struct SceneGpu {
     pub edges: EdgeTable,
     /// This upload's number (a new scene gets a new one).
     pub serial: u64,
+    /// The PN-triangle models (host copy: `cudatess` uploads what it needs).
+    pub pn: PnScene,
     /// `ViewParams` per frame slot, `view_stride` bytes apart.
     views: Buffer,
     view_stride: u64,
@@ -247,11 +251,46 @@ impl SceneGpu {
             rational_patches,
             edges,
             serial: SCENE_SERIAL.fetch_add(1, Ordering::Relaxed),
+            pn: PnScene::default(),
             views,
             view_stride,
             slots: slots.max(1),
             set,
         })
+    }
+
+    /// The scene of `geo` with `shading`: [`SceneGpu::with_weights`], and the
+    /// PN triangles beside the patches. A scene of PN triangles alone binds
+    /// one placeholder patch (buffers cannot be empty) and counts none.
+    pub fn for_geometry(
+        ctx: &Context,
+        layout: &SceneLayout,
+        geo: &SceneGeometry,
+        shading: &SceneShading,
+        slots: usize,
+    ) -> VkResult<Self> {
+        let mut scene = if geo.patches.is_empty() && geo.pn.count() > 0 {
+            let placeholder = [BezierPatch {
+                pts: [glam::Vec3::ZERO; 16],
+            }];
+            let shading = SceneShading::from_geometry(&placeholder);
+            let mut s = Self::new(ctx, layout, &placeholder, &[0], &shading.patches, slots)?;
+            s.count = 0;
+            s.edges = EdgeTable::default();
+            s
+        } else {
+            Self::with_weights(
+                ctx,
+                layout,
+                &geo.patches,
+                &geo.flags,
+                &shading.patches,
+                &geo.weights,
+                slots,
+            )?
+        };
+        scene.pn = geo.pn.clone();
+        Ok(scene)
     }
 
     /// Writes slot `slot`'s view constants (host-visible memory; the slot's

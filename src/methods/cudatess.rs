@@ -26,6 +26,15 @@
 //!    shared fragment shading (`ct_draw.frag`: rational patches lit with their
 //!    own normal).
 //!
+//! PN triangles (their §4; the scene's `surface = "pn-triangles"` models)
+//! run through the same stages with their own passes after the patches'
+//! (`ct_pn_factors.comp`: conversion to the cubic net and normal field,
+//! culling, Filip-bound factors per edge; `ct_pn_counts.comp`,
+//! `ct_pn_vertices.comp`, `ct_pn_indices.comp`; see `glsl/common/pn.glsl`):
+//! their records and scan entries follow the patches', the one scan and the
+//! one draw cover both, and the fragment stage lights them with their
+//! quadratic normal.
+//!
 //! The vertex and index buffers start small and are grown when a frame's
 //! totals do not fit ([`Finished::Redo`]). After a frame the per-patch
 //! records, offsets and the buffers stay readable for validation
@@ -41,6 +50,7 @@ use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError}
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{CtPush, DrawPush};
+use crate::scene::pn::PnScene;
 use crate::vk::{
     fill_buffer, memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet,
     MemoryLocation, Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
@@ -56,6 +66,67 @@ pub const INFO: MethodInfo = MethodInfo {
     build: |setup| Ok(Box::new(CudaTess::new(setup)?)),
 };
 
+/// The PN-triangle passes.
+struct PnPipelines {
+    factors: Pipeline,
+    counts: Pipeline,
+    vertices: Pipeline,
+    indices: Pipeline,
+}
+
+/// The scene's PN triangles on the GPU (one-element placeholders where the
+/// scene has none: a binding needs a buffer).
+struct PnBuffers {
+    vertices: Buffer,
+    triangles: Buffer,
+    edge_ids: Buffer,
+    nets: Buffer,
+}
+
+impl PnBuffers {
+    /// Uploads `pn`, its edge ids offset by `first_edge` (the patches'
+    /// edges come first in the edge factors).
+    fn new(ctx: &Context, pn: &PnScene, first_edge: u32) -> VkResult<Self> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let gpu = MemoryLocation::GpuOnly;
+        let mut vertices: Vec<[f32; 8]> = pn
+            .positions
+            .iter()
+            .zip(&pn.normals)
+            .map(|(p, n)| [p.x, p.y, p.z, 1.0, n.x, n.y, n.z, 0.0])
+            .collect();
+        let mut triangles: Vec<[u32; 4]> = pn
+            .triangles
+            .iter()
+            .zip(&pn.flags)
+            .map(|(t, &f)| [t[0], t[1], t[2], f])
+            .collect();
+        let mut edge_ids: Vec<[u32; 4]> = pn
+            .edge_ids
+            .iter()
+            .map(|e| [e[0] + first_edge, e[1] + first_edge, e[2] + first_edge, 0])
+            .collect();
+        if triangles.is_empty() {
+            vertices.push([0.0; 8]);
+            triangles.push([0; 4]);
+            edge_ids.push([0; 4]);
+        }
+        let nets = Buffer::new(
+            ctx,
+            "cudatess PN nets",
+            triangles.len() as u64 * u64::from(CT_PN_NET_VEC4) * 16,
+            storage,
+            gpu,
+        )?;
+        Ok(Self {
+            vertices: Buffer::with_data(ctx, "cudatess PN vertices", &vertices, storage, gpu)?,
+            triangles: Buffer::with_data(ctx, "cudatess PN triangles", &triangles, storage, gpu)?,
+            edge_ids: Buffer::with_data(ctx, "cudatess PN edge ids", &edge_ids, storage, gpu)?,
+            nets,
+        })
+    }
+}
+
 /// Vertices the vertex buffer holds at first (grown on demand).
 pub const INITIAL_VERTICES: u32 = 1 << 18;
 /// Indices the index buffer holds at first (grown on demand).
@@ -66,6 +137,9 @@ pub const INITIAL_INDICES: u32 = 1 << 20;
 struct SceneBuffers {
     serial: u64,
     patches: u32,
+    /// PN triangles (records and scan entries after the patches').
+    tris: u32,
+    pn: PnBuffers,
     edges: u32,
     edge_ids: Buffer,
     edge_factors: Buffer,
@@ -82,7 +156,10 @@ struct Outputs {
     index_capacity: u32,
 }
 
-/// One patch's record after a frame (`CT_REC_*`).
+/// One patch's record after a frame (`CT_REC_*`). A PN triangle's record
+/// (after the patches') has `own` = its largest and smallest own factor and
+/// `edges` = the final factors of its edges P0 → P1, P1 → P2, P2 → P0,
+/// then its core factor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PatchRecord {
     /// Its own factors along u and v (0, 0: culled).
@@ -114,21 +191,30 @@ pub struct CtVertex {
 }
 
 impl CtVertex {
-    /// The base patch.
+    /// The base patch (or PN triangle, see [`CtVertex::is_pn`]).
     pub fn patch(&self) -> u32 {
         self.word & ((1 << CT_PATCH_BITS) - 1)
+    }
+
+    /// Whether the vertex belongs to a PN triangle.
+    pub fn is_pn(&self) -> bool {
+        self.word & (1 << CT_PN_SHIFT) != 0
     }
 }
 
 /// What a frame left in the buffers, read back.
 #[derive(Clone, Debug, Default)]
 pub struct FrameData {
-    /// Per patch.
+    /// Per patch, then per PN triangle.
     pub records: Vec<PatchRecord>,
     /// Every vertex written.
     pub vertices: Vec<CtVertex>,
     /// Every index written (absolute).
     pub indices: Vec<u32>,
+    /// Per PN triangle, its converted net (`glsl/common/pn.glsl`: 10
+    /// points, 6 normal coefficients; a culled triangle's stays as the
+    /// conversion left it).
+    pub pn_nets: Vec<[[f32; 4]; 16]>,
 }
 
 /// The method.
@@ -143,6 +229,7 @@ pub struct CudaTess {
     vertices: Pipeline,
     indices: Pipeline,
     draw: Pipeline,
+    pn: PnPipelines,
     counters: Buffer,
     scene: Option<SceneBuffers>,
     outputs: Outputs,
@@ -180,6 +267,12 @@ impl CudaTess {
         let args = sh.compute(ctx, l, "cudatess args", "ct_args.comp")?;
         let vertices = sh.compute(ctx, l, "cudatess vertices", "ct_vertices.comp")?;
         let indices = sh.compute(ctx, l, "cudatess indices", "ct_indices.comp")?;
+        let pn = PnPipelines {
+            factors: sh.compute(ctx, l, "cudatess PN factors", "ct_pn_factors.comp")?,
+            counts: sh.compute(ctx, l, "cudatess PN counts", "ct_pn_counts.comp")?,
+            vertices: sh.compute(ctx, l, "cudatess PN vertices", "ct_pn_vertices.comp")?,
+            indices: sh.compute(ctx, l, "cudatess PN indices", "ct_pn_indices.comp")?,
+        };
         let draw = sh.draw_pipeline(
             ctx,
             &draw_layout,
@@ -212,6 +305,7 @@ impl CudaTess {
             vertices,
             indices,
             draw,
+            pn,
             counters,
             scene: None,
             outputs,
@@ -237,8 +331,16 @@ impl CudaTess {
         let gpu = MemoryLocation::GpuOnly;
         let patches = f.scene.count;
         let table = &f.scene.edges;
-        let edge_ids = Buffer::with_data(ctx, "cudatess edge table", &table.ids, storage, gpu)?;
-        let edges = table.count.max(1);
+        // A scene of PN triangles alone has no patch sides: one placeholder.
+        let ids: &[[u32; 4]] = if table.ids.is_empty() {
+            &[[0; 4]]
+        } else {
+            &table.ids
+        };
+        let edge_ids = Buffer::with_data(ctx, "cudatess edge table", ids, storage, gpu)?;
+        let tris = f.scene.pn.count();
+        let pn = PnBuffers::new(ctx, &f.scene.pn, table.count)?;
+        let edges = (table.count + f.scene.pn.edges).max(1);
         let edge_factors = Buffer::new(
             ctx,
             "cudatess edge factors",
@@ -249,11 +351,11 @@ impl CudaTess {
         let records = Buffer::new(
             ctx,
             "cudatess patch records",
-            u64::from(patches) * u64::from(CT_PATCH_WORDS) * 4,
+            u64::from((patches + tris).max(1)) * u64::from(CT_PATCH_WORDS) * 4,
             storage,
             gpu,
         )?;
-        let plan = ScanPlan::new(patches + 1);
+        let plan = ScanPlan::new(patches + tris + 1);
         let scan = Buffer::new(
             ctx,
             "cudatess scan",
@@ -264,6 +366,8 @@ impl CudaTess {
         let new = SceneBuffers {
             serial: f.scene.serial,
             patches,
+            tris,
+            pn,
             edges,
             edge_ids,
             edge_factors,
@@ -296,6 +400,10 @@ impl CudaTess {
         bound[BIND_CT_SCAN as usize] = (&s.scan).into();
         bound[BIND_CT_VERTICES as usize] = (&self.outputs.vertices).into();
         bound[BIND_CT_INDICES as usize] = (&self.outputs.indices).into();
+        bound[BIND_CT_PN_VERTICES as usize] = (&s.pn.vertices).into();
+        bound[BIND_CT_PN_TRIANGLES as usize] = (&s.pn.triangles).into();
+        bound[BIND_CT_PN_EDGE_IDS as usize] = (&s.pn.edge_ids).into();
+        bound[BIND_CT_PN_NETS as usize] = (&s.pn.nets).into();
         self.set = Some(DescriptorSet::new(
             ctx,
             "cudatess set",
@@ -336,21 +444,35 @@ impl CudaTess {
             scan_count: 0,
             scan_sums: scan::NO_SUMS,
             pass: 0,
+            tri_count: s.tris,
+            pad: [0; 3],
         };
         let per_patch = Self::groups(ctx, s.patches, CT_GROUP_SIZE);
+        let per_tri = Self::groups(ctx, s.tris, CT_GROUP_SIZE);
+        // The PN pass `pipeline` after a patch pass, where there are
+        // triangles (a scene without them records exactly what it did).
+        let pn_pass = |f: &mut FrameRec<'_>, pipeline: &Pipeline, groups: u32| -> VkResult<()> {
+            if s.tris > 0 {
+                self.bind_compute(f, pipeline, set)?;
+                self.compute_layout.push_block(f.cmd, &push)?;
+                unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
+            }
+            Ok(())
+        };
         let between =
             || memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
         f.scoped("factors", |f| {
             self.bind_compute(f, &self.factors, set)?;
             self.compute_layout.push_block(f.cmd, &push)?;
             unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
-            Ok(())
+            pn_pass(f, &self.pn.factors, per_tri)
         })?;
         between();
         f.scoped("scan", |f| {
             self.bind_compute(f, &self.counts, set)?;
             self.compute_layout.push_block(f.cmd, &push)?;
             unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
+            pn_pass(f, &self.pn.counts, per_tri)?;
             self.bind_compute(f, &self.scan, set)?;
             s.plan.record(f.ctx, f.cmd, &self.compute_layout, push)?;
             memory_barrier(
@@ -366,17 +488,18 @@ impl CudaTess {
         })?;
         between();
         let vertex_groups = Self::groups(ctx, s.patches, CT_GROUP_SIZE / CT_VERTEX_THREADS);
+        let tri_vertex_groups = Self::groups(ctx, s.tris, CT_GROUP_SIZE / CT_VERTEX_THREADS);
         f.scoped("vertices", |f| {
             self.bind_compute(f, &self.vertices, set)?;
             self.compute_layout.push_block(f.cmd, &push)?;
             unsafe { f.ctx.device().cmd_dispatch(f.cmd, vertex_groups, 1, 1) };
-            Ok(())
+            pn_pass(f, &self.pn.vertices, tri_vertex_groups)
         })?;
         f.scoped("indices", |f| {
             self.bind_compute(f, &self.indices, set)?;
             self.compute_layout.push_block(f.cmd, &push)?;
             unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
-            Ok(())
+            pn_pass(f, &self.pn.indices, per_tri)
         })?;
         memory_barrier(
             ctx,
@@ -453,7 +576,7 @@ impl CudaTess {
         let w = CT_PATCH_WORDS as usize;
         let records = words
             .chunks_exact(w)
-            .take(s.patches as usize)
+            .take((s.patches + s.tris) as usize)
             .zip(&scan)
             .map(|(r, o)| PatchRecord {
                 own: [r[CT_REC_M as usize], r[CT_REC_N as usize]],
@@ -476,10 +599,13 @@ impl CudaTess {
             .collect();
         let mut indices: Vec<u32> = self.outputs.indices.read(ctx)?;
         indices.truncate(ni);
+        let mut pn_nets: Vec<[[f32; 4]; 16]> = s.pn.nets.read(ctx)?;
+        pn_nets.truncate(s.tris as usize);
         Ok(FrameData {
             records,
             vertices,
             indices,
+            pn_nets,
         })
     }
 
@@ -604,7 +730,10 @@ impl Method for CudaTess {
             own: vec![
                 (
                     "tessellated_patches",
-                    json!(u64::from(patches).saturating_sub(culled + backface)),
+                    json!(
+                        u64::from(patches + self.scene.as_ref().map_or(0, |s| s.tris))
+                            .saturating_sub(culled + backface)
+                    ),
                 ),
                 ("backface_culled_patches", json!(backface)),
                 ("vertices", json!(nv)),
@@ -612,6 +741,10 @@ impl Method for CudaTess {
                 ("largest_factor", json!(at(CT_MAX_FACTOR_SEEN))),
                 ("max_factor", json!(CT_MAX_FACTOR)),
                 ("edges", json!(self.scene.as_ref().map_or(0, |s| s.edges))),
+                (
+                    "pn_triangles",
+                    json!(self.scene.as_ref().map_or(0, |s| s.tris)),
+                ),
                 ("forward_differencing", json!(self.forward_differencing)),
                 ("vertex_capacity", json!(self.outputs.vertex_capacity)),
                 ("index_capacity", json!(self.outputs.index_capacity)),
@@ -636,6 +769,12 @@ impl Method for CudaTess {
             v.push(("edge_factors", s.edge_factors.size()));
             v.push(("patch_records", s.records.size()));
             v.push(("scan", s.scan.size()));
+            if s.tris > 0 {
+                let pn = &s.pn;
+                let input = pn.vertices.size() + pn.triangles.size() + pn.edge_ids.size();
+                v.push(("pn_input", input));
+                v.push(("pn_nets", pn.nets.size()));
+            }
         }
         v.push(("vertex_buffer", self.outputs.vertices.size()));
         v.push(("index_buffer", self.outputs.indices.size()));

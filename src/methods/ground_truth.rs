@@ -21,6 +21,11 @@
 //! Cost: 2·grid² triangles per visible patch (8,192 at 64). On lavapipe a
 //! 1920×1080 kitchen frame (~32,000 visible patches, 2.6·10⁸ triangles)
 //! takes a while; `--grid 16` gives a coarser reference quickly.
+//!
+//! PN triangles ([`pn`]) are drawn in the same pass as uniform triangular
+//! grids of the same size (grid² triangles each), not culled.
+
+pub mod pn;
 
 use ash::vk;
 use serde_json::json;
@@ -104,6 +109,7 @@ pub struct GroundTruth {
     draw_layout: PipelineLayout,
     cull: Pipeline,
     draw: Pipeline,
+    pn: pn::GroundTruthPn,
     copied: Option<CopyRange>,
 }
 
@@ -145,6 +151,7 @@ impl GroundTruth {
             ],
         )?;
         let indices = grid_index_buffer(ctx, grid)?;
+        let pn = pn::GroundTruthPn::new(setup, grid)?;
         let counters = Buffer::new(
             ctx,
             "grid counters",
@@ -162,6 +169,7 @@ impl GroundTruth {
             draw_layout,
             cull,
             draw,
+            pn,
             copied: None,
         })
     }
@@ -169,7 +177,8 @@ impl GroundTruth {
     /// The visible list for `patches` patches, made (or remade larger) on
     /// demand; a replaced one is retired.
     fn ensure_visible(&mut self, f: &mut FrameRec<'_>) -> VkResult<()> {
-        let need = f.scene.count;
+        // A scene of PN triangles alone still binds a (one-entry) list.
+        let need = f.scene.count.max(1);
         if self.visible.as_ref().is_some_and(|v| v.capacity >= need) {
             return Ok(());
         }
@@ -275,6 +284,7 @@ impl GroundTruth {
                     );
                 }
             }
+            let pushed = pushed.and_then(|_| self.pn.record(f, &pc));
             f.target.end(ctx, cmd);
             pushed
         })
@@ -297,6 +307,7 @@ impl Method for GroundTruth {
             .as_ref()
             .ok_or_else(|| VkError::Usage("no visible list".into()))?;
         self.record_cull(f, visible)?;
+        self.pn.prepare(f)?;
         self.record_draw(f, visible)?;
         self.copied = Some(f.copy_out(&self.counters, GRID_WORDS)?);
         Ok(())
@@ -312,6 +323,9 @@ impl Method for GroundTruth {
             check_grid(grid).map_err(RenderError::Request)?;
             let indices = grid_index_buffer(setup.ctx, grid)?;
             retired.push(std::mem::replace(&mut self.indices, indices));
+            if let Some(old) = self.pn.set_grid(setup.ctx, grid)? {
+                retired.push(old);
+            }
             self.grid = grid;
         }
         Ok(true)
@@ -326,11 +340,12 @@ impl Method for GroundTruth {
         let culled = u64::from(words[G_CULLED as usize]);
         let per_patch = 2 * u64::from(self.grid) * u64::from(self.grid);
         Ok(Finished::Done(MethodStats {
-            triangles: visible * per_patch,
+            triangles: visible * per_patch + self.pn.triangles(),
             culled_patches: culled,
             own: vec![
                 ("grid", json!(self.grid)),
                 ("visible_patches", json!(visible)),
+                ("pn_triangles", json!(self.pn.triangles())),
             ],
         }))
     }
@@ -340,6 +355,9 @@ impl Method for GroundTruth {
             ("grid_indices", self.indices.size()),
             ("counters", self.counters.size()),
         ];
+        if self.pn.triangles() > 0 {
+            v.push(("pn", self.pn.memory()));
+        }
         if let Some(vis) = &self.visible {
             v.push(("visible_list", vis.list.size()));
         }

@@ -277,6 +277,22 @@ pub fn check_rational(info: &MethodInfo, scene: &SceneGpu) -> Result<(), RenderE
     )))
 }
 
+/// Refuses to draw `scene` with method `info` when the scene has
+/// PN-triangle models (`surface = "pn-triangles"`), which only `cudatess`
+/// tessellates (and `ground-truth` draws as uniform grids, the reference).
+pub fn check_pn(info: &MethodInfo, scene: &SceneGpu) -> Result<(), RenderError> {
+    let able = [cudatess::INFO.name, ground_truth::INFO.name];
+    if able.contains(&info.name) || scene.pn.count() == 0 {
+        return Ok(());
+    }
+    Err(RenderError::Request(format!(
+        "method `{}` cannot draw PN triangles, and the scene has {} of them \
+         (models with surface = \"pn-triangles\"); use cudatess (or ground-truth, the reference)",
+        info.name,
+        scene.pn.count()
+    )))
+}
+
 /// [`find`] over the registry `methods` and the reserved names `planned`.
 fn find_in<'a>(
     name: &str,

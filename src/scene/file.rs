@@ -30,10 +30,12 @@
 //! # up, fov_y_deg, near, far: as in [camera]
 //! [[model]]
 //! name = "teapot"
-//! file = "models/teapot.bpt"  # .bpt, rational .rbpt (only methods that take
-//!                             # rational patches draw it: cudatess,
-//!                             # ground-truth) or Catmull–Clark .obj,
-//!                             # relative to this file
+//! file = "models/teapot.bpt"  # .bpt, rational .rbpt (weights per point;
+//!                             # drawn by every method but tess and
+//!                             # tess-reparam) or .obj, relative to this file
+//! surface = "pn-triangles"    # .obj only: the mesh's triangles as PN triangles
+//!                             # (quads, n-gons fanned; drawn by cudatess and
+//!                             # ground-truth); default "cage" (Catmull–Clark)
 //! two_sided = true            # open or thin models: never back-face culled
 //! boundary = "edge-only"      # cages without a `t interpolateboundary` tag:
 //!                             # none | edge-only | edge-and-corner (default)
@@ -139,7 +141,20 @@ struct ModelToml {
     two_sided: bool,
     boundary: Option<BoundaryRule>,
     #[serde(default)]
+    surface: Surface,
+    #[serde(default)]
     instance: Vec<InstanceToml>,
+}
+
+/// What a model file's faces are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Surface {
+    /// A Catmull–Clark cage (or a patch file).
+    #[default]
+    Cage,
+    /// A triangle mesh drawn as PN triangles ([`super::pn`]).
+    PnTriangles,
 }
 
 #[derive(Deserialize)]
@@ -185,6 +200,8 @@ pub struct ModelDesc {
     pub two_sided: bool,
     /// Choices for a cage the file does not make itself.
     pub options: CageOptions,
+    /// A cage or PN triangles.
+    pub surface: Surface,
     /// Object → world transforms.
     pub instances: Vec<DMat4>,
 }
@@ -292,6 +309,7 @@ impl Scene {
                 options: CageOptions {
                     boundary: m.boundary,
                 },
+                surface: m.surface,
                 instances,
             });
         }

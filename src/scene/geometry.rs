@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 
 use glam::DMat4;
 
-use super::file::{ModelDesc, Scene, MAX_COORD, PATCH_MODEL_SHIFT};
+use super::file::{ModelDesc, Scene, Surface, MAX_COORD, PATCH_MODEL_SHIFT};
 use super::obj::CageOptions;
+use super::pn::{self, PnMesh, PnScene};
 use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
 use super::{bpt, obj, ImportedModel, SceneError};
 use crate::constants::PATCH_RATIONAL;
@@ -54,6 +55,9 @@ pub struct SceneGeometry {
     /// rational (has a weight other than 1); empty otherwise, which is how
     /// every polynomial scene stays exactly what it was.
     pub weights: Vec<Weights>,
+    /// The PN-triangle models' triangles in world space (`surface =
+    /// "pn-triangles"`), beside the patches; empty for most scenes.
+    pub pn: PnScene,
 }
 
 impl SceneGeometry {
@@ -85,6 +89,7 @@ impl SceneGeometry {
             flags: self.flags[range].to_vec(),
             models: vec![model],
             weights,
+            pn: PnScene::default(),
         };
         if !geo.is_rational() {
             geo.weights.clear();
@@ -189,9 +194,31 @@ impl Scene {
             model: m.name.clone(),
             msg,
         };
-        let mut cache: HashMap<(PathBuf, CageOptions), ImportedModel> = HashMap::new();
+        let mut cache: HashMap<(PathBuf, CageOptions, Surface), ImportedModel> = HashMap::new();
+        let mut meshes: HashMap<PathBuf, PnMesh> = HashMap::new();
+        for m in self
+            .models
+            .iter()
+            .filter(|m| m.surface == Surface::PnTriangles)
+        {
+            if !meshes.contains_key(&m.file) {
+                let mesh = pn::read(&m.file).map_err(|e| model_error(m, e.to_string()))?;
+                meshes.insert(m.file.clone(), mesh);
+            }
+        }
+        // PN-triangle models hold no patches: they stand as empty imports.
+        for m in self
+            .models
+            .iter()
+            .filter(|m| m.surface == Surface::PnTriangles)
+        {
+            cache.insert(
+                (m.file.clone(), m.options, m.surface),
+                ImportedModel::default(),
+            );
+        }
         for m in &self.models {
-            let key = (m.file.clone(), m.options);
+            let key = (m.file.clone(), m.options, m.surface);
             if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(key) {
                 let model = load_model_with(&m.file, &m.options)
                     .map_err(|e| model_error(m, e.to_string()))?;
@@ -203,7 +230,8 @@ impl Scene {
             .models
             .iter()
             .map(|m| {
-                cache[&(m.file.clone(), m.options)].patches.len() as u64 * m.instances.len() as u64
+                cache[&(m.file.clone(), m.options, m.surface)].patches.len() as u64
+                    * m.instances.len() as u64
             })
             .fold(0, u64::saturating_add);
         if total > MAX_BASE_PATCHES {
@@ -221,11 +249,11 @@ impl Scene {
         let mut geo = SceneGeometry::default();
         let mut shading = SceneShading::default();
         let rational = self.models.iter().any(|m| {
-            let model = &cache[&(m.file.clone(), m.options)];
+            let model = &cache[&(m.file.clone(), m.options, m.surface)];
             !m.instances.is_empty() && model.weights.iter().any(|w| !is_polynomial(w))
         });
         for (index, m) in self.models.iter().enumerate() {
-            let model = &cache[&(m.file.clone(), m.options)];
+            let model = &cache[&(m.file.clone(), m.options, m.surface)];
             let flags =
                 (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
             let tangents = if with_shading {
@@ -265,6 +293,27 @@ impl Scene {
                     }
                 }
             }
+            if let Some(mesh) = meshes
+                .get(&m.file)
+                .filter(|_| m.surface == Surface::PnTriangles)
+            {
+                for xf in &m.instances {
+                    let w = mesh.transformed(xf);
+                    if !w
+                        .positions
+                        .iter()
+                        .all(|q| q.abs().max_element() <= MAX_COORD)
+                    {
+                        return Err(model_error(
+                            m,
+                            format!(
+                                "a transformed vertex exceeds ±{MAX_COORD} (scale the scene down)"
+                            ),
+                        ));
+                    }
+                    geo.pn.push(&w, flags);
+                }
+            }
             geo.models.push(ModelSummary {
                 name: m.name.clone(),
                 file: m.file.clone(),
@@ -274,6 +323,19 @@ impl Scene {
                 warnings: model.warnings.clone(),
             });
         }
+        // cudatess's vertex word holds the triangle id in CT_PATCH_BITS.
+        let most = 1u64 << crate::constants::CT_PATCH_BITS;
+        if u64::from(geo.pn.count()) > most {
+            return Err(SceneError::invalid(
+                &self.path,
+                format!(
+                    "the scene has {} PN triangles; at most {} can be drawn",
+                    thousands(u64::from(geo.pn.count())),
+                    thousands(most)
+                ),
+            ));
+        }
+        geo.pn.number_edges();
         Ok((geo, shading))
     }
 }

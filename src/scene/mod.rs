@@ -10,6 +10,7 @@ pub mod file;
 pub mod geometry;
 pub mod obj;
 pub mod orbit;
+pub mod pn;
 pub mod refine;
 pub mod shading;
 pub mod sharpness;

@@ -170,11 +170,14 @@ impl ScenePath {
             return ScenePath::Keys(Box::new(scene.clone()));
         }
         let (mut lo, mut hi) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
-        for q in geo.patches.iter().flat_map(|p| p.pts.iter()) {
+        // PN triangles' vertices count too (their nets bulge a little past
+        // them, well within the orbit's margin).
+        let pn = geo.pn.positions.iter();
+        for q in geo.patches.iter().flat_map(|p| p.pts.iter()).chain(pn) {
             lo = lo.min(q.as_dvec3());
             hi = hi.max(q.as_dvec3());
         }
-        if geo.patches.is_empty() {
+        if geo.patches.is_empty() && geo.pn.positions.is_empty() {
             (lo, hi) = (DVec3::ZERO, DVec3::ZERO);
         }
         ScenePath::Orbit {

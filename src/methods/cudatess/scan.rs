@@ -112,7 +112,10 @@ pub fn set_layout(ctx: &Context) -> VkResult<SetLayout> {
         ctx,
         "cudatess set",
         CT_BINDINGS as usize,
-        vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::VERTEX,
+        // The fragment stage reads the PN triangles' normal fields.
+        vk::ShaderStageFlags::COMPUTE
+            | vk::ShaderStageFlags::VERTEX
+            | vk::ShaderStageFlags::FRAGMENT,
     )
 }
 
