@@ -195,7 +195,6 @@ void plan_donation() {
     uint m = count > keep ? min(count - keep, GROUP) : 0u;
     s_count = m;
     if (m > 0u) {
-        s_aux = queue_state[Q_HEAD];
         s_base = queue_state[Q_TAIL];
     }
 }
@@ -230,8 +229,14 @@ void donate(uint t) {
         }
         if (won) {
             pushed += run;
-            // The head was read before the tail, so this never wraps.
-            peak = max(peak, tail + run - s_aux);
+            // Occupancy just after the push, with the head read now (a
+            // head read before the tail, as once here, is staler and made
+            // the figure exceed the capacity under stress). The head cannot
+            // pass tail + run (those slots are not published yet), so this
+            // never wraps; a plain read can still be a little stale, and
+            // only free slots were taken, so the capacity bounds it.
+            uint occupied = tail + run - queue_state[Q_HEAD];
+            peak = max(peak, min(occupied, pc.queue_capacity));
         }
         if (run < m && (won || run == 0u)) {
             // A slot that is not free holds an item of the previous lap: the
