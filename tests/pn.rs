@@ -7,7 +7,6 @@
 
 mod common;
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use bezier_subdiv::constants::{SHADE_FACING, SHADE_NORMAL};
@@ -18,6 +17,7 @@ use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::file::{Scene, SceneGeometry, SceneShading};
 use bezier_subdiv::scene::pn::{PnNet, PnScene};
+use bezier_subdiv::validate::cudatess::check_pn_edges;
 use glam::Vec3;
 
 const SIZE: (u32, u32) = (320, 180);
@@ -131,40 +131,6 @@ fn conversion_matches_the_cpu_twin() {
     gpu.finish();
 }
 
-/// Per edge id, what each triangle on it wrote: its factor and the bits of
-/// its vertices along the edge (corners included), sorted.
-type EdgeSides = HashMap<u32, Vec<(usize, u32, Vec<[u32; 3]>)>>;
-
-fn edge_sides(geo: &SceneGeometry, frame: &FrameData) -> EdgeSides {
-    let first = geo.patches.len();
-    let mut sides: EdgeSides = HashMap::new();
-    for t in 0..geo.pn.triangles.len() {
-        let rec = frame.records[first + t];
-        if rec.culled() {
-            continue;
-        }
-        let base = rec.offsets[0] as usize;
-        let e = &rec.edges;
-        let mut edge_base = 3;
-        for (k, &factor) in e[..3].iter().enumerate() {
-            assert!(factor >= 1, "triangle {t} edge {k}: factor {factor}");
-            let mut local = vec![k, (k + 1) % 3];
-            local.extend((0..factor as usize - 1).map(|s| edge_base + s));
-            edge_base += factor as usize - 1;
-            let mut bits: Vec<[u32; 3]> = local
-                .iter()
-                .map(|&l| frame.vertices[base + l].position.map(f32::to_bits))
-                .collect();
-            bits.sort_unstable();
-            sides
-                .entry(geo.pn.edge_ids[t][k])
-                .or_default()
-                .push((t, factor, bits));
-        }
-    }
-    sides
-}
-
 /// Both triangles of every shared edge read the same factor and write the
 /// same vertex bits along it, with transition strips in view (the cameras
 /// are close, so factors differ across each model).
@@ -193,20 +159,10 @@ fn shared_edges_get_equal_factors_and_identical_vertices() {
                 .iter()
                 .filter(|rec| !rec.culled() && rec.edges[..3].iter().any(|&e| e != rec.edges[3]))
                 .count();
-            for (edge, on) in edge_sides(&g, &frame) {
-                let (t0, e0, bits0) = &on[0];
-                for (t, e, bits) in &on[1..] {
-                    assert_eq!(
-                        e, e0,
-                        "{name}: edge {edge}: factor {e} on {t}, {e0} on {t0}"
-                    );
-                    assert_eq!(
-                        bits, bits0,
-                        "{name}: edge {edge}: triangles {t0} and {t} wrote different vertices"
-                    );
-                    shared += 1;
-                }
-            }
+            let (factors, vertices) = check_pn_edges(&g.pn, &frame);
+            assert_eq!(factors.bad, 0, "{name}: {:?}", factors.first);
+            assert_eq!(vertices.bad, 0, "{name}: {:?}", vertices.first);
+            shared += factors.checked;
             // Every index points into the frame's vertices.
             assert!(frame
                 .indices
@@ -359,4 +315,31 @@ fn bad_pn_obj_names_file_and_line() {
     .to_string();
     assert!(e.contains("pn-triangles"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `validate --method cudatess` on the PN scene runs the PN edge checks on
+/// what the frame wrote, and they pass.
+#[test]
+fn validate_checks_pn_edges() {
+    use bezier_subdiv::commands::validate::{run, ValidateArgs};
+    use bezier_subdiv::commands::GpuRequest;
+    let _gpu = common::gpu();
+    let mut gpu = GpuRequest::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pn.toml"));
+    gpu.size = SIZE;
+    gpu.method = "cudatess".into();
+    gpu.validation = true;
+    let report = run(&ValidateArgs {
+        gpu,
+        frame: None,
+        skip_holes: true,
+        debug_dir: None,
+    })
+    .unwrap();
+    assert!(report.ok(), "{}", report.table);
+    let pn: Vec<_> = report
+        .results
+        .iter()
+        .filter(|r| r.check.starts_with("PN edge"))
+        .collect();
+    assert_eq!(pn.len(), 2, "{}", report.table);
 }

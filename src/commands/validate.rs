@@ -116,7 +116,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         for &k in &frames {
             let cam = keyframe(&scene, &args.gpu.scene, k)?;
             let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
-            results.extend(cudatess_checks(&mut renderer, &shared, &view, k)?);
+            results.extend(cudatess_checks(&mut renderer, &geo, &shared, &view, k)?);
         }
     }
     if !args.skip_holes {
@@ -262,6 +262,7 @@ fn edge_checks(
 /// buffers.
 fn cudatess_checks(
     renderer: &mut Renderer,
+    geo: &SceneGeometry,
     shared: &HashMap<EdgeKey, Vec<EdgeSide>>,
     view: &View,
     k: usize,
@@ -279,7 +280,7 @@ fn cudatess_checks(
     let largest = ct_checks::check_max_factors(shared, &frame);
     let vx = check_edge_vertices(shared, &levels, &ct_checks::edge_vertices(&frame));
     let ix = ct_checks::check_indices(&frame);
-    Ok(vec![
+    let mut out = vec![
         line(
             "edge factors",
             Some(k),
@@ -324,7 +325,33 @@ fn cudatess_checks(
                 first(&ix)
             ),
         ),
-    ])
+    ];
+    if !geo.pn.triangles.is_empty() {
+        let (factors, vertices) = ct_checks::check_pn_edges(&geo.pn, &frame);
+        out.push(line(
+            "PN edge factors",
+            Some(k),
+            factors.bad == 0 && factors.checked > 0,
+            format!(
+                "{} shared PN edges, {} with different factors on their sides{}",
+                thousands(factors.checked),
+                factors.bad,
+                first(&factors)
+            ),
+        ));
+        out.push(line(
+            "PN edge vertices",
+            Some(k),
+            vertices.bad == 0,
+            format!(
+                "{} shared PN edges, {} with different vertex bits on their sides{}",
+                thousands(vertices.checked),
+                vertices.bad,
+                first(&vertices)
+            ),
+        ));
+    }
+    Ok(out)
 }
 
 /// The hole test for the first instance of every distinct model file.

@@ -207,6 +207,8 @@ impl CtVertex {
 pub struct FrameData {
     /// Per patch, then per PN triangle.
     pub records: Vec<PatchRecord>,
+    /// How many of `records` are patches (the rest are PN triangles).
+    pub patches: usize,
     /// Every vertex written.
     pub vertices: Vec<CtVertex>,
     /// Every index written (absolute).
@@ -603,6 +605,7 @@ impl CudaTess {
         pn_nets.truncate(s.tris as usize);
         Ok(FrameData {
             records,
+            patches: s.patches as usize,
             vertices,
             indices,
             pn_nets,

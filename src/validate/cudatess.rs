@@ -5,6 +5,10 @@
 //! identical from every side (through the generic shared-edge checks of
 //! [`super::edges`]), and every patch's indices are its pattern's
 //! ([`Pattern::triangles`]) inside its own slot of the vertex buffer.
+//! PN triangles (the records after the patches'): both triangles of every
+//! shared edge read the same factor and write the same vertex bits along
+//! it, and every triangle's indices stay inside its own slot and use all
+//! of it.
 
 use std::collections::HashMap;
 
@@ -12,12 +16,12 @@ use super::edges::{EdgeCheck, EdgeKey, EdgeSide};
 use crate::methods::cudatess::pattern::Pattern;
 use crate::methods::cudatess::{FrameData, PatchRecord};
 use crate::methods::tess::{EdgeVertex, PatchLevels};
+use crate::scene::pn::PnScene;
 
 /// The records as the tessellation methods' levels: edge factors as outer
 /// levels, the patch's own factors as inner ones, culled patches marked.
 pub fn levels(frame: &FrameData) -> Vec<PatchLevels> {
-    frame
-        .records
+    frame.records[..frame.patches]
         .iter()
         .map(|r| PatchLevels {
             outer: r.edges.map(|e| e as f32),
@@ -42,7 +46,7 @@ fn slot<T>(all: &[T], offset: u32, count: u32) -> Option<&[T]> {
 /// (the index check reports them).
 pub fn edge_vertices(frame: &FrameData) -> Vec<EdgeVertex> {
     let mut out = Vec::new();
-    for (id, r) in frame.records.iter().enumerate() {
+    for (id, r) in frame.records[..frame.patches].iter().enumerate() {
         if r.culled() {
             continue;
         }
@@ -78,7 +82,7 @@ fn own_factor(r: &PatchRecord, k: usize) -> u32 {
 /// factors of Schwarz and Stamminger's stage 2.
 pub fn check_max_factors(shared: &HashMap<EdgeKey, Vec<EdgeSide>>, frame: &FrameData) -> EdgeCheck {
     let mut out = EdgeCheck::default();
-    let recs = &frame.records;
+    let recs = &frame.records[..frame.patches];
     for (id, r) in recs.iter().enumerate() {
         if r.culled() {
             continue;
@@ -146,6 +150,10 @@ pub fn check_indices(frame: &FrameData) -> EdgeCheck {
             continue;
         }
         out.checked += 1;
+        if id >= frame.patches {
+            check_pn_slot(frame, id - frame.patches, r, &mut out);
+            continue;
+        }
         let p = Pattern::new(r.edges);
         if r.counts != [p.vertices, p.indices] {
             out.fail(|| {
@@ -177,4 +185,111 @@ pub fn check_indices(frame: &FrameData) -> EdgeCheck {
         });
     }
     out
+}
+
+/// PN triangle `t` (record `r`): a whole number of triangles, every index
+/// inside the triangle's own vertices, and every one of them used (there is
+/// no CPU twin of the triangular pattern; its shape is tested in
+/// `tests/pn.rs` through the shared edges and the hole test).
+fn check_pn_slot(frame: &FrameData, t: usize, r: &PatchRecord, out: &mut EdgeCheck) {
+    let Some(got) = slot(&frame.indices, r.offsets[1], r.counts[1]) else {
+        out.fail(|| format!("PN triangle {t}'s indices run past the index buffer"));
+        return;
+    };
+    let own = r.offsets[0]..r.offsets[0].saturating_add(r.counts[0]);
+    let mut used = vec![false; r.counts[0] as usize];
+    for &i in got {
+        if own.contains(&i) {
+            used[(i - own.start) as usize] = true;
+        } else {
+            out.fail(|| format!("PN triangle {t} indexes vertex {i}, outside its own {own:?}"));
+            return;
+        }
+    }
+    if got.len() % 3 != 0 || r.counts[0] < 3 || used.contains(&false) {
+        out.fail(|| {
+            format!(
+                "PN triangle {t}: {} indices over {} vertices, {} of them unused",
+                got.len(),
+                r.counts[0],
+                used.iter().filter(|u| !**u).count()
+            )
+        });
+    }
+}
+
+/// What the drawn PN triangles wrote along each shared edge: per edge id,
+/// each side's triangle, factor and the sorted bits of its vertices along
+/// the edge (corners included). The pattern's vertices start with the
+/// three corners, then each side's inner edge vertices in side order.
+fn pn_edge_sides(pn: &PnScene, frame: &FrameData) -> HashMap<u32, Vec<PnSide>> {
+    let mut sides: HashMap<u32, Vec<PnSide>> = HashMap::new();
+    for (t, ids) in pn.edge_ids.iter().enumerate() {
+        let Some(r) = frame.records.get(frame.patches + t) else {
+            continue;
+        };
+        if r.culled() {
+            continue;
+        }
+        let Some(vertices) = slot(&frame.vertices, r.offsets[0], r.counts[0]) else {
+            continue;
+        };
+        let mut next = 3usize;
+        for (k, &factor) in r.edges[..3].iter().enumerate() {
+            let inner = factor.saturating_sub(1) as usize;
+            let mut local = vec![k, (k + 1) % 3];
+            local.extend(next..next + inner);
+            next += inner;
+            let mut bits: Vec<[u32; 3]> = local
+                .iter()
+                .filter_map(|&l| vertices.get(l))
+                .map(|v| v.position.map(f32::to_bits))
+                .collect();
+            bits.sort_unstable();
+            sides.entry(ids[k]).or_default().push(PnSide {
+                triangle: t,
+                factor,
+                bits,
+            });
+        }
+    }
+    sides
+}
+
+/// One triangle's view of a PN edge.
+struct PnSide {
+    triangle: usize,
+    factor: u32,
+    bits: Vec<[u32; 3]>,
+}
+
+/// Every PN edge drawn by two triangles: the same factor (first result)
+/// and the same vertex bits along it (second) from both.
+pub fn check_pn_edges(pn: &PnScene, frame: &FrameData) -> (EdgeCheck, EdgeCheck) {
+    let (mut factors, mut vertices) = (EdgeCheck::default(), EdgeCheck::default());
+    for (edge, on) in pn_edge_sides(pn, frame) {
+        let Some((first, rest)) = on.split_first() else {
+            continue;
+        };
+        for side in rest {
+            factors.checked += 1;
+            vertices.checked += 1;
+            if side.factor != first.factor {
+                factors.fail(|| {
+                    format!(
+                        "PN edge {edge}: factor {} on triangle {}, {} on {}",
+                        side.factor, side.triangle, first.factor, first.triangle
+                    )
+                });
+            } else if side.bits != first.bits {
+                vertices.fail(|| {
+                    format!(
+                        "PN edge {edge}: triangles {} and {} wrote different vertices",
+                        first.triangle, side.triangle
+                    )
+                });
+            }
+        }
+    }
+    (factors, vertices)
 }
