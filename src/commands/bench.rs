@@ -29,7 +29,7 @@ use crate::frame::View;
 use crate::gpu::write_png;
 use crate::methods::{self, ground_truth};
 use crate::renderer::Renderer;
-use crate::scene::file::Scene;
+use crate::scene::file::{Scene, SceneGeometry};
 use crate::scene::orbit::ScenePath;
 use crate::vk::{Context, DeviceSelector};
 
@@ -143,6 +143,28 @@ fn check_list(name: &str, v: &[f64], ok: impl Fn(f64) -> bool, want: &str) -> an
     }
     if let Some((_, x)) = v.iter().enumerate().find(|(i, x)| v[..*i].contains(x)) {
         return Err(anyhow!("--{name}: {x} is given twice"));
+    }
+    Ok(())
+}
+
+/// Drops the configurations of methods that cannot draw the scene's
+/// geometry (rational patches, PN triangles), saying so on stderr, when
+/// the methods are the default list; a method the user named refuses the
+/// whole run instead.
+fn fit_methods_to_scene(plan: &mut Plan, geo: &SceneGeometry, named: bool) -> anyhow::Result<()> {
+    let mut left_out = Vec::new();
+    for name in plan.methods() {
+        if let Err(why) = methods::check_geometry(methods::find(&name)?, geo) {
+            if named {
+                return Err(anyhow!("--methods: {why}"));
+            }
+            eprintln!("bench: leaving out {name}: {why}");
+            left_out.push(name);
+        }
+    }
+    plan.configs.retain(|c| !left_out.contains(&c.method));
+    if plan.configs.is_empty() {
+        return Err(anyhow!("no method can draw this scene"));
     }
     Ok(())
 }
@@ -298,6 +320,7 @@ pub fn run_on(
         .scene
         .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
+    fit_methods_to_scene(&mut plan, &geo, args.methods.is_some())?;
     let path = ScenePath::of(&plan.scene, &geo);
     if plan.frames == 0 {
         plan.frames = path.default_frames();
@@ -578,4 +601,35 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<BenchOutcome> {
         ctx.check_validation()?;
     }
     outcome
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default method list drops what cannot draw a rational scene;
+    /// a method the user names refuses the run.
+    #[test]
+    fn methods_that_cannot_draw_the_scene_are_left_out_or_refused() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let out = std::env::temp_dir().join(format!("bench-fit-{}", std::process::id()));
+        let mut args = BenchArgs::new(root.join("scenes/rational.toml"), out.clone());
+        let mut plan = check(&args).unwrap();
+        let geo = plan.scene.geometry().unwrap();
+        assert!(plan.methods().contains(&"tess".to_string()));
+        fit_methods_to_scene(&mut plan, &geo, false).unwrap();
+        let kept = plan.methods();
+        assert!(!kept.iter().any(|m| m.starts_with("tess")), "{kept:?}");
+        assert!(kept.contains(&"subdiv".to_string()) && kept.contains(&"cudatess".to_string()));
+
+        args.methods = Some(vec!["subdiv".into(), "tess".into()]);
+        let mut plan = check(&args).unwrap();
+        let e = fit_methods_to_scene(&mut plan, &geo, true).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("`tess` cannot draw rational patches"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(out);
+    }
 }

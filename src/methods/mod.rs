@@ -30,6 +30,7 @@ use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::{FrameOut, FrameRec, Retired};
 use crate::gpu::{SceneGpu, SceneLayout, Shaders};
 use crate::patch::view::ViewParams;
+use crate::scene::file::SceneGeometry;
 use crate::vk::{Context, VkError};
 
 /// What can go wrong while rendering with a method.
@@ -259,38 +260,62 @@ pub fn find(name: &str) -> Result<&'static MethodInfo, RenderError> {
 /// Refuses to draw `scene` with method `info` when the scene has rational
 /// patches the method cannot draw.
 pub fn check_rational(info: &MethodInfo, scene: &SceneGpu) -> Result<(), RenderError> {
-    if info.rational || scene.rational_patches == 0 {
-        return Ok(());
-    }
-    let able: Vec<&str> = METHODS
-        .iter()
-        .filter(|m| m.rational)
-        .map(|m| m.name)
-        .collect();
-    Err(RenderError::Request(format!(
-        "method `{}` cannot draw rational patches, and {} of the scene's {} base patches \
-         have weights other than 1; use {}",
-        info.name,
-        scene.rational_patches,
-        scene.count,
-        able.join(" or ")
-    )))
+    refuse(
+        info,
+        scene.rational_patches as usize,
+        scene.count as usize,
+        0,
+    )
 }
 
 /// Refuses to draw `scene` with method `info` when the scene has
 /// PN-triangle models (`surface = "pn-triangles"`), which only `cudatess`
 /// tessellates (and `ground-truth` draws as uniform grids, the reference).
 pub fn check_pn(info: &MethodInfo, scene: &SceneGpu) -> Result<(), RenderError> {
-    let able = [cudatess::INFO.name, ground_truth::INFO.name];
-    if able.contains(&info.name) || scene.pn.count() == 0 {
-        return Ok(());
+    refuse(info, 0, scene.count as usize, scene.pn.count() as usize)
+}
+
+/// [`check_rational`] and [`check_pn`] on the host's geometry, before any
+/// GPU work (`bench` plans its methods with it).
+pub fn check_geometry(info: &MethodInfo, geo: &SceneGeometry) -> Result<(), RenderError> {
+    refuse(
+        info,
+        geo.rational_patches(),
+        geo.patches.len(),
+        geo.pn.triangles.len(),
+    )
+}
+
+/// The sentence that refuses method `info` a scene with `rational` of its
+/// `patches` base patches rational and `pn` PN triangles, if it must.
+fn refuse(
+    info: &MethodInfo,
+    rational: usize,
+    patches: usize,
+    pn: usize,
+) -> Result<(), RenderError> {
+    if rational > 0 && !info.rational {
+        let able: Vec<&str> = METHODS
+            .iter()
+            .filter(|m| m.rational)
+            .map(|m| m.name)
+            .collect();
+        return Err(RenderError::Request(format!(
+            "method `{}` cannot draw rational patches, and {rational} of the scene's {patches} \
+             base patches have weights other than 1; use {}",
+            info.name,
+            able.join(" or ")
+        )));
     }
-    Err(RenderError::Request(format!(
-        "method `{}` cannot draw PN triangles, and the scene has {} of them \
-         (models with surface = \"pn-triangles\"); use cudatess (or ground-truth, the reference)",
-        info.name,
-        scene.pn.count()
-    )))
+    let pn_able = [cudatess::INFO.name, ground_truth::INFO.name];
+    if pn > 0 && !pn_able.contains(&info.name) {
+        return Err(RenderError::Request(format!(
+            "method `{}` cannot draw PN triangles, and the scene has {pn} of them \
+             (models with surface = \"pn-triangles\"); use cudatess (or ground-truth, the reference)",
+            info.name
+        )));
+    }
+    Ok(())
 }
 
 /// [`find`] over the registry `methods` and the reserved names `planned`.
