@@ -4,9 +4,9 @@
 // so does a one-sided polynomial patch whose every normal faces away from
 // the eye (back_facing, the test subdiv and tess make; their §2 allows
 // back-face culling here), so a closed model's far side is not drawn. A
-// rational patch is never culled as back-facing: the interval test bounds
-// tangents by the differences of consecutive control points, which holds
-// for polynomial patches only.
+// one-sided rational patch takes subdiv's homogeneous form of the same test
+// (back_facing4: the polynomial bound on the points w (p - eye), whose
+// sign is that of (p - eye) . (p_u x p_v) for positive weights).
 // Otherwise the Zheng–Sederberg bound of their §3 gives factors m along u
 // and n along v for the tolerance of ε pixels at the patch's nearest control
 // point (as tess.glsl turns ε into object space), and each edge's factor
@@ -16,6 +16,7 @@
 
 #include "common/cudatess.glsl"
 #include "common/cudatess_push.glsl"
+#include "common/rational_subdiv.glsl"
 
 layout(local_size_x = CT_GROUP_SIZE) in;
 
@@ -31,6 +32,17 @@ uint factor_of(float x) {
     return f >= 1.0 ? uint(min(f, float(CT_MAX_FACTOR))) : 1u;
 }
 
+// Whether every normal of patch `id` (points P, box lo..hi) faces away
+// from the eye.
+bool faces_away(uint id, vec3 P[16], vec3 lo, vec3 hi) {
+    if (!patch_is_rational(id)) {
+        return back_facing(P, lo, hi, view.eye.xyz);
+    }
+    vec4 H[16];
+    load_homogeneous(id, H);
+    return back_facing4(H, view.eye.xyz);
+}
+
 void process(uint id) {
     uint rec = id * CT_PATCH_WORDS;
     vec3 P[16];
@@ -38,9 +50,9 @@ void process(uint id) {
     vec3 lo, hi;
     patch_bbox(P, lo, hi);
     bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
-    bool one_sided = (patch_flags[id] & (PATCH_TWO_SIDED | PATCH_RATIONAL)) == 0u;
+    bool one_sided = (patch_flags[id] & PATCH_TWO_SIDED) == 0u;
     bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
-        && back_facing(P, lo, hi, view.eye.xyz);
+        && faces_away(id, P, lo, hi);
     if (frustum || away) {
         ct_patches[rec + CT_REC_M] = 0u;
         ct_patches[rec + CT_REC_N] = 0u;
