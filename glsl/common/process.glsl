@@ -20,6 +20,12 @@ void split_node(uvec2 q, uvec4 depths, bvec4 flat_now, out uvec2 kids[4]) {
     kids[3] = child_node(q, r, 1u, 1u);
 }
 
+// Grows the box lo..hi to hold p.
+void grow_box(inout vec3 lo, inout vec3 hi, vec3 p) {
+    lo = min3(lo, p);
+    hi = max3(hi, p);
+}
+
 // One work item of a rational patch: the twin of oracle::process_rational.
 // The homogeneous sub-patch, the box of its Cartesian control points (and
 // the pivots) for the frustum, the criterion on projected points, and the
@@ -37,14 +43,10 @@ uint process_rational(uvec2 q, out uvec2 kids[4]) {
         vec2 pivot_u, pivot_v;
         bvec2 pivots = wedge_pivots(q, pivot_u, pivot_v);
         if (pivots.x) {
-            vec3 p = eval_rational(H, pivot_u.x, pivot_u.y);
-            lo = min3(lo, p);
-            hi = max3(hi, p);
+            grow_box(lo, hi, eval_rational(H, pivot_u.x, pivot_u.y));
         }
         if (pivots.y) {
-            vec3 p = eval_rational(H, pivot_v.x, pivot_v.y);
-            lo = min3(lo, p);
-            hi = max3(hi, p);
+            grow_box(lo, hi, eval_rational(H, pivot_v.x, pivot_v.y));
         }
         if (outside_frustum(lo, hi, view)) {
             return OUT_CULLED;
@@ -99,14 +101,10 @@ uint process(uvec2 q, out uvec2 kids[4]) {
         // its wedges and its descendants' reach them (see oracle::process).
         vec3 clo = lo, chi = hi;
         if (pivots.x) {
-            vec3 p = eval_patch(P, pivot_u.x, pivot_u.y);
-            clo = min3(clo, p);
-            chi = max3(chi, p);
+            grow_box(clo, chi, eval_patch(P, pivot_u.x, pivot_u.y));
         }
         if (pivots.y) {
-            vec3 p = eval_patch(P, pivot_v.x, pivot_v.y);
-            clo = min3(clo, p);
-            chi = max3(chi, p);
+            grow_box(clo, chi, eval_patch(P, pivot_v.x, pivot_v.y));
         }
         if (outside_frustum(clo, chi, view)) {
             return OUT_CULLED;
@@ -127,11 +125,7 @@ uint process(uvec2 q, out uvec2 kids[4]) {
             }
         }
         if (!edges_flat || !inner_flat(S, view)) {
-            uvec4 r = resolve_depths(l, depths, flat_now);
-            kids[0] = child_node(q, r, 0u, 0u);
-            kids[1] = child_node(q, r, 1u, 0u);
-            kids[2] = child_node(q, r, 0u, 1u);
-            kids[3] = child_node(q, r, 1u, 1u);
+            split_node(q, depths, flat_now, kids);
             return OUT_SPLIT;
         }
     }

@@ -91,32 +91,34 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     };
     let mut renderer = request.renderer(&ctx, &geo, &shading)?;
 
+    // The keyframes' views, each with its frame number.
+    let views = frames
+        .iter()
+        .map(|&k| {
+            let cam = keyframe(&scene, &args.gpu.scene, k)?;
+            Ok((k, View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL)))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
     let mut results = Vec::new();
     if renderer.method().ready().is_some() {
         renderer.capture = true;
-        for &k in &frames {
-            let cam = keyframe(&scene, &args.gpu.scene, k)?;
-            let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
-            results.extend(oracle_checks(&mut renderer, &geo, &view, k)?);
+        for (k, view) in &views {
+            results.extend(oracle_checks(&mut renderer, &geo, view, *k)?);
         }
         renderer.capture = false;
     }
     if renderer.method().tess().is_some() {
         let shared = shared_edges(&geo.patches);
         renderer.capture = true;
-        for &k in &frames {
-            let cam = keyframe(&scene, &args.gpu.scene, k)?;
-            let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
-            results.extend(edge_checks(&mut renderer, &shared, &view, k)?);
+        for (k, view) in &views {
+            results.extend(edge_checks(&mut renderer, &shared, view, *k)?);
         }
         renderer.capture = false;
     }
     if renderer.method().cudatess().is_some() {
         let shared = shared_edges(&geo.patches);
-        for &k in &frames {
-            let cam = keyframe(&scene, &args.gpu.scene, k)?;
-            let view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
-            results.extend(cudatess_checks(&mut renderer, &geo, &shared, &view, k)?);
+        for (k, view) in &views {
+            results.extend(cudatess_checks(&mut renderer, &geo, &shared, view, *k)?);
         }
     }
     if !args.skip_holes {

@@ -5,6 +5,8 @@
 //! and the cage converter both produce this order, and a test pins it with the
 //! teapot's outward normals (∂S/∂u × ∂S/∂v points out of the model).
 
+use std::ops::{Add, Mul, Sub};
+
 use glam::Vec3;
 
 use super::ops::{cross3, dot3};
@@ -26,12 +28,19 @@ pub const EDGE_TOP: usize = 2;
 /// Left boundary curve, u = 0.
 pub const EDGE_LEFT: usize = 3;
 
+/// What a control point of [`curve`] must offer: `Vec3` (Cartesian) and
+/// `Vec4` (homogeneous, `patch::rational`).
+pub trait Cubic: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<f32, Output = Self> {}
+impl<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<f32, Output = T>> Cubic for T {}
+
 /// Cubic Bézier curve at `u0`, in the paper's operation order (§3.4):
 /// Bernstein weights as written there, then `((b0 p0 + b1 p1) + (b2 p2 + b3 p3))`.
 /// The order makes the curve evaluated at `u` on `p` bitwise equal to the
 /// reversed curve evaluated at `1 - u`, for any `u` where `1 - (1 - u) == u`.
+/// Generic over the point type so that homogeneous (`Vec4`) curves of
+/// rational patches take exactly the same operations.
 #[inline]
-pub fn curve(u0: f32, p: &[Vec3; 4]) -> Vec3 {
+pub fn curve<T: Cubic>(u0: f32, p: &[T; 4]) -> T {
     let u1 = 1.0 - u0;
     let b0 = u1 * u1 * u1;
     let b1 = 3.0 * u1 * u0 * u1;
@@ -43,7 +52,7 @@ pub fn curve(u0: f32, p: &[Vec3; 4]) -> Vec3 {
 /// Derivative of a cubic Bézier curve at `u0` (for shading only; not part of
 /// any watertightness argument).
 #[inline]
-pub fn curve_derivative(u0: f32, p: &[Vec3; 4]) -> Vec3 {
+pub fn curve_derivative<T: Cubic>(u0: f32, p: &[T; 4]) -> T {
     let u1 = 1.0 - u0;
     let d0 = p[1] - p[0];
     let d1 = p[2] - p[1];

@@ -147,15 +147,22 @@ pub fn edge_flat(p: &[Vec3; 4], vp: &ViewParams) -> bool {
 /// second, each compared with its triangle's plane (their parametric point is
 /// the triangle's centroid). All four are evaluated.
 pub fn inner_flat(s: &BezierPatch, vp: &ViewParams) -> bool {
-    let q00 = s.at(0, 0);
-    let q10 = s.at(3, 0);
-    let q11 = s.at(3, 3);
-    let q01 = s.at(0, 3);
+    let corners = [s.at(0, 0), s.at(3, 0), s.at(3, 3), s.at(0, 3)];
+    inner_flat_of(corners, |u, v| s.eval(u, v), vp)
+}
+
+/// [`inner_flat`] on the corners q00, q10, q11, q01 and the surface `eval`
+/// (also the rational patches' inner tier, `patch::homogeneous`).
+pub fn inner_flat_of(
+    [q00, q10, q11, q01]: [Vec3; 4],
+    eval: impl Fn(f32, f32) -> Vec3,
+    vp: &ViewParams,
+) -> bool {
     let t2 = tolerance2(((q00 + q11) + (q10 + q01)) * 0.25, vp);
-    let d1 = line_sample_flat(s.eval(THIRD, THIRD), q00, q11, THIRD, t2, vp);
-    let d2 = line_sample_flat(s.eval(TWO_THIRDS, TWO_THIRDS), q00, q11, TWO_THIRDS, t2, vp);
-    let t0 = plane_sample_flat(s.eval(TWO_THIRDS, THIRD), q00, q10, q11, t2, vp);
-    let t1 = plane_sample_flat(s.eval(THIRD, TWO_THIRDS), q00, q11, q01, t2, vp);
+    let d1 = line_sample_flat(eval(THIRD, THIRD), q00, q11, THIRD, t2, vp);
+    let d2 = line_sample_flat(eval(TWO_THIRDS, TWO_THIRDS), q00, q11, TWO_THIRDS, t2, vp);
+    let t0 = plane_sample_flat(eval(TWO_THIRDS, THIRD), q00, q10, q11, t2, vp);
+    let t1 = plane_sample_flat(eval(THIRD, TWO_THIRDS), q00, q11, q01, t2, vp);
     (d1 & d2) & (t0 & t1)
 }
 

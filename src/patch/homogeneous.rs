@@ -35,9 +35,9 @@ use glam::{Vec3, Vec4};
 use super::bezier::BezierPatch;
 use super::bezier::{EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
 use super::blossom::reconstruct_points;
-use super::criterion::{line_sample_flat, plane_sample_flat, tolerance2, EdgeSample};
+use super::criterion::{self, line_sample_flat, tolerance2, EdgeSample};
 use super::cull;
-use super::ops::{max3, min3, THIRD, TWO_THIRDS};
+use super::ops::{max3, min3, THIRD};
 use super::rational::{curve4, homogeneous, project, RationalPatch};
 use super::view::ViewParams;
 
@@ -148,16 +148,8 @@ pub fn edge_flat(h: &[Vec4; 4], vp: &ViewParams) -> bool {
 /// Inner tier, as [`super::criterion::inner_flat`] on the projected
 /// corners and samples.
 pub fn inner_flat(s: &HomPatch, vp: &ViewParams) -> bool {
-    let q00 = s.point(0, 0);
-    let q10 = s.point(3, 0);
-    let q11 = s.point(3, 3);
-    let q01 = s.point(0, 3);
-    let t2 = tolerance2(((q00 + q11) + (q10 + q01)) * 0.25, vp);
-    let d1 = line_sample_flat(s.eval(THIRD, THIRD), q00, q11, THIRD, t2, vp);
-    let d2 = line_sample_flat(s.eval(TWO_THIRDS, TWO_THIRDS), q00, q11, TWO_THIRDS, t2, vp);
-    let t0 = plane_sample_flat(s.eval(TWO_THIRDS, THIRD), q00, q10, q11, t2, vp);
-    let t1 = plane_sample_flat(s.eval(THIRD, TWO_THIRDS), q00, q11, q01, t2, vp);
-    (d1 & d2) & (t0 & t1)
+    let corners = [s.point(0, 0), s.point(3, 0), s.point(3, 3), s.point(0, 3)];
+    criterion::inner_flat_of(corners, |u, v| s.eval(u, v), vp)
 }
 
 /// The polynomial patch Q of weighted control points relative to the eye,

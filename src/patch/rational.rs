@@ -71,22 +71,13 @@ pub fn homogeneous(p: Vec3, w: f32) -> Vec4 {
 /// complements `u0` and `1 − u0`.
 #[inline]
 pub fn curve4(u0: f32, p: &[Vec4; 4]) -> Vec4 {
-    let u1 = 1.0 - u0;
-    let b0 = u1 * u1 * u1;
-    let b1 = 3.0 * u1 * u0 * u1;
-    let b2 = 3.0 * u0 * u1 * u0;
-    let b3 = u0 * u0 * u0;
-    (p[0] * b0 + p[1] * b1) + (p[2] * b2 + p[3] * b3)
+    super::bezier::curve(u0, p)
 }
 
 /// Derivative of a homogeneous cubic at `u0` (shading and tests only).
 #[inline]
 pub fn curve4_derivative(u0: f32, p: &[Vec4; 4]) -> Vec4 {
-    let u1 = 1.0 - u0;
-    let d0 = p[1] - p[0];
-    let d1 = p[2] - p[1];
-    let d2 = p[3] - p[2];
-    ((d0 * (u1 * u1) + d1 * (2.0 * u1 * u0)) + d2 * (u0 * u0)) * 3.0
+    super::bezier::curve_derivative(u0, p)
 }
 
 /// The Cartesian point of a homogeneous one: xyz / w.
