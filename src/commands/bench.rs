@@ -147,6 +147,46 @@ fn check_list(name: &str, v: &[f64], ok: impl Fn(f64) -> bool, want: &str) -> an
     Ok(())
 }
 
+/// Refuses an output directory that cannot be made, without making it:
+/// its nearest existing ancestor must be a directory that accepts files.
+fn can_create_dir(dir: &Path) -> anyhow::Result<()> {
+    let refuse = |why: String| anyhow!("cannot write to {}: {why}", dir.display());
+    let mut probe_dir = dir;
+    while !probe_dir.exists() {
+        probe_dir = match probe_dir.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+    }
+    if !probe_dir.is_dir() {
+        return Err(refuse(format!(
+            "{} is not a directory",
+            probe_dir.display()
+        )));
+    }
+    check_writable(&probe_dir.join("bench-probe"), false).map_err(refuse)
+}
+
+/// Creates the output directory (and `flip/` when perspectives are
+/// measured) once nothing else can refuse the run, and checks every file
+/// the run writes there.
+fn prepare_output(dir: &Path, flip_frames: u32) -> anyhow::Result<()> {
+    let sub = if flip_frames > 0 {
+        dir.join("flip")
+    } else {
+        dir.to_path_buf()
+    };
+    std::fs::create_dir_all(&sub).map_err(|e| anyhow!("cannot write to {}: {e}", dir.display()))?;
+    let mut files = vec!["frames.csv", "flip.csv", "summary.json", "report.md"];
+    if flip_frames > 0 {
+        files.push("flip/x.png");
+    }
+    for f in files {
+        check_writable(&dir.join(f), false).map_err(|e| anyhow!(e))?;
+    }
+    Ok(())
+}
+
 /// Drops the configurations of methods that cannot draw the scene's
 /// geometry (rational patches, PN triangles), saying so on stderr, when
 /// the methods are the default list; a method the user named refuses the
@@ -210,27 +250,22 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
         return Err(anyhow!("--frames must be at least 1"));
     }
     let scene = Scene::load(&args.scene)?;
-    let dir = &args.out;
-    std::fs::create_dir_all(dir.join("flip"))
-        .map_err(|e| anyhow!("cannot write to {}: {e}", dir.display()))?;
-    for f in [
-        "frames.csv",
-        "flip.csv",
-        "summary.json",
-        "report.md",
-        "flip/x.png",
-    ] {
-        check_writable(&dir.join(f), false).map_err(|e| anyhow!(e))?;
-    }
+    can_create_dir(&args.out)?;
     plot::load_font().map_err(|e| anyhow!(e))?;
     // Given, else --quick's, else the full run's (0 frames: the path's own).
     let pick = |given: Option<u32>, quick: u32, full: u32| {
         given.unwrap_or(if args.quick { quick } else { full })
     };
     let (qf, qw, qp) = QUICK;
+    // A method that ignores λ is measured once per ε.
     let mut configs = Vec::new();
     for m in &methods {
-        for &lambda in &args.lambda {
+        let lambdas: Vec<Option<f64>> = if methods::find(m)?.reads_lambda {
+            args.lambda.iter().copied().map(Some).collect()
+        } else {
+            vec![None]
+        };
+        for &lambda in &lambdas {
             for &eps in &args.eps {
                 configs.push(Config {
                     method: m.clone(),
@@ -321,6 +356,7 @@ pub fn run_on(
         .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
     fit_methods_to_scene(&mut plan, &geo, args.methods.is_some())?;
+    prepare_output(&args.out, plan.flip_frames)?;
     let path = ScenePath::of(&plan.scene, &geo);
     if plan.frames == 0 {
         plan.frames = path.default_frames();
@@ -416,8 +452,11 @@ fn measure(
     m: &mut Measured,
 ) -> anyhow::Result<()> {
     let total = plan.total_steps();
-    let view =
-        |t: f64, c: &Config| View::new(&path.camera(t), args.size, c.eps, c.lambda, SHADE_NORMAL);
+    // A method that ignores λ draws the same at any: it gets the first.
+    let view = |t: f64, c: &Config| {
+        let lambda = c.lambda.unwrap_or(args.lambda[0]);
+        View::new(&path.camera(t), args.size, c.eps, lambda, SHADE_NORMAL)
+    };
     let mut step = |m: &mut Measured, what: &str| {
         m.steps += 1;
         watch(&Step {
@@ -517,7 +556,7 @@ fn measure(
             f.save_heat_map(&args.out.join(&heat_map))?;
             let row = FlipRow {
                 config: ci,
-                perspective: k,
+                perspective: k + 1,
                 t,
                 mean: f.mean,
                 triangles: report.triangles(),

@@ -5,6 +5,7 @@
 //! the plots ([`plot`]).
 
 pub mod flip;
+pub mod pareto;
 pub mod plot;
 pub mod record;
 pub mod report;

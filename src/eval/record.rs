@@ -23,21 +23,41 @@ pub struct Config {
     pub method: String,
     /// Pixel tolerance.
     pub eps: f64,
-    /// Distance blend.
-    pub lambda: f64,
+    /// Distance blend; `None` for a method that ignores λ (measured once
+    /// per ε).
+    pub lambda: Option<f64>,
     /// The method's draw path, once a frame has told it.
     pub draw_path: String,
 }
 
 impl Config {
-    /// `subdiv ε=1 λ=0.5`, for progress and legends.
+    /// `subdiv ε=1 λ=0.5` (`tess ε=1`), for progress and legends.
     pub fn label(&self) -> String {
-        format!("{} ε={} λ={}", self.method, self.eps, self.lambda)
+        match self.lambda {
+            Some(l) => format!("{} ε={} λ={l}", self.method, self.eps),
+            None => format!("{} ε={}", self.method, self.eps),
+        }
     }
 
-    /// `subdiv-e1-l0.5`, for file names.
+    /// `subdiv-e1-l0.5` (`tess-e1`), for file names.
     pub fn stem(&self) -> String {
-        format!("{}-e{}-l{}", self.method, self.eps, self.lambda)
+        match self.lambda {
+            Some(l) => format!("{}-e{}-l{l}", self.method, self.eps),
+            None => format!("{}-e{}", self.method, self.eps),
+        }
+    }
+
+    /// The method and λ, the name of one curve over ε (`subdiv λ=0.5`, `tess`).
+    pub fn series(&self) -> String {
+        match self.lambda {
+            Some(l) => format!("{} λ={l}", self.method),
+            None => self.method.clone(),
+        }
+    }
+
+    /// λ as a CSV cell (empty when the method ignores it).
+    pub fn lambda_cell(&self) -> String {
+        self.lambda.map_or_else(String::new, |l| l.to_string())
     }
 }
 
@@ -59,7 +79,7 @@ pub struct FrameRow {
 pub struct FlipRow {
     /// Index into the run's configurations.
     pub config: usize,
-    /// Perspective number (0-based).
+    /// Perspective number (1-based, as in the image file names).
     pub perspective: usize,
     /// Its position on the path.
     pub t: f64,
@@ -219,7 +239,7 @@ pub fn frame_cells(config: &Config, row: &FrameRow, keys: &[String]) -> Vec<Stri
         config.method.clone(),
         config.draw_path.clone(),
         config.eps.to_string(),
-        config.lambda.to_string(),
+        config.lambda_cell(),
         row.frame.to_string(),
         row.t.to_string(),
     ];
@@ -236,7 +256,7 @@ pub fn flip_cells(config: &Config, row: &FlipRow) -> Vec<String> {
         config.method.clone(),
         config.draw_path.clone(),
         config.eps.to_string(),
-        config.lambda.to_string(),
+        config.lambda_cell(),
         row.perspective.to_string(),
         row.t.to_string(),
         row.mean.to_string(),
@@ -310,6 +330,13 @@ impl ConfigSummary {
     /// The median of the FLIP means over the perspectives measured.
     pub fn flip_median(&self) -> Option<f64> {
         let mut v: Vec<f64> = self.flips.iter().map(|f| f.mean).collect();
+        v.sort_by(f64::total_cmp);
+        (!v.is_empty()).then(|| crate::commands::render::median(&v))
+    }
+
+    /// The median triangle count of the FLIP images.
+    pub fn flip_triangles_median(&self) -> Option<f64> {
+        let mut v: Vec<f64> = self.flips.iter().map(|f| f.triangles as f64).collect();
         v.sort_by(f64::total_cmp);
         (!v.is_empty()).then(|| crate::commands::render::median(&v))
     }
@@ -439,7 +466,7 @@ mod tests {
         let config = Config {
             method: "subdiv".into(),
             eps: 1.0,
-            lambda: 0.5,
+            lambda: Some(0.5),
             draw_path: "mesh".into(),
         };
         let j = s.to_json(&config);

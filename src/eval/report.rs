@@ -6,6 +6,7 @@
 
 use serde_json::{json, Value};
 
+use super::pareto::{self, against, median, Curve, REFERENCE};
 use super::record::{Config, ConfigSummary};
 use crate::commands::thousands;
 
@@ -86,8 +87,14 @@ fn mib(bytes: f64) -> String {
     }
 }
 
-/// Table rows group configurations by ε, then by λ (the paper's order: λ
-/// descending), then by method in run order.
+/// λ as a table cell: "–" for a method that ignores it.
+fn lambda_text(c: &Config) -> String {
+    c.lambda.map_or_else(|| "–".to_string(), |l| l.to_string())
+}
+
+/// Table rows group configurations by ε, then the methods that ignore λ,
+/// then by λ (the paper's order: λ descending), then by method in run
+/// order.
 struct Index<'a> {
     configs: &'a [Config],
     summaries: &'a [ConfigSummary],
@@ -105,8 +112,8 @@ impl<'a> Index<'a> {
             if !eps.contains(&c.eps) {
                 eps.push(c.eps);
             }
-            if !lambdas.contains(&c.lambda) {
-                lambdas.push(c.lambda);
+            if let Some(l) = c.lambda.filter(|l| !lambdas.contains(l)) {
+                lambdas.push(l);
             }
             if !methods.contains(&c.method) {
                 methods.push(c.method.clone());
@@ -123,23 +130,46 @@ impl<'a> Index<'a> {
         }
     }
 
-    /// The summary of `method` at `eps`, `lambda`, if it was measured.
+    /// The summary of `method` at `eps` and `lambda` (a method that ignores
+    /// λ answers for any), if it was measured.
     fn get(&self, method: &str, eps: f64, lambda: f64) -> Option<&'a ConfigSummary> {
         self.summaries.iter().find(|s| {
             let c = &self.configs[s.config];
-            c.method == method && c.eps == eps && c.lambda == lambda
+            c.method == method && c.eps == eps && c.lambda.is_none_or(|l| l == lambda)
         })
+    }
+
+    /// Whether `method` reads λ (was measured per λ).
+    fn reads_lambda(&self, method: &str) -> bool {
+        self.configs
+            .iter()
+            .any(|c| c.method == method && c.lambda.is_some())
+    }
+
+    /// The table columns: each method that ignores λ once, then per λ the
+    /// methods that read it.
+    fn columns(&self) -> Vec<(&str, Option<f64>)> {
+        let mut cols: Vec<(&str, Option<f64>)> = self
+            .methods
+            .iter()
+            .filter(|m| !self.reads_lambda(m))
+            .map(|m| (m.as_str(), None))
+            .collect();
+        for &l in &self.lambdas {
+            for m in self.methods.iter().filter(|m| self.reads_lambda(m)) {
+                cols.push((m.as_str(), Some(l)));
+            }
+        }
+        cols
     }
 
     /// Every measured summary in table order, with its configuration.
     fn rows(&self) -> Vec<(&'a Config, &'a ConfigSummary)> {
         let mut out = Vec::new();
         for &e in &self.eps {
-            for &l in &self.lambdas {
-                for m in &self.methods {
-                    if let Some(s) = self.get(m, e, l) {
-                        out.push((&self.configs[s.config], s));
-                    }
+            for (m, l) in self.columns() {
+                if let Some(s) = self.get(m, e, l.unwrap_or(f64::NAN)) {
+                    out.push((&self.configs[s.config], s));
                 }
             }
         }
@@ -163,7 +193,9 @@ pub fn markdown(
     md += &passes_table(&ix);
     md += &figures_table(&ix);
     md += &memory_table(&ix);
-    md += &targets(&ix);
+    let curves = pareto::curves(configs, summaries);
+    md += &equal_error(&curves);
+    md += &targets(&ix, setup, &curves);
     md += "## Plots\n\n";
     for (file, what) in plots {
         md += &format!("![{what}]({file})\n\n");
@@ -245,7 +277,7 @@ fn table1(ix: &Index<'_>, setup: &Setup) -> String {
     md += "\n";
     for &e in &ix.eps {
         let group: Vec<_> = ix.rows().into_iter().filter(|(c, _)| c.eps == e).collect();
-        let best: Vec<Option<f64>> = (0..n)
+        let best: Vec<Option<f64>> = (1..=n)
             .map(|k| {
                 group
                     .iter()
@@ -255,9 +287,9 @@ fn table1(ix: &Index<'_>, setup: &Setup) -> String {
             })
             .collect();
         for (c, s) in &group {
-            md += &format!("| {} | {} | {} |", c.eps, c.method, c.lambda);
+            md += &format!("| {} | {} | {} |", c.eps, c.method, lambda_text(c));
             for (k, b) in best.iter().enumerate() {
-                match s.flips.iter().find(|f| f.perspective == k) {
+                match s.flips.iter().find(|f| f.perspective == k + 1) {
                     Some(f) if group.len() > 1 && Some(f.mean) == *b => {
                         md += &format!(" **{:.5}** |", f.mean)
                     }
@@ -278,12 +310,12 @@ fn table1(ix: &Index<'_>, setup: &Setup) -> String {
 /// method.
 fn table2(ix: &Index<'_>) -> String {
     let mut md = "## Table 2: render time and triangles (% wedges)\n\n| ε | |".to_string();
-    let mut cols = Vec::new();
-    for &l in &ix.lambdas {
-        for m in &ix.methods {
-            cols.push((m.as_str(), l));
-            md += &format!(" {m}, λ = {l} |");
-        }
+    let cols = ix.columns();
+    for &(m, l) in &cols {
+        md += &match l {
+            Some(l) => format!(" {m}, λ = {l} |"),
+            None => format!(" {m} |"),
+        };
     }
     md += "\n|---|---|";
     md += &"---:|".repeat(cols.len());
@@ -292,7 +324,7 @@ fn table2(ix: &Index<'_>) -> String {
         let mut time = format!("| {e} | render time |");
         let mut tris = format!("| {e} | triangles (% wedges) |");
         for &(m, l) in &cols {
-            let s = ix.get(m, e, l);
+            let s = ix.get(m, e, l.unwrap_or(f64::NAN));
             match s.and_then(|s| s.get("gpu_ms.frame")) {
                 Some((med, lo, hi)) => time += &format!(" {} ({:.3}–{:.3}) |", ms(med), lo, hi),
                 None => time += " – |",
@@ -338,7 +370,7 @@ fn passes_table(ix: &Index<'_>) -> String {
     md += &"---:|".repeat(scopes.len());
     md += "\n";
     for (c, s) in rows {
-        md += &format!("| {} | {} | {} |", c.method, c.lambda, c.eps);
+        md += &format!("| {} | {} | {} |", c.method, lambda_text(c), c.eps);
         for sc in &scopes {
             md += &match s.get(&format!("gpu_ms.{sc}")) {
                 Some((m, _, _)) => format!(" {m:.3} |"),
@@ -371,7 +403,7 @@ fn figures_table(ix: &Index<'_>) -> String {
     md += &"---:|".repeat(cols.len());
     md += "\n";
     for (c, s) in ix.rows() {
-        md += &format!("| {} | {} | {} |", c.method, c.lambda, c.eps);
+        md += &format!("| {} | {} | {} |", c.method, lambda_text(c), c.eps);
         for (key, _, worst) in &cols {
             md += &match s.get(key) {
                 Some((m, _, hi)) => format!(
@@ -444,30 +476,30 @@ fn memory_table(ix: &Index<'_>) -> String {
     md
 }
 
-/// The issue's targets at ε = 1, each with what was measured and by how
-/// much it is missed.
-fn targets(ix: &Index<'_>) -> String {
-    let mut md =
-        "## Targets (ε = 1)\n\n| target | measured | verdict |\n|---|---|---|\n".to_string();
+/// "met", or by how much `ratio` misses `limit`.
+fn verdict(ratio: f64, limit: f64) -> String {
+    if ratio <= limit {
+        "met".to_string()
+    } else {
+        format!("missed by {:.0} %", 100.0 * (ratio / limit - 1.0))
+    }
+}
+
+/// The targets of the issue on subdivision against tessellation: triangle
+/// ratios at ε = 1, image error at equal ε, and triangles at equal error.
+fn error_targets(ix: &Index<'_>, setup: &Setup, curves: &[Curve]) -> String {
+    let mut md = String::new();
     let e = 1.0;
     let tris = |m: &str, l: f64| {
         ix.get(m, e, l)
             .and_then(|s| s.get("triangles"))
             .map(|x| x.0)
     };
-    let flip = |m: &str, l: f64| ix.get(m, e, l).and_then(|s| s.flip_median());
-    let verdict = |ratio: f64, limit: f64| {
-        if ratio <= limit {
-            "met".to_string()
-        } else {
-            format!("missed by {:.0} %", 100.0 * (ratio / limit - 1.0))
-        }
-    };
     let absent = |what: &str| {
         format!("| {what} | – | not measured (needs `subdiv` and `tess` at ε = 1 in one run) |\n")
     };
     for (l, limit) in [(0.5, 0.45), (0.0, 0.12)] {
-        let what = format!("`subdiv` λ = {l}: ≤ {limit}× the triangles of `tess`");
+        let what = format!("ε = 1: `subdiv` λ = {l} ≤ {limit}× the triangles of `tess`");
         md += &match (tris("subdiv", l), tris("tess", l)) {
             (Some(a), Some(b)) if b > 0.0 => format!(
                 "| {what} | {} / {} = {:.3}× | {} |\n",
@@ -479,15 +511,138 @@ fn targets(ix: &Index<'_>) -> String {
             _ => absent(&what),
         };
     }
-    let what = "`subdiv` λ = 0.5: FLIP ≤ `tess` + 10 %";
-    md += &match (flip("subdiv", 0.5), flip("tess", 0.5)) {
+    let what = "ε = 1: `subdiv` λ = 0 ≤ 0.3× the triangles of λ = 0.5";
+    md += &match (tris("subdiv", 0.0), tris("subdiv", 0.5)) {
         (Some(a), Some(b)) if b > 0.0 => format!(
-            "| {what} | {a:.5} / {b:.5} = {:.3}× | {} |\n",
+            "| {what} | {} / {} = {:.3}× | {} |\n",
+            thousands(a as u64),
+            thousands(b as u64),
             a / b,
-            verdict(a / b, 1.1)
+            verdict(a / b, 0.3)
         ),
-        _ => absent(what),
+        _ => format!("| {what} | – | not measured (needs `subdiv` at λ = 0 and 0.5, ε = 1) |\n"),
     };
+    for e in [0.5, 1.0, 2.0] {
+        let flip = |m: &str| ix.get(m, e, 0.5).and_then(|s| s.flip_median());
+        let what = format!("ε = {e}: `subdiv` λ = 0.5 FLIP ≤ `tess`'s + 10 %");
+        md += &match (flip("subdiv"), flip("tess")) {
+            (Some(a), Some(b)) if b > 0.0 => format!(
+                "| {what} | {a:.5} / {b:.5} = {:.3}× | {} |\n",
+                a / b,
+                verdict(a / b, 1.1)
+            ),
+            _ => format!("| {what} | – | not measured (needs FLIP of both at ε = {e}) |\n"),
+        };
+    }
+    // At equal error: the issue's limit for the kitchen and the teapot.
+    let limit = match setup.scene_name.as_str() {
+        "kitchen" => Some(0.6),
+        "teapot" => Some(0.9),
+        _ => None,
+    };
+    let what = format!(
+        "equal FLIP: `subdiv` λ = 0.5 ≤ {}× the triangles of `tess`",
+        limit.map_or("0.6 (kitchen) / 0.9 (teapot)".to_string(), |l| l
+            .to_string())
+    );
+    let reference = curves.iter().find(|c| c.method == REFERENCE);
+    let mine = curves
+        .iter()
+        .find(|c| c.method == "subdiv" && c.lambda == Some(0.5));
+    md += &match (mine, reference) {
+        (Some(c), Some(r)) => {
+            let ratios: Vec<f64> = against(c, r).iter().map(|a| a.triangle_ratio()).collect();
+            match (median(ratios.clone()), limit) {
+                (Some(m), Some(limit)) => format!(
+                    "| {what} | median {m:.3}× over {} ε | {} |\n",
+                    ratios.len(),
+                    verdict(m, limit)
+                ),
+                (Some(m), None) => format!(
+                    "| {what} | median {m:.3}× over {} ε | no limit for this scene |\n",
+                    ratios.len()
+                ),
+                (None, _) => format!(
+                    "| {what} | – | no ε of `subdiv` reaches an error within `tess`'s range |\n"
+                ),
+            }
+        }
+        _ => format!("| {what} | – | not measured (needs FLIP of `subdiv` λ = 0.5 and `tess`) |\n"),
+    };
+    md
+}
+
+/// The comparison at equal image error: per curve and ε, the triangles
+/// and frame time `tess` needs for the same FLIP (interpolated on its
+/// curve), and one verdict per curve.
+fn equal_error(curves: &[Curve]) -> String {
+    let mut md = format!(
+        "## At equal image error (against `{REFERENCE}`)\n\n\
+         Per configuration: its FLIP (median over the perspectives), its triangles in those \
+         images and its median frame time, and what `{REFERENCE}` needs for the same FLIP, \
+         interpolated log-log between the two ε of `{REFERENCE}` whose FLIP brackets it \
+         (`–`: outside `{REFERENCE}`'s range).\n\n"
+    );
+    let Some(reference) = curves.iter().find(|c| c.method == REFERENCE) else {
+        return md
+            + &format!("Not measured: `{REFERENCE}` needs FLIP perspectives in the run.\n\n");
+    };
+    md += &format!(
+        "| curve | ε | FLIP | triangles | `{REFERENCE}` triangles | ratio | frame ms | \
+         `{REFERENCE}` ms | ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+    );
+    let mut verdicts = String::new();
+    for c in curves.iter().filter(|c| c.method != REFERENCE) {
+        let at = against(c, reference);
+        for p in &c.points {
+            let a = at.iter().find(|a| a.point.eps == p.eps);
+            let opt = |x: Option<f64>, f: &dyn Fn(f64) -> String| x.map_or("–".to_string(), f);
+            md += &format!(
+                "| {} | {} | {:.5} | {} | {} | {} | {} | {} | {} |\n",
+                c.name(),
+                p.eps,
+                p.flip,
+                thousands(p.triangles.round() as u64),
+                opt(a.map(|a| a.ref_triangles), &|t| thousands(t.round() as u64)),
+                opt(a.map(|a| a.triangle_ratio()), &|r| format!("{r:.3}×")),
+                opt(p.frame_ms, &|m| format!("{m:.3}")),
+                opt(a.and_then(|a| a.ref_frame_ms), &|m| format!("{m:.3}")),
+                opt(a.and_then(|a| a.time_ratio()), &|r| format!("{r:.3}×")),
+            );
+        }
+        let tri = median(at.iter().map(|a| a.triangle_ratio()).collect());
+        let time = median(at.iter().filter_map(|a| a.time_ratio()).collect());
+        verdicts += &match tri {
+            None => format!(
+                "- **{}**: no ε within `{REFERENCE}`'s error range.\n",
+                c.name()
+            ),
+            Some(t) => format!(
+                "- **{}**: at equal FLIP it draws {t:.2}× `{REFERENCE}`'s triangles{} \
+                 (median of {} ε): {}.\n",
+                c.name(),
+                time.map_or(String::new(), |x| format!(" in {x:.2}× its frame time")),
+                at.len(),
+                match (t < 1.0, time.map(|x| x < 1.0)) {
+                    (true, Some(true)) => "fewer triangles and faster",
+                    (true, Some(false)) => "fewer triangles, but slower",
+                    (false, Some(true)) => "more triangles, but faster",
+                    (false, Some(false)) => "more triangles and slower",
+                    (true, None) => "fewer triangles",
+                    (false, None) => "more triangles",
+                }
+            ),
+        };
+    }
+    md + "\n" + &verdicts + "\n"
+}
+
+/// The issue's targets, each with what was measured and by how much it is
+/// missed.
+fn targets(ix: &Index<'_>, setup: &Setup, curves: &[Curve]) -> String {
+    let mut md = "## Targets\n\n| target | measured | verdict |\n|---|---|---|\n".to_string();
+    md += &error_targets(ix, setup, curves);
+    let e = 1.0;
     for &l in &ix.lambdas {
         let what = format!("`subdiv` subdivide pass ≤ 0.9× `subdiv-indirect`'s (λ = {l})");
         let pass = |m: &str| {

@@ -39,6 +39,7 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "recursive subdivision, one indirect dispatch per depth (the paper's \
             execute-indirect variant)",
     rational: true,
+    reads_lambda: true,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
 
