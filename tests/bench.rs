@@ -446,7 +446,13 @@ fn a_bench_against_tess_compares_at_equal_error() {
     let png = image::open(out.join("flip_vs_triangles.png"))
         .unwrap()
         .to_rgb8();
-    let count = |c: [u8; 3]| png.pixels().filter(|p| p.0 == c).count();
+    // Inside the panel, not the legend column on the right.
+    let panel_width = png.width() - 300;
+    let count = |c: [u8; 3]| {
+        png.enumerate_pixels()
+            .filter(|(x, _, p)| *x < panel_width && p.0 == c)
+            .count()
+    };
     let (blue, red) = (count([31, 119, 180]), count([214, 39, 40]));
     assert!(
         blue > 500 && red > 500,
