@@ -438,9 +438,38 @@ fn a_bench_against_tess_compares_at_equal_error() {
         md.contains("| ε | | tess | subdiv, λ = 1 | subdiv-indirect, λ = 1 | subdiv, λ = 0.5 |"),
         "tess has one column in Table 2:\n{md}"
     );
-    for f in ["flip_vs_triangles.png", "flip_vs_time.png", "lambda.png"] {
+    for f in [
+        "flip_vs_triangles.png",
+        "flip_vs_time.png",
+        "geometric_vs_triangles.png",
+        "lambda.png",
+    ] {
         assert!(out.join(f).is_file(), "{f}");
     }
+    // Beside FLIP: the geometric error, each method's ε against it, and
+    // where the image error lies (per model: the teapot alone here).
+    for want in [
+        "## At equal geometric error (against `tess`)",
+        "## Geometric error and each method's ε",
+        "## Where the image error lies (ε = 1)",
+        "teapot 100 %",
+    ] {
+        assert!(md.contains(want), "report.md lacks {want:?}:\n{md}");
+    }
+    let (geo, sil) = (
+        column(&flips, "geo_p99_px"),
+        column(&flips, "silhouette_diff_px"),
+    );
+    for r in &flips[1..] {
+        let p99: f64 = r[geo].parse().unwrap();
+        assert!(p99 > 0.0 && p99 < 20.0, "{p99}");
+        assert!(r[sil].parse::<u64>().is_ok());
+    }
+    let per_model = csv(&out.join("breakdown.csv"));
+    assert_eq!(per_model.len(), flips.len(), "one model, one row per image");
+    assert!(per_model[1..]
+        .iter()
+        .all(|r| r[column(&per_model, "model")] == "teapot"));
     // subdiv and subdiv-indirect draw the same triangles, so their curves
     // coincide; both colours must still show.
     let png = image::open(out.join("flip_vs_triangles.png"))

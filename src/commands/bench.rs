@@ -17,13 +17,16 @@ use anyhow::{anyhow, Context as _};
 
 use super::render::commit_id;
 use super::GpuRequest;
-use crate::constants::SHADE_NORMAL;
+use crate::constants::{PATCH_MODEL_SHIFT, SHADE_NORMAL};
 use crate::eval::record::{
-    figure_keys, flatten, flip_cells, frame_cells, Config, ConfigSummary, CsvLog, FlipRow,
-    FrameRow, FLIP_COLUMNS, FRAME_COLUMNS,
+    breakdown_rows, figure_keys, flatten, flip_cells, frame_cells, Config, ConfigSummary, CsvLog,
+    FlipRow, FrameRow, BREAKDOWN_COLUMNS, FLIP_COLUMNS, FRAME_COLUMNS,
 };
 use crate::eval::report::{markdown, summary_json, Setup};
-use crate::eval::{flip::flip, ground_truth_image, plot};
+use crate::eval::{
+    distance_image, flip::flip, geometry, ground_truth_image, ground_truth_reference, plot,
+    wedge_image,
+};
 use crate::files::{check_writable, write_atomic};
 use crate::frame::View;
 use crate::gpu::write_png;
@@ -177,7 +180,13 @@ fn prepare_output(dir: &Path, flip_frames: u32) -> anyhow::Result<()> {
         dir.to_path_buf()
     };
     std::fs::create_dir_all(&sub).map_err(|e| anyhow!("cannot write to {}: {e}", dir.display()))?;
-    let mut files = vec!["frames.csv", "flip.csv", "summary.json", "report.md"];
+    let mut files = vec![
+        "frames.csv",
+        "flip.csv",
+        "breakdown.csv",
+        "summary.json",
+        "report.md",
+    ];
     if flip_frames > 0 {
         files.push("flip/x.png");
     }
@@ -362,7 +371,7 @@ pub fn run_on(
         plan.frames = path.default_frames();
     }
     // Rows of an earlier run must not pass for this one's.
-    for f in ["frames.csv", "flip.csv"] {
+    for f in ["frames.csv", "flip.csv", "breakdown.csv"] {
         let _ = std::fs::remove_file(args.out.join(f));
     }
     let mut request = GpuRequest::new(args.scene.clone());
@@ -389,6 +398,7 @@ pub fn run_on(
         flip_t,
         grid: args.grid,
         commit: commit_id().to_string(),
+        models: geo.models.iter().map(|m| m.name.clone()).collect(),
         stopped: None,
     };
     let mut m = Measured {
@@ -399,6 +409,7 @@ pub fn run_on(
     };
     let result = measure(
         &mut renderer,
+        &geo,
         args,
         &plan,
         &path,
@@ -443,6 +454,7 @@ struct Measured {
 #[allow(clippy::too_many_arguments)]
 fn measure(
     renderer: &mut Renderer,
+    geo: &SceneGeometry,
     args: &BenchArgs,
     plan: &Plan,
     path: &ScenePath,
@@ -527,12 +539,31 @@ fn measure(
             step(m, &label(&c, &format!("frame {}/{}", i + 1, plan.frames)));
         }
     }
+    let mut breakdown_csv = CsvLog::create(
+        &args.out.join("breakdown.csv"),
+        &BREAKDOWN_COLUMNS.map(String::from),
+    )?;
+    let model_names: Vec<String> = geo.models.iter().map(|m| m.name.clone()).collect();
+    let model_of = |patch: u32| {
+        geo.flags
+            .get(patch as usize)
+            .map(|f| (f >> PATCH_MODEL_SHIFT) as usize)
+    };
     for (k, &t) in setup.flip_t.iter().enumerate() {
         if cancel.load(Ordering::Relaxed) {
             return Ok(());
         }
         // The reference does not depend on ε or λ: one per perspective.
+        let cam = path.camera(t);
+        let far = cam.far as f32;
         let truth = ground_truth_image(renderer, &view(t, &m.configs[0]))?;
+        let reference = ground_truth_reference(
+            renderer,
+            &view(t, &m.configs[0]),
+            far,
+            cam.fov_y_deg,
+            model_of,
+        )?;
         write_png(
             &args.out.join(format!("flip/ground-truth-p{}.png", k + 1)),
             w,
@@ -550,6 +581,14 @@ fn measure(
             let img = renderer.read_image()?;
             let f = flip(&truth, &img, w, h)
                 .ok_or_else(|| anyhow!("FLIP: images of different sizes"))?;
+            let distance = distance_image(renderer, &view(t, &c), far)?;
+            let wedges = if report.stats.get_u64("wedge_triangles").is_some() {
+                Some(wedge_image(renderer, &view(t, &c))?)
+            } else {
+                None
+            };
+            let breakdown =
+                geometry::breakdown(&reference, &distance, wedges.as_deref(), &f.errors);
             let image = format!("flip/{}-p{}.png", c.stem(), k + 1);
             let heat_map = format!("flip/{}-p{}-flip.png", c.stem(), k + 1);
             write_png(&args.out.join(&image), w, h, &img)?;
@@ -562,8 +601,12 @@ fn measure(
                 triangles: report.triangles(),
                 image,
                 heat_map,
+                breakdown,
             };
             flip_csv.append(&flip_cells(&m.configs[ci], &row))?;
+            for cells in breakdown_rows(&m.configs[ci], &row, &model_names) {
+                breakdown_csv.append(&cells)?;
+            }
             m.flips.push(row);
             step(m, &label(&c, &format!("FLIP perspective {}", k + 1)));
         }
@@ -578,6 +621,7 @@ fn finish(out: &Path, setup: &Setup, m: &Measured) -> anyhow::Result<String> {
     for (f, cols) in [
         ("frames.csv", &FRAME_COLUMNS[..]),
         ("flip.csv", &FLIP_COLUMNS[..]),
+        ("breakdown.csv", &BREAKDOWN_COLUMNS[..]),
     ] {
         if !out.join(f).exists() {
             let cols: Vec<String> = cols.iter().map(|s| s.to_string()).collect();

@@ -21,8 +21,9 @@ pub const REFERENCE: &str = "tess";
 pub struct Point {
     /// Pixel tolerance.
     pub eps: f64,
-    /// Median FLIP over the perspectives.
-    pub flip: f64,
+    /// The error measure: median over the perspectives (FLIP, or the
+    /// geometric error in pixels).
+    pub error: f64,
     /// Median triangles of the FLIP images.
     pub triangles: f64,
     /// Median GPU frame time along the path, if frames were timed.
@@ -49,21 +50,21 @@ impl Curve {
         }
     }
 
-    /// Triangles and frame time this curve needs for error `flip`,
+    /// Triangles and frame time this curve needs for error `error`,
     /// interpolated log-log between the two points whose errors bracket it
     /// (points ordered by error); `None` outside the curve's range.
-    pub fn at_flip(&self, flip: f64) -> Option<(f64, Option<f64>)> {
-        let mut pts: Vec<&Point> = self.points.iter().filter(|p| p.flip > 0.0).collect();
-        pts.sort_by(|a, b| a.flip.total_cmp(&b.flip));
-        let exact = pts.iter().find(|p| p.flip == flip);
+    pub fn at_error(&self, error: f64) -> Option<(f64, Option<f64>)> {
+        let mut pts: Vec<&Point> = self.points.iter().filter(|p| p.error > 0.0).collect();
+        pts.sort_by(|a, b| a.error.total_cmp(&b.error));
+        let exact = pts.iter().find(|p| p.error == error);
         if let Some(p) = exact {
             return Some((p.triangles, p.frame_ms));
         }
         let (lo, hi) = pts
             .windows(2)
             .map(|w| (w[0], w[1]))
-            .find(|(a, b)| a.flip < flip && flip < b.flip)?;
-        let s = (flip.ln() - lo.flip.ln()) / (hi.flip.ln() - lo.flip.ln());
+            .find(|(a, b)| a.error < error && error < b.error)?;
+        let s = (error.ln() - lo.error.ln()) / (hi.error.ln() - lo.error.ln());
         let lerp = |a: f64, b: f64| (a.ln() + s * (b.ln() - a.ln())).exp();
         let ms = match (lo.frame_ms, hi.frame_ms) {
             (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Some(lerp(a, b)),
@@ -73,17 +74,33 @@ impl Curve {
     }
 }
 
-/// The curves of a run, in configuration order (method, then λ).
+/// The curves of a run over FLIP, in configuration order (method, then λ).
 pub fn curves(configs: &[Config], summaries: &[ConfigSummary]) -> Vec<Curve> {
+    curves_by(configs, summaries, |s| s.flip_median())
+}
+
+/// The curves of a run over the mean geometric error (pixels).
+pub fn geometric_curves(configs: &[Config], summaries: &[ConfigSummary]) -> Vec<Curve> {
+    curves_by(configs, summaries, |s| {
+        s.flip_figure_median(|b| (b.geo_pixels > 0).then_some(b.geo_mean_px))
+    })
+}
+
+/// The curves of a run over the error measure `error`.
+pub fn curves_by(
+    configs: &[Config],
+    summaries: &[ConfigSummary],
+    error: impl Fn(&ConfigSummary) -> Option<f64>,
+) -> Vec<Curve> {
     let mut out: Vec<Curve> = Vec::new();
     for s in summaries {
         let c = &configs[s.config];
-        let (Some(flip), Some(triangles)) = (s.flip_median(), s.flip_triangles_median()) else {
+        let (Some(e), Some(triangles)) = (error(s), s.flip_triangles_median()) else {
             continue;
         };
         let point = Point {
             eps: c.eps,
-            flip,
+            error: e,
             triangles,
             frame_ms: s.get("gpu_ms.frame").map(|x| x.0),
         };
@@ -135,7 +152,7 @@ pub fn against(curve: &Curve, reference: &Curve) -> Vec<AtEqualError> {
         .points
         .iter()
         .filter_map(|p| {
-            let (t, ms) = reference.at_flip(p.flip)?;
+            let (t, ms) = reference.at_error(p.error)?;
             Some(AtEqualError {
                 point: *p,
                 ref_triangles: t,
@@ -164,9 +181,9 @@ mod tests {
             lambda: None,
             points: pts
                 .iter()
-                .map(|&(eps, flip, triangles)| Point {
+                .map(|&(eps, error, triangles)| Point {
                     eps,
-                    flip,
+                    error,
                     triangles,
                     frame_ms: Some(triangles / 1000.0),
                 })
@@ -184,12 +201,12 @@ mod tests {
             (2.0, 0.04, 2_500.0),
         ]);
         let f = 0.01 * 2f64.sqrt();
-        let (t, ms) = c.at_flip(f).unwrap();
+        let (t, ms) = c.at_error(f).unwrap();
         assert!((t - 20_000.0).abs() < 1e-6, "{t}");
         assert!((ms.unwrap() - 20.0).abs() < 1e-9);
-        assert_eq!(c.at_flip(0.02).unwrap().0, 10_000.0);
-        assert_eq!(c.at_flip(0.005), None);
-        assert_eq!(c.at_flip(0.05), None);
+        assert_eq!(c.at_error(0.02).unwrap().0, 10_000.0);
+        assert_eq!(c.at_error(0.005), None);
+        assert_eq!(c.at_error(0.05), None);
     }
 
     #[test]

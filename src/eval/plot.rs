@@ -632,30 +632,46 @@ pub fn write_plots(
     let curves = pareto::curves(configs, summaries);
     let styles = curve_styles(configs);
     let plain: Vec<Style> = styles.iter().map(|(_, _, s)| s.clone()).collect();
-    let pareto_plots: [CurvePlot; 2] = [
+    let pareto_plots: [CurvePlot; 3] = [
         (
             "flip_vs_triangles.png",
             "FLIP against the ground truth vs triangles (one point per ε)",
             "triangles (median of the FLIP images)",
             "FLIP vs triangles",
-            |p| Some((p.triangles, p.flip)),
+            |p| Some((p.triangles, p.error)),
         ),
         (
             "flip_vs_time.png",
             "FLIP against the ground truth vs GPU frame time (one point per ε)",
             "frame time, ms (median along the path)",
             "FLIP vs frame time",
-            |p| Some((p.frame_ms?, p.flip)),
+            |p| Some((p.frame_ms?, p.error)),
+        ),
+        (
+            "geometric_vs_triangles.png",
+            "Geometric error against the ground truth vs triangles (one point per ε)",
+            "triangles (median of the FLIP images)",
+            "geometric error vs triangles",
+            |p| Some((p.triangles, p.error)),
         ),
     ];
-    for (file, title, x, what, xy) in pareto_plots {
+    let geometric = pareto::geometric_curves(configs, summaries);
+    for (i, (file, title, x, what, xy)) in pareto_plots.into_iter().enumerate() {
+        let (curves, y) = if i < 2 {
+            (&curves, "FLIP mean (median of the perspectives)")
+        } else {
+            (
+                &geometric,
+                "mean geometric error, px (median of the perspectives)",
+            )
+        };
         let fig = Figure {
             title,
-            axes: (x, "FLIP mean (median of the perspectives)"),
+            axes: (x, y),
             styles: plain.clone(),
             panels: vec![curve_panel(
                 "log-log: lower left is better",
-                &curves,
+                curves,
                 &styles,
                 xy,
             )],

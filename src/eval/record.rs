@@ -91,6 +91,8 @@ pub struct FlipRow {
     pub image: String,
     /// The FLIP heat map, relative to the output directory.
     pub heat_map: String,
+    /// Where the error lies, and the geometric error beside FLIP.
+    pub breakdown: crate::eval::geometry::Breakdown,
 }
 
 /// The run's figures of one frame under `render`'s stats key names: the
@@ -132,7 +134,7 @@ pub fn flatten(report: &FrameReport, memory: &[(&'static str, u64)]) -> Vec<(Str
 pub const FRAME_COLUMNS: [&str; 6] = ["method", "draw_path", "eps", "lambda", "frame", "t"];
 
 /// The columns of `flip.csv`.
-pub const FLIP_COLUMNS: [&str; 10] = [
+pub const FLIP_COLUMNS: [&str; 16] = [
     "method",
     "draw_path",
     "eps",
@@ -141,8 +143,30 @@ pub const FLIP_COLUMNS: [&str; 10] = [
     "t",
     "flip_mean",
     "triangles",
+    "geo_mean_px",
+    "geo_p99_px",
+    "silhouette_diff_px",
+    "flip_silhouette_share",
+    "flip_wedge_share",
+    "wedge_pixel_share",
     "image",
     "heat_map",
+];
+
+/// The columns of `breakdown.csv`: per configuration, perspective and
+/// model, the reference pixels showing the model, FLIP over them and the
+/// geometric error.
+pub const BREAKDOWN_COLUMNS: [&str; 10] = [
+    "method",
+    "eps",
+    "lambda",
+    "perspective",
+    "model",
+    "pixels",
+    "flip_sum",
+    "flip_share",
+    "geo_mean_px",
+    "geo_pixels",
 ];
 
 /// The figure keys of several frames' flattened values, each once, in the
@@ -261,9 +285,53 @@ pub fn flip_cells(config: &Config, row: &FlipRow) -> Vec<String> {
         row.t.to_string(),
         row.mean.to_string(),
         row.triangles.to_string(),
+        row.breakdown.geo_mean_px.to_string(),
+        row.breakdown.geo_p99_px.to_string(),
+        row.breakdown.silhouette_diff_px.to_string(),
+        row.breakdown.flip_silhouette_share.to_string(),
+        opt_cell(row.breakdown.flip_wedge_share),
+        opt_cell(row.breakdown.wedge_pixel_share),
         row.image.clone(),
         row.heat_map.clone(),
     ]
+}
+
+fn opt_cell(x: Option<f64>) -> String {
+    x.map_or_else(String::new, |v| v.to_string())
+}
+
+/// The rows of `breakdown.csv` for one FLIP row (models by name; models
+/// the reference does not show are left out).
+pub fn breakdown_rows(config: &Config, row: &FlipRow, models: &[String]) -> Vec<Vec<String>> {
+    let total: f64 = row.breakdown.models.iter().map(|m| m.flip_sum).sum();
+    row.breakdown
+        .models
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.pixels > 0)
+        .map(|(i, m)| {
+            vec![
+                config.method.clone(),
+                config.eps.to_string(),
+                config.lambda_cell(),
+                row.perspective.to_string(),
+                models
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| format!("model {i}")),
+                m.pixels.to_string(),
+                m.flip_sum.to_string(),
+                if total > 0.0 { m.flip_sum / total } else { 0.0 }.to_string(),
+                if m.geo_pixels > 0 {
+                    m.geo_sum_px / m.geo_pixels as f64
+                } else {
+                    0.0
+                }
+                .to_string(),
+                m.geo_pixels.to_string(),
+            ]
+        })
+        .collect()
 }
 
 /// One configuration's frames summarised: median, min and max of every
@@ -334,6 +402,16 @@ impl ConfigSummary {
         (!v.is_empty()).then(|| crate::commands::render::median(&v))
     }
 
+    /// The median over the perspectives of a figure of their breakdowns.
+    pub fn flip_figure_median(
+        &self,
+        f: impl Fn(&crate::eval::geometry::Breakdown) -> Option<f64>,
+    ) -> Option<f64> {
+        let mut v: Vec<f64> = self.flips.iter().filter_map(|r| f(&r.breakdown)).collect();
+        v.sort_by(f64::total_cmp);
+        (!v.is_empty()).then(|| crate::commands::render::median(&v))
+    }
+
     /// The median triangle count of the FLIP images.
     pub fn flip_triangles_median(&self) -> Option<f64> {
         let mut v: Vec<f64> = self.flips.iter().map(|f| f.triangles as f64).collect();
@@ -367,13 +445,24 @@ impl ConfigSummary {
             .flips
             .iter()
             .map(|f| {
+                let b = &f.breakdown;
                 json!({"perspective": f.perspective, "t": f.t, "flip_mean": f.mean,
-                       "triangles": f.triangles, "image": f.image, "heat_map": f.heat_map})
+                       "triangles": f.triangles, "geo_mean_px": b.geo_mean_px,
+                       "geo_p99_px": b.geo_p99_px, "silhouette_diff_px": b.silhouette_diff_px,
+                       "flip_silhouette_share": b.flip_silhouette_share,
+                       "flip_wedge_share": b.flip_wedge_share,
+                       "image": f.image, "heat_map": f.heat_map})
             })
             .collect();
         entry.insert(
             "flip".into(),
-            json!({"median": self.flip_median(), "perspectives": per}),
+            json!({"median": self.flip_median(),
+                   "geo_mean_px": self.flip_figure_median(|b| Some(b.geo_mean_px)),
+                   "geo_p99_px": self.flip_figure_median(|b| Some(b.geo_p99_px)),
+                   "silhouette_diff_px": self.flip_figure_median(|b| Some(b.silhouette_diff_px as f64)),
+                   "flip_silhouette_share": self.flip_figure_median(|b| Some(b.flip_silhouette_share)),
+                   "flip_wedge_share": self.flip_figure_median(|b| b.flip_wedge_share),
+                   "perspectives": per}),
         );
         Value::Object(entry)
     }

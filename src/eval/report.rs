@@ -41,6 +41,8 @@ pub struct Setup {
     pub grid: u32,
     /// The commit the binary was built from.
     pub commit: String,
+    /// The scene's model names, by model index.
+    pub models: Vec<String>,
     /// `None` when the run completed, else why it stopped early.
     pub stopped: Option<String>,
 }
@@ -194,7 +196,13 @@ pub fn markdown(
     md += &figures_table(&ix);
     md += &memory_table(&ix);
     let curves = pareto::curves(configs, summaries);
-    md += &equal_error(&curves);
+    md += &equal_error(&curves, ErrorMeasure::Flip);
+    md += &equal_error(
+        &pareto::geometric_curves(configs, summaries),
+        ErrorMeasure::Geometric,
+    );
+    md += &geometric_error(&ix);
+    md += &error_sources(&ix, setup);
     md += &targets(&ix, setup, &curves);
     md += "## Plots\n\n";
     for (file, what) in plots {
@@ -572,15 +580,26 @@ fn error_targets(ix: &Index<'_>, setup: &Setup, curves: &[Curve]) -> String {
     md
 }
 
+/// The error a comparison at equal error holds equal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ErrorMeasure {
+    Flip,
+    Geometric,
+}
+
 /// The comparison at equal image error: per curve and ε, the triangles
 /// and frame time `tess` needs for the same FLIP (interpolated on its
 /// curve), and one verdict per curve.
-fn equal_error(curves: &[Curve]) -> String {
+fn equal_error(curves: &[Curve], what: ErrorMeasure) -> String {
+    let (title, name, digits) = match what {
+        ErrorMeasure::Flip => ("image error", "FLIP", 5),
+        ErrorMeasure::Geometric => ("geometric error", "mean geometric error (px)", 3),
+    };
     let mut md = format!(
-        "## At equal image error (against `{REFERENCE}`)\n\n\
-         Per configuration: its FLIP (median over the perspectives), its triangles in those \
-         images and its median frame time, and what `{REFERENCE}` needs for the same FLIP, \
-         interpolated log-log between the two ε of `{REFERENCE}` whose FLIP brackets it \
+        "## At equal {title} (against `{REFERENCE}`)\n\n\
+         Per configuration: its {name} (median over the perspectives), its triangles in those \
+         images and its median frame time, and what `{REFERENCE}` needs for the same error, \
+         interpolated log-log between the two ε of `{REFERENCE}` whose errors bracket it \
          (`–`: outside `{REFERENCE}`'s range).\n\n"
     );
     let Some(reference) = curves.iter().find(|c| c.method == REFERENCE) else {
@@ -588,7 +607,7 @@ fn equal_error(curves: &[Curve]) -> String {
             + &format!("Not measured: `{REFERENCE}` needs FLIP perspectives in the run.\n\n");
     };
     md += &format!(
-        "| curve | ε | FLIP | triangles | `{REFERENCE}` triangles | ratio | frame ms | \
+        "| curve | ε | {name} | triangles | `{REFERENCE}` triangles | ratio | frame ms | \
          `{REFERENCE}` ms | ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     let mut verdicts = String::new();
@@ -598,10 +617,10 @@ fn equal_error(curves: &[Curve]) -> String {
             let a = at.iter().find(|a| a.point.eps == p.eps);
             let opt = |x: Option<f64>, f: &dyn Fn(f64) -> String| x.map_or("–".to_string(), f);
             md += &format!(
-                "| {} | {} | {:.5} | {} | {} | {} | {} | {} | {} |\n",
+                "| {} | {} | {:.digits$} | {} | {} | {} | {} | {} | {} |\n",
                 c.name(),
                 p.eps,
-                p.flip,
+                p.error,
                 thousands(p.triangles.round() as u64),
                 opt(a.map(|a| a.ref_triangles), &|t| thousands(t.round() as u64)),
                 opt(a.map(|a| a.triangle_ratio()), &|r| format!("{r:.3}×")),
@@ -618,7 +637,7 @@ fn equal_error(curves: &[Curve]) -> String {
                 c.name()
             ),
             Some(t) => format!(
-                "- **{}**: at equal FLIP it draws {t:.2}× `{REFERENCE}`'s triangles{} \
+                "- **{}**: at equal {name} it draws {t:.2}× `{REFERENCE}`'s triangles{} \
                  (median of {} ε): {}.\n",
                 c.name(),
                 time.map_or(String::new(), |x| format!(" in {x:.2}× its frame time")),
@@ -635,6 +654,120 @@ fn equal_error(curves: &[Curve]) -> String {
         };
     }
     md + "\n" + &verdicts + "\n"
+}
+
+/// The geometric error beside FLIP, and whether each method keeps the ε it
+/// promises (its 99th percentile within ε).
+fn geometric_error(ix: &Index<'_>) -> String {
+    let mut md = "## Geometric error and each method's ε\n\n\
+                  The distance between the drawn surface and the ground truth's, in pixels, \
+                  over the pixels both images cover off the silhouettes (median over the \
+                  perspectives of each image's mean and 99th percentile); silhouette pixels \
+                  that differ (coverage, or a different surface seen) are counted instead. \
+                  A method keeps its ε when the 99th percentile is within it.\n\n\
+                  | method | λ | ε | mean px | p99 px | silhouette px | ε kept |\n\
+                  |---|---|---:|---:|---:|---:|---|\n"
+        .to_string();
+    let mut any = false;
+    for (c, s) in ix.rows() {
+        let (Some(mean), Some(p99), Some(sil)) = (
+            s.flip_figure_median(|b| Some(b.geo_mean_px)),
+            s.flip_figure_median(|b| Some(b.geo_p99_px)),
+            s.flip_figure_median(|b| Some(b.silhouette_diff_px as f64)),
+        ) else {
+            continue;
+        };
+        any = true;
+        md += &format!(
+            "| {} | {} | {} | {mean:.3} | {p99:.3} | {} | {} |\n",
+            c.method,
+            lambda_text(c),
+            c.eps,
+            thousands(sil.round() as u64),
+            if p99 <= c.eps {
+                "yes".to_string()
+            } else {
+                format!("no: p99 {:.0} % over", 100.0 * (p99 / c.eps - 1.0))
+            }
+        );
+    }
+    if !any {
+        return String::new();
+    }
+    md + "\n"
+}
+
+/// Where the FLIP error lies at ε = 1 (else the middle ε): in the
+/// silhouette band, on wedges, and per model (over all perspectives).
+fn error_sources(ix: &Index<'_>, setup: &Setup) -> String {
+    let Some(&e) = ix
+        .eps
+        .iter()
+        .find(|&&e| e == 1.0)
+        .or_else(|| ix.eps.get(ix.eps.len() / 2))
+    else {
+        return String::new();
+    };
+    let rows: Vec<_> = ix
+        .rows()
+        .into_iter()
+        .filter(|(c, s)| c.eps == e && !s.flips.is_empty())
+        .collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut md = format!(
+        "## Where the image error lies (ε = {e})\n\n\
+         Share of the FLIP sum (all perspectives) in the silhouette band (a pixel either side of \
+         a coverage or depth jump in either image), on wedge triangles (their share of the \
+         pixels beside it), and the models with the largest shares (by the ground truth's patch \
+         under each pixel; geometric error in pixels beside).\n\n\
+         | method | λ | silhouettes | wedges (pixels) | largest shares by model |\n\
+         |---|---|---:|---:|---|\n"
+    );
+    for (c, s) in rows {
+        let sil = s.flip_figure_median(|b| Some(b.flip_silhouette_share));
+        let wedge = s.flip_figure_median(|b| b.flip_wedge_share);
+        let wedge_px = s.flip_figure_median(|b| b.wedge_pixel_share);
+        let n = s
+            .flips
+            .iter()
+            .map(|f| f.breakdown.models.len())
+            .max()
+            .unwrap_or(0);
+        let mut per: Vec<(usize, f64, f64, u64)> = (0..n)
+            .map(|i| {
+                let ms = s.flips.iter().filter_map(|f| f.breakdown.models.get(i));
+                let (flip, geo, px) = ms.fold((0.0, 0.0, 0), |(a, b, c), m| {
+                    (a + m.flip_sum, b + m.geo_sum_px, c + m.geo_pixels)
+                });
+                (i, flip, geo, px)
+            })
+            .collect();
+        let total: f64 = per.iter().map(|p| p.1).sum();
+        per.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let top: Vec<String> = per
+            .iter()
+            .take(4)
+            .filter(|p| p.1 > 0.0 && total > 0.0)
+            .map(|&(i, flip, geo, px)| {
+                let name = setup.models.get(i).map_or("?", String::as_str);
+                let g = if px > 0 { geo / px as f64 } else { 0.0 };
+                format!("{name} {:.0} % ({g:.2} px)", 100.0 * flip / total)
+            })
+            .collect();
+        let pct = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{:.0} %", 100.0 * v));
+        md += &format!(
+            "| {} | {} | {} | {}{} | {} |\n",
+            c.method,
+            lambda_text(c),
+            pct(sil),
+            pct(wedge),
+            wedge_px.map_or(String::new(), |p| format!(" ({:.1} %)", 100.0 * p)),
+            top.join(", ")
+        );
+    }
+    md + "\n"
 }
 
 /// The issue's targets, each with what was measured and by how much it is
