@@ -245,6 +245,12 @@ struct ViewArgs {
     /// paper's; view: the window's first size, default 1280x720).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     size: Option<(u32, u32)>,
+    /// How subdivision splits a node: iso (always 1:4, the paper's) or
+    /// aniso (halve only the direction whose edges are not flat, 1:2; 1:4
+    /// when both are or the inner tier fails). Default: the scene's, else
+    /// iso. Only subdiv and subdiv-indirect read it.
+    #[arg(long, value_name = "MODE", value_parser = ["iso", "aniso"])]
+    split: Option<String>,
 }
 
 /// Flags shared by the commands that render.
@@ -363,6 +369,9 @@ fn run(command: Command) -> anyhow::Result<()> {
             args.preview = preview;
             args.preview_shade = preview_shade;
             args.by_model = by_model;
+            if view.split.as_deref() == Some("aniso") {
+                args.flags |= bezier_subdiv::patch::view::FLAG_ANISO;
+            }
             let report = commands::stats::run(&args)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&report)?);

@@ -305,14 +305,14 @@ fn model_stats(geo: &SceneGeometry, ready: &[QuadNode], vp: &ViewParams) -> Vec<
         .collect();
     let mut last_drawn = None;
     for &node in ready {
-        let m = &mut out[model_of(node.patch as usize)];
+        let m = &mut out[model_of(node.patch() as usize)];
         let (tris, wedges) = triangle_counts(&[node], vp.has(FLAG_WEDGES));
         m.ready_quads += 1;
         m.triangles += tris;
         m.wedge_triangles += wedges;
-        if last_drawn != Some(node.patch) {
+        if last_drawn != Some(node.patch()) {
             m.drawn_patches += 1;
-            last_drawn = Some(node.patch);
+            last_drawn = Some(node.patch());
         }
     }
     let mut stack = Vec::new();

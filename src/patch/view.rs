@@ -11,7 +11,7 @@ use super::quadnode::L_MAX;
 /// `ViewParams::flags` bits: frustum culling, back-face culling of ready
 /// one-sided sub-patches, wedge triangles (off only to show the cracks they
 /// close).
-pub use crate::constants::{FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
+pub use crate::constants::{FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
 /// The defaults: everything on.
 pub const FLAGS_DEFAULT: u32 = FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL | FLAG_WEDGES;
 
