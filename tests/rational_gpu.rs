@@ -53,7 +53,7 @@ fn check_frame(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) -> (
     }
     let rational = ready
         .iter()
-        .filter(|q| geo.flags[q.patch as usize] & PATCH_RATIONAL != 0)
+        .filter(|q| geo.flags[q.patch() as usize] & PATCH_RATIONAL != 0)
         .count();
     (rational, oracle.stats.backface_culled)
 }

@@ -203,7 +203,7 @@ fn frame_zero_draws_every_model() {
         let res = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, 2);
         let mut per_model = vec![0u64; geo.models.len()];
         for q in &res.ready {
-            per_model[(geo.flags[q.patch as usize] >> PATCH_MODEL_SHIFT) as usize] += 1;
+            per_model[(geo.flags[q.patch() as usize] >> PATCH_MODEL_SHIFT) as usize] += 1;
         }
         for (m, n) in geo.models.iter().zip(&per_model) {
             assert!(

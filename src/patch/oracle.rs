@@ -469,8 +469,8 @@ pub struct Triangle {
 /// Evaluates a ready node's mesh: every vertex, corner or pivot alike, is the
 /// base patch evaluated at exact dyadic parameters by the one function
 /// [`BezierPatch::eval`].
-pub fn node_positions(base: &BezierPatch, mesh: &NodeMesh) -> [Vec3; 6] {
-    let mut p = [Vec3::ZERO; 6];
+pub fn node_positions(base: &BezierPatch, mesh: &NodeMesh) -> [Vec3; 8] {
+    let mut p = [Vec3::ZERO; 8];
     for (i, &(u, v)) in mesh.uv.iter().enumerate().take(mesh.vertex_count) {
         p[i] = base.eval(u, v);
     }
@@ -481,8 +481,8 @@ pub fn node_positions(base: &BezierPatch, mesh: &NodeMesh) -> [Vec3; 6] {
 /// [`RationalPatch::eval`] (the homogeneous surface point, divided) at the
 /// same dyadic parameters; on a shared boundary it reduces to the boundary
 /// curve's own homogeneous evaluation, so neighbours get the same bits.
-pub fn node_positions_rational(base: &RationalPatch, mesh: &NodeMesh) -> [Vec3; 6] {
-    let mut p = [Vec3::ZERO; 6];
+pub fn node_positions_rational(base: &RationalPatch, mesh: &NodeMesh) -> [Vec3; 8] {
+    let mut p = [Vec3::ZERO; 8];
     for (i, &(u, v)) in mesh.uv.iter().enumerate().take(mesh.vertex_count) {
         p[i] = base.eval(u, v);
     }
@@ -493,17 +493,17 @@ pub fn node_positions_rational(base: &RationalPatch, mesh: &NodeMesh) -> [Vec3; 
 /// comparisons against the GPU's captured vertices evaluate.
 pub trait Surfaces {
     /// The positions of `node`'s mesh (slots as in [`node_positions`]).
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6];
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8];
 }
 
 impl Surfaces for [BezierPatch] {
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
         node_positions(&self[node.patch() as usize], mesh)
     }
 }
 
 impl Surfaces for Vec<BezierPatch> {
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
         self[..].node_positions(node, mesh)
     }
 }
@@ -529,7 +529,7 @@ impl WeightedPatches<'_> {
 }
 
 impl Surfaces for WeightedPatches<'_> {
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
         let k = node.patch() as usize;
         match self.rational(k) {
             Some(r) => node_positions_rational(&r, mesh),

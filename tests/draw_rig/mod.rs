@@ -331,7 +331,7 @@ pub fn check_vertices(case: &Case, words: &[u32]) -> Result<(), String> {
                     | node.depth() << PACK_DEPTH_SHIFT
                     | ((t >= 2) as u32) << PACK_WEDGE_SHIFT;
                 let mut want = bits(pos).to_vec();
-                want.extend([node.patch, attrs]);
+                want.extend([node.patch(), attrs]);
                 let o = (i * 12 + 3 * t + k) * VERTEX_WORDS as usize;
                 let got = &words[o..o + VERTEX_WORDS as usize];
                 if got != want.as_slice() {
@@ -353,7 +353,7 @@ pub fn check_capture(case: &Case, words: &[u32], path: DrawPath) -> Result<usize
     let mut pivots = 0;
     for (i, &node) in case.ready.iter().enumerate() {
         let mesh = node_mesh(node, case.wedges());
-        let pos = node_positions(&case.patches[node.patch as usize], &mesh);
+        let pos = node_positions(&case.patches[node.patch() as usize], &mesh);
         let used = |s: u8| s < 4 || mesh.tris[2..mesh.tri_count].iter().any(|t| t[2] == s);
         for s in 0..6u8 {
             let o = (6 * i + s as usize) * 4;
