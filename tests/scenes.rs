@@ -17,6 +17,8 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("blobs.toml", 35_940, 7),
     ("cages.toml", 577, 4),
     ("rational.toml", 56, 3),
+    ("cylinder.toml", 4, 3),
+    ("pillow.toml", 4, 3),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),
