@@ -439,9 +439,13 @@ shared_constants! {
         LEVEL_GROUP_SIZE = 64;
         /// The ground truth's culling pass: one invocation per base patch.
         GRID_CULL_GROUP_SIZE = 64;
-        /// Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:
-        /// at most 192 vertices and 128 primitives).
+        /// Ready nodes per mesh workgroup (2 triangles + up to 4 wedges each:
+        /// at most 256 vertices and 192 primitives).
         MESH_NODES = 32;
+        /// A ready node's vertex slots (4 corners, a pivot per edge) and
+        /// triangle slots (the quad's two, a wedge per edge).
+        NODE_MESH_SLOTS = 8;
+        NODE_MESH_TRIS = 6;
         /// Mesh workgroups launched by one task workgroup.
         TASK_MESH_GROUPS = 32;
     }
@@ -466,18 +470,19 @@ shared_constants! {
         SUBDIV_REFILL_BELOW = 32;
     }
 
-    /// Fallback path: each ready node owns 4 triangle slots (12 vertices); a
+    /// Fallback path: each ready node owns 6 triangle slots (18 vertices); a
     /// missing wedge is written as a degenerate triangle.
     group {
-        VERTICES_PER_NODE = 12;
+        VERTICES_PER_NODE = 18;
     }
     /// Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
-    /// bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26).
+    /// bits | v*1024: 11 bits << 11 | depth along u: 4 bits << 22 | along v:
+    /// 4 bits << 26 | wedge: 1 bit << 30).
     group {
         VERTEX_WORDS = 5;
         PACK_V_SHIFT = 11;
         PACK_DEPTH_SHIFT = 22;
-        PACK_WEDGE_SHIFT = 26;
+        PACK_WEDGE_SHIFT = 30;
     }
 
     /// Shading modes (push constant of the draw pipelines).
