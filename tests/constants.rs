@@ -246,11 +246,7 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
     ];
     let merges = (0..SORT_MAX_MERGES).map(|i| (C_SORT_MERGE_ARGS + 4 * i, 3));
     let mut owner = vec![None; COUNTER_WORDS as usize];
-    let slots = scalars
-        .iter()
-        .map(|&c| (c, 1))
-        .chain(ranges)
-        .chain(merges);
+    let slots = scalars.iter().map(|&c| (c, 1)).chain(ranges).chain(merges);
     for (i, (start, len)) in slots.enumerate() {
         for word in start..start + len {
             let slot = owner
@@ -319,6 +315,6 @@ fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
             }
         }
     }
-    assert!(JOIN_CLOSED.is_power_of_two() && JOIN_CLOSED > 1 << 30);
-    assert!(SPLIT_MAX_CHILDREN >= 2);
+    const { assert!(JOIN_CLOSED.is_power_of_two() && JOIN_CLOSED > 1 << 30) };
+    const { assert!(SPLIT_MAX_CHILDREN >= 2) };
 }

@@ -151,7 +151,11 @@ fn determinism_and_tiny_queue() {
     let mut indirect = method(&gpu, &geo, "subdiv-indirect", DrawPath::Mesh);
     let (ready_i, img_i) = check_frame(&mut indirect, &geo, &v, "per-depth");
     assert!(ready_a == ready_i, "the two methods' lists differ");
-    assert_eq!(differing_pixels(&img_a, &img_i), 0, "the methods' images differ");
+    assert_eq!(
+        differing_pixels(&img_a, &img_i),
+        0,
+        "the methods' images differ"
+    );
 
     let small = MethodOptions {
         node_memory: 64 << 10,

@@ -81,20 +81,74 @@ const fn sync(block: &'static str, word: Option<u32>, load: Need, store: Need, r
 
 /// The level kernels' words (glsl/common/level.glsl, glsl/subdivide.comp).
 const LEVEL_SYNC: &[Sync] = &[
-    sync("LevelState", Some(S_ARRIVE), Need::Atomic, Need::Atomic, Need::AcqRel),
-    sync("LevelState", Some(S_GENERATION), Need::Acquire, Need::Release, Need::AcqRel),
-    sync("LevelState", Some(S_JOIN), Need::Atomic, Need::Atomic, Need::AcqRel),
-    sync("LevelState", Some(S_PARTICIPANTS), Need::Acquire, Need::Release, Need::AcqRel),
-    sync("LevelState", Some(S_ABORT), Need::Acquire, Need::Release, Need::AcqRel),
+    sync(
+        "LevelState",
+        Some(S_ARRIVE),
+        Need::Atomic,
+        Need::Atomic,
+        Need::AcqRel,
+    ),
+    sync(
+        "LevelState",
+        Some(S_GENERATION),
+        Need::Acquire,
+        Need::Release,
+        Need::AcqRel,
+    ),
+    sync(
+        "LevelState",
+        Some(S_JOIN),
+        Need::Atomic,
+        Need::Atomic,
+        Need::AcqRel,
+    ),
+    sync(
+        "LevelState",
+        Some(S_PARTICIPANTS),
+        Need::Acquire,
+        Need::Release,
+        Need::AcqRel,
+    ),
+    sync(
+        "LevelState",
+        Some(S_ABORT),
+        Need::Acquire,
+        Need::Release,
+        Need::AcqRel,
+    ),
 ];
 
 /// The queue kernel's (glsl/subdivide_queue.comp).
 const QUEUE_SYNC: &[Sync] = &[
-    sync("QueueSeqs", None, Need::Acquire, Need::Release, Need::AcqRel),
+    sync(
+        "QueueSeqs",
+        None,
+        Need::Acquire,
+        Need::Release,
+        Need::AcqRel,
+    ),
     sync("QueueState", None, Need::Atomic, Need::Atomic, Need::Atomic),
-    sync("Counters", Some(C_IN_FLIGHT), Need::Acquire, Need::Release, Need::Release),
-    sync("Counters", Some(C_IDLE), Need::Atomic, Need::Atomic, Need::Atomic),
-    sync("Counters", Some(C_NEXT_BASE), Need::Atomic, Need::Atomic, Need::Atomic),
+    sync(
+        "Counters",
+        Some(C_IN_FLIGHT),
+        Need::Acquire,
+        Need::Release,
+        Need::Release,
+    ),
+    sync(
+        "Counters",
+        Some(C_IDLE),
+        Need::Atomic,
+        Need::Atomic,
+        Need::Atomic,
+    ),
+    sync(
+        "Counters",
+        Some(C_NEXT_BASE),
+        Need::Atomic,
+        Need::Atomic,
+        Need::Atomic,
+    ),
 ];
 
 /// Blocks whose data is published through those words: every plain access
@@ -123,7 +177,9 @@ impl Module {
         let mut constants = HashMap::new();
         let mut types: HashMap<u32, Instruction> = HashMap::new();
         for i in &all {
-            if let (Op::Name, [t, Operand::LiteralString(s)]) = (i.class.opcode, i.operands.as_slice()) {
+            if let (Op::Name, [t, Operand::LiteralString(s)]) =
+                (i.class.opcode, i.operands.as_slice())
+            {
                 names.insert(id(t), s.clone());
             }
             if let Some(r) = i.result_id {
@@ -156,7 +212,10 @@ impl Module {
                 continue;
             };
             // block.member[index]: the runtime array is member 0.
-            let word = i.operands.get(2).and_then(|o| constants.get(&id(o)).copied());
+            let word = i
+                .operands
+                .get(2)
+                .and_then(|o| constants.get(&id(o)).copied());
             pointers.insert(i.result_id.unwrap(), (block, word));
         }
         Module {
@@ -206,10 +265,15 @@ fn breaches_in(shader: &str, m: &Module, rules: &[Sync], data: &[&str]) -> Vec<S
     for i in &m.all {
         let op = i.class.opcode;
         let ptr = match op {
-            Op::Load | Op::Store | Op::AtomicLoad | Op::AtomicStore | Op::AtomicIAdd
-            | Op::AtomicOr | Op::AtomicUMax | Op::AtomicExchange | Op::AtomicCompareExchange => {
-                id(&i.operands[0])
-            }
+            Op::Load
+            | Op::Store
+            | Op::AtomicLoad
+            | Op::AtomicStore
+            | Op::AtomicIAdd
+            | Op::AtomicOr
+            | Op::AtomicUMax
+            | Op::AtomicExchange
+            | Op::AtomicCompareExchange => id(&i.operands[0]),
             _ => continue,
         };
         let what = |block: &str, word: Option<u32>| match word {
@@ -219,7 +283,10 @@ fn breaches_in(shader: &str, m: &Module, rules: &[Sync], data: &[&str]) -> Vec<S
         if let Some((r, block, word)) = rule(ptr) {
             let (need, sem, scope) = match op {
                 Op::Load | Op::Store => {
-                    out.push(format!("{shader}: a plain {op:?} of {}", what(&block, word)));
+                    out.push(format!(
+                        "{shader}: a plain {op:?} of {}",
+                        what(&block, word)
+                    ));
                     continue;
                 }
                 Op::AtomicLoad => (r.load, &i.operands[2], &i.operands[1]),
@@ -228,7 +295,10 @@ fn breaches_in(shader: &str, m: &Module, rules: &[Sync], data: &[&str]) -> Vec<S
             };
             let scope = m.constant(scope);
             if scope != Scope::Device as u32 && scope != Scope::QueueFamily as u32 {
-                out.push(format!("{shader}: {op:?} of {} at scope {scope}", what(&block, word)));
+                out.push(format!(
+                    "{shader}: {op:?} of {} at scope {scope}",
+                    what(&block, word)
+                ));
             }
             if !semantics_ok(m.constant(sem), need) {
                 out.push(format!(
@@ -259,7 +329,11 @@ fn breaches_in(shader: &str, m: &Module, rules: &[Sync], data: &[&str]) -> Vec<S
             out.push(format!(
                 "{shader}: a {op:?} of {} without device-scope {}",
                 what(block, *word),
-                if op == Op::Load { "visibility" } else { "availability" }
+                if op == Op::Load {
+                    "visibility"
+                } else {
+                    "availability"
+                }
             ));
         }
     }
@@ -295,6 +369,9 @@ fn the_check_finds_the_races_of_a7d19dc() {
     assert!(has("does not use the Vulkan memory model"), "{b:?}");
     assert!(has("plain Load of QueueSeqs"), "{b:?}");
     assert!(has("plain Store of QueueSeqs"), "{b:?}");
-    assert!(has(&format!("plain Load of Counters[{C_IN_FLIGHT}]")), "{b:?}");
+    assert!(
+        has(&format!("plain Load of Counters[{C_IN_FLIGHT}]")),
+        "{b:?}"
+    );
     assert!(has("plain Load of QueueState"), "{b:?}");
 }

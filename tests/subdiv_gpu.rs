@@ -229,7 +229,10 @@ fn depths_too_large_for_one_chunk_are_taken_in_parts_at_any_depth() {
             run.report.redone
         );
         assert!(run.stats.max_depth > 6, "the view must go below depth 6");
-        assert!(run.own("rounds_split") > 0, "some depth must take several rounds");
+        assert!(
+            run.own("rounds_split") > 0,
+            "some depth must take several rounds"
+        );
         assert!(node_memory <= budget, "{node_memory} bytes");
         assert_eq!(run.own("node_memory_bytes"), node_memory);
     }
@@ -261,7 +264,12 @@ fn a_tripped_watchdog_sends_the_frame_to_the_per_depth_rounds() {
     println!(
         "watchdog and fallback in {:.2} s: {:?}",
         start.elapsed().as_secs_f64(),
-        first.report.stats.own.iter().find(|(k, _)| *k == "fallback")
+        first
+            .report
+            .stats
+            .own
+            .iter()
+            .find(|(k, _)| *k == "fallback")
     );
     assert_eq!(first.kernel(), "per-depth (fallback)");
     assert_eq!(first.report.redone, 1);
@@ -329,7 +337,10 @@ fn workgroup_and_in_flight_limits_are_refused_with_a_sentence() {
     let err = r.render(&view(&s.camera, size, 1.0, 0.5)).unwrap_err();
     let msg = err.to_string();
     println!("{msg}");
-    assert!(msg.contains("in flight") && msg.contains("--groups"), "{msg}");
+    assert!(
+        msg.contains("in flight") && msg.contains("--groups"),
+        "{msg}"
+    );
     gpu.finish();
 }
 
@@ -421,7 +432,10 @@ fn a_deque_one_slot_from_full_takes_no_split_it_cannot_hold() {
         "deque of {SUBDIV_LOCAL_CAP} started one slot from full: pushed {}, spills {}",
         run.stats.queue_pushed, run.stats.queue_spills
     );
-    assert!(run.stats.queue_pushed > 0, "the full deques must have donated");
+    assert!(
+        run.stats.queue_pushed > 0,
+        "the full deques must have donated"
+    );
     gpu.finish();
 }
 

@@ -251,7 +251,12 @@ impl Levels {
         self.memory.bytes()
     }
 
-    fn push(&self, f: &FrameRec<'_>, stage: &ReadyStage, run: Option<PersistentRun>) -> VkResult<()> {
+    fn push(
+        &self,
+        f: &FrameRec<'_>,
+        stage: &ReadyStage,
+        run: Option<PersistentRun>,
+    ) -> VkResult<()> {
         let run = run.unwrap_or(PersistentRun {
             groups: 0,
             watchdog_polls: 0,
@@ -274,7 +279,12 @@ impl Levels {
     /// Records the counters' reset, binding sets 0-2 and the push block,
     /// and (inside the caller's scope) the first step: the state for the
     /// first round.
-    fn record_start(&self, f: &FrameRec<'_>, stage: &ReadyStage, run: Option<PersistentRun>) -> VkResult<()> {
+    fn record_start(
+        &self,
+        f: &FrameRec<'_>,
+        stage: &ReadyStage,
+        run: Option<PersistentRun>,
+    ) -> VkResult<()> {
         stage.record_reset(f);
         // The previous frame's rounds and copy-out are done with the memory.
         memory_barrier(f.ctx, f.cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
@@ -295,7 +305,12 @@ impl Levels {
     /// Records `rounds` per-depth rounds (scope "subdivide"): the first
     /// step, then one indirect dispatch per round, each after a barrier
     /// from the last. Rounds past the end of the schedule dispatch nothing.
-    pub fn record_rounds(&self, f: &mut FrameRec<'_>, stage: &ReadyStage, rounds: u32) -> VkResult<()> {
+    pub fn record_rounds(
+        &self,
+        f: &mut FrameRec<'_>,
+        stage: &ReadyStage,
+        rounds: u32,
+    ) -> VkResult<()> {
         self.record_start(f, stage, None)?;
         let state = self.memory.state.handle();
         f.scoped("subdivide", |f| {
@@ -314,7 +329,12 @@ impl Levels {
 
     /// Records the persistent kernel (scope "subdivide"): the first step
     /// and one dispatch of `run.groups` workgroups.
-    pub fn record_persistent(&self, f: &mut FrameRec<'_>, stage: &ReadyStage, run: PersistentRun) -> VkResult<()> {
+    pub fn record_persistent(
+        &self,
+        f: &mut FrameRec<'_>,
+        stage: &ReadyStage,
+        run: PersistentRun,
+    ) -> VkResult<()> {
         let Some(pipeline) = &self.persistent else {
             return Err(crate::vk::VkError::Usage(
                 "the persistent level kernel was not made for this method".into(),
@@ -488,7 +508,10 @@ mod tests {
             chunk: p.chunk + LEVEL_GROUP_SIZE,
             ..p
         };
-        assert!(bigger.bytes() > DEFAULT_NODE_MEMORY, "{p:?} is not the largest");
+        assert!(
+            bigger.bytes() > DEFAULT_NODE_MEMORY,
+            "{p:?} is not the largest"
+        );
         // A budget that is not a multiple of anything still gives whole blocks.
         let odd = LevelPlan::for_budget(1_000_003, range).unwrap();
         assert_eq!(odd.chunk % LEVEL_GROUP_SIZE, 0);

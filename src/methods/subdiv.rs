@@ -120,7 +120,11 @@ pub fn default_groups(ctx: &Context, kernel: Kernel) -> u32 {
 
 /// `groups` (or the default), refused with a sentence beyond what one
 /// dispatch may launch on this device.
-pub fn check_groups(ctx: &Context, groups: Option<u32>, kernel: Kernel) -> Result<u32, RenderError> {
+pub fn check_groups(
+    ctx: &Context,
+    groups: Option<u32>,
+    kernel: Kernel,
+) -> Result<u32, RenderError> {
     let n = groups.unwrap_or_else(|| default_groups(ctx, kernel));
     let max = ctx.info().limits.max_compute_work_group_count[0];
     if n == 0 || n > max {
@@ -238,12 +242,10 @@ impl QueueKernel {
             &[stage.set_layout(), &queue_layout],
             vk::ShaderStageFlags::COMPUTE,
         )?;
-        let pipeline = setup.shaders.compute(
-            ctx,
-            &layout,
-            "subdivide (queue)",
-            "subdivide_queue.comp",
-        )?;
+        let pipeline =
+            setup
+                .shaders
+                .compute(ctx, &layout, "subdivide (queue)", "subdivide_queue.comp")?;
         let reset = setup
             .shaders
             .compute(ctx, &layout, "queue reset", "queue_reset.comp")?;
@@ -262,7 +264,12 @@ impl QueueKernel {
 
     /// Records the reset of the counters and the queue, the in-flight
     /// count, and the kernel's dispatch (scope "subdivide").
-    fn record(&self, f: &mut FrameRec<'_>, stage: &ReadyStage, groups: u32) -> Result<(), RenderError> {
+    fn record(
+        &self,
+        f: &mut FrameRec<'_>,
+        stage: &ReadyStage,
+        groups: u32,
+    ) -> Result<(), RenderError> {
         let count = f.scene.count;
         check_in_flight(count, self.queue.capacity, groups, self.deque)
             .map_err(RenderError::Request)?;
@@ -387,7 +394,9 @@ impl Subdiv {
             kernel: o.kernel,
             groups,
             watchdog_polls: o.watchdog_polls,
-            join_polls: o.join_polls.unwrap_or_else(|| levels::default_join_polls(setup.ctx)),
+            join_polls: o
+                .join_polls
+                .unwrap_or_else(|| levels::default_join_polls(setup.ctx)),
             faults: o.level_faults,
             node_memory: o.node_memory,
             sort,

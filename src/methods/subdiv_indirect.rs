@@ -139,9 +139,8 @@ pub(crate) fn finish_rounds(
     }
     let mut m = stats.method_stats(stage.list().caps.ready);
     // The queue kernel's figures mean nothing here.
-    m.own.retain(|(k, _)| {
-        !k.starts_with("queue") && !["iterations_max", "idle_polls"].contains(k)
-    });
+    m.own
+        .retain(|(k, _)| !k.starts_with("queue") && !["iterations_max", "idle_polls"].contains(k));
     m.own.extend(st.stats(levels.plan()));
     m.own.push(("rounds_recorded", json!(*rounds)));
     // The first step and one indirect dispatch per recorded round.
