@@ -1,6 +1,7 @@
 // Method subdiv-indirect, the paper's execute-indirect variant (§4.1): one
 // round of the level schedule per vkCmdDispatchIndirect (common/level.glsl).
-// Workgroup b copies block b of the previous round's ready nodes into the
+// Workgroup w takes blocks w, w + workgroups, ... (pc.group_blocks of them
+// at most): copies block b of the previous round's ready nodes into the
 // ready list and processes block b of this round's chunk, exactly as the
 // persistent kernel and the oracle do (common/process.glsl); the last
 // workgroup to arrive scans the blocks' totals (and sums their statistics
@@ -21,12 +22,14 @@ shared bool s_last;
 void main() {
     uint t = gl_LocalInvocationIndex;
     load_round(t);
-    uint b = gl_WorkGroupID.x;
-    if (b < s_copy_blocks) {
-        copy_block(b, t);
-    }
-    if (b < round_blocks()) {
-        process_block(b, t);
+    uint work = max(round_blocks(), s_copy_blocks);
+    for (uint b = gl_WorkGroupID.x; b < work; b += gl_NumWorkGroups.x) {
+        if (b < s_copy_blocks) {
+            copy_block(b, t);
+        }
+        if (b < round_blocks()) {
+            process_block(b, t);
+        }
     }
     group_sync();
     if (t == 0u) {

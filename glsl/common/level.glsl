@@ -54,6 +54,10 @@ layout(push_constant) uniform LevelPush {
     uint join_polls;      // persistent: polls of an unchanged join count before closing
     uint launched;        // persistent: workgroups launched
     uint faults;          // FAULT_* (tests)
+    uint group_blocks;    // per-depth rounds: blocks per workgroup
+    uint pad0;
+    uint pad1;
+    uint pad2;
 } pc;
 
 const uint BLOCK = LEVEL_GROUP_SIZE;
@@ -322,7 +326,10 @@ void schedule(uint copy_blocks) {
     state[S_FIRST] = first;
     state[S_COUNT] = n;
     state[S_COPY_BLOCKS] = copy_blocks;
-    uint groups = max(blocks_of(n), copy_blocks);
+    // A per-depth round's workgroups take pc.group_blocks blocks each (more
+    // than one where a workgroup's barriers are dear: a CPU device).
+    uint work = max(blocks_of(n), copy_blocks);
+    uint groups = (work + pc.group_blocks - 1u) / pc.group_blocks;
     state[S_ARGS] = groups;
     state[S_ARGS + 1u] = 1u;
     state[S_ARGS + 2u] = 1u;

@@ -134,6 +134,10 @@ pub struct LevelPush {
     pub launched: u32,
     /// `FAULT_*` bits (tests).
     pub faults: u32,
+    /// Per-depth rounds: blocks per workgroup.
+    pub group_blocks: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
 }
 gpu_block!(
     LevelPush,
@@ -146,7 +150,9 @@ gpu_block!(
         watchdog_polls,
         join_polls,
         launched,
-        faults
+        faults,
+        group_blocks,
+        pad
     ]
 );
 

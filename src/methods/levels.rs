@@ -56,6 +56,19 @@ pub fn default_join_polls(ctx: &Context) -> u32 {
     }
 }
 
+/// Blocks per workgroup of a per-depth round: one on a GPU, where a
+/// workgroup's barriers cost cycles and more workgroups hide latency; 16
+/// on a CPU device, where lavapipe pays about 5 µs per workgroup barrier
+/// (it switches between the workgroup's subgroups) and a workgroup that
+/// takes 16 blocks shares its arrival's two barriers among them.
+pub fn group_blocks(ctx: &Context) -> u32 {
+    if ctx.info().is_cpu {
+        16
+    } else {
+        1
+    }
+}
+
 /// How a node-memory budget is spent: rounds of at most `chunk` nodes,
 /// regions for depths 1..=`levels`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -187,6 +200,7 @@ pub struct Levels {
     init: Pipeline,
     round: Pipeline,
     persistent: Option<Pipeline>,
+    group_blocks: u32,
     _set_layout: SetLayout,
 }
 
@@ -237,6 +251,7 @@ impl Levels {
             init,
             round,
             persistent,
+            group_blocks: group_blocks(ctx),
             _set_layout: set_layout,
         })
     }
@@ -272,6 +287,8 @@ impl Levels {
             join_polls: run.join_polls,
             launched: run.groups,
             faults: run.faults,
+            group_blocks: self.group_blocks,
+            pad: [0; 3],
         };
         self.layout.push_block(f.cmd, &pc)
     }
