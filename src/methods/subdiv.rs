@@ -97,13 +97,21 @@ impl FromStr for Kernel {
     }
 }
 
-/// How many workgroups to launch: about as many as the device keeps
-/// resident. On a CPU device that is one per worker thread (lavapipe runs
-/// each workgroup to completion on one thread); on a GPU a generous fixed
-/// number (the level kernel's discovery keeps only the resident ones, the
-/// queue kernel's late starters find the work taken).
+/// How many workgroups to launch. On a GPU a generous fixed number: the
+/// level kernel's discovery keeps only the resident ones, the queue
+/// kernel's late starters find the work taken. On a CPU device (lavapipe
+/// runs each workgroup to completion on one worker thread) the queue kernel
+/// takes one per thread; the level kernel takes one, because a barrier
+/// among lavapipe's threads costs a scheduler time slice whenever other
+/// processes share the cores (the teapot at 1920x1080 on this project's
+/// 2-core machine: 5 ms with 1 workgroup, 55 ms with 2), and a CPU gains
+/// nothing from one dispatch over several. `--groups` and the tests run it
+/// with many.
 pub fn default_groups(ctx: &Context, kernel: Kernel) -> u32 {
     if ctx.info().is_cpu {
+        if kernel == Kernel::Levels {
+            return 1;
+        }
         let threads = std::env::var("LP_NUM_THREADS")
             .ok()
             .and_then(|s| s.parse::<u32>().ok())
