@@ -58,6 +58,11 @@ enum Command {
         /// dark blue … 10 dark red), wedges (depth darkened, wedges magenta).
         #[arg(long, value_name = "MODE", default_value = "normal", value_parser = PreviewShade::from_str)]
         preview_shade: PreviewShade,
+        /// Also break the figures down per model: patches drawn, ready
+        /// quads, triangles, the wedge share, and why nodes split (edges
+        /// along both directions, along one only, or the inner tier alone).
+        #[arg(long)]
+        by_model: bool,
     },
     /// Render one frame offscreen: a PNG plus its statistics as JSON.
     ///
@@ -362,6 +367,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             json,
             preview,
             preview_shade,
+            by_model,
         } => {
             let mut args = StatsArgs::new(resolve_scene(Some(&view.scene)));
             args.frame = frame;
@@ -370,6 +376,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             args.size = view.size.unwrap_or(IMAGE_SIZE);
             args.preview = preview;
             args.preview_shade = preview_shade;
+            args.by_model = by_model;
             let report = commands::stats::run(&args)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&report)?);

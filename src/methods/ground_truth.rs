@@ -44,6 +44,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "ground-truth",
     about: "every patch as a uniform grid (64x64 quads by default, the paper's reference)",
     rational: true,
+    reads_lambda: false,
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };
 

@@ -256,6 +256,9 @@ pub struct MethodInfo {
     pub about: &'static str,
     /// Whether it draws rational patches (scenes with weights other than 1).
     pub rational: bool,
+    /// Whether λ changes what it draws (`bench` runs a method that ignores
+    /// λ once per ε, not once per λ).
+    pub reads_lambda: bool,
     /// Makes the method.
     pub build: fn(&mut MethodSetup<'_>) -> Result<Box<dyn Method>, RenderError>,
 }

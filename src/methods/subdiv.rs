@@ -44,6 +44,7 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "recursive subdivision, one dispatch of persistent workgroups (this project's \
             stand-in for the paper's work graph)",
     rational: true,
+    reads_lambda: true,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
 

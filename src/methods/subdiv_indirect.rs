@@ -29,6 +29,7 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "recursive subdivision, one indirect dispatch per depth (the paper's \
             execute-indirect variant), in bounded node memory",
     rational: true,
+    reads_lambda: true,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
 
