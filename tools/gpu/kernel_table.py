@@ -84,7 +84,7 @@ def main():
 
     print("| kitchen frame | subdiv ms (min–max) | subdiv-indirect ms (min–max) | ratio (target ≤ 0.9) | draw ms |")
     print("|---|---|---|---|---|")
-    for f in range(7):
+    for f in range(8):
         a = base("scenes/kitchen.toml", f, 1.0, "subdiv")
         b = base("scenes/kitchen.toml", f, 1.0, "subdiv-indirect")
         if not (a and b):
