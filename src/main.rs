@@ -273,11 +273,19 @@ struct FrameArgs {
     /// patch; lower it for quick references on a CPU device).
     #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
     grid: u32,
-    /// subdiv-indirect: the deepest level, at most 10 (6, as in the paper:
-    /// its node buffers are sized for the worst case, which grows fourfold
-    /// per level).
+    /// subdiv-indirect: the deepest level, at most 10 (the default; the
+    /// paper's variant stops at 6).
     #[arg(long, value_name = "D", default_value_t = bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH)]
     max_depth: u32,
+    /// subdiv: the persistent kernel, levels (depth-synchronous: the
+    /// per-depth schedule in one dispatch, a grid barrier between rounds;
+    /// the default) or queue (the work-queue kernel, kept for comparison).
+    #[arg(long, value_name = "K", default_value = "levels")]
+    kernel: bezier_subdiv::methods::subdiv::Kernel,
+    /// subdiv and subdiv-indirect: node memory of the level schedule in MiB
+    /// (default 24); a depth that does not fit is taken in parts.
+    #[arg(long, value_name = "MIB")]
+    node_memory: Option<f64>,
     /// Samples per pixel: 1 (no anti-aliasing), 2, 4 or 8 (default 1;
     /// view: 4). validate's oracle comparisons and hole test run
     /// single-sampled whatever this is.
@@ -317,6 +325,12 @@ impl FrameArgs {
             grid: self.grid,
             max_depth: self.max_depth,
             groups: self.groups,
+            kernel: self.kernel,
+            node_memory: self
+                .node_memory
+                .map_or(bezier_subdiv::methods::levels::DEFAULT_NODE_MEMORY, |m| {
+                    (m * f64::from(1u32 << 20)) as u64
+                }),
             msaa: self.msaa.unwrap_or(msaa),
             device: self.device.clone(),
             validation: self.vk_validation,

@@ -448,9 +448,13 @@ impl Renderer {
             &mut data.timer,
             &data.copy_out,
         );
-        self.methods[self.active].record(&mut f)?;
+        let recorded = self.methods[self.active].record(&mut f);
+        // The query ends even when the method refused the frame, so the
+        // abandoned command buffer is still well formed.
+        let ended = data.primitives.end(cmd);
+        recorded?;
+        ended?;
         data.timer.end(cmd, "frame")?;
-        data.primitives.end(cmd)?;
         host_read_barrier(&self.ctx, cmd);
         Ok(())
     }

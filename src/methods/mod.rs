@@ -4,7 +4,7 @@
 //! A method records everything between the start of a frame and a drawn
 //! image: its own passes and the draw into the frame's target. There are two
 //! kinds, and the interface fits both:
-//! - *ready-list producers* (`subdiv`; later `subdiv-indirect`) fill a list
+//! - *ready-list producers* (`subdiv`, `subdiv-indirect`) fill a list
 //!   of QuadNodes and hand it to the shared [`ReadyStage`] (sort, mesh or
 //!   fallback draw path), which is also what validation compares with the
 //!   CPU oracle;
@@ -20,6 +20,7 @@
 
 pub mod cudatess;
 pub mod ground_truth;
+pub mod levels;
 pub mod subdiv;
 pub mod subdiv_indirect;
 pub mod tess;
@@ -61,24 +62,40 @@ pub struct MethodOptions {
     pub draw: DrawPath,
     /// Initial ready-list entries (grown on overflow).
     pub ready_capacity: u32,
-    /// `subdiv`: work-queue entries.
-    pub queue_capacity: u32,
+    /// `subdiv`: which persistent kernel (`--kernel`).
+    pub kernel: subdiv::Kernel,
     /// `subdiv`: persistent workgroups (`None`: the device's default).
     pub groups: Option<u32>,
-    /// `subdiv`: polls without progress before the kernel gives up.
+    /// `subdiv` and `subdiv-indirect`: bytes of node memory of the level
+    /// schedule (rounds take chunks of a depth that fit it).
+    pub node_memory: u64,
+    /// `subdiv`: polls without progress before the level kernel's watchdog
+    /// sends the frame to the per-depth rounds.
+    pub watchdog_polls: u32,
+    /// `subdiv`: polls of an unchanged join count before the occupancy
+    /// window closes (`None`: the device's default).
+    pub join_polls: Option<u32>,
+    /// Test-only faults of the persistent level kernel (`FAULT_*`).
+    pub level_faults: u32,
+    /// `subdiv --kernel queue`: work-queue entries.
+    pub queue_capacity: u32,
+    /// `subdiv --kernel queue`: polls without progress before it gives up.
     pub idle_poll_cap: u32,
-    /// Sort the ready list before drawing (deterministic images).
+    /// `subdiv --kernel queue`: deque entries per workgroup (tests lower it).
+    pub deque_capacity: u32,
+    /// `subdiv --kernel queue`: base patches per claim (0: spread over the
+    /// workgroups; tests fill the deque with it).
+    pub base_batch: u32,
+    /// `subdiv --kernel queue`: sort the ready list before drawing
+    /// (deterministic images; the level kernels need no sort).
     pub sort: bool,
     /// `ground-truth`: grid cells per patch side.
     pub grid: u32,
-    /// `subdiv-indirect`: the deepest level (its buffers grow fourfold per
-    /// level).
+    /// `subdiv-indirect`: the deepest level (at most l_max = 10).
     pub max_depth: u32,
-    /// `subdiv-indirect`: entries per node buffer instead of the worst case
-    /// (a memory budget; a depth that overflows it fails the frame).
-    pub node_capacity: Option<u32>,
-    /// Test-only fault for `subdiv`: one phantom item in flight that never
-    /// completes, so the kernel can only end through its iteration cap.
+    /// Test-only fault for `subdiv --kernel queue`: one phantom item in
+    /// flight that never completes, so the kernel can only end through its
+    /// iteration cap.
     pub plant_endless_loop: bool,
     /// Samples per pixel of the draw target (1: no multisampling). The
     /// draw pipelines are made for it.
@@ -97,13 +114,19 @@ impl MethodOptions {
         Self {
             draw,
             ready_capacity: 1 << 18,
-            queue_capacity: 1 << 19,
+            kernel: subdiv::Kernel::Levels,
             groups: None,
+            node_memory: levels::DEFAULT_NODE_MEMORY,
+            watchdog_polls: levels::DEFAULT_WATCHDOG_POLLS,
+            join_polls: None,
+            level_faults: 0,
+            queue_capacity: 1 << 19,
             idle_poll_cap: subdiv::DEFAULT_IDLE_POLL_CAP,
+            deque_capacity: crate::constants::SUBDIV_LOCAL_CAP,
+            base_batch: 0,
             sort: true,
             grid: ground_truth::DEFAULT_GRID,
             max_depth: subdiv_indirect::DEFAULT_MAX_DEPTH,
-            node_capacity: None,
             samples: 1,
             plant_endless_loop: false,
             forward_differencing: false,

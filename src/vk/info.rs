@@ -74,11 +74,14 @@ pub struct OptionalFeatures {
     /// `meshShaderQueries` (VK_EXT_mesh_shader): primitives counted at the end
     /// of mesh pipelines.
     pub mesh_shader_queries: bool,
+    /// `vulkanMemoryModel` and `vulkanMemoryModelDeviceScope` (Vulkan 1.2):
+    /// the subdivision kernels' acquire/release atomics between workgroups.
+    pub vulkan_memory_model: bool,
 }
 
 impl OptionalFeatures {
     /// (name, enabled) pairs in a stable order, for reports.
-    pub fn list(&self) -> [(&'static str, bool); 13] {
+    pub fn list(&self) -> [(&'static str, bool); 14] {
         [
             ("mesh shader (VK_EXT_mesh_shader)", self.mesh_shader),
             ("multiDrawIndirect", self.multi_draw_indirect),
@@ -99,6 +102,7 @@ impl OptionalFeatures {
                 self.primitives_generated_query,
             ),
             ("meshShaderQueries", self.mesh_shader_queries),
+            ("vulkanMemoryModel (device scope)", self.vulkan_memory_model),
         ]
     }
 }

@@ -159,6 +159,7 @@ impl Rig {
             ready: 1,
             vertices: true,
             capture: true,
+            sort: false,
         };
         let stages = PATHS
             .iter()
