@@ -158,3 +158,16 @@ pub fn renderer(
     )
     .unwrap_or_else(|e| panic!("renderer for {method}: {e}"))
 }
+
+/// How many hole checks `validate` runs on a scene: one per distinct model
+/// file that has patches (instances of one file are checked once).
+#[allow(dead_code)]
+pub fn distinct_models(name: &str) -> usize {
+    let (_, geo) = scene(name);
+    geo.models
+        .iter()
+        .filter(|m| m.patches_per_instance > 0)
+        .map(|m| m.file.clone())
+        .collect::<std::collections::HashSet<_>>()
+        .len()
+}
