@@ -1,5 +1,6 @@
 //! The `bezier-subdiv` command line.
 
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::str::FromStr;
@@ -334,9 +335,24 @@ fn main() -> ExitCode {
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // Not eprintln!: it panics when stderr is a closed pipe.
+            let _ = writeln!(std::io::stderr(), "error: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Writes `text` to stdout. A reader that went away (a closed pipe, as in
+/// `| head -1`) is not a failure of the command: its work is done and its
+/// files are written, and what is left to print has nobody to read it, so
+/// the rest is dropped and the exit status stays the command's own. Every
+/// command prints through this, never through `print!` (which panics on a
+/// closed pipe).
+fn emit(text: &str) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r.map_err(|e| anyhow::anyhow!("writing to stdout: {e}")),
     }
 }
 
@@ -358,15 +374,15 @@ fn run(command: Command) -> anyhow::Result<()> {
             args.preview_shade = preview_shade;
             let report = commands::stats::run(&args)?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&report)?);
+                emit(&(serde_json::to_string_pretty(&report)? + "\n"))
             } else {
-                print!("{}", report.to_text());
+                let mut text = report.to_text();
                 if let Some(p) = &report.preview {
-                    println!("preview         {p} ({preview_shade})");
+                    text += &format!("preview         {p} ({preview_shade})\n");
                 }
-                println!("note: these are the CPU reference's figures; `render` runs the GPU.");
+                text += "note: these are the CPU reference's figures; `render` runs the GPU.\n";
+                emit(&text)
             }
-            Ok(())
         }
         Command::Render {
             frame,
@@ -383,8 +399,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 repeat,
                 flip,
             };
-            print!("{}", commands::render::run(&args)?);
-            Ok(())
+            emit(&commands::render::run(&args)?)
         }
         Command::Validate {
             frame,
@@ -398,7 +413,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 debug_dir,
             };
             let report = commands::validate::run(&args)?;
-            print!("{}", report.table);
+            emit(&report.table)?;
             if report.ok() {
                 Ok(())
             } else {
@@ -422,8 +437,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 screenshot,
                 resize,
             };
-            print!("{}", bezier_subdiv::app::run(&args)?);
-            Ok(())
+            emit(&bezier_subdiv::app::run(&args)?)
         }
         Command::Bench {
             scene,
@@ -455,12 +469,12 @@ fn run(command: Command) -> anyhow::Result<()> {
                 ..BenchArgs::new(resolve_scene(Some(&scene)), out)
             };
             let done = commands::bench::run(&args)?;
-            println!(
-                "wrote {}: frames.csv ({} frames), flip.csv ({} images), summary.json, report.md, plots",
+            emit(&format!(
+                "wrote {}: frames.csv ({} frames), flip.csv ({} images), summary.json, report.md, plots\n",
                 done.out.display(),
                 done.rows,
                 done.flips
-            );
+            ))?;
             match done.stopped {
                 None => Ok(()),
                 Some(why) => Err(anyhow::anyhow!(
@@ -468,21 +482,14 @@ fn run(command: Command) -> anyhow::Result<()> {
                 )),
             }
         }
-        Command::Info { vk_validation } => {
-            print!("{}", commands::info::run(vk_validation)?);
-            Ok(())
-        }
+        Command::Info { vk_validation } => emit(&commands::info::run(vk_validation)?),
         Command::Import {
             file,
             out,
             boundary,
         } => {
             let options = bezier_subdiv::scene::obj::CageOptions { boundary };
-            print!(
-                "{}",
-                commands::import::run(&file, out.as_deref(), &options)?
-            );
-            Ok(())
+            emit(&commands::import::run(&file, out.as_deref(), &options)?)
         }
     }
 }
