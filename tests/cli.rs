@@ -112,6 +112,31 @@ fn refused_files_name_themselves_and_fail() {
         String::from_utf8_lossy(&run.stderr).contains("broken.bpt:2"),
         "the line is named"
     );
+    // Coordinates a scene would refuse are refused here, with the line; the
+    // limit itself is accepted.
+    let patch = (1..=16)
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join(",");
+    let points = |far: &str| {
+        let mut p: Vec<String> = (0..16).map(|i| format!("{},{},0", i % 4, i / 4)).collect();
+        p[5] = far.into();
+        format!("1\n{patch}\n16\n{}\n", p.join("\n"))
+    };
+    let far = dir.join("far.bpt");
+    std::fs::write(&far, points("1e30,0,0")).unwrap();
+    let run = bin().arg("import").arg(&far).output().unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(err.contains("far.bpt:9: coordinate x"), "{err}");
+    assert!(err.contains("beyond ±1e6"), "{err}");
+    std::fs::write(&far, points("1000000,0,-1000000")).unwrap();
+    let run = bin().arg("import").arg(&far).output().unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
 }
 
 #[test]
