@@ -31,6 +31,11 @@ use bezier_subdiv::vk::DeviceSelector;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Seconds one wait for the GPU may take before the run fails (default
+    /// 60, or BEZIER_SUBDIV_TIMEOUT). Long work is submitted in parts, each
+    /// waited for within this; raise it on a slow or busy device.
+    #[arg(long, global = true, value_name = "SECONDS", value_parser = parse_timeout)]
+    timeout: Option<std::time::Duration>,
 }
 
 #[derive(Subcommand)]
@@ -79,9 +84,15 @@ enum Command {
         /// Output PNG (default: out/<scene name>.png; out/ is created).
         #[arg(long, value_name = "FILE.png")]
         out: Option<PathBuf>,
-        /// Time N more frames of the same view after the first (a warm-up):
-        /// the stats file's gpu_ms become the medians, with gpu_ms_min and
-        /// gpu_ms_max beside them.
+        /// Untimed frames of the same view before the timed one: the first
+        /// frame pays for shader compilation and caches (seconds on a fresh
+        /// machine). Its figures stay in the stats file as gpu_ms_cold; 0
+        /// times the first, cold frame itself.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        warmup: u32,
+        /// Time N frames after the warm-up instead of one: the stats file's
+        /// gpu_ms become the medians, with gpu_ms_min and gpu_ms_max beside
+        /// them.
         #[arg(long, value_name = "N", default_value_t = 0)]
         repeat: u32,
         /// Also draw the same view with ground-truth (at --grid) and compare:
@@ -321,6 +332,10 @@ impl FrameArgs {
     }
 }
 
+fn parse_timeout(s: &str) -> Result<std::time::Duration, String> {
+    bezier_subdiv::vk::parse_timeout(s)
+}
+
 fn parse_on_off(s: &str) -> Result<bool, String> {
     match s {
         "on" => Ok(true),
@@ -332,7 +347,7 @@ fn parse_on_off(s: &str) -> Result<bool, String> {
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
-    match run(cli.command) {
+    match set_timeout(cli.timeout).and_then(|()| run(cli.command)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // Not eprintln!: it panics when stderr is a closed pipe.
@@ -354,6 +369,16 @@ fn emit(text: &str) -> anyhow::Result<()> {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         r => r.map_err(|e| anyhow::anyhow!("writing to stdout: {e}")),
     }
+}
+
+/// The fence timeout: `--timeout`, else the environment's (refused here, before
+/// any work, when it is not a number of seconds), else the default.
+fn set_timeout(flag: Option<std::time::Duration>) -> anyhow::Result<()> {
+    let env = bezier_subdiv::vk::env_fence_timeout().map_err(|e| anyhow::anyhow!(e))?;
+    if let Some(t) = flag.or(env) {
+        bezier_subdiv::vk::set_fence_timeout(t);
+    }
+    Ok(())
 }
 
 fn run(command: Command) -> anyhow::Result<()> {
@@ -388,6 +413,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             frame,
             shade,
             out,
+            warmup,
             repeat,
             flip,
         } => {
@@ -396,6 +422,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 gpu: frame.request(IMAGE_SIZE, 1),
                 shade,
                 out,
+                warmup,
                 repeat,
                 flip,
             };

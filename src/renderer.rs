@@ -30,14 +30,15 @@ use crate::patch::view::ViewParams;
 use crate::scene::file::{SceneGeometry, SceneShading};
 use crate::vk::{
     host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, PrimitiveCounter,
-    PrimitiveQuery, VkError, VkResult,
+    PrimitiveQuery, ProgressSink, VkError, VkResult, MAX_FRAME_PARTS,
 };
 
 /// Frames in flight unless told otherwise.
 pub const DEFAULT_FRAMES_IN_FLIGHT: usize = 2;
 
-/// Timestamp scopes per frame: the frame, and a method's passes.
-const MAX_SCOPES: u32 = 12;
+/// Timestamp scopes per frame: the frame, and a method's passes, some of
+/// them once per part of a frame recorded in parts.
+const MAX_SCOPES: u32 = 12 + 3 * MAX_FRAME_PARTS;
 
 /// How a renderer is set up.
 #[derive(Clone, Debug)]
@@ -191,6 +192,12 @@ impl Renderer {
     /// The context.
     pub fn context(&self) -> &Arc<Context> {
         &self.ctx
+    }
+
+    /// Where waits for frames recorded in more than one part report their
+    /// progress (a terminal's progress bar; `None`: nowhere).
+    pub fn set_progress(&mut self, sink: Option<ProgressSink>) {
+        self.frames.set_progress(sink);
     }
 
     /// Switches to method `name`, making it on first use.
@@ -435,23 +442,30 @@ impl Renderer {
         data.primitives.reset(cmd);
         let mesh = self.methods[self.active].uses_mesh_shaders();
         data.primitives.begin(cmd, mesh)?;
+        // The whole frame is one scope, across its parts: timestamps,
+        // unlike queries, may begin and end in different command buffers.
         data.timer.begin(cmd, "frame")?;
-        let mut f = FrameRec::new(
-            &self.ctx,
-            cmd,
-            slot,
-            &self.scene,
-            view,
-            &self.target,
-            self.capture,
-            retired,
-            &mut data.timer,
-            &data.copy_out,
-        );
-        self.methods[self.active].record(&mut f)?;
-        data.timer.end(cmd, "frame")?;
-        data.primitives.end(cmd)?;
-        host_read_barrier(&self.ctx, cmd);
+        // The command buffer of the last part the method recorded.
+        let last = {
+            let mut f = FrameRec::new(
+                &self.ctx,
+                cmd,
+                slot,
+                &self.scene,
+                view,
+                &self.target,
+                self.capture,
+                retired,
+                &mut data.timer,
+                &data.copy_out,
+            )
+            .with_parts(&mut self.frames, &mut data.primitives);
+            self.methods[self.active].record(&mut f)?;
+            f.cmd
+        };
+        data.timer.end(last, "frame")?;
+        data.primitives.end(last)?;
+        host_read_barrier(&self.ctx, last);
         Ok(())
     }
 

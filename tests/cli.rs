@@ -481,3 +481,160 @@ fn import_takes_a_boundary_rule() {
     assert!(!run.status.success());
     assert!(String::from_utf8_lossy(&run.stderr).contains("none, edge-only, edge-and-corner"));
 }
+
+/// A wait that runs out says what was running, how long it had run and
+/// what to try (a longer --timeout or its environment variable, a smaller
+/// --size, a coarser --grid), exits 1 and writes nothing; the flag and the
+/// environment variable both set it, and a bad value of either is refused
+/// before any GPU work.
+#[test]
+fn a_timeout_says_what_ran_and_what_to_try() {
+    let dir = temp_dir("timeout");
+    let out = dir.join("gt.png");
+    let render = |flag: Option<&str>, env: Option<&str>| {
+        let mut cmd = bin();
+        cmd.args([
+            "render",
+            "--method",
+            "ground-truth",
+            "--grid",
+            "16",
+            "--scene",
+        ])
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/kitchen.toml"))
+        .args(["--size", "320x180", "--out"])
+        .arg(&out)
+        .env_remove("BEZIER_SUBDIV_TIMEOUT");
+        if let Some(t) = flag {
+            cmd.args(["--timeout", t]);
+        }
+        if let Some(t) = env {
+            cmd.env("BEZIER_SUBDIV_TIMEOUT", t);
+        }
+        cmd.output().unwrap()
+    };
+    // 1 ms: far less than anything here takes, the first wait runs out.
+    for (flag, env) in [
+        (Some("0.001"), None),
+        (None, Some("0.001")),
+        (Some("0.001"), Some("600")),
+    ] {
+        let run = render(flag, env);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{flag:?} {env:?}: {err}");
+        for want in [
+            "did not finish within the 1 ms fence timeout",
+            "since it was submitted",
+            "--timeout SECONDS",
+            "BEZIER_SUBDIV_TIMEOUT=SECONDS",
+            "--size",
+            "--grid",
+        ] {
+            assert!(
+                err.contains(want),
+                "{flag:?} {env:?}: wanted {want:?} in {err}"
+            );
+        }
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!out.exists() && !out.with_extension("json").exists());
+    }
+    let run = render(None, Some("soon"));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("BEZIER_SUBDIV_TIMEOUT: `soon` is not a number of seconds"),
+        "{err}"
+    );
+    let run = render(Some("0"), None);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "clap refuses it: {err}");
+    assert!(err.contains("positive number of seconds"), "{err}");
+}
+
+/// `render` times a frame after a warm-up frame and says so, in its line
+/// and its stats file, where the cold first frame's figures stay
+/// (`gpu_ms_cold`); `--warmup 0` times the cold frame. The README's own
+/// command (the kitchen at 1080p), with the driver's shader cache off so
+/// that the first frame pays for compiling, as on a fresh machine: on a
+/// CPU device, which compiles at first use, the warm frame is the faster.
+#[test]
+fn render_times_a_warm_frame_and_keeps_the_cold_one() {
+    let dir = temp_dir("warm");
+    let render = |out: &Path, extra: &[&str]| {
+        let run = bin()
+            .arg("render")
+            .args(extra)
+            .arg("--out")
+            .arg(out)
+            .env("MESA_SHADER_CACHE_DISABLE", "true")
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&run.stdout).to_string();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let stats: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
+        (text, stats)
+    };
+    let (text, stats) = render(&dir.join("kitchen.png"), &[]);
+    assert_eq!(stats["warmup_frames"], 1, "{stats}");
+    assert!(
+        text.contains("after 1 warm-up frame (the first took"),
+        "{text}"
+    );
+    let warm = stats["gpu_ms"]["frame"].as_f64().unwrap();
+    let cold = stats["gpu_ms_cold"]["frame"].as_f64().unwrap();
+    println!("kitchen 1080p: cold {cold:.1} ms, warm {warm:.1} ms");
+    if stats["device_is_cpu"] == true {
+        assert!(
+            warm < cold,
+            "the timed frame is not the warm one: {warm} ms >= cold {cold} ms"
+        );
+    }
+    let (text, stats) = render(
+        &dir.join("cold.png"),
+        &["--warmup", "0", "--size", "320x180"],
+    );
+    assert_eq!(stats["warmup_frames"], 0);
+    assert!(stats.get("gpu_ms_cold").is_none(), "{stats}");
+    assert!(text.contains("(the first frame: cold)"), "{text}");
+}
+
+/// The README's third command, which ran out of its 60 s wait on a busy
+/// 2-core lavapipe (the kitchen's ground truth at 1080p, grid 64: 2.6·10⁸
+/// triangles in one submission, 28 s when idle): its ground truth now goes
+/// in parts of at most 2^24 triangles, each waited for on its own, so it
+/// finishes even with a 20 s wait, less than the whole takes there.
+#[test]
+fn the_readme_flip_command_finishes_in_parts() {
+    let dir = temp_dir("readme-flip");
+    let out = dir.join("kitchen.png");
+    let run = bin()
+        .args([
+            "render",
+            "--method",
+            "tess",
+            "--flip",
+            "--timeout",
+            "20",
+            "--out",
+        ])
+        .arg(&out)
+        .env_remove("BEZIER_SUBDIV_TIMEOUT")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(text.contains("FLIP mean"), "{text}");
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
+    assert_eq!(stats["flip_reference"]["grid"], 64);
+    assert!(dir.join("kitchen.flip.png").is_file());
+}

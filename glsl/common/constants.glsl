@@ -105,11 +105,15 @@ const uint BIND_GRID_COUNTERS = 1;
 const uint GRID_BINDINGS = 2;
 
 // Words of the ground truth's counters: patches culled, and from
-// G_DRAW_ARGS the VkDrawIndexedIndirectCommand (index count, instance
-// count = visible patches, first index, vertex offset, first instance).
+// G_DRAW_ARGS one VkDrawIndexedIndirectCommand per part of the frame
+// (G_ARGS_WORDS words each: index count, instance count = the part's
+// visible patches, first index, vertex offset, first instance), for up
+// to G_MAX_PARTS parts (the frame ring's MAX_FRAME_PARTS).
 const uint G_CULLED = 0;
 const uint G_DRAW_ARGS = 4;
-const uint GRID_WORDS = 16;
+const uint G_ARGS_WORDS = 5;
+const uint G_MAX_PARTS = 64;
+const uint GRID_WORDS = 324;
 
 // Set 1 of the tessellation methods: their counters, and what validation
 // captures: the levels of every patch and the vertices on patch edges.

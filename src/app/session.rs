@@ -475,6 +475,7 @@ impl Session {
             frame: self.args.frame,
             shade: c.shade,
             out: Some(path.to_path_buf()),
+            warmup: 0,
             repeat: 0,
             flip: false,
         }

@@ -71,6 +71,10 @@ pub struct MethodOptions {
     pub sort: bool,
     /// `ground-truth`: grid cells per patch side.
     pub grid: u32,
+    /// `ground-truth`: the most triangles one part of a frame (one
+    /// submission, one bounded fence wait) draws; see
+    /// `ground_truth::plan_parts`.
+    pub part_triangles: u64,
     /// `subdiv-indirect`: the deepest level (its buffers grow fourfold per
     /// level).
     pub max_depth: u32,
@@ -102,6 +106,7 @@ impl MethodOptions {
             idle_poll_cap: subdiv::DEFAULT_IDLE_POLL_CAP,
             sort: true,
             grid: ground_truth::DEFAULT_GRID,
+            part_triangles: ground_truth::PART_TRIANGLES,
             max_depth: subdiv_indirect::DEFAULT_MAX_DEPTH,
             node_capacity: None,
             samples: 1,
