@@ -494,5 +494,8 @@ shared_constants! {
         /// Tests: the base patch parameters (u, v) as 12 bits each
         /// (round(u * 4095) in r and the top of g, v below it and in b).
         SHADE_PARAMS = 9;
+        /// Tests: the model's tint unlit (`palette::model_tint`, the
+        /// shaders' `model_tint`).
+        SHADE_TINT = 10;
     }
 }

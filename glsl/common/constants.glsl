@@ -343,5 +343,8 @@ const uint SHADE_PATCH_ID = 8;
 // Tests: the base patch parameters (u, v) as 12 bits each
 // (round(u * 4095) in r and the top of g, v below it and in b).
 const uint SHADE_PARAMS = 9;
+// Tests: the model's tint unlit (`palette::model_tint`, the
+// shaders' `model_tint`).
+const uint SHADE_TINT = 10;
 
 #endif

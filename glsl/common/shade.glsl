@@ -35,8 +35,10 @@ uint shade_flags(uint patch_id) {
     return patch_flags[patch_id];
 }
 
-// Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT, wraps).
-const vec3 PALETTE[8] = vec3[8](
+// Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT), the twin
+// of src/palette.rs model_tint: eight hand-picked tints, then hues stepping
+// by the golden ratio at three brightness levels, so no colour comes back.
+const vec3 FIRST_TINTS[8] = vec3[8](
     vec3(0.90, 0.62, 0.38),
     vec3(0.42, 0.62, 0.90),
     vec3(0.52, 0.80, 0.45),
@@ -45,6 +47,16 @@ const vec3 PALETTE[8] = vec3[8](
     vec3(0.60, 0.55, 0.88),
     vec3(0.42, 0.80, 0.78),
     vec3(0.78, 0.78, 0.78));
+
+vec3 model_tint(uint index) {
+    if (index < 8u) {
+        return FIRST_TINTS[index];
+    }
+    float h = fract(0.425 + fract(0.618034 * float(index % 4096u)));
+    float v = index % 3u == 0u ? 0.92 : (index % 3u == 1u ? 0.78 : 0.64);
+    vec3 c = clamp(abs(fract(h + vec3(1.0, 2.0 / 3.0, 1.0 / 3.0)) * 6.0 - 3.0) - 1.0, 0.0, 1.0);
+    return v * ((1.0 - 0.55) + 0.55 * c);
+}
 
 // QuadNode depth 0..L_MAX: dark blue through cyan, green and yellow to dark
 // red, with lightness rising to the middle and falling again, so
@@ -159,6 +171,9 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
     if (pc.shade == SHADE_PATCH_ID) {
         return code_color(patch_id & 0xffffffu);
     }
+    if (pc.shade == SHADE_TINT) {
+        return vec4(model_tint(shade_flags(patch_id) >> PATCH_MODEL_SHIFT), 1.0);
+    }
     if (pc.shade == SHADE_PARAMS) {
         uvec2 q = uvec2(clamp(uv, 0.0, 1.0) * 4095.0 + 0.5);
         return code_color((q.x << 12) | q.y);
@@ -199,7 +214,7 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
         return vec4(c, 1.0);
     }
     // SHADE_NORMAL: Lambert + ambient + a little Blinn-Phong.
-    vec3 base = PALETTE[(shade_flags(patch_id) >> PATCH_MODEL_SHIFT) & 7u];
+    vec3 base = model_tint(shade_flags(patch_id) >> PATCH_MODEL_SHIFT);
     vec3 l = pc.light_dir.xyz;
     l = dot(l, l) > 0.0 ? normalize(l) : to_eye;
     vec3 h = l + to_eye;
