@@ -498,4 +498,25 @@ shared_constants! {
         /// shaders' `model_tint`).
         SHADE_TINT = 10;
     }
+
+    /// The depth heat map's colours (0xRRGGBB, display values): depth 0
+    /// dark blue through cyan, green and yellow to dark red at 10, the
+    /// lightness rising to the middle and falling again, so neighbouring
+    /// depths stay apart. The shaders, the CPU preview and the window's
+    /// legend all read these.
+    group {
+        DEPTH_RAMP_0 = 0x29_338c;
+        DEPTH_RAMP_1 = 0x29_66e0;
+        DEPTH_RAMP_2 = 0x1f_a3eb;
+        DEPTH_RAMP_3 = 0x24_ccbd;
+        DEPTH_RAMP_4 = 0x5c_e070;
+        DEPTH_RAMP_5 = 0xa8_eb3d;
+        DEPTH_RAMP_6 = 0xed_d933;
+        DEPTH_RAMP_7 = 0xfa_9e29;
+        DEPTH_RAMP_8 = 0xeb_6124;
+        DEPTH_RAMP_9 = 0xc2_2924;
+        DEPTH_RAMP_10 = 0x80_0f1f;
+        /// Crack-closing wedges in the wedge view.
+        WEDGE_RGB = 0xff_00ff;
+    }
 }

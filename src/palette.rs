@@ -1,3 +1,7 @@
+//! The colours every image shares: the depth heat map's ramp (declared in
+//! `src/constants.rs`, generated into the shaders' header) and the tint of
+//! each model.
+//!
 //! The tint of each model, the same in every image: the GPU's lit shading
 //! (`model_tint` in `glsl/common/shade.glsl`, its twin) and the CPU preview
 //! (`raster`). Colours are display values (what the UNORM target holds).
@@ -40,6 +44,35 @@ pub fn model_tint(index: u32) -> [f32; 3] {
         let c = ((fract(h + o) * 6.0 - 3.0).abs() - 1.0).clamp(0.0, 1.0);
         v * ((1.0 - SATURATION) + SATURATION * c)
     })
+}
+
+/// The depth heat map's colour of `depth` (clamped to 10), RGB8 display
+/// values: what `--shade depth` draws lit, and the window's legend.
+pub fn depth_color(depth: u32) -> [u8; 3] {
+    use crate::constants::*;
+    let ramp = [
+        DEPTH_RAMP_0,
+        DEPTH_RAMP_1,
+        DEPTH_RAMP_2,
+        DEPTH_RAMP_3,
+        DEPTH_RAMP_4,
+        DEPTH_RAMP_5,
+        DEPTH_RAMP_6,
+        DEPTH_RAMP_7,
+        DEPTH_RAMP_8,
+        DEPTH_RAMP_9,
+        DEPTH_RAMP_10,
+    ];
+    rgb8(ramp[depth.min(10) as usize])
+}
+
+/// The wedges' colour in the wedge view.
+pub fn wedge_color() -> [u8; 3] {
+    rgb8(crate::constants::WEDGE_RGB)
+}
+
+fn rgb8(c: u32) -> [u8; 3] {
+    [(c >> 16) as u8, (c >> 8) as u8, c as u8]
 }
 
 fn fract(x: f32) -> f32 {

@@ -91,25 +91,10 @@ fn model_tint_linear(flags: u32) -> [f32; 3] {
     crate::palette::model_tint(flags >> PATCH_MODEL_SHIFT).map(|c| c.powf(2.2))
 }
 
-/// QuadNode depth 0..=10 as a turbo-like ramp (sRGB): dark blue, blue, cyan,
-/// green, yellow, orange, red, dark red.
-const DEPTH_RAMP: [[u8; 3]; 11] = [
-    [48, 18, 59],
-    [67, 85, 200],
-    [62, 150, 250],
-    [30, 200, 220],
-    [40, 235, 160],
-    [120, 250, 90],
-    [195, 240, 50],
-    [245, 200, 50],
-    [250, 135, 35],
-    [215, 60, 15],
-    [130, 10, 5],
-];
-
-/// The colour of QuadNode depth `l` in the depth ramp (clamped to 10).
+/// The colour of QuadNode depth `l` in the depth ramp (clamped to 10): the
+/// GPU's heat map colours (`palette::depth_color`).
 pub fn depth_color(l: u32) -> [u8; 3] {
-    DEPTH_RAMP[(l as usize).min(DEPTH_RAMP.len() - 1)]
+    crate::palette::depth_color(l)
 }
 
 const WEDGE_COLOR: [u8; 3] = [255, 0, 255];

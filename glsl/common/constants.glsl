@@ -347,4 +347,23 @@ const uint SHADE_PARAMS = 9;
 // shaders' `model_tint`).
 const uint SHADE_TINT = 10;
 
+// The depth heat map's colours (0xRRGGBB, display values): depth 0
+// dark blue through cyan, green and yellow to dark red at 10, the
+// lightness rising to the middle and falling again, so neighbouring
+// depths stay apart. The shaders, the CPU preview and the window's
+// legend all read these.
+const uint DEPTH_RAMP_0 = 0x29338c;
+const uint DEPTH_RAMP_1 = 0x2966e0;
+const uint DEPTH_RAMP_2 = 0x1fa3eb;
+const uint DEPTH_RAMP_3 = 0x24ccbd;
+const uint DEPTH_RAMP_4 = 0x5ce070;
+const uint DEPTH_RAMP_5 = 0xa8eb3d;
+const uint DEPTH_RAMP_6 = 0xedd933;
+const uint DEPTH_RAMP_7 = 0xfa9e29;
+const uint DEPTH_RAMP_8 = 0xeb6124;
+const uint DEPTH_RAMP_9 = 0xc22924;
+const uint DEPTH_RAMP_10 = 0x800f1f;
+// Crack-closing wedges in the wedge view.
+const uint WEDGE_RGB = 0xff00ff;
+
 #endif

@@ -58,23 +58,17 @@ vec3 model_tint(uint index) {
     return v * ((1.0 - 0.55) + 0.55 * c);
 }
 
-// QuadNode depth 0..L_MAX: dark blue through cyan, green and yellow to dark
-// red, with lightness rising to the middle and falling again, so
-// neighbouring depths stay distinguishable.
-const vec3 DEPTH_RAMP[11] = vec3[11](
-    vec3(0.16, 0.20, 0.55),
-    vec3(0.16, 0.40, 0.88),
-    vec3(0.12, 0.64, 0.92),
-    vec3(0.14, 0.80, 0.74),
-    vec3(0.36, 0.88, 0.44),
-    vec3(0.66, 0.92, 0.24),
-    vec3(0.93, 0.85, 0.20),
-    vec3(0.98, 0.62, 0.16),
-    vec3(0.92, 0.38, 0.14),
-    vec3(0.76, 0.16, 0.14),
-    vec3(0.50, 0.06, 0.12));
+// QuadNode depth 0..L_MAX as the heat map's colours (constants.glsl, where
+// src/constants.rs documents them; the window's legend shows the same).
+const uint DEPTH_RAMP[11] = uint[11](
+    DEPTH_RAMP_0, DEPTH_RAMP_1, DEPTH_RAMP_2, DEPTH_RAMP_3, DEPTH_RAMP_4, DEPTH_RAMP_5,
+    DEPTH_RAMP_6, DEPTH_RAMP_7, DEPTH_RAMP_8, DEPTH_RAMP_9, DEPTH_RAMP_10);
 
-const vec3 WEDGE_COLOR = vec3(1.0, 0.0, 1.0);
+vec3 rgb_of(uint c) {
+    return vec3(float(c >> 16), float((c >> 8) & 255u), float(c & 255u)) / 255.0;
+}
+
+const vec3 WEDGE_COLOR = vec3(1.0, 0.0, 1.0); // WEDGE_RGB
 // SHADE_KEY: the hole test counts pixels of exactly this colour (surface
 // seen from behind, or the background).
 const vec3 KEY_BACK = vec3(0.0, 1.0, 0.0);
@@ -146,7 +140,7 @@ float diffuse(vec3 n, vec3 to_eye) {
 }
 
 vec3 depth_color(uint depth) {
-    return DEPTH_RAMP[min(depth, 10u)];
+    return rgb_of(DEPTH_RAMP[min(depth, 10u)]);
 }
 
 // 1 on the outline of the cell the fragment lies in, fading to 0 a pixel

@@ -96,7 +96,16 @@ impl DrawTarget {
             .ok_or_else(|| VkError::FeatureMissing {
                 device: ctx.info().name.clone(),
                 feature: format!("{samples} samples per pixel"),
-                hint: "; pick 1, 2, 4 or 8 within what `info` lists".into(),
+                hint: format!(
+                    "; it renders with {} (`info` lists them under MSAA)",
+                    ctx.info()
+                        .limits
+                        .msaa_sample_counts()
+                        .iter()
+                        .map(u32::to_string)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
             })?;
         let image = |name, format, usage, samples| {
             Image::new(

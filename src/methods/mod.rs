@@ -4,7 +4,7 @@
 //! A method records everything between the start of a frame and a drawn
 //! image: its own passes and the draw into the frame's target. There are two
 //! kinds, and the interface fits both:
-//! - *ready-list producers* (`subdiv`; later `subdiv-indirect`) fill a list
+//! - *ready-list producers* (`subdiv`, `subdiv-indirect`) fill a list
 //!   of QuadNodes and hand it to the shared [`ReadyStage`] (sort, mesh or
 //!   fallback draw path), which is also what validation compares with the
 //!   CPU oracle;
@@ -252,6 +252,63 @@ pub const METHODS: &[MethodInfo] = &[
     cudatess::INFO,
 ];
 
+/// The view settings a method reads, beyond ε and culling by the frustum,
+/// which every method but the ground truth reads: the window greys out the
+/// controls of the others (they would change nothing).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reads {
+    /// The draw path (mesh or fallback) of the ready-list methods.
+    pub draw_path: bool,
+    /// The pixel tolerance ε.
+    pub eps: bool,
+    /// The distance blend λ of the subdivision criterion.
+    pub lambda: bool,
+    /// The deepest subdivision level.
+    pub l_max: bool,
+    /// Crack-closing wedges on or off.
+    pub wedges: bool,
+    /// Back-face culling on or off.
+    pub backface: bool,
+    /// The ground truth's grid.
+    pub grid: bool,
+}
+
+/// What method `name` reads ([`Reads`]); an unknown name reads everything.
+pub fn reads(name: &str) -> Reads {
+    let subdivides = Reads {
+        draw_path: true,
+        eps: true,
+        lambda: true,
+        l_max: true,
+        wedges: true,
+        backface: true,
+        grid: false,
+    };
+    // The tessellators set their levels from ε alone and draw themselves.
+    let tessellates = Reads {
+        draw_path: false,
+        lambda: false,
+        l_max: false,
+        wedges: false,
+        ..subdivides
+    };
+    match name {
+        "subdiv" | "subdiv-indirect" => subdivides,
+        "tess" | "tess-reparam" | "cudatess" => tessellates,
+        // A fixed grid per patch, nothing back-face culled.
+        "ground-truth" => Reads {
+            eps: false,
+            backface: false,
+            grid: true,
+            ..tessellates
+        },
+        _ => Reads {
+            grid: true,
+            ..subdivides
+        },
+    }
+}
+
 /// Names reserved for methods still to come (none at present; a name put
 /// here is refused with "not built yet" instead of "unknown").
 pub const PLANNED: &[&str] = &[];
@@ -346,6 +403,20 @@ fn find_in<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every built method says what it reads (none falls to the default),
+    /// and only the subdivision methods read λ, l_max and wedges.
+    #[test]
+    fn every_method_says_what_it_reads() {
+        let unknown = reads("no such method");
+        for m in METHODS {
+            let r = reads(m.name);
+            assert_ne!(r, unknown, "{} has no entry in reads()", m.name);
+            let subdivides = m.name.starts_with("subdiv");
+            assert_eq!(r.lambda && r.l_max && r.wedges, subdivides, "{}", m.name);
+            assert_eq!(r.grid, m.name == ground_truth::INFO.name, "{}", m.name);
+        }
+    }
 
     #[test]
     fn names_are_unique_and_found() {
