@@ -87,9 +87,11 @@ enum Command {
         /// Untimed frames of the same view before the timed one: the first
         /// frame pays for shader compilation and caches (seconds on a fresh
         /// machine). Its figures stay in the stats file as gpu_ms_cold; 0
-        /// times the first, cold frame itself.
-        #[arg(long, value_name = "N", default_value_t = 1)]
-        warmup: u32,
+        /// times the first, cold frame itself. Default 1, and 0 for
+        /// ground-truth, whose image is what it is for (at grid 64 a frame
+        /// of the kitchen takes half a minute on a CPU device).
+        #[arg(long, value_name = "N")]
+        warmup: Option<u32>,
         /// Time N frames after the warm-up instead of one: the stats file's
         /// gpu_ms become the medians, with gpu_ms_min and gpu_ms_max beside
         /// them.

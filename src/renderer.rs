@@ -36,6 +36,14 @@ use crate::vk::{
 /// Frames in flight unless told otherwise.
 pub const DEFAULT_FRAMES_IN_FLIGHT: usize = 2;
 
+/// How many fence timeouts the first frame of a method may wait on a CPU
+/// device: a CPU driver (lavapipe) compiles a pipeline's shaders when it
+/// first runs them, inside the frame, and no split can shorten that (the
+/// kitchen's first `subdiv` frame took 38 s on a busy 2-core machine, and
+/// over 60 s with a second render beside it). A GPU driver compiles when
+/// the pipeline is made, before any wait.
+pub const COLD_WAIT_FACTOR: u32 = 5;
+
 /// Timestamp scopes per frame: the frame, and a method's passes, some of
 /// them once per part of a frame recorded in parts.
 const MAX_SCOPES: u32 = 12 + 3 * MAX_FRAME_PARTS;
@@ -125,6 +133,9 @@ pub struct Renderer {
     shaders: Shaders,
     /// Released once the slot in `.0` has finished (see `collect`).
     retired: Vec<(usize, Box<dyn Any>)>,
+    /// Methods that drew a frame since they were made (their shaders are
+    /// compiled; see [`COLD_WAIT_FACTOR`]).
+    warm: Vec<&'static str>,
     last_submitted: Option<usize>,
     serial: u64,
     /// Capture drawn positions for validation (ready-list methods).
@@ -180,6 +191,7 @@ impl Renderer {
             scene_layout,
             shaders,
             retired: Vec::new(),
+            warm: Vec::new(),
             last_submitted: None,
             serial: 0,
             capture: false,
@@ -238,8 +250,10 @@ impl Renderer {
             return Ok(());
         }
         // Methods are remade below, so frames in flight can no longer be
-        // finished by the method that recorded them.
+        // finished by the method that recorded them, and their first
+        // frames compile again.
         self.forget_frames();
+        self.warm.clear();
         if options.samples != self.options.samples {
             return self.set_samples(options);
         }
@@ -416,11 +430,17 @@ impl Renderer {
             self.frames.abandon(slot);
             return Err(e);
         }
-        self.frames.submit(
-            &self.ctx,
-            slot,
-            &format!("frame ({})", self.method().name()),
-        )?;
+        let name = self.method().name();
+        let cold = !self.warm.contains(&name);
+        let mut timeout = self.ctx.fence_timeout();
+        if cold && self.ctx.info().is_cpu {
+            timeout *= COLD_WAIT_FACTOR;
+        }
+        self.frames
+            .submit_timed(&self.ctx, slot, &format!("frame ({name})"), timeout)?;
+        if cold {
+            self.warm.push(name);
+        }
         self.serial += 1;
         self.slots[slot].frame = Some((self.active, self.serial));
         self.last_submitted = Some(slot);

@@ -513,7 +513,7 @@ impl Session {
             frame: self.args.frame,
             shade: c.shade,
             out: Some(path.to_path_buf()),
-            warmup: 0,
+            warmup: Some(0),
             repeat: 0,
             flip: false,
         }

@@ -73,8 +73,9 @@ pub struct RenderArgs {
     /// Output PNG (`None`: `out/<scene name>.png`).
     pub out: Option<PathBuf>,
     /// Untimed frames drawn first (the shader caches' and the driver's
-    /// first-use costs go there); 0 times the first, cold frame.
-    pub warmup: u32,
+    /// first-use costs go there); 0 times the first, cold frame; `None`:
+    /// [`default_warmup`].
+    pub warmup: Option<u32>,
     /// Timed frames whose medians are reported (0: the one frame).
     pub repeat: u32,
     /// Also compare with `ground-truth` of the same view: the mean FLIP
@@ -183,7 +184,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let mut renderer = args.gpu.renderer(&ctx, &geo, &shading)?;
     renderer.set_progress(super::progress::parts_bar());
     let view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
-    let frames = timed_frames(&mut renderer, &view, args.warmup, args.repeat)?;
+    let warmup = args.warmup.unwrap_or_else(|| default_warmup(method.name));
+    let frames = timed_frames(&mut renderer, &view, warmup, args.repeat)?;
     let report = &frames.report;
     let timing = frames.timing.as_ref();
     let rgba = renderer.read_image()?;
@@ -207,7 +209,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     if let Some(t) = timing {
         add_timing(&mut stats, t);
     }
-    stats["warmup_frames"] = json!(args.warmup);
+    stats["warmup_frames"] = json!(warmup);
     if let Some(cold) = &frames.cold {
         stats["gpu_ms_cold"] = gpu_ms_json(cold);
     }
@@ -251,10 +253,17 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         } else {
             String::new()
         },
-        warmth(args.warmup, frames.cold.as_deref()),
+        warmth(warmup, frames.cold.as_deref()),
         out.display(),
         json_path.display()
     ))
+}
+
+/// Warm-up frames `render` draws unless told: 1, so the figures are not the
+/// shader compiler's; none for the ground truth, whose image is what it is
+/// for (its frames are the longest).
+pub fn default_warmup(method: &str) -> u32 {
+    u32::from(method != crate::methods::ground_truth::INFO.name)
 }
 
 /// The frames `render` draws: `warmup` untimed ones (the first of them

@@ -2,7 +2,7 @@
 //! ready QuadNode, every vertex the base patch evaluated by the one shared
 //! precise function, so positions equal the oracle's bit for bit.
 //!
-//! [`ReadyStage`] is what every ready-list producer (`subdiv`, later
+//! [`ReadyStage`] is what every ready-list producer (`subdiv`,
 //! `subdiv-indirect`) shares: the list and its counters ([`ready`]), the
 //! sort that makes the draw order canonical ([`sort`]), and one of two draw
 //! paths sharing the push block and the fragment shading

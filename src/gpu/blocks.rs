@@ -78,7 +78,7 @@ gpu_block!(
 );
 
 /// Push constants of the persistent subdivision kernel (`SubdivPush` in
-/// `glsl/subdivide.comp`).
+/// `glsl/common/queue.glsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct SubdivPush {

@@ -38,6 +38,8 @@ enum SlotState {
         label: String,
         submitted: Instant,
         parts: usize,
+        /// How long each part's wait may take.
+        timeout: Duration,
     },
 }
 
@@ -139,6 +141,7 @@ impl FrameRing {
             label,
             submitted,
             parts,
+            timeout,
         } = self.slots[i].state.clone()
         else {
             return Ok(());
@@ -158,13 +161,13 @@ impl FrameRing {
         let device = &self.core.device;
         for (k, part) in self.slots[i].parts[..parts].iter().enumerate() {
             let waited =
-                unsafe { device.wait_for_fences(&[part.fence], true, duration_ns(self.timeout)) };
+                unsafe { device.wait_for_fences(&[part.fence], true, duration_ns(timeout)) };
             match waited {
                 Ok(()) => report(k as u32 + 1),
                 Err(vk::Result::TIMEOUT) => {
                     return Err(VkError::FenceTimeout {
                         label: label.clone(),
-                        timeout: self.timeout,
+                        timeout,
                         waited: submitted.elapsed(),
                         part: (total > 1).then_some((k as u32 + 1, total)),
                     })
@@ -260,6 +263,18 @@ impl FrameRing {
         self.submit_with(ctx, i, label, &[], &[])
     }
 
+    /// [`FrameRing::submit`], each part's wait allowed `timeout` instead of
+    /// the context's fence timeout.
+    pub fn submit_timed(
+        &mut self,
+        ctx: &Context,
+        i: usize,
+        label: &str,
+        timeout: Duration,
+    ) -> VkResult<()> {
+        self.submit_full(ctx, i, label, &[], &[], timeout)
+    }
+
     /// [`FrameRing::submit`], the first part waiting for `waits` (each at
     /// its stages) and the last signalling `signals` (presentation: the
     /// image-acquired and rendering-done semaphores).
@@ -270,6 +285,18 @@ impl FrameRing {
         label: &str,
         waits: &[(vk::Semaphore, vk::PipelineStageFlags2)],
         signals: &[vk::Semaphore],
+    ) -> VkResult<()> {
+        self.submit_full(ctx, i, label, waits, signals, self.timeout)
+    }
+
+    fn submit_full(
+        &mut self,
+        ctx: &Context,
+        i: usize,
+        label: &str,
+        waits: &[(vk::Semaphore, vk::PipelineStageFlags2)],
+        signals: &[vk::Semaphore],
+        timeout: Duration,
     ) -> VkResult<()> {
         let slot = &mut self.slots[i];
         if slot.state != SlotState::Recording {
@@ -339,6 +366,7 @@ impl FrameRing {
                 label: label.to_owned(),
                 submitted: Instant::now(),
                 parts: count,
+                timeout,
             }
         };
         result
