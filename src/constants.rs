@@ -280,12 +280,16 @@ shared_constants! {
         GRID_BINDINGS = 2;
     }
     /// Words of the ground truth's counters: patches culled, and from
-    /// G_DRAW_ARGS the VkDrawIndexedIndirectCommand (index count, instance
-    /// count = visible patches, first index, vertex offset, first instance).
+    /// G_DRAW_ARGS one VkDrawIndexedIndirectCommand per part of the frame
+    /// (G_ARGS_WORDS words each: index count, instance count = the part's
+    /// visible patches, first index, vertex offset, first instance), for up
+    /// to G_MAX_PARTS parts (the frame ring's MAX_FRAME_PARTS).
     group {
         G_CULLED = 0;
         G_DRAW_ARGS = 4;
-        GRID_WORDS = 16;
+        G_ARGS_WORDS = 5;
+        G_MAX_PARTS = 64;
+        GRID_WORDS = 324;
     }
 
     /// Set 1 of the tessellation methods: their counters, and what validation
@@ -555,5 +559,29 @@ shared_constants! {
         /// Tests: the base patch parameters (u, v) as 12 bits each
         /// (round(u * 4095) in r and the top of g, v below it and in b).
         SHADE_PARAMS = 9;
+        /// Tests: the model's tint unlit (`palette::model_tint`, the
+        /// shaders' `model_tint`).
+        SHADE_TINT = 10;
+    }
+
+    /// The depth heat map's colours (0xRRGGBB, display values): depth 0
+    /// dark blue through cyan, green and yellow to dark red at 10, the
+    /// lightness rising to the middle and falling again, so neighbouring
+    /// depths stay apart. The shaders, the CPU preview and the window's
+    /// legend all read these.
+    group {
+        DEPTH_RAMP_0 = 0x29_338c;
+        DEPTH_RAMP_1 = 0x29_66e0;
+        DEPTH_RAMP_2 = 0x1f_a3eb;
+        DEPTH_RAMP_3 = 0x24_ccbd;
+        DEPTH_RAMP_4 = 0x5c_e070;
+        DEPTH_RAMP_5 = 0xa8_eb3d;
+        DEPTH_RAMP_6 = 0xed_d933;
+        DEPTH_RAMP_7 = 0xfa_9e29;
+        DEPTH_RAMP_8 = 0xeb_6124;
+        DEPTH_RAMP_9 = 0xc2_2924;
+        DEPTH_RAMP_10 = 0x80_0f1f;
+        /// Crack-closing wedges in the wedge view.
+        WEDGE_RGB = 0xff_00ff;
     }
 }

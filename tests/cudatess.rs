@@ -83,7 +83,7 @@ fn no_holes_on_the_rational_and_kitchen_models() {
             gpu,
             frame: None,
             skip_holes: false,
-            debug_dir: Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output/holes")),
+            debug_dir: Some(common::output_dir("holes")),
         })
         .unwrap();
         println!("{}", report.table);

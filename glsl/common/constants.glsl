@@ -162,11 +162,15 @@ const uint BIND_GRID_COUNTERS = 1;
 const uint GRID_BINDINGS = 2;
 
 // Words of the ground truth's counters: patches culled, and from
-// G_DRAW_ARGS the VkDrawIndexedIndirectCommand (index count, instance
-// count = visible patches, first index, vertex offset, first instance).
+// G_DRAW_ARGS one VkDrawIndexedIndirectCommand per part of the frame
+// (G_ARGS_WORDS words each: index count, instance count = the part's
+// visible patches, first index, vertex offset, first instance), for up
+// to G_MAX_PARTS parts (the frame ring's MAX_FRAME_PARTS).
 const uint G_CULLED = 0;
 const uint G_DRAW_ARGS = 4;
-const uint GRID_WORDS = 16;
+const uint G_ARGS_WORDS = 5;
+const uint G_MAX_PARTS = 64;
+const uint GRID_WORDS = 324;
 
 // Set 1 of the tessellation methods: their counters, and what validation
 // captures: the levels of every patch and the vertices on patch edges.
@@ -400,5 +404,27 @@ const uint SHADE_PATCH_ID = 8;
 // Tests: the base patch parameters (u, v) as 12 bits each
 // (round(u * 4095) in r and the top of g, v below it and in b).
 const uint SHADE_PARAMS = 9;
+// Tests: the model's tint unlit (`palette::model_tint`, the
+// shaders' `model_tint`).
+const uint SHADE_TINT = 10;
+
+// The depth heat map's colours (0xRRGGBB, display values): depth 0
+// dark blue through cyan, green and yellow to dark red at 10, the
+// lightness rising to the middle and falling again, so neighbouring
+// depths stay apart. The shaders, the CPU preview and the window's
+// legend all read these.
+const uint DEPTH_RAMP_0 = 0x29338c;
+const uint DEPTH_RAMP_1 = 0x2966e0;
+const uint DEPTH_RAMP_2 = 0x1fa3eb;
+const uint DEPTH_RAMP_3 = 0x24ccbd;
+const uint DEPTH_RAMP_4 = 0x5ce070;
+const uint DEPTH_RAMP_5 = 0xa8eb3d;
+const uint DEPTH_RAMP_6 = 0xedd933;
+const uint DEPTH_RAMP_7 = 0xfa9e29;
+const uint DEPTH_RAMP_8 = 0xeb6124;
+const uint DEPTH_RAMP_9 = 0xc22924;
+const uint DEPTH_RAMP_10 = 0x800f1f;
+// Crack-closing wedges in the wedge view.
+const uint WEDGE_RGB = 0xff00ff;
 
 #endif

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod import;
 pub mod info;
+pub mod progress;
 pub mod render;
 pub mod stats;
 pub mod validate;

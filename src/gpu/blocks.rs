@@ -182,10 +182,16 @@ pub struct GridPush {
     pub patch_count: u32,
     /// Indices per patch (6 per grid cell).
     pub indices_per_patch: u32,
+    /// Base patches one part of the frame draws.
+    pub patches_per_part: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
-gpu_block!(GridPush, "GridPush", [patch_count, indices_per_patch, pad]);
+gpu_block!(
+    GridPush,
+    "GridPush",
+    [patch_count, indices_per_patch, patches_per_part, pad]
+);
 
 /// Push constants of cudatess's compute passes (`CtPush` in
 /// `glsl/common/cudatess_push.glsl`).

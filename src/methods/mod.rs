@@ -91,6 +91,10 @@ pub struct MethodOptions {
     pub sort: bool,
     /// `ground-truth`: grid cells per patch side.
     pub grid: u32,
+    /// `ground-truth`: the most triangles one part of a frame (one
+    /// submission, one bounded fence wait) draws; see
+    /// `ground_truth::plan_parts`.
+    pub part_triangles: u64,
     /// `subdiv-indirect`: the deepest level (at most l_max = 10).
     pub max_depth: u32,
     /// Test-only fault for `subdiv --kernel queue`: one phantom item in
@@ -126,6 +130,7 @@ impl MethodOptions {
             base_batch: 0,
             sort: true,
             grid: ground_truth::DEFAULT_GRID,
+            part_triangles: ground_truth::PART_TRIANGLES,
             max_depth: subdiv_indirect::DEFAULT_MAX_DEPTH,
             samples: 1,
             plant_endless_loop: false,
@@ -273,6 +278,63 @@ pub const METHODS: &[MethodInfo] = &[
     cudatess::INFO,
 ];
 
+/// The view settings a method reads, beyond ε and culling by the frustum,
+/// which every method but the ground truth reads: the window greys out the
+/// controls of the others (they would change nothing).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reads {
+    /// The draw path (mesh or fallback) of the ready-list methods.
+    pub draw_path: bool,
+    /// The pixel tolerance ε.
+    pub eps: bool,
+    /// The distance blend λ of the subdivision criterion.
+    pub lambda: bool,
+    /// The deepest subdivision level.
+    pub l_max: bool,
+    /// Crack-closing wedges on or off.
+    pub wedges: bool,
+    /// Back-face culling on or off.
+    pub backface: bool,
+    /// The ground truth's grid.
+    pub grid: bool,
+}
+
+/// What method `name` reads ([`Reads`]); an unknown name reads everything.
+pub fn reads(name: &str) -> Reads {
+    let subdivides = Reads {
+        draw_path: true,
+        eps: true,
+        lambda: true,
+        l_max: true,
+        wedges: true,
+        backface: true,
+        grid: false,
+    };
+    // The tessellators set their levels from ε alone and draw themselves.
+    let tessellates = Reads {
+        draw_path: false,
+        lambda: false,
+        l_max: false,
+        wedges: false,
+        ..subdivides
+    };
+    match name {
+        "subdiv" | "subdiv-indirect" => subdivides,
+        "tess" | "tess-reparam" | "cudatess" => tessellates,
+        // A fixed grid per patch, nothing back-face culled.
+        "ground-truth" => Reads {
+            eps: false,
+            backface: false,
+            grid: true,
+            ..tessellates
+        },
+        _ => Reads {
+            grid: true,
+            ..subdivides
+        },
+    }
+}
+
 /// Names reserved for methods still to come (none at present; a name put
 /// here is refused with "not built yet" instead of "unknown").
 pub const PLANNED: &[&str] = &[];
@@ -367,6 +429,20 @@ fn find_in<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every built method says what it reads (none falls to the default),
+    /// and only the subdivision methods read λ, l_max and wedges.
+    #[test]
+    fn every_method_says_what_it_reads() {
+        let unknown = reads("no such method");
+        for m in METHODS {
+            let r = reads(m.name);
+            assert_ne!(r, unknown, "{} has no entry in reads()", m.name);
+            let subdivides = m.name.starts_with("subdiv");
+            assert_eq!(r.lambda && r.l_max && r.wedges, subdivides, "{}", m.name);
+            assert_eq!(r.grid, m.name == ground_truth::INFO.name, "{}", m.name);
+        }
+    }
 
     #[test]
     fn names_are_unique_and_found() {

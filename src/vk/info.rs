@@ -136,6 +136,20 @@ pub struct DeviceLimits {
     pub framebuffer_sample_counts: vk::SampleCountFlags,
 }
 
+impl DeviceLimits {
+    /// The samples per pixel of 1, 2, 4 and 8 (what `--msaa` takes) that
+    /// colour and depth attachments both support, ascending.
+    pub fn msaa_sample_counts(&self) -> Vec<u32> {
+        [1, 2, 4, 8]
+            .into_iter()
+            .filter(|&n| {
+                self.framebuffer_sample_counts
+                    .contains(vk::SampleCountFlags::from_raw(n))
+            })
+            .collect()
+    }
+}
+
 /// VK_EXT_mesh_shader properties.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct MeshShaderInfo {
@@ -299,6 +313,12 @@ pub fn describe(info: &DeviceInfo) -> String {
         s,
         "  indirect:        max draw count {}",
         l.max_draw_indirect_count
+    );
+    let samples: Vec<String> = l.msaa_sample_counts().iter().map(u32::to_string).collect();
+    let _ = writeln!(
+        s,
+        "  MSAA (--msaa):   {} samples per pixel",
+        samples.join(", ")
     );
     if let Some(m) = &info.mesh {
         let _ = writeln!(

@@ -103,6 +103,15 @@ impl Drop for Gpu {
     }
 }
 
+/// A directory for what a test writes (images of failures, reports):
+/// under Cargo's scratch directory for integration tests, never in the
+/// source tree, so the suite runs from a read-only checkout.
+pub fn output_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(tag);
+    std::fs::create_dir_all(&dir).expect("create the test output directory");
+    dir
+}
+
 /// A scene of `scenes/` and its geometry.
 pub fn scene(
     name: &str,
