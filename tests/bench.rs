@@ -106,14 +106,12 @@ fn a_short_bench_writes_every_report() {
         "wedge_share",
         "gpu_ms.frame",
         "gpu_ms.subdivide",
-        "gpu_ms.sort",
         "gpu_ms.draw",
-        "memory_bytes.queue",
-        "memory_bytes.node_buffers",
+        "memory_bytes.node_memory",
         "method_stats.ready_quads",
         "method_stats.max_depth",
-        "method_stats.queue_peak_items",
-        "method_stats.queue_spills",
+        "method_stats.rounds",
+        "method_stats.chunk_nodes",
     ] {
         column(&rows, name);
     }

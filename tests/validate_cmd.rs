@@ -21,7 +21,7 @@ fn args(scene: &str, draw: DrawRequest) -> ValidateArgs {
         gpu,
         frame: None,
         skip_holes: false,
-        debug_dir: Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output/holes")),
+        debug_dir: Some(common::output_dir("holes")),
     }
 }
 
