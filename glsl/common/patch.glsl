@@ -380,7 +380,7 @@ uvec4 resolve_states(uvec2 q, bvec4 flat_now) {
 // and/or v (split.y), in the order (0,0), (1,0), (0,1), (1,1) of those that
 // exist, each with the resolved states of the parent edges it lies on and
 // pending new edges. Returns how many (2 or 4).
-uint split_children(uvec2 q, bvec2 split, uvec4 r, out uvec2 kids[4]) {
+uint node_children(uvec2 q, bvec2 split, uvec4 r, out uvec2 kids[4]) {
     kids = uvec2[4](q, q, q, q);
     uint du = node_du(q), dv = node_dv(q), m = node_m(q), n = node_n(q);
     uint k = 0u;

@@ -86,7 +86,7 @@ uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
         bool inner_fails = edges_flat && !inner_flat4(S, view);
         bvec2 split = split_of(q, flat_now, inner_fails);
         if (split.x || split.y) {
-            nkids = split_children(q, split, resolve_states(q, flat_now), kids);
+            nkids = node_children(q, split, resolve_states(q, flat_now), kids);
             return OUT_SPLIT;
         }
     }
@@ -148,7 +148,7 @@ uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
         bool inner_fails = edges_flat && !inner_flat(S, view);
         bvec2 split = split_of(q, flat_now, inner_fails);
         if (split.x || split.y) {
-            nkids = split_children(q, split, resolve_states(q, flat_now), kids);
+            nkids = node_children(q, split, resolve_states(q, flat_now), kids);
             return OUT_SPLIT;
         }
     }

@@ -138,11 +138,11 @@ pub fn wedge_pivots(node: QuadNode) -> [Option<(f32, f32)>; 4] {
         if along_u(e) {
             let mp = rounded(m, d, le);
             let v = if e == EDGE_BOTTOM { n } else { n + 1 };
-            (mp != m).then(|| (mp as f32 * su, v as f32 * sv))
+            (mp != m).then_some((mp as f32 * su, v as f32 * sv))
         } else {
             let np = rounded(n, d, le);
             let u = if e == EDGE_LEFT { m } else { m + 1 };
-            (np != n).then(|| (u as f32 * su, np as f32 * sv))
+            (np != n).then_some((u as f32 * su, np as f32 * sv))
         }
     })
 }
