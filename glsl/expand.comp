@@ -1,7 +1,7 @@
 // Draw path B (fallback for devices without mesh shaders), expansion: one
-// invocation per ready QuadNode writes its 4 triangle slots as 12 vertices
-// of VERTEX_WORDS words each (slots as in draw.mesh: quad, quad, wedge along
-// u, wedge along v). A missing wedge is written as a degenerate triangle,
+// invocation per ready QuadNode writes its NODE_MESH_TRIS triangle slots as
+// VERTICES_PER_NODE vertices of VERTEX_WORDS words each (slots as in
+// draw.mesh: quad, quad, the wedge on each edge). A missing wedge is written as a degenerate triangle,
 // three copies of corner 0, which the rasterizer drops; fixed slots let one
 // non-indexed indirect draw of ready * VERTICES_PER_NODE vertices follow.
 #version 460
@@ -32,16 +32,16 @@ void main() {
     NodeMesh mesh = node_mesh(q, (view.flags & FLAG_WEDGES) != 0u);
 
     // The same evaluation as the mesh path.
-    vec3 pos[6];
-    patch_node_positions(q.x, mesh, pos);
-    for (uint s = 0u; s < 6u; ++s) {
+    vec3 pos[NODE_MESH_SLOTS];
+    patch_node_positions(node_patch(q), mesh, pos);
+    for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
         if (slot_used(mesh, s) && pc.capture_enabled != 0u) {
-            capture[6u * node + s] = vec4(pos[s], 1.0);
+            capture[NODE_MESH_SLOTS * node + s] = vec4(pos[s], 1.0);
         }
     }
 
-    uint depth = node_depth(q);
-    for (uint t = 0u; t < 4u; ++t) {
+    uint depths = node_depths(q);
+    for (uint t = 0u; t < NODE_MESH_TRIS; ++t) {
         uvec3 tri;
         bool present = mesh_tri(mesh, t, tri);
         if (!present) {
@@ -50,8 +50,8 @@ void main() {
         bool wedge = t >= 2u;
         for (uint k = 0u; k < 3u; ++k) {
             uint s = tri[k];
-            write_vertex(node * VERTICES_PER_NODE + 3u * t + k, pos[s], q.x,
-                pack_attrs(mesh.uv[s], depth, wedge));
+            write_vertex(node * VERTICES_PER_NODE + 3u * t + k, pos[s], node_patch(q),
+                pack_attrs(mesh.uv[s], depths, wedge));
         }
     }
 }

@@ -67,7 +67,7 @@ vec4 reordered_domain(vec4 dom, uint g) {
 
 bool rational_node_ok(uvec2 q) {
     vec4 H[16];
-    load_homogeneous(q.x, H);
+    load_homogeneous(node_patch(q), H);
     vec4 dom = node_domain(q);
     vec4 S[16];
     reconstruct4(H, dom.x, dom.y, dom.z, dom.w, S);
@@ -95,7 +95,7 @@ void main() {
         return;
     }
     uvec2 q = ready[idx];
-    if (patch_is_rational(q.x)) {
+    if (patch_is_rational(node_patch(q))) {
         atomicAdd(counters[C_CHECK_NODES], 1u);
         if (!rational_node_ok(q)) {
             atomicAdd(counters[C_CHECK_FAILS], 1u);
@@ -103,7 +103,7 @@ void main() {
         return;
     }
     vec3 P[16];
-    load_patch(q.x, P);
+    load_patch(node_patch(q), P);
     vec4 dom = node_domain(q);
     vec3 S[16];
     reconstruct(P, dom.x, dom.y, dom.z, dom.w, S);

@@ -198,7 +198,7 @@ void refill(uint t, uint base_batch) {
     if (s_from_bases) {
         // A batch may exceed the workgroup (pc.base_batch, tests).
         for (uint i = t; i < k; i += GROUP) {
-            s_items[(s_hi + i) & LOCAL_MASK] = uvec2(h + i, 0u);
+            s_items[(s_hi + i) & LOCAL_MASK] = root_node(h + i);
         }
     } else {
         if (t < k) {
@@ -431,11 +431,12 @@ void main() {
         uint my_ready = 0u;
         if (have) {
             uvec2 kids[4];
-            outcome = process(item, kids);
+            uint nk = 0u;
+            outcome = process(item, kids, nk);
             processed += 1u;
             if (outcome == OUT_SPLIT) {
-                // Every split is 1:4 today (SPLIT_MAX_CHILDREN bounds it).
-                uint nk = SPLIT_MAX_CHILDREN;
+                // 4 children for a 1:4 split, 2 for 1:2 (SPLIT_MAX_CHILDREN
+                // bounds both).
                 uint at = atomicAdd(s_hi, nk);
                 if (at + nk - s_lo > pc.local_cap) {
                     atomicOr(counters[C_ERROR], ERR_STACK_OVERFLOW);

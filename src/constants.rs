@@ -106,13 +106,21 @@ shared_constants! {
         L_MAX = 10;
     }
 
-    /// QuadNode word 1 layout: depth 4 | m 10 | n 10 | l0 4 | l1 4.
+    /// QuadNode layout (src/patch/quadnode.rs). Word 0: patch id (24 bits),
+    /// then the states of the bottom and top edges (4 bits each). Word 1: the
+    /// u code (1 << du) | m and the v code (1 << dv) | n (11 bits each),
+    /// then the states of the left and right edges. An edge's state is the
+    /// depth, in its own direction, at which it was found flat, or
+    /// NODE_EDGE_PENDING.
     group {
-        NODE_DEPTH_SHIFT = 0;
-        NODE_M_SHIFT = 4;
-        NODE_N_SHIFT = 14;
-        NODE_L0_SHIFT = 24;
-        NODE_L1_SHIFT = 28;
+        NODE_PATCH_MASK = 0x00ff_ffff;
+        NODE_BOTTOM_SHIFT = 24;
+        NODE_TOP_SHIFT = 28;
+        NODE_U_SHIFT = 0;
+        NODE_V_SHIFT = 11;
+        NODE_LEFT_SHIFT = 22;
+        NODE_RIGHT_SHIFT = 26;
+        NODE_EDGE_PENDING = 15;
     }
 
     /// f32(1/3) and f32(2/3) as bits: the literals cannot be misread.
@@ -126,6 +134,9 @@ shared_constants! {
         FLAG_FRUSTUM_CULL = 1;
         FLAG_BACKFACE_CULL = 2;
         FLAG_WEDGES = 4;
+        /// Anisotropic splits: halve only the direction whose edges are not
+        /// flat (1:2), 1:4 when both are or the inner tier fails.
+        FLAG_ANISO = 8;
         /// Test-only: donate to the work queue on every split, not only when some
         /// invocation is idle, to exercise the queue (and its overflow) hard.
         FLAG_QUEUE_STRESS = 0x4000_0000;
@@ -497,9 +508,13 @@ shared_constants! {
         LEVEL_GROUP_SIZE = 64;
         /// The ground truth's culling pass: one invocation per base patch.
         GRID_CULL_GROUP_SIZE = 64;
-        /// Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:
-        /// at most 192 vertices and 128 primitives).
+        /// Ready nodes per mesh workgroup (2 triangles + up to 4 wedges each:
+        /// at most 256 vertices and 192 primitives).
         MESH_NODES = 32;
+        /// A ready node's vertex slots (4 corners, a pivot per edge) and
+        /// triangle slots (the quad's two, a wedge per edge).
+        NODE_MESH_SLOTS = 8;
+        NODE_MESH_TRIS = 6;
         /// Mesh workgroups launched by one task workgroup.
         TASK_MESH_GROUPS = 32;
     }
@@ -524,18 +539,19 @@ shared_constants! {
         SUBDIV_REFILL_BELOW = 32;
     }
 
-    /// Fallback path: each ready node owns 4 triangle slots (12 vertices); a
+    /// Fallback path: each ready node owns 6 triangle slots (18 vertices); a
     /// missing wedge is written as a degenerate triangle.
     group {
-        VERTICES_PER_NODE = 12;
+        VERTICES_PER_NODE = 18;
     }
     /// Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
-    /// bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26).
+    /// bits | v*1024: 11 bits << 11 | depth along u: 4 bits << 22 | along v:
+    /// 4 bits << 26 | wedge: 1 bit << 30).
     group {
         VERTEX_WORDS = 5;
         PACK_V_SHIFT = 11;
         PACK_DEPTH_SHIFT = 22;
-        PACK_WEDGE_SHIFT = 26;
+        PACK_WEDGE_SHIFT = 30;
     }
 
     /// Shading modes (push constant of the draw pipelines).

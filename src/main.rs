@@ -215,6 +215,12 @@ enum Command {
         /// Enable the Khronos validation layer; any error fails the run.
         #[arg(long)]
         vk_validation: bool,
+        /// How subdiv and subdiv-indirect split a node: iso (1:4, the
+        /// paper's) or aniso (1:2 where one direction suffices); default:
+        /// the scene's, else iso. One mode per run: compare two runs'
+        /// flip.csv with tools/bench/equal_error.py.
+        #[arg(long, value_name = "MODE", value_enum)]
+        split: Option<bezier_subdiv::patch::view::Split>,
     },
     /// List the Vulkan devices and what they support.
     Info {
@@ -259,6 +265,12 @@ struct ViewArgs {
     /// paper's; view: the window's first size, default 1280x720).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     size: Option<(u32, u32)>,
+    /// How subdivision splits a node: iso (always 1:4, the paper's) or
+    /// aniso (halve only the direction whose edges are not flat, 1:2; 1:4
+    /// when both are or the inner tier fails). Default: the scene's, else
+    /// iso. Only subdiv and subdiv-indirect read it.
+    #[arg(long, value_name = "MODE", value_enum)]
+    split: Option<bezier_subdiv::patch::view::Split>,
 }
 
 /// Flags shared by the commands that render.
@@ -349,6 +361,7 @@ impl FrameArgs {
             device: self.device.clone(),
             validation: self.vk_validation,
             forward_differencing: self.forward_diff,
+            split: self.view.split,
         }
     }
 }
@@ -420,6 +433,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             args.preview = preview;
             args.preview_shade = preview_shade;
             args.by_model = by_model;
+            args.split = view.split;
             let report = commands::stats::run(&args)?;
             if json {
                 emit(&(serde_json::to_string_pretty(&report)? + "\n"))
@@ -503,6 +517,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             device,
             quick,
             vk_validation,
+            split,
         } => {
             let args = BenchArgs {
                 methods,
@@ -516,6 +531,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 device,
                 quick,
                 validation: vk_validation,
+                split,
                 ..BenchArgs::new(resolve_scene(Some(&scene)), out)
             };
             let done = commands::bench::run(&args)?;

@@ -394,7 +394,7 @@ impl Raster {
         let light = light_dir();
         let (w, h) = (self.width, self.height);
         for t in tris {
-            let patch_id = t.node.patch as usize;
+            let patch_id = t.node.patch() as usize;
             let clip = [0, 1, 2].map(|k| {
                 let p = t.v[k].as_dvec3();
                 ClipVert {
@@ -642,7 +642,7 @@ mod tests {
         Triangle {
             v,
             uv: [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
-            node: QuadNode::new(0, depth, 0, 0, 0, 0),
+            node: QuadNode::new(0, (depth, 0), (depth, 0), [depth; 4]),
             wedge: false,
         }
     }

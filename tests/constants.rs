@@ -24,35 +24,58 @@ fn assert_packed(what: &str, fields: &[(&str, u32, u32)], end: u32) {
 }
 
 #[test]
-fn quad_node_word_holds_depth_m_n_l0_l1() {
-    // depth 4 | m 10 | n 10 | l0 4 | l1 4, and m, n < 2^L_MAX.
-    let fields = [
-        ("depth", NODE_DEPTH_SHIFT, 4),
-        ("m", NODE_M_SHIFT, 10),
-        ("n", NODE_N_SHIFT, 10),
-        ("l0", NODE_L0_SHIFT, 4),
-        ("l1", NODE_L1_SHIFT, 4),
-    ];
-    assert_packed("QuadNode word 1", &fields, 32);
-    assert!(
-        fits((1 << L_MAX) - 1, 10),
-        "m, n up to 2^L_MAX - 1 in 10 bits"
+fn quad_node_words_hold_patch_codes_and_edge_states() {
+    // Word 0: patch 24 | bottom 4 | top 4. Word 1: u code 11 | v code 11 |
+    // left 4 | right 4, two bits spare. A direction's code is (1 << depth) | index: 11 bits
+    // hold depths up to L_MAX = 10.
+    assert_packed(
+        "QuadNode word 0",
+        &[
+            ("patch", 0, NODE_PATCH_MASK.count_ones()),
+            ("bottom", NODE_BOTTOM_SHIFT, 4),
+            ("top", NODE_TOP_SHIFT, 4),
+        ],
+        32,
     );
-    assert!(fits(L_MAX, 4), "depth up to L_MAX in 4 bits");
+    assert_packed(
+        "QuadNode word 1",
+        &[
+            ("u code", NODE_U_SHIFT, 11),
+            ("v code", NODE_V_SHIFT, 11),
+            ("left", NODE_LEFT_SHIFT, 4),
+            ("right", NODE_RIGHT_SHIFT, 4),
+        ],
+        30,
+    );
+    assert!(
+        fits((2 << L_MAX) - 1, 11),
+        "a code up to depth L_MAX in 11 bits"
+    );
+    assert!(
+        NODE_EDGE_PENDING > L_MAX && fits(NODE_EDGE_PENDING, 4),
+        "an edge state is a depth up to L_MAX or PENDING, in 4 bits"
+    );
 }
 
 #[test]
 fn fallback_vertex_packing_fits() {
-    // u*1024: 11 bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26.
+    // u*1024: 11 bits | v*1024: 11 bits << 11 | u depth 4, v depth 4 << 22
+    // | wedge: 1 bit << 30.
     let fields = [
         ("u", 0, 11),
         ("v", PACK_V_SHIFT, 11),
-        ("depth", PACK_DEPTH_SHIFT, 4),
+        ("depths", PACK_DEPTH_SHIFT, 8),
         ("wedge", PACK_WEDGE_SHIFT, 1),
     ];
-    assert_packed("packed vertex word", &fields, 27);
+    assert_packed("packed vertex word", &fields, 31);
     // u*1024 is exact for depths up to L_MAX <= 10: the QuadNode test.
-    assert_eq!(VERTICES_PER_NODE, 4 * 3, "4 triangle slots per node");
+    assert_eq!(
+        VERTICES_PER_NODE,
+        NODE_MESH_TRIS * 3,
+        "a node's triangle slots: two of its quad, one wedge per edge"
+    );
+    assert_eq!(NODE_MESH_TRIS, 2 + 4);
+    assert_eq!(NODE_MESH_SLOTS, 4 + 4, "four corners and four pivots");
 }
 
 #[test]

@@ -17,6 +17,7 @@ use bezier_subdiv::gpu::DrawTarget;
 use bezier_subdiv::patch::oracle::triangle_counts;
 use bezier_subdiv::patch::view::FLAG_BACKFACE_CULL;
 use bezier_subdiv::scene::camera::Camera;
+use bezier_subdiv::scene::file::Scene;
 use bezier_subdiv::vk::VkError;
 
 use draw_rig::*;
@@ -95,6 +96,46 @@ fn paths_match_the_oracle_and_each_other() {
     ctx.finish();
 }
 
+/// Under 1:2 splits a node has a depth per direction and a wedge on any of
+/// its four edges: both paths still draw the oracle's vertices bit for bit
+/// (the fallback's slots, the mesh path's capture) and agree on the image.
+/// The teapot's spout, the torus (curved more around the tube than along)
+/// and the four-patch tube (straight along its axis) all split 1:2.
+#[test]
+fn aniso_nodes_draw_the_oracle_s_vertices_on_both_paths() {
+    let ctx = common::gpu();
+    let mut rig = Rig::new(&ctx);
+    let tube = {
+        let scene = Scene::load(&root().join("scenes/cylinder.toml")).expect("cylinder scene");
+        let geo = scene.geometry().expect("cylinder geometry");
+        let cam = scene.frame_camera(0).unwrap();
+        Case::new("tube", geo.patches, geo.flags, cam, 0)
+    };
+    let cases = [
+        teapot(1, "teapot-spout").aniso("teapot-spout-aniso"),
+        converted("catmark_torus.obj", 1).aniso("torus-aniso"),
+        tube.aniso("tube-aniso"),
+    ];
+    for case in &cases {
+        let halved = case.ready.iter().filter(|q| q.du() != q.dv()).count();
+        let (_, wedges) = triangle_counts(&case.ready, true);
+        println!(
+            "{}: {} ready nodes, {halved} with unequal depths, {wedges} wedges",
+            case.name,
+            case.ready.len()
+        );
+        assert!(
+            halved > 0,
+            "{}: no 1:2 node, the test proves nothing",
+            case.name
+        );
+        for shade in [SHADE_NORMAL, SHADE_WEDGES] {
+            both_paths(&mut rig, case, shade);
+        }
+    }
+    ctx.finish();
+}
+
 /// Clearing FLAG_WEDGES in the view drops exactly the wedge triangles on
 /// both paths (the ready list staying the same).
 #[test]
@@ -118,13 +159,13 @@ fn wedges_off_drops_the_wedges() {
             let [mesh, fallback] = both_paths(&mut rig, case, SHADE_WEDGES);
             // Triangle slots whose three vertices are not one repeated vertex.
             let vw = VERTEX_WORDS as usize;
-            let drawn = fallback.vertices[..n * 12 * vw]
+            let drawn = fallback.vertices[..n * VERTICES_PER_NODE as usize * vw]
                 .chunks_exact(3 * vw)
                 .filter(|t| t[..vw] != t[vw..2 * vw] || t[..vw] != t[2 * vw..])
                 .count();
             // Wedge pivots the mesh path evaluated (the capture marks them).
             let pivots = (0..n)
-                .flat_map(|i| [4, 5].map(|s| 6 * i + s))
+                .flat_map(|i| (4..8).map(move |s| NODE_MESH_SLOTS as usize * i + s))
                 .filter(|&v| mesh.capture[4 * v] != SENTINEL)
                 .count();
             let (tris, wedges) = if case.wedges() {

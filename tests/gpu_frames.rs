@@ -249,7 +249,7 @@ fn hostile_cameras() {
             let mesh = node_mesh(*q, true);
             let pivots = mesh.tris[2..mesh.tri_count].iter().map(|t| t[2] as usize);
             for s in (0..4).chain(pivots) {
-                let p = capture[6 * i + s];
+                let p = capture[NODE_MESH_SLOTS as usize * i + s];
                 assert!(
                     p.iter().all(|x| x.is_finite()),
                     "camera {k}: node {i} slot {s}: {p:?}"

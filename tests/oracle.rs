@@ -16,8 +16,8 @@ use bezier_subdiv::patch::criterion::{
 };
 use bezier_subdiv::patch::ops::{affine_row, cross3, dot3, THIRD};
 use bezier_subdiv::patch::oracle::{subdivide, subdivide_parallel, triangulate, Outcome, Triangle};
-use bezier_subdiv::patch::quadnode::{QuadNode, L_MAX};
-use bezier_subdiv::patch::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
+use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
+use bezier_subdiv::patch::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::file::load_model;
 
@@ -64,11 +64,9 @@ fn random_node(rng: &mut SmallRng, patch: u32, depths: std::ops::RangeInclusive<
     let l = rng.random_range(depths);
     QuadNode::new(
         patch,
-        l,
-        rng.random_range(0..1 << l),
-        rng.random_range(0..1 << l),
-        0,
-        0,
+        (l, rng.random_range(0..1 << l)),
+        (l, rng.random_range(0..1 << l)),
+        [EDGE_PENDING; 4],
     )
 }
 
@@ -185,13 +183,18 @@ fn reordering_invariance_on_random_patches() {
     let patches: Vec<BezierPatch> = (0..16).map(|_| random_patch(&mut rng, 1.0)).collect();
     let mut work = Vec::new();
     for (k, _) in patches.iter().enumerate() {
-        work.extend(all_nodes(6).map(|(l, m, n)| QuadNode::new(k as u32, l, m, n, 0, 0)));
+        work.extend(
+            all_nodes(6)
+                .map(|(l, m, n)| QuadNode::new(k as u32, (l, m), (l, n), [EDGE_PENDING; 4])),
+        );
     }
     for _ in 0..20_000 {
         let k = rng.random_range(0..patches.len() as u32);
         work.push(random_node(&mut rng, k, 7..=L_MAX));
     }
-    let fails = par_check(&work, |q| reorder_invariant(&patches[q.patch as usize], *q));
+    let fails = par_check(&work, |q| {
+        reorder_invariant(&patches[q.patch() as usize], *q)
+    });
     assert!(fails.is_empty(), "{fails:#?}");
 }
 
@@ -205,13 +208,17 @@ fn reordering_invariance_on_shipped_models() {
     // Every node to depth 6 of every distinct patch, plus random deep nodes.
     let mut work: Vec<QuadNode> = Vec::new();
     for k in 0..patches.len() as u32 {
-        work.extend(all_nodes(6).map(|(l, m, n)| QuadNode::new(k, l, m, n, 0, 0)));
+        work.extend(
+            all_nodes(6).map(|(l, m, n)| QuadNode::new(k, (l, m), (l, n), [EDGE_PENDING; 4])),
+        );
     }
     for _ in 0..20_000 {
         let k = rng.random_range(0..patches.len() as u32);
         work.push(random_node(&mut rng, k, 7..=L_MAX));
     }
-    let fails = par_check(&work, |q| reorder_invariant(&patches[q.patch as usize], *q));
+    let fails = par_check(&work, |q| {
+        reorder_invariant(&patches[q.patch() as usize], *q)
+    });
     assert!(fails.is_empty(), "{fails:#?}");
 }
 
@@ -225,7 +232,7 @@ fn edge_node(patch: u32, e: usize, l: u32, k: u32) -> QuadNode {
         2 => (last - k, last),
         _ => (0, last - k),
     };
-    QuadNode::new(patch, l, m, n, 0, 0)
+    QuadNode::new(patch, (l, m), (l, n), [EDGE_PENDING; 4])
 }
 
 fn curve_bits(c: &[Vec3; 4]) -> [[u32; 3]; 4] {
@@ -329,7 +336,7 @@ fn shared_edges_decide_identically() {
                     let nb = edge_node(se.b.0, se.b.1, l, kb);
                     let sub = |q: QuadNode| {
                         let (a, b, c, d) = q.domain();
-                        reconstruct(&patches[q.patch as usize], a, b, c, d)
+                        reconstruct(&patches[q.patch() as usize], a, b, c, d)
                     };
                     let ca = sub(na).edge(se.a.1);
                     let cb = sub(nb).edge(se.b.1);
@@ -400,7 +407,7 @@ fn sibling_edges_are_bitwise_shared() {
         let m = rng.random_range(0..(1u32 << l) - 1);
         let n = rng.random_range(0..1u32 << l);
         let sub = |m: u32, n: u32| {
-            let (a, b, c, d) = QuadNode::new(k, l, m, n, 0, 0).domain();
+            let (a, b, c, d) = QuadNode::new(k, (l, m), (l, n), [EDGE_PENDING; 4]).domain();
             reconstruct(&patches[k as usize], a, b, c, d)
         };
         let right = sub(m, n).edge(1);
@@ -429,7 +436,7 @@ fn unmatched_edges(patches: &[BezierPatch], tris: &[Triangle]) -> Vec<(Vec3, Vec
             a.1 == 1.0 && b.1 == 1.0,
             a.0 == 0.0 && b.0 == 0.0,
         ];
-        (0..4).any(|e| sides[e] && !shared.contains(&(t.node.patch, e)))
+        (0..4).any(|e| sides[e] && !shared.contains(&(t.node.patch(), e)))
     };
     let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
     let mut points: Vec<Vec3> = Vec::new();
@@ -468,12 +475,15 @@ fn open_edges(patches: &[BezierPatch], tris: &[Triangle]) -> usize {
     unmatched_edges(patches, tris).len()
 }
 
+/// Views for the crack tests, each with `iso` and with `aniso` splits.
 fn watertight_views(patches: &[BezierPatch]) -> Vec<ViewParams> {
     let mut out = Vec::new();
     for cam in test_cameras(patches) {
         for (eps, lambda) in [(0.5, 0.5), (1.0, 0.0), (2.0, 1.0)] {
             let mut vp = cam.view_params(640, 360, eps, lambda);
             vp.flags &= !(FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL);
+            out.push(vp);
+            vp.flags |= FLAG_ANISO;
             out.push(vp);
         }
     }
@@ -498,11 +508,13 @@ fn closed_models_are_watertight_and_need_wedges() {
     ] {
         let patches = model(name);
         let flags = vec![0u32; patches.len()];
-        let mut cracked_without = 0;
+        let mut cracked_without = [0; 2];
         let mut deepest = 0;
+        let mut halves = 0;
         for vp in watertight_views(&patches) {
             let res = subdivide(&patches, &flags, &vp);
             deepest = deepest.max(res.stats.max_depth);
+            halves += res.ready.iter().filter(|q| q.du() != q.dv()).count();
             let with = triangulate(&patches, &res.ready, true);
             assert_eq!(
                 open_edges(&patches, &with),
@@ -510,13 +522,15 @@ fn closed_models_are_watertight_and_need_wedges() {
                 "{name}: cracks with wedges on"
             );
             let without = triangulate(&patches, &res.ready, false);
-            cracked_without += (open_edges(&patches, &without) > 0) as u32;
+            let aniso = vp.has(FLAG_ANISO) as usize;
+            cracked_without[aniso] += (open_edges(&patches, &without) > 0) as u32;
         }
         assert!(deepest >= 3, "{name}: the views must subdivide adaptively");
         assert!(
-            cracked_without > 0,
-            "{name}: wedges were never needed, the test proves nothing"
+            cracked_without[0] > 0 && cracked_without[1] > 0,
+            "{name}: wedges were never needed (iso, aniso: {cracked_without:?}), the test proves nothing"
         );
+        assert!(halves > 0, "{name}: aniso never split 1:2");
     }
 }
 
@@ -530,9 +544,9 @@ fn leaves_tile_the_domain() {
         let mut area = vec![0f64; patches.len()];
         let mut stack: Vec<QuadNode> = (0..patches.len() as u32).map(QuadNode::root).collect();
         while let Some(q) = stack.pop() {
-            match bezier_subdiv::patch::oracle::process(&patches[q.patch as usize], 0, q, &vp) {
+            match bezier_subdiv::patch::oracle::process(&patches[q.patch() as usize], 0, q, &vp) {
                 Outcome::Split(ch) => stack.extend(ch),
-                _ => area[q.patch as usize] += 0.25f64.powi(q.depth() as i32),
+                _ => area[q.patch() as usize] += 0.5f64.powi((q.du() + q.dv()) as i32),
             }
         }
         assert!(area.iter().all(|&a| a == 1.0), "{area:?}");
@@ -563,10 +577,13 @@ fn frustum_culling_leaves_no_visible_crack() {
     let scene = bezier_subdiv::scene::file::Scene::load(&path).unwrap();
     let geo = scene.geometry().unwrap();
     let mut culled_total = 0;
-    for k in 0..scene.frame_count() {
+    for (k, aniso) in (0..scene.frame_count()).flat_map(|k| [(k, false), (k, true)]) {
         let cam = scene.frame_camera(k).unwrap();
         let mut vp = cam.view_params(960, 540, 1.0, 0.5);
         vp.flags &= !FLAG_BACKFACE_CULL;
+        if aniso {
+            vp.flags |= FLAG_ANISO;
+        }
         let res = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
         culled_total += res.stats.culled_patches;
         let tris = triangulate(&geo.patches, &res.ready, true);
@@ -596,12 +613,16 @@ fn backface_culling_removes_only_triangles_facing_away() {
     let mut culled = 0;
     for name in ["catmark_torus.obj", "catmark_cube.obj", "catmark_pawn.obj"] {
         let patches = model(name);
-        for cam in test_cameras(&patches) {
-            let vp = cam.view_params(640, 360, 1.0, 0.5);
+        for (cam, aniso) in test_cameras(&patches)
+            .into_iter()
+            .flat_map(|c| [(c, 0), (c, FLAG_ANISO)])
+        {
+            let mut vp = cam.view_params(640, 360, 1.0, 0.5);
+            vp.flags |= aniso;
             let eye = vp.eye.truncate();
             let mut stack: Vec<QuadNode> = (0..patches.len() as u32).map(QuadNode::root).collect();
             while let Some(q) = stack.pop() {
-                let base = &patches[q.patch as usize];
+                let base = &patches[q.patch() as usize];
                 match bezier_subdiv::patch::oracle::process(base, 0, q, &vp) {
                     Outcome::Split(ch) => stack.extend(ch),
                     Outcome::BackFacing => {

@@ -20,7 +20,7 @@ use bezier_subdiv::patch::ops::THIRD;
 use bezier_subdiv::patch::oracle::{
     subdivide, subdivide_weighted, triangulate_surfaces, Triangle, WeightedPatches,
 };
-use bezier_subdiv::patch::quadnode::{QuadNode, L_MAX};
+use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
 use bezier_subdiv::patch::rational::{is_polynomial, RationalPatch, Weights, UNIT_WEIGHTS};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::camera::Camera;
@@ -80,7 +80,7 @@ fn edge_node(patch: u32, e: usize, l: u32, k: u32) -> QuadNode {
         2 => (last - k, last),
         _ => (0, last - k),
     };
-    QuadNode::new(patch, l, m, n, 0, 0)
+    QuadNode::new(patch, (l, m), (l, n), [EDGE_PENDING; 4])
 }
 
 /// A boundary curve (homogeneous control points) shared by two patches.
@@ -208,7 +208,7 @@ fn shared_edges_decide_identically() {
                     let nb = edge_node(se.b.0, se.b.1, l, kb);
                     let sub = |q: QuadNode| {
                         let (a, b, c, d) = q.domain();
-                        m.hom(q.patch as usize).sub(a, b, c, d)
+                        m.hom(q.patch() as usize).sub(a, b, c, d)
                     };
                     let ca = sub(na).edge(se.a.1);
                     let cb = sub(nb).edge(se.b.1);
@@ -366,7 +366,7 @@ fn backface_culling_removes_only_triangles_facing_away() {
                 let mut stack: Vec<QuadNode> =
                     (0..m.patches.len() as u32).map(QuadNode::root).collect();
                 while let Some(q) = stack.pop() {
-                    let k = q.patch as usize;
+                    let k = q.patch() as usize;
                     let base = RationalPatch::new(m.patches[k], m.weights[k]);
                     match process_rational(&base, 0, q, &vp) {
                         Outcome::Split(ch) => stack.extend(ch),
@@ -410,11 +410,9 @@ fn rational_backface_bound_never_culls_a_visible_part() {
         let l = rng.random_range(0..=5u32);
         let node = QuadNode::new(
             k as u32,
-            l,
-            rng.random_range(0..1 << l),
-            rng.random_range(0..1 << l),
-            0,
-            0,
+            (l, rng.random_range(0..1 << l)),
+            (l, rng.random_range(0..1 << l)),
+            [EDGE_PENDING; 4],
         );
         let (a, b, c, d) = node.domain();
         let sub = HomPatch::of(&base).sub(a, b, c, d);

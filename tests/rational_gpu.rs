@@ -53,7 +53,7 @@ fn check_frame(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) -> (
     }
     let rational = ready
         .iter()
-        .filter(|q| geo.flags[q.patch as usize] & PATCH_RATIONAL != 0)
+        .filter(|q| geo.flags[q.patch() as usize] & PATCH_RATIONAL != 0)
         .count();
     (rational, oracle.stats.backface_culled)
 }
@@ -93,6 +93,42 @@ fn rational_scene_equals_the_oracle_on_both_paths_and_methods() {
     assert!(
         backfacing > 100,
         "the views must cull rational back faces ({backfacing})"
+    );
+    gpu.finish();
+}
+
+/// The same under 1:2 splits (`--split aniso`): rational nodes split in one
+/// direction where their edges are flat in the other, on both methods and
+/// paths, equal to the oracle.
+#[test]
+fn rational_aniso_splits_equal_the_oracle() {
+    let gpu = common::gpu();
+    let (s, geo) = common::scene("rational.toml");
+    let runs = [
+        ("subdiv", DrawPath::Mesh),
+        ("subdiv-indirect", DrawPath::Fallback),
+    ];
+    let mut halved = 0;
+    for (method, path) in runs {
+        let mut r = common::renderer(&gpu, &geo, method, SIZE, MethodOptions::new(path));
+        r.capture = true;
+        for frame in [0, s.frame_count() - 1] {
+            let cam = s.frame_camera(frame).unwrap();
+            for lambda in [0.0, 0.5] {
+                let mut v = View::new(&cam, SIZE, 1.0, lambda, SHADE_NORMAL);
+                v.params.flags |= FLAG_ANISO;
+                let what = format!("{method} {path:?} frame {frame} lambda {lambda} aniso");
+                check_frame(&mut r, &geo, &v, &what);
+                let vp = r.effective_params(&v);
+                let oracle =
+                    subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, 2);
+                halved += oracle.ready.iter().filter(|q| q.du() != q.dv()).count();
+            }
+        }
+    }
+    assert!(
+        halved > 100,
+        "the views must split rational nodes 1:2 ({halved})"
     );
     gpu.finish();
 }

@@ -17,6 +17,8 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("blobs.toml", 35_940, 7),
     ("cages.toml", 577, 4),
     ("rational.toml", 56, 3),
+    ("cylinder.toml", 4, 3),
+    ("pillow.toml", 4, 3),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),
@@ -203,7 +205,7 @@ fn frame_zero_draws_every_model() {
         let res = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, 2);
         let mut per_model = vec![0u64; geo.models.len()];
         for q in &res.ready {
-            per_model[(geo.flags[q.patch as usize] >> PATCH_MODEL_SHIFT) as usize] += 1;
+            per_model[(geo.flags[q.patch() as usize] >> PATCH_MODEL_SHIFT) as usize] += 1;
         }
         for (m, n) in geo.models.iter().zip(&per_model) {
             assert!(

@@ -35,6 +35,28 @@ fn teapot_validates_on_both_paths() {
     }
 }
 
+/// `validate --split aniso` on the teapot: the ready set, the positions,
+/// the §4.4 reordering test and the hole test all hold for 1:2 splits, on
+/// both paths.
+#[test]
+fn teapot_validates_with_aniso_splits() {
+    let _gpu = common::gpu();
+    for draw in [DrawRequest::Mesh, DrawRequest::Fallback] {
+        let mut a = args("teapot.toml", draw);
+        a.gpu.split = Some(bezier_subdiv::patch::view::Split::Aniso);
+        let report = run(&a).unwrap();
+        println!("{}", report.table);
+        assert!(report.ok(), "{}", report.table);
+        assert!(report.table.contains("split aniso"), "{}", report.table);
+        let holes = report
+            .results
+            .iter()
+            .filter(|r| r.check.starts_with("holes"))
+            .count();
+        assert_eq!(holes, 1, "{}", report.table);
+    }
+}
+
 #[test]
 fn kitchen_validates() {
     let _gpu = common::gpu();

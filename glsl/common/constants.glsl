@@ -9,12 +9,20 @@
 // Quad-tree depth limit (10-bit m, n in the 8-byte QuadNode).
 const uint L_MAX = 10;
 
-// QuadNode word 1 layout: depth 4 | m 10 | n 10 | l0 4 | l1 4.
-const uint NODE_DEPTH_SHIFT = 0;
-const uint NODE_M_SHIFT = 4;
-const uint NODE_N_SHIFT = 14;
-const uint NODE_L0_SHIFT = 24;
-const uint NODE_L1_SHIFT = 28;
+// QuadNode layout (src/patch/quadnode.rs). Word 0: patch id (24 bits),
+// then the states of the bottom and top edges (4 bits each). Word 1: the
+// u code (1 << du) | m and the v code (1 << dv) | n (11 bits each),
+// then the states of the left and right edges. An edge's state is the
+// depth, in its own direction, at which it was found flat, or
+// NODE_EDGE_PENDING.
+const uint NODE_PATCH_MASK = 0xffffff;
+const uint NODE_BOTTOM_SHIFT = 24;
+const uint NODE_TOP_SHIFT = 28;
+const uint NODE_U_SHIFT = 0;
+const uint NODE_V_SHIFT = 11;
+const uint NODE_LEFT_SHIFT = 22;
+const uint NODE_RIGHT_SHIFT = 26;
+const uint NODE_EDGE_PENDING = 15;
 
 // f32(1/3) and f32(2/3) as bits: the literals cannot be misread.
 const uint THIRD_BITS = 0x3eaaaaab;
@@ -24,6 +32,9 @@ const uint TWO_THIRDS_BITS = 0x3f2aaaab;
 const uint FLAG_FRUSTUM_CULL = 1;
 const uint FLAG_BACKFACE_CULL = 2;
 const uint FLAG_WEDGES = 4;
+// Anisotropic splits: halve only the direction whose edges are not
+// flat (1:2), 1:4 when both are or the inner tier fails.
+const uint FLAG_ANISO = 8;
 // Test-only: donate to the work queue on every split, not only when some
 // invocation is idle, to exercise the queue (and its overflow) hard.
 const uint FLAG_QUEUE_STRESS = 0x40000000;
@@ -351,9 +362,13 @@ const uint EXPAND_GROUP_SIZE = 64;
 const uint LEVEL_GROUP_SIZE = 64;
 // The ground truth's culling pass: one invocation per base patch.
 const uint GRID_CULL_GROUP_SIZE = 64;
-// Ready nodes per mesh workgroup (2 triangles + up to 2 wedges each:
-// at most 192 vertices and 128 primitives).
+// Ready nodes per mesh workgroup (2 triangles + up to 4 wedges each:
+// at most 256 vertices and 192 primitives).
 const uint MESH_NODES = 32;
+// A ready node's vertex slots (4 corners, a pivot per edge) and
+// triangle slots (the quad's two, a wedge per edge).
+const uint NODE_MESH_SLOTS = 8;
+const uint NODE_MESH_TRIS = 6;
 // Mesh workgroups launched by one task workgroup.
 const uint TASK_MESH_GROUPS = 32;
 
@@ -373,16 +388,17 @@ const uint SUBDIV_LOCAL_CAP = 2048;
 const uint SUBDIV_KEEP = 64;
 const uint SUBDIV_REFILL_BELOW = 32;
 
-// Fallback path: each ready node owns 4 triangle slots (12 vertices); a
+// Fallback path: each ready node owns 6 triangle slots (18 vertices); a
 // missing wedge is written as a degenerate triangle.
-const uint VERTICES_PER_NODE = 12;
+const uint VERTICES_PER_NODE = 18;
 
 // Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
-// bits | v*1024: 11 bits << 11 | depth: 4 bits << 22 | wedge: 1 bit << 26).
+// bits | v*1024: 11 bits << 11 | depth along u: 4 bits << 22 | along v:
+// 4 bits << 26 | wedge: 1 bit << 30).
 const uint VERTEX_WORDS = 5;
 const uint PACK_V_SHIFT = 11;
 const uint PACK_DEPTH_SHIFT = 22;
-const uint PACK_WEDGE_SHIFT = 26;
+const uint PACK_WEDGE_SHIFT = 30;
 
 // Shading modes (push constant of the draw pipelines).
 const uint SHADE_NORMAL = 0;

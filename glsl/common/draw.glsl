@@ -28,9 +28,15 @@ precise vec4 clip_position(vec3 p) {
 // Fallback vertex attributes in one word. Node parameters are dyadic with
 // at most L_MAX = 10 fraction bits, so u * 1024 and v * 1024 are exact
 // integers in 0..1024 (11 bits) and unpacking gives the same floats back.
-uint pack_attrs(vec2 uv, uint depth, bool wedge) {
+// `depths`: the node's depth along u (low 4 bits) and v (next 4).
+uint pack_attrs(vec2 uv, uint depths, bool wedge) {
     return uint(uv.x * 1024.0) | (uint(uv.y * 1024.0) << PACK_V_SHIFT)
-        | (depth << PACK_DEPTH_SHIFT) | ((wedge ? 1u : 0u) << PACK_WEDGE_SHIFT);
+        | (depths << PACK_DEPTH_SHIFT) | ((wedge ? 1u : 0u) << PACK_WEDGE_SHIFT);
+}
+
+// A ready node's depths as shade() takes them: u in the low 4 bits, v above.
+uint node_depths(uvec2 q) {
+    return node_du(q) | (node_dv(q) << 4);
 }
 
 vec2 unpack_uv(uint w) {
@@ -38,36 +44,34 @@ vec2 unpack_uv(uint w) {
 }
 
 uint unpack_depth(uint w) {
-    return (w >> PACK_DEPTH_SHIFT) & 0xfu;
+    return (w >> PACK_DEPTH_SHIFT) & 0xffu;
 }
 
 uint unpack_wedge(uint w) {
     return (w >> PACK_WEDGE_SHIFT) & 1u;
 }
 
-// Triangle slot t (0, 1: the quad; 2: wedge along u; 3: wedge along v) of a
-// node mesh, and whether it exists. Fixed slots keep the output layout
+// Triangle slot t (0, 1: the quad; 2 + e: the wedge on edge e) of a node
+// mesh, and whether it exists. Fixed slots keep the output layout
 // independent of which wedges a node has.
 bool mesh_tri(NodeMesh mesh, uint t, out uvec3 tri) {
     tri = mesh.tris[t];
-    if (t == 2u) return mesh.wedge.x;
-    if (t == 3u) return mesh.wedge.y;
-    return true;
+    return t < 2u || mesh.wedge[t - 2u];
 }
 
-// Whether vertex slot s (0-3 corners, 4-5 wedge pivots) of a node mesh is
-// used.
+// Whether vertex slot s (0-3 corners, 4 + e the pivot of edge e's wedge) of
+// a node mesh is used.
 bool slot_used(NodeMesh mesh, uint s) {
-    return s < 4u || (s == 4u && mesh.wedge.x) || (s == 5u && mesh.wedge.y);
+    return s < 4u || mesh.wedge[s - 4u];
 }
 
-// The positions of a node mesh's six vertex slots. Every position, corner
-// or pivot, is the base patch evaluated by the one shared precise function
-// at exact dyadic parameters: bit-identical to the oracle and to the
-// neighbouring nodes that share it. Unused pivot slots get a copy of
-// corner 0, so every output stays defined.
-void node_positions(vec3 P[16], NodeMesh mesh, out vec3 pos[6]) {
-    for (uint s = 0u; s < 6u; ++s) {
+// The positions of a node mesh's NODE_MESH_SLOTS vertex slots. Every
+// position, corner or pivot, is the base patch evaluated by the one shared
+// precise function at exact dyadic parameters: bit-identical to the oracle
+// and to the neighbouring nodes that share it. Unused pivot slots get a
+// copy of corner 0, so every output stays defined.
+void node_positions(vec3 P[16], NodeMesh mesh, out vec3 pos[NODE_MESH_SLOTS]) {
+    for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
         pos[s] = slot_used(mesh, s) ? eval_patch(P, mesh.uv[s].x, mesh.uv[s].y) : pos[0];
     }
 }

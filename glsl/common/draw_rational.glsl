@@ -9,11 +9,11 @@
 #include "draw.glsl"
 #include "rational_subdiv.glsl"
 
-void patch_node_positions(uint id, NodeMesh mesh, out vec3 pos[6]) {
+void patch_node_positions(uint id, NodeMesh mesh, out vec3 pos[NODE_MESH_SLOTS]) {
     if (patch_is_rational(id)) {
         vec4 H[16];
         load_homogeneous(id, H);
-        for (uint s = 0u; s < 6u; ++s) {
+        for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
             pos[s] = slot_used(mesh, s) ? eval_rational(H, mesh.uv[s].x, mesh.uv[s].y) : pos[0];
         }
         return;

@@ -113,17 +113,11 @@ uint block_stats(uint b) {
     return (pc.levels + 3u) * scan_words() + b * LEVEL_BLOCK_STATS;
 }
 
-// Children of an OUT_SPLIT in kids[0..n): every split is 1:4 today. A 1:2
-// split (issue 23) returns 2 here; nothing else counts children.
-uint split_children(uint outcome) {
-    return outcome == OUT_SPLIT ? SPLIT_MAX_CHILDREN : 0u;
-}
-
 // Node j (dense index) of depth d: the base patch itself at depth 0, else
 // the slot its block's scan entry and rank within the block name.
 uvec2 level_node(uint d, uint j) {
     if (d == 0u) {
-        return uvec2(j, 0u);
+        return root_node(j);
     }
     uint s = level_scan(d);
     // scan[0] = 0 <= j < scan[blocks] = the depth's count.
@@ -233,15 +227,16 @@ uvec2 block_reduce(uint v[VALUES], out uint totals[VALUES]) {
     return uvec2(ec, er);
 }
 
-// The node's contribution to its block's totals.
-void node_values(bool have, uvec2 q, uint outcome, out uint v[VALUES]) {
+// The node's contribution to its block's totals; `nkids` children of a
+// split (4 for 1:4, 2 for a 1:2 split).
+void node_values(bool have, uvec2 q, uint outcome, uint nkids, out uint v[VALUES]) {
     for (uint k = 0u; k < VALUES; ++k) {
         v[k] = 0u;
     }
     if (!have) {
         return;
     }
-    v[V_CHILDREN] = split_children(outcome);
+    v[V_CHILDREN] = outcome == OUT_SPLIT ? nkids : 0u;
     v[2u] = outcome == OUT_CULLED ? 1u : 0u;
     v[3u] = outcome == OUT_BACKFACE ? 1u : 0u;
     if (outcome == OUT_READY) {
@@ -265,9 +260,10 @@ void process_block(uint b, uint t) {
     bool have = j < s_first + s_count;
     uvec2 q = have ? level_node(d, j) : uvec2(0u);
     uvec2 kids[4];
-    uint outcome = have ? process(q, kids) : OUT_CULLED;
+    uint nkids = 0u;
+    uint outcome = have ? process(q, kids, nkids) : OUT_CULLED;
     uint v[VALUES];
-    node_values(have, q, outcome, v);
+    node_values(have, q, outcome, nkids, v);
     uint totals[VALUES];
     uvec2 at = block_reduce(v, totals);
     if (v[V_CHILDREN] > 0u) {

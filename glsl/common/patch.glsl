@@ -126,23 +126,43 @@ void reconstruct(vec3 P[16], float a, float b, float c, float d, out vec3 S[16])
 
 // ---------------------------------------------------------------- QuadNode
 
-uint node_depth(uvec2 q) { return (q.y >> NODE_DEPTH_SHIFT) & 0xfu; }
-uint node_m(uvec2 q) { return (q.y >> NODE_M_SHIFT) & 0x3ffu; }
-uint node_n(uvec2 q) { return (q.y >> NODE_N_SHIFT) & 0x3ffu; }
-uint node_l0(uvec2 q) { return (q.y >> NODE_L0_SHIFT) & 0xfu; }
-uint node_l1(uvec2 q) { return (q.y >> NODE_L1_SHIFT) & 0xfu; }
+// Layout in src/patch/quadnode.rs: x = patch (24 bits) | bottom (4) | top (4),
+// y = u code (11) | v code (11) | left (4) | right (4); a code is
+// (1 << depth) | index, an edge state its flat depth or NODE_EDGE_PENDING.
+uint node_patch(uvec2 q) { return q.x & NODE_PATCH_MASK; }
+uint node_du(uvec2 q) { return uint(findMSB((q.y >> NODE_U_SHIFT) & 0x7ffu)); }
+uint node_dv(uvec2 q) { return uint(findMSB((q.y >> NODE_V_SHIFT) & 0x7ffu)); }
+uint node_m(uvec2 q) { return ((q.y >> NODE_U_SHIFT) & 0x7ffu) ^ (1u << node_du(q)); }
+uint node_n(uvec2 q) { return ((q.y >> NODE_V_SHIFT) & 0x7ffu) ^ (1u << node_dv(q)); }
+// The deeper of the two depths (equal under iso): statistics, heat map.
+uint node_depth(uvec2 q) { return max(node_du(q), node_dv(q)); }
 
-uvec2 make_node(uint patch_id, uint depth, uint m, uint n, uint l0, uint l1) {
-    return uvec2(patch_id, (depth << NODE_DEPTH_SHIFT) | (m << NODE_M_SHIFT) | (n << NODE_N_SHIFT)
-        | (l0 << NODE_L0_SHIFT) | (l1 << NODE_L1_SHIFT));
+// The states of the four edges, indexed by EDGE_* (0 bottom, 1 right,
+// 2 top, 3 left).
+uvec4 edge_states(uvec2 q) {
+    return uvec4((q.x >> NODE_BOTTOM_SHIFT) & 0xfu, (q.y >> NODE_RIGHT_SHIFT) & 0xfu,
+                 (q.x >> NODE_TOP_SHIFT) & 0xfu, (q.y >> NODE_LEFT_SHIFT) & 0xfu);
+}
+
+uvec2 make_node(uint patch_id, uint du, uint m, uint dv, uint n, uvec4 e) {
+    uint x = patch_id | (e.x << NODE_BOTTOM_SHIFT) | (e.z << NODE_TOP_SHIFT);
+    uint y = (((1u << du) | m) << NODE_U_SHIFT) | (((1u << dv) | n) << NODE_V_SHIFT)
+        | (e.w << NODE_LEFT_SHIFT) | (e.y << NODE_RIGHT_SHIFT);
+    return uvec2(x, y);
+}
+
+// The whole base patch: depth 0 both ways, every edge pending.
+uvec2 root_node(uint patch_id) {
+    return make_node(patch_id, 0u, 0u, 0u, 0u, uvec4(NODE_EDGE_PENDING));
 }
 
 // [a,b]x[c,d], exact.
 vec4 node_domain(uvec2 q) {
-    float s = pow2_neg(node_depth(q));
+    float su = pow2_neg(node_du(q));
+    float sv = pow2_neg(node_dv(q));
     float m = float(node_m(q));
     float n = float(node_n(q));
-    return vec4(m * s, (m + 1.0) * s, n * s, (n + 1.0) * s);
+    return vec4(m * su, (m + 1.0) * su, n * sv, (n + 1.0) * sv);
 }
 
 // ---------------------------------------------------------------- criterion
@@ -338,112 +358,124 @@ bool back_facing(vec3 S[16], vec3 lo, vec3 hi, vec3 eye) {
 
 // ---------------------------------------------------------------- wedges
 
-// Flat depths of the four edges; equal to the node's depth = still pending.
-uvec4 edge_depths(uvec2 q) {
-    uint l = node_depth(q);
-    uvec4 d = uvec4(l);
-    if ((node_n(q) & 1u) == 0u) d[EDGE_BOTTOM] = node_l0(q); else d[EDGE_TOP] = node_l0(q);
-    if ((node_m(q) & 1u) == 0u) d[EDGE_LEFT] = node_l1(q); else d[EDGE_RIGHT] = node_l1(q);
-    return d;
-}
+// Whether edge e runs along u (bottom, top).
+bool edge_along_u(uint e) { return e == EDGE_BOTTOM || e == EDGE_TOP; }
 
-uvec4 resolve_depths(uint l, uvec4 depths, bvec4 flat_now) {
-    uvec4 r = depths;
-    for (int e = 0; e < 4; ++e) {
-        if (depths[e] >= l) {
-            r[e] = flat_now[e] ? l : l + 1u;
+// The node's depth in the direction edge e runs.
+uint depth_along(uvec2 q, uint e) { return edge_along_u(e) ? node_du(q) : node_dv(q); }
+
+// Twin of wedge::resolve: a pending edge found flat now takes the node's
+// depth in its direction, one not flat stays pending; others are kept.
+uvec4 resolve_states(uvec2 q, bvec4 flat_now) {
+    uvec4 s = edge_states(q);
+    for (uint e = 0u; e < 4u; ++e) {
+        if (s[e] == NODE_EDGE_PENDING && flat_now[e]) {
+            s[e] = depth_along(q, e);
         }
     }
-    return r;
+    return s;
 }
 
-// Child (x, y) inheriting the resolved depths of the parent edges it lies on.
-uvec2 child_node(uvec2 q, uvec4 resolved, uint x, uint y) {
-    uint l0 = resolved[y == 0u ? EDGE_BOTTOM : EDGE_TOP];
-    uint l1 = resolved[x == 0u ? EDGE_LEFT : EDGE_RIGHT];
-    return make_node(q.x, node_depth(q) + 1u, 2u * node_m(q) + x, 2u * node_n(q) + y, l0, l1);
+// Twin of wedge::children: the children of a split halving u (split.x)
+// and/or v (split.y), in the order (0,0), (1,0), (0,1), (1,1) of those that
+// exist, each with the resolved states of the parent edges it lies on and
+// pending new edges. Returns how many (2 or 4).
+uint node_children(uvec2 q, bvec2 split, uvec4 r, out uvec2 kids[4]) {
+    kids = uvec2[4](q, q, q, q);
+    uint du = node_du(q), dv = node_dv(q), m = node_m(q), n = node_n(q);
+    uint k = 0u;
+    for (uint y = 0u; y <= (split.y ? 1u : 0u); ++y) {
+        for (uint x = 0u; x <= (split.x ? 1u : 0u); ++x) {
+            uvec4 e = uvec4(NODE_EDGE_PENDING);
+            if (y == 0u) e.x = r.x;
+            if (y == 1u || !split.y) e.z = r.z;
+            if (x == 0u) e.w = r.w;
+            if (x == 1u || !split.x) e.y = r.y;
+            uint cu = split.x ? du + 1u : du;
+            uint cm = split.x ? 2u * m + x : m;
+            uint cv = split.y ? dv + 1u : dv;
+            uint cn = split.y ? 2u * n + y : n;
+            kids[k] = make_node(node_patch(q), cu, cm, cv, cn, e);
+            k += 1u;
+        }
+    }
+    return k;
 }
 
 // A ready node's triangles in parameter space: vertices 0..3 are the corners
-// (a,c), (b,c), (b,d), (a,d); slot 4 is the pivot of the wedge along u, slot
-// 5 of the wedge along v. Triangles 0 and 1 are the quad; 2 and 3 the wedges
-// (present when the bit is set), wound opposite to the quad's traversal of
-// the shared edge. Pivots round the node coordinate down to the coarse depth.
+// (a,c), (b,c), (b,d), (a,d); slot 4 + e is the pivot of the wedge on edge
+// e. Triangles 0 and 1 are the quad; 2 + e the wedge on edge e (present
+// when wedge[e]), wound opposite to the quad's traversal of that edge.
+// Pivots round the node coordinate down to the coarse depth.
 struct NodeMesh {
-    vec2 uv[6];
-    uvec3 tris[4];
-    bvec2 wedge;  // x: along u (tris[2]), y: along v (tris[3])
+    vec2 uv[8];
+    uvec3 tris[6];
+    bvec4 wedge;
 };
 
-// The pivots of the node's wedges along u and along v (twin of
-// wedge::wedge_pivots): the coordinate along an outer edge flat at a coarser
-// depth, rounded down to it; absent where that is the node's own corner.
-bvec2 wedge_pivots(uvec2 q, out vec2 pivot_u, out vec2 pivot_v) {
-    uint l = node_depth(q);
-    uint m = node_m(q);
-    uint n = node_n(q);
-    float s = pow2_neg(l);
-    bvec2 has = bvec2(false);
-    pivot_u = vec2(0.0);
-    pivot_v = vec2(0.0);
-    uint le = node_l0(q);
-    if (le < l) {
-        uint mp = (m >> (l - le)) << (l - le);
-        if (mp != m) {
-            uint ne = (n & 1u) == 0u ? n : n + 1u;
-            pivot_u = vec2(float(mp) * s, float(ne) * s);
-            has.x = true;
+// The pivots of the node's wedges, per edge (twin of wedge::wedge_pivots):
+// the coordinate along an edge flat at a coarser depth than the node's in
+// that direction, rounded down to it; absent where that is the node's own
+// corner.
+bvec4 wedge_pivots(uvec2 q, out vec2 pivots[4]) {
+    uint du = node_du(q), dv = node_dv(q), m = node_m(q), n = node_n(q);
+    float su = pow2_neg(du), sv = pow2_neg(dv);
+    uvec4 s = edge_states(q);
+    bvec4 has = bvec4(false);
+    pivots = vec2[4](vec2(0.0), vec2(0.0), vec2(0.0), vec2(0.0));
+    for (uint e = 0u; e < 4u; ++e) {
+        uint d = edge_along_u(e) ? du : dv;
+        uint le = s[e];
+        if (le == NODE_EDGE_PENDING || le >= d) {
+            continue;
         }
-    }
-    le = node_l1(q);
-    if (le < l) {
-        uint np = (n >> (l - le)) << (l - le);
-        if (np != n) {
-            uint me = (m & 1u) == 0u ? m : m + 1u;
-            pivot_v = vec2(float(me) * s, float(np) * s);
-            has.y = true;
+        if (edge_along_u(e)) {
+            uint mp = (m >> (d - le)) << (d - le);
+            uint ve = e == EDGE_BOTTOM ? n : n + 1u;
+            if (mp != m) {
+                pivots[e] = vec2(float(mp) * su, float(ve) * sv);
+                has[e] = true;
+            }
+        } else {
+            uint np = (n >> (d - le)) << (d - le);
+            uint ue = e == EDGE_LEFT ? m : m + 1u;
+            if (np != n) {
+                pivots[e] = vec2(float(ue) * su, float(np) * sv);
+                has[e] = true;
+            }
         }
     }
     return has;
 }
 
 NodeMesh node_mesh(uvec2 q, bool with_wedges) {
-    uint l = node_depth(q);
-    uint m = node_m(q);
-    uint n = node_n(q);
-    float s = pow2_neg(l);
-    float a = float(m) * s, b = float(m + 1u) * s;
-    float c = float(n) * s, d = float(n + 1u) * s;
+    vec4 dom = node_domain(q);
     NodeMesh mesh;
-    mesh.uv[0] = vec2(a, c);
-    mesh.uv[1] = vec2(b, c);
-    mesh.uv[2] = vec2(b, d);
-    mesh.uv[3] = vec2(a, d);
-    mesh.uv[4] = vec2(0.0);
-    mesh.uv[5] = vec2(0.0);
+    mesh.uv[0] = vec2(dom.x, dom.z);
+    mesh.uv[1] = vec2(dom.y, dom.z);
+    mesh.uv[2] = vec2(dom.y, dom.w);
+    mesh.uv[3] = vec2(dom.x, dom.w);
     mesh.tris[0] = uvec3(0, 1, 2);
     mesh.tris[1] = uvec3(0, 2, 3);
-    mesh.tris[2] = uvec3(0);
-    mesh.tris[3] = uvec3(0);
-    mesh.wedge = bvec2(false);
-    if (!with_wedges) {
-        return mesh;
+    // The wedge on edge e: the edge as the quad does not run it, then the
+    // pivot in slot 4 + e.
+    mesh.tris[2] = uvec3(1, 0, 4);
+    mesh.tris[3] = uvec3(2, 1, 5);
+    mesh.tris[4] = uvec3(3, 2, 6);
+    mesh.tris[5] = uvec3(0, 3, 7);
+    vec2 pivots[4];
+    bvec4 has = wedge_pivots(q, pivots);
+    for (uint e = 0u; e < 4u; ++e) {
+        mesh.uv[4u + e] = pivots[e];
     }
-    vec2 pivot_u, pivot_v;
-    bvec2 has = wedge_pivots(q, pivot_u, pivot_v);
-    if (has.x) {
-        bool bottom = (n & 1u) == 0u;
-        mesh.uv[4] = pivot_u;
-        mesh.tris[2] = bottom ? uvec3(1, 0, 4) : uvec3(3, 2, 4);
-        mesh.wedge.x = true;
-    }
-    if (has.y) {
-        bool left = (m & 1u) == 0u;
-        mesh.uv[5] = pivot_v;
-        mesh.tris[3] = left ? uvec3(0, 3, 5) : uvec3(2, 1, 5);
-        mesh.wedge.y = true;
-    }
+    mesh.wedge = with_wedges ? has : bvec4(false);
     return mesh;
+}
+
+// How many wedges a ready node draws.
+uint wedge_count(NodeMesh mesh) {
+    return (mesh.wedge.x ? 1u : 0u) + (mesh.wedge.y ? 1u : 0u) + (mesh.wedge.z ? 1u : 0u)
+        + (mesh.wedge.w ? 1u : 0u);
 }
 
 // Twin of cull::wedges_face_away: every wedge triangle of the ready node
@@ -451,11 +483,11 @@ NodeMesh node_mesh(uvec2 q, bool with_wedges) {
 bool wedges_face_away(vec3 P[16], uvec2 q, vec3 eye, bool with_wedges) {
     NodeMesh mesh = node_mesh(q, with_wedges);
     bool away = true;
-    for (uint t = 2u; t < 4u; ++t) {
-        if (!(t == 2u ? mesh.wedge.x : mesh.wedge.y)) {
+    for (uint e = 0u; e < 4u; ++e) {
+        if (!mesh.wedge[e]) {
             continue;
         }
-        uvec3 k = mesh.tris[t];
+        uvec3 k = mesh.tris[2u + e];
         precise vec3 a = eval_patch(P, mesh.uv[k.x].x, mesh.uv[k.x].y);
         precise vec3 b = eval_patch(P, mesh.uv[k.y].x, mesh.uv[k.y].y);
         precise vec3 c = eval_patch(P, mesh.uv[k.z].x, mesh.uv[k.z].y);

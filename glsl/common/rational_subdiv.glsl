@@ -118,11 +118,11 @@ bool back_facing4(vec4 S[16], vec3 eye) {
 bool wedges_face_away4(vec4 H[16], uvec2 q, vec3 eye, bool with_wedges) {
     NodeMesh mesh = node_mesh(q, with_wedges);
     bool away = true;
-    for (uint t = 2u; t < 4u; ++t) {
-        if (!(t == 2u ? mesh.wedge.x : mesh.wedge.y)) {
+    for (uint e = 0u; e < 4u; ++e) {
+        if (!mesh.wedge[e]) {
             continue;
         }
-        uvec3 k = mesh.tris[t];
+        uvec3 k = mesh.tris[2u + e];
         precise vec3 a = eval_rational(H, mesh.uv[k.x].x, mesh.uv[k.x].y);
         precise vec3 b = eval_rational(H, mesh.uv[k.y].x, mesh.uv[k.y].y);
         precise vec3 c = eval_rational(H, mesh.uv[k.z].x, mesh.uv[k.z].y);

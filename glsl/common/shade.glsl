@@ -139,16 +139,27 @@ float diffuse(vec3 n, vec3 to_eye) {
     return max(dot(n, l), 0.0);
 }
 
+// A cell's depths as the draws hand them to shade(): the depth along u in
+// the low 4 bits, along v in the next 4 (a QuadNode split 1:2 has two);
+// draws whose cells are square pass one depth for both.
+uint same_depths(uint depth) {
+    return min(depth, 15u) | (min(depth, 15u) << 4);
+}
+
+uvec2 cell_depths(uint code) {
+    return uvec2(code & 0xfu, (code >> 4) & 0xfu);
+}
+
 vec3 depth_color(uint depth) {
     return rgb_of(DEPTH_RAMP[min(depth, 10u)]);
 }
 
 // 1 on the outline of the cell the fragment lies in, fading to 0 a pixel
-// away: cells are the patch's parameter grid at 2^depth per side, which is
+// away: cells are the patch's parameter grid at 2^du by 2^dv, which is
 // exactly a QuadNode's domain (and a ground-truth grid cell at depth
-// log2(grid)).
-float cell_outline(vec2 uv, uint depth) {
-    vec2 c = uv * float(1u << min(depth, 15u));
+// log2(grid) both ways).
+float cell_outline(vec2 uv, uvec2 depths) {
+    vec2 c = uv * vec2(float(1u << depths.x), float(1u << depths.y));
     vec2 to_line = min(fract(c), 1.0 - fract(c)) / max(fwidth(c), vec2(1e-6));
     return 1.0 - clamp(min(to_line.x, to_line.y) - 0.25, 0.0, 1.0);
 }
@@ -158,7 +169,11 @@ vec4 code_color(uint code) {
     return vec4(float(code >> 16) / 255.0, float((code >> 8) & 255u) / 255.0, float(code & 255u) / 255.0, 1.0);
 }
 
-vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool front) {
+// `depth_code`: the cell's depths (cell_depths); the depth heat map shows
+// the deeper.
+vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, bool wedge, bool front) {
+    uvec2 depths = cell_depths(depth_code);
+    uint depth = max(depths.x, depths.y);
     if (pc.shade == SHADE_FACING) {
         return vec4(front ? KEY_FRONT : KEY_BACK, 1.0);
     }
@@ -201,7 +216,7 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
     }
     if (pc.shade == SHADE_WIREFRAME) {
         vec3 base = wedge ? WEDGE_COLOR * 0.8 : vec3(0.75) * (0.3 + 0.7 * d);
-        return vec4(mix(base, vec3(0.05, 0.05, 0.08), cell_outline(uv, depth)), 1.0);
+        return vec4(mix(base, vec3(0.05, 0.05, 0.08), cell_outline(uv, depths)), 1.0);
     }
     if (pc.shade == SHADE_WEDGES) {
         vec3 c = wedge ? WEDGE_COLOR * (0.75 + 0.25 * d) : depth_color(depth) * (0.25 + 0.2 * d);

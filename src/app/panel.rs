@@ -36,6 +36,8 @@ pub struct Controls {
     pub lambda: f64,
     /// Deepest subdivision level.
     pub l_max: u32,
+    /// How a node splits.
+    pub split: crate::patch::view::Split,
     /// Frustum culling on.
     pub frustum: bool,
     /// Back-face culling on.
@@ -254,6 +256,17 @@ impl Controls {
             egui::Slider::new(&mut self.l_max, 1..=crate::constants::L_MAX).text("l_max"),
         )
         .on_disabled_hover_text(&ignored);
+        let mut aniso = self.split == crate::patch::view::Split::Aniso;
+        ui.add_enabled(
+            reads.split,
+            egui::Checkbox::new(&mut aniso, "aniso: 1:2 splits where one direction suffices"),
+        )
+        .on_disabled_hover_text(&ignored);
+        self.split = if aniso {
+            crate::patch::view::Split::Aniso
+        } else {
+            crate::patch::view::Split::Iso
+        };
         ui.horizontal(|ui| {
             ui.checkbox(&mut self.frustum, "frustum cull");
             ui.add_enabled(

@@ -141,6 +141,7 @@ impl Session {
             eps,
             lambda,
             l_max: L_MAX,
+            split: args.gpu.split_of(&scene),
             frustum: true,
             backface: true,
             wedges: true,
@@ -298,7 +299,7 @@ impl Session {
                 flags |= flag;
             }
         }
-        view.params.flags = flags;
+        view.params.flags = flags | c.split.flag();
         view
     }
 
@@ -475,6 +476,7 @@ impl Session {
         stats["l_max"] = json!(c.l_max);
         stats["culling"] = json!({"frustum": c.frustum, "backface": c.backface});
         stats["wedges"] = json!(c.wedges);
+        stats["split"] = json!(c.split.name());
         stats["present_mode"] = json!(self.presenter.present_mode());
         // What the window showed around the frame (the keys' effects).
         stats["overlay_shown"] = json!(self.show_overlay);

@@ -76,6 +76,8 @@ pub struct BenchArgs {
     pub quick: bool,
     /// Khronos validation layer on.
     pub validation: bool,
+    /// How `subdiv` and `subdiv-indirect` split (`None`: the scene's).
+    pub split: Option<crate::patch::view::Split>,
 }
 
 impl BenchArgs {
@@ -95,6 +97,7 @@ impl BenchArgs {
             device: DeviceSelector::Auto,
             quick: false,
             validation: false,
+            split: None,
         }
     }
 }
@@ -347,6 +350,9 @@ fn command_line(args: &BenchArgs, plan: &Plan) -> String {
     if args.device != DeviceSelector::Auto {
         c += &format!(" --device {}", args.device);
     }
+    if let Some(s) = args.split {
+        c += &format!(" --split {}", s.name());
+    }
     c
 }
 
@@ -383,6 +389,7 @@ pub fn run_on(
     let flip_t: Vec<f64> = (0..plan.flip_frames)
         .map(|k| path.t(k, plan.flip_frames))
         .collect();
+    let split = args.split.unwrap_or(plan.scene.view.split);
     let mut setup = Setup {
         command: command_line(args, &plan),
         scene: args.scene.display().to_string(),
@@ -399,6 +406,7 @@ pub fn run_on(
         grid: args.grid,
         commit: commit_id().to_string(),
         models: geo.models.iter().map(|m| m.name.clone()).collect(),
+        split: split.name(),
         stopped: None,
     };
     let mut m = Measured {
@@ -464,10 +472,13 @@ fn measure(
     m: &mut Measured,
 ) -> anyhow::Result<()> {
     let total = plan.total_steps();
+    let split = args.split.unwrap_or(plan.scene.view.split);
     // A method that ignores λ draws the same at any: it gets the first.
     let view = |t: f64, c: &Config| {
         let lambda = c.lambda.unwrap_or(args.lambda[0]);
-        View::new(&path.camera(t), args.size, c.eps, lambda, SHADE_NORMAL)
+        let mut v = View::new(&path.camera(t), args.size, c.eps, lambda, SHADE_NORMAL);
+        v.params.flags |= split.flag();
+        v
     };
     let mut step = |m: &mut Measured, what: &str| {
         m.steps += 1;

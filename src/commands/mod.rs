@@ -69,6 +69,9 @@ pub struct GpuRequest {
     pub validation: bool,
     /// `cudatess`: interior vertices by forward differencing.
     pub forward_differencing: bool,
+    /// `subdiv`, `subdiv-indirect`: how a node splits (`None`: the
+    /// scene's `[view] split`).
+    pub split: Option<crate::patch::view::Split>,
 }
 
 impl GpuRequest {
@@ -91,7 +94,13 @@ impl GpuRequest {
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
             forward_differencing: false,
+            split: None,
         }
+    }
+
+    /// The split mode of this request's views: the flag, else the scene's.
+    pub fn split_of(&self, scene: &crate::scene::file::Scene) -> crate::patch::view::Split {
+        self.split.unwrap_or(scene.view.split)
     }
 
     /// The method's registry entry, or the sentence why there is none

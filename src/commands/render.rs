@@ -183,7 +183,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let ctx = args.gpu.context()?;
     let mut renderer = args.gpu.renderer(&ctx, &geo, &shading)?;
     renderer.set_progress(super::progress::parts_bar());
-    let view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
+    let mut view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
+    view.params.flags |= args.gpu.split_of(&scene).flag();
     let warmup = args.warmup.unwrap_or_else(|| default_warmup(method.name));
     let frames = timed_frames(&mut renderer, &view, warmup, args.repeat)?;
     let report = &frames.report;

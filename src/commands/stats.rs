@@ -38,6 +38,9 @@ pub struct StatsArgs {
     pub size: (u32, u32),
     /// `FLAG_*` bits for the view.
     pub flags: u32,
+    /// How nodes split (`None`: the scene's `[view] split`); its flag is
+    /// added to `flags`.
+    pub split: Option<crate::patch::view::Split>,
     /// Write a CPU-rasterised preview of the ready nodes here (PNG).
     pub preview: Option<PathBuf>,
     /// What the preview's colours show.
@@ -56,6 +59,7 @@ impl StatsArgs {
             lambda: None,
             size: (1920, 1080),
             flags: FLAGS_DEFAULT,
+            split: None,
             preview: None,
             preview_shade: PreviewShade::Normal,
             by_model: false,
@@ -80,6 +84,8 @@ pub struct StatsReport {
     pub eps: f64,
     /// Distance blend.
     pub lambda: f64,
+    /// How nodes split: `iso` or `aniso`.
+    pub split: &'static str,
     /// Depth limit.
     pub l_max: u32,
     /// Base patches.
@@ -145,7 +151,7 @@ impl StatsReport {
     pub fn to_text(&self) -> String {
         let t = |n: u64| thousands(n);
         format!(
-            "scene           {} ({}), frame {}, {}x{}, eps {} px, lambda {}, l_max {}\n\
+            "scene           {} ({}), frame {}, {}x{}, eps {} px, lambda {}, split {}, l_max {}\n\
              patches         {}\n\
              culled          {} nodes outside the frustum\n\
              back-facing     {} ready nodes\n\
@@ -162,6 +168,7 @@ impl StatsReport {
             self.height,
             self.eps,
             self.lambda,
+            self.split,
             self.l_max,
             t(self.patches),
             t(self.culled_patches),
@@ -235,7 +242,8 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     .with_context(|| format!("loading the models of {}", args.scene.display()))?;
     let (w, h) = args.size;
     let mut vp = camera.view_params(w, h, eps, lambda);
-    vp.flags = args.flags;
+    let split = args.split.unwrap_or(scene.view.split);
+    vp.flags = args.flags | split.flag();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let start = Instant::now();
     let res = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, threads);
@@ -273,6 +281,7 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
         height: h,
         eps,
         lambda,
+        split: split.name(),
         l_max: vp.l_max,
         patches: s.patches,
         culled_patches: s.culled_patches,
@@ -305,14 +314,14 @@ fn model_stats(geo: &SceneGeometry, ready: &[QuadNode], vp: &ViewParams) -> Vec<
         .collect();
     let mut last_drawn = None;
     for &node in ready {
-        let m = &mut out[model_of(node.patch as usize)];
+        let m = &mut out[model_of(node.patch() as usize)];
         let (tris, wedges) = triangle_counts(&[node], vp.has(FLAG_WEDGES));
         m.ready_quads += 1;
         m.triangles += tris;
         m.wedge_triangles += wedges;
-        if last_drawn != Some(node.patch) {
+        if last_drawn != Some(node.patch()) {
             m.drawn_patches += 1;
-            last_drawn = Some(node.patch);
+            last_drawn = Some(node.patch());
         }
     }
     let mut stack = Vec::new();

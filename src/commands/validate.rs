@@ -18,7 +18,7 @@ use crate::constants::SHADE_NORMAL;
 use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::View;
 use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
-use crate::patch::view::FLAG_WEDGES;
+use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
 use crate::scene::file::{Scene, SceneGeometry};
 use crate::validate::cudatess as ct_checks;
@@ -80,6 +80,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         None => (0..scene.frame_count()).collect(),
     };
     let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
+    let split = args.gpu.split_of(&scene);
     let (geo, shading) = scene
         .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
@@ -98,7 +99,9 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         .iter()
         .map(|&k| {
             let cam = keyframe(&scene, &args.gpu.scene, k)?;
-            Ok((k, View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL)))
+            let mut view = View::new(&cam, args.gpu.size, eps, lambda, SHADE_NORMAL);
+            view.params.flags |= split.flag();
+            Ok((k, view))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let mut results = Vec::new();
@@ -125,7 +128,12 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     }
     if !args.skip_holes {
         let debug = args.debug_dir.as_deref();
-        results.extend(hole_checks(&mut renderer, &geo, (eps, lambda), debug)?);
+        results.extend(hole_checks(
+            &mut renderer,
+            &geo,
+            (eps, lambda, split),
+            debug,
+        )?);
     }
     if args.gpu.validation {
         let errors = ctx.validation_errors();
@@ -139,7 +147,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             },
         ));
     }
-    let table = table(args, &renderer, (eps, lambda), &results);
+    let table = table(args, &renderer, (eps, lambda, split), &results);
     Ok(ValidateReport { results, table })
 }
 
@@ -362,7 +370,7 @@ fn cudatess_checks(
 fn hole_checks(
     renderer: &mut Renderer,
     geo: &SceneGeometry,
-    eps_lambda: (f64, f64),
+    eps_lambda: (f64, f64, Split),
     debug_dir: Option<&Path>,
 ) -> anyhow::Result<Vec<CheckResult>> {
     let mut out = Vec::new();
@@ -403,10 +411,15 @@ fn hole_checks(
 fn table(
     args: &ValidateArgs,
     renderer: &Renderer,
-    (eps, lambda): (f64, f64),
+    (eps, lambda, split): (f64, f64, Split),
     results: &[CheckResult],
 ) -> String {
     let info = renderer.context().info();
+    let split = if crate::methods::reads(renderer.method().name()).split {
+        format!(", split {}", split.name())
+    } else {
+        String::new()
+    };
     let (w, h) = args.gpu.size;
     let method = renderer.method();
     let width = results
@@ -416,7 +429,7 @@ fn table(
         .max()
         .unwrap_or(5);
     let mut table = format!(
-        "validate {} (method {}, {} path, {w}x{h}, eps {eps}, lambda {lambda}) on {}{}\n\n{:<width$} {:>5}  {:<6} {}\n",
+        "validate {} (method {}, {} path, {w}x{h}, eps {eps}, lambda {lambda}{split}) on {}{}\n\n{:<width$} {:>5}  {:<6} {}\n",
         args.gpu.scene.display(),
         method.name(),
         method.draw_path(),

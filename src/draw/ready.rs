@@ -21,7 +21,8 @@ pub struct ReadyCaps {
     /// Allocate the fallback path's vertex buffer (`VERTICES_PER_NODE`
     /// vertices per ready entry).
     pub vertices: bool,
-    /// Allocate the capture of world positions (6 per ready entry).
+    /// Allocate the capture of world positions (`NODE_MESH_SLOTS` per ready
+    /// entry).
     pub capture: bool,
     /// Allocate the sort's second buffer (only a producer whose order
     /// depends on timing sorts).
@@ -55,7 +56,7 @@ impl ReadyCaps {
 
     fn capture_bytes(&self) -> u64 {
         if self.capture {
-            u64::from(self.ready) * 96
+            u64::from(self.ready) * u64::from(NODE_MESH_SLOTS) * 16
         } else {
             16
         }

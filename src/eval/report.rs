@@ -43,6 +43,8 @@ pub struct Setup {
     pub commit: String,
     /// The scene's model names, by model index.
     pub models: Vec<String>,
+    /// How `subdiv` and `subdiv-indirect` split: `iso` or `aniso`.
+    pub split: &'static str,
     /// `None` when the run completed, else why it stopped early.
     pub stopped: Option<String>,
 }
@@ -68,6 +70,7 @@ pub fn summary_json(setup: &Setup, configs: &[Config], summaries: &[ConfigSummar
         "warmup": setup.warmup,
         "flip_t": setup.flip_t,
         "grid": setup.grid,
+        "split": setup.split,
         "l_max": crate::constants::L_MAX,
         "commit": setup.commit,
         "complete": setup.stopped.is_none(),
@@ -240,6 +243,13 @@ fn setup_table(s: &Setup) -> String {
             ),
         ),
         ("camera path", s.path.clone()),
+        (
+            "split",
+            format!(
+                "`{}` (how `subdiv` and `subdiv-indirect` split a node)",
+                s.split
+            ),
+        ),
         (
             "frames",
             format!(

@@ -488,7 +488,7 @@ pub fn canonical_ready(
         let mut children = Vec::new();
         let mut readies = 0;
         for &q in &held[d][first..first + n] {
-            let id = q.patch as usize;
+            let id = q.patch() as usize;
             match process_any(&patches[id], weights.get(id), flags[id], q, vp) {
                 Outcome::Ready => {
                     out.ready.push(q);

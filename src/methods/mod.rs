@@ -291,6 +291,8 @@ pub struct Reads {
     pub lambda: bool,
     /// The deepest subdivision level.
     pub l_max: bool,
+    /// The split mode (`iso` or `aniso`).
+    pub split: bool,
     /// Crack-closing wedges on or off.
     pub wedges: bool,
     /// Back-face culling on or off.
@@ -306,6 +308,7 @@ pub fn reads(name: &str) -> Reads {
         eps: true,
         lambda: true,
         l_max: true,
+        split: true,
         wedges: true,
         backface: true,
         grid: false,
@@ -315,6 +318,7 @@ pub fn reads(name: &str) -> Reads {
         draw_path: false,
         lambda: false,
         l_max: false,
+        split: false,
         wedges: false,
         ..subdivides
     };

@@ -22,8 +22,8 @@ use super::homogeneous::{self, HomPatch};
 use super::ops::{max3, min3};
 use super::quadnode::QuadNode;
 use super::rational::{RationalPatch, Weights};
-use super::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
-use super::wedge::{children, edge_depths, node_mesh, resolve_depths, wedge_pivots, NodeMesh};
+use super::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
+use super::wedge::{children, node_mesh, pending, resolve, wedge_pivots, NodeMesh, Split};
 
 /// Per-patch flag: the patch has weights; see [`process_rational`].
 pub use crate::constants::PATCH_RATIONAL;
@@ -39,8 +39,31 @@ pub enum Outcome {
     BackFacing,
     /// Ready to draw.
     Ready,
-    /// Needs subdivision: these four children follow.
-    Split([QuadNode; 4]),
+    /// Needs subdivision: these children follow (four for 1:4, two for 1:2).
+    Split(Children),
+}
+
+/// The children of a split, in the order (0,0), (1,0), (0,1), (1,1) of
+/// those the split makes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Children {
+    nodes: [QuadNode; 4],
+    count: usize,
+}
+
+impl std::ops::Deref for Children {
+    type Target = [QuadNode];
+    fn deref(&self) -> &[QuadNode] {
+        &self.nodes[..self.count]
+    }
+}
+
+impl IntoIterator for Children {
+    type Item = QuadNode;
+    type IntoIter = std::iter::Take<std::array::IntoIter<QuadNode, 4>>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.nodes.into_iter().take(self.count)
+    }
 }
 
 /// Processes one node of `base` (whose per-patch flags are `flags`).
@@ -147,11 +170,11 @@ fn frustum_culled(
     outside_frustum(clo, chi, vp)
 }
 
-/// What the criterion found for a node below the depth limit.
+/// What the criterion found for a node that can still split.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Verdict {
-    /// The node's edge flatness depths before this test (`edge_depths`).
-    pub depths: [u32; 4],
+    /// The node's edge states before this test.
+    pub states: [u32; 4],
     /// Per edge: tested now (pending) or inherited flat.
     pub tested: [bool; 4],
     /// Per edge: flat (inherited, or found flat now).
@@ -159,23 +182,42 @@ pub struct Verdict {
     /// The inner tier's answer; `None` when an edge already asked to split
     /// (the inner tier is not evaluated then).
     pub inner_flat: Option<bool>,
+    /// Which directions may still be halved (below `l_max`).
+    pub can_split: Split,
+    /// `aniso` splits (else 1:4 always).
+    pub aniso: bool,
 }
 
 impl Verdict {
+    /// Which way the node splits, if it does (see [`super::wedge`]).
+    pub fn split(&self) -> Option<Split> {
+        let along_u = !self.flat[EDGE_BOTTOM] || !self.flat[EDGE_TOP];
+        let along_v = !self.flat[EDGE_LEFT] || !self.flat[EDGE_RIGHT];
+        let inner = self.inner_flat == Some(false);
+        let want = if self.aniso {
+            (along_u || inner, along_v || inner)
+        } else {
+            let any = along_u || along_v || inner;
+            (any, any)
+        };
+        let s = (want.0 && self.can_split.0, want.1 && self.can_split.1);
+        (s.0 || s.1).then_some(s)
+    }
+
     /// Does the node split?
     pub fn splits(&self) -> bool {
-        self.flat.contains(&false) || self.inner_flat == Some(false)
+        self.split().is_some()
     }
 
     /// Why it splits, for statistics: which directions' edges asked for it.
     pub fn cause(&self) -> Option<SplitCause> {
+        self.split()?;
         let along_u = !self.flat[EDGE_BOTTOM] || !self.flat[EDGE_TOP];
         let along_v = !self.flat[EDGE_LEFT] || !self.flat[EDGE_RIGHT];
         match (along_u, along_v) {
             (true, true) => Some(SplitCause::BothDirections),
             (true, false) | (false, true) => Some(SplitCause::OneDirection),
-            (false, false) if self.inner_flat == Some(false) => Some(SplitCause::InnerOnly),
-            _ => None,
+            (false, false) => Some(SplitCause::InnerOnly),
         }
     }
 }
@@ -186,13 +228,14 @@ pub enum SplitCause {
     /// Edges along u and along v were not flat.
     BothDirections,
     /// Only the edges along one direction were not flat: a 1:4 split
-    /// refines the other direction for nothing.
+    /// refines the other direction for nothing (`aniso` halves that one).
     OneDirection,
     /// Every edge flat, the inner tier not.
     InnerOnly,
 }
 
-/// The criterion of a node: `None` at the depth limit, else what the edge
+/// The criterion of a node: `None` when it cannot split any more (`iso`:
+/// at `l_max`; `aniso`: both directions at `l_max`), else what the edge
 /// tests (`edge_flat(e)`, pending edges only, no early exit: the children
 /// inherit the results) and the inner tier found.
 fn verdict(
@@ -201,12 +244,18 @@ fn verdict(
     edge_flat: impl Fn(usize) -> bool,
     inner_flat: impl FnOnce() -> bool,
 ) -> Option<Verdict> {
-    let l = node.depth();
-    if l >= vp.l_max {
+    let aniso = vp.has(FLAG_ANISO);
+    let can_split = if aniso {
+        (node.du() < vp.l_max, node.dv() < vp.l_max)
+    } else {
+        let can = node.depth() < vp.l_max;
+        (can, can)
+    };
+    if !can_split.0 && !can_split.1 {
         return None;
     }
-    let depths = edge_depths(node);
-    let tested = depths.map(|d| d >= l);
+    let states = node.edges();
+    let tested = pending(node);
     let mut flat = [true; 4];
     for e in 0..4 {
         if tested[e] {
@@ -215,25 +264,26 @@ fn verdict(
     }
     let inner_flat = (!flat.contains(&false)).then(inner_flat);
     Some(Verdict {
-        depths,
+        states,
         tested,
         flat,
         inner_flat,
+        can_split,
+        aniso,
     })
 }
 
-/// The criterion of a node below the depth limit: its four children when
-/// an edge (`edge_flat(e)`) or the inner tier (`inner_flat`) says split.
+/// The criterion of a node: its children when an edge (`edge_flat(e)`) or
+/// the inner tier (`inner_flat`) says split.
 fn split(
     node: QuadNode,
     vp: &ViewParams,
     edge_flat: impl Fn(usize) -> bool,
     inner_flat: impl FnOnce() -> bool,
-) -> Option<[QuadNode; 4]> {
+) -> Option<Children> {
     let v = verdict(node, vp, edge_flat, inner_flat)?;
-    // Untested edges keep their inherited depth whatever `flat` says.
-    v.splits()
-        .then(|| children(node, resolve_depths(node, v.depths, v.flat)))
+    let (nodes, count) = children(node, v.split()?, resolve(node, v.flat));
+    Some(Children { nodes, count })
 }
 
 /// The criterion's verdict on `node` of `base` (rational when `flags` and
@@ -325,7 +375,7 @@ pub fn subdivide_weighted(
                     out.stats.nodes_at_lmax += (l >= vp.l_max) as u64;
                     out.ready.push(node);
                 }
-                // Reversed so the children pop in order 0..3.
+                // Reversed so the children pop in order.
                 Outcome::Split(ch) => stack.extend(ch.iter().rev()),
             }
         }
@@ -379,7 +429,7 @@ pub fn subdivide_parallel_weighted(
                 };
                 let mut r = subdivide_weighted(&patches[range.clone()], w, &flags[range], vp);
                 for q in &mut r.ready {
-                    q.patch += (k * chunk) as u32;
+                    *q = q.with_patch(q.patch() + (k * chunk) as u32);
                 }
                 *slots[k].lock().unwrap() = Some(r);
             });
@@ -419,8 +469,8 @@ pub struct Triangle {
 /// Evaluates a ready node's mesh: every vertex, corner or pivot alike, is the
 /// base patch evaluated at exact dyadic parameters by the one function
 /// [`BezierPatch::eval`].
-pub fn node_positions(base: &BezierPatch, mesh: &NodeMesh) -> [Vec3; 6] {
-    let mut p = [Vec3::ZERO; 6];
+pub fn node_positions(base: &BezierPatch, mesh: &NodeMesh) -> [Vec3; 8] {
+    let mut p = [Vec3::ZERO; 8];
     for (i, &(u, v)) in mesh.uv.iter().enumerate().take(mesh.vertex_count) {
         p[i] = base.eval(u, v);
     }
@@ -431,8 +481,8 @@ pub fn node_positions(base: &BezierPatch, mesh: &NodeMesh) -> [Vec3; 6] {
 /// [`RationalPatch::eval`] (the homogeneous surface point, divided) at the
 /// same dyadic parameters; on a shared boundary it reduces to the boundary
 /// curve's own homogeneous evaluation, so neighbours get the same bits.
-pub fn node_positions_rational(base: &RationalPatch, mesh: &NodeMesh) -> [Vec3; 6] {
-    let mut p = [Vec3::ZERO; 6];
+pub fn node_positions_rational(base: &RationalPatch, mesh: &NodeMesh) -> [Vec3; 8] {
+    let mut p = [Vec3::ZERO; 8];
     for (i, &(u, v)) in mesh.uv.iter().enumerate().take(mesh.vertex_count) {
         p[i] = base.eval(u, v);
     }
@@ -443,17 +493,17 @@ pub fn node_positions_rational(base: &RationalPatch, mesh: &NodeMesh) -> [Vec3; 
 /// comparisons against the GPU's captured vertices evaluate.
 pub trait Surfaces {
     /// The positions of `node`'s mesh (slots as in [`node_positions`]).
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6];
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8];
 }
 
 impl Surfaces for [BezierPatch] {
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
-        node_positions(&self[node.patch as usize], mesh)
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
+        node_positions(&self[node.patch() as usize], mesh)
     }
 }
 
 impl Surfaces for Vec<BezierPatch> {
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
         self[..].node_positions(node, mesh)
     }
 }
@@ -479,8 +529,8 @@ impl WeightedPatches<'_> {
 }
 
 impl Surfaces for WeightedPatches<'_> {
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 6] {
-        let k = node.patch as usize;
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
+        let k = node.patch() as usize;
         match self.rational(k) {
             Some(r) => node_positions_rational(&r, mesh),
             None => node_positions(&self.patches[k], mesh),

@@ -11,9 +11,51 @@ use super::quadnode::L_MAX;
 /// `ViewParams::flags` bits: frustum culling, back-face culling of ready
 /// one-sided sub-patches, wedge triangles (off only to show the cracks they
 /// close).
-pub use crate::constants::{FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
+pub use crate::constants::{FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
 /// The defaults: everything on.
 pub const FLAGS_DEFAULT: u32 = FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL | FLAG_WEDGES;
+
+/// How subdivision splits a node that is not flat: `Iso` always 1:4 (the
+/// paper's method), `Aniso` halves only the direction whose edges are not
+/// flat (1:2), 1:4 when both are or the inner tier fails. A criterion
+/// setting like ε and λ: it travels in the view's flags (`FLAG_ANISO`), so
+/// the GPU and the oracle read it from the same place.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Split {
+    /// Always 1:4.
+    #[default]
+    Iso,
+    /// 1:2 where only one direction needs it.
+    Aniso,
+}
+
+impl Split {
+    /// The view flag bits this mode sets.
+    pub fn flag(self) -> u32 {
+        match self {
+            Split::Iso => 0,
+            Split::Aniso => FLAG_ANISO,
+        }
+    }
+
+    /// The mode a view's flags ask for.
+    pub fn of_flags(flags: u32) -> Self {
+        if flags & FLAG_ANISO != 0 {
+            Split::Aniso
+        } else {
+            Split::Iso
+        }
+    }
+
+    /// `iso` or `aniso`, as the flag and the scene key spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Split::Iso => "iso",
+            Split::Aniso => "aniso",
+        }
+    }
+}
 
 /// Constants of one view, uploaded verbatim.
 #[repr(C)]

@@ -1,88 +1,112 @@
-//! Edge flatness depths, their inheritance, and wedge triangles (paper §3.4).
+//! Edge states, their inheritance, splits and wedge triangles (paper §3.4).
 //!
-//! Every edge of a node carries the depth at which it was found flat. A node
-//! at depth `l` knows its two *outer* edges' depths from its parent (`l0` for
-//! the edge along u, `l1` for the edge along v); its two inner edges were
-//! created by the split that made it, so they are at depth `l`. An edge depth
-//! below `l` means "this edge lies on an edge found flat at that coarser
-//! depth"; equal to `l` means "not yet known flat: test it now".
+//! Every edge of a node carries a state: the depth, in the edge's own
+//! direction (u for the bottom and top edges, v for left and right), at
+//! which it was found flat, or [`EDGE_PENDING`] while it has not been tested
+//! at the node's depth. A root has four pending edges. A split hands each
+//! child the states of the parent's edges it lies on (a half of a parent
+//! edge keeps the parent's state) and gives it a pending state for the new
+//! edge the split created inside the parent.
+//!
+//! Which way a node splits: `iso` (the paper) always 1:4. `aniso` halves
+//! only the direction whose edges asked for it: u when an edge along u is
+//! not flat, v when an edge along v is not, both when edges of both kinds
+//! are not or when every edge is flat and the inner tier is not (the inner
+//! tier decides what it decides under `iso`). A direction at `l_max` is not
+//! split any further; a node that can split in neither is drawn.
+//!
+//! Why neighbours agree without talking to each other: a pending edge is
+//! tested from its own four control points, bit-identical on both sides, at
+//! the depth (in its direction) both sides have it at. If it is not flat,
+//! both halve that direction (a node with a non-flat edge along u always
+//! splits in u), so both test the halves, at the same depth again; once it
+//! is flat, both keep that depth for every piece of it, however finely
+//! either side goes on to split for other reasons. Under `iso` this is the
+//! paper's scheme exactly (the two states a child inherits are its `l0` and
+//! `l1`); `aniso` needs the other two because a 1:2 split leaves a child
+//! three edges of its parent, and more splits all four.
 //!
 //! Project decisions:
 //! - An edge found flat is **not tested again** at finer depths. Both sides of
-//!   a shared edge inherit the same result from the same test (at the depth
-//!   where both had it as a whole edge), so skipping is consistent, and it
-//!   saves work. The node's decision then rests on its still-pending edges and
-//!   the inner tier.
-//! - A ready node with an outer edge flat at depth `le < l` closes the crack
-//!   to its coarser neighbour with a wedge: the triangle from its own edge to
-//!   the pivot, the node's coordinate along the edge rounded **down** to depth
-//!   `le`, i.e. the start of the coarse edge in this patch's parameterisation.
-//!   All fine nodes along one coarse edge thus fan from the same coarse
-//!   vertex, and the fan exactly spans the polygon between the fine polyline
-//!   and the coarse chord. (Rounding some nodes up and others down would leave
-//!   a triangle of that polygon uncovered.) A node that starts at the coarse
-//!   vertex has a degenerate wedge, which is omitted.
+//!   a shared edge inherit the same result from the same test, so skipping is
+//!   consistent, and it saves work.
+//! - A ready node with an edge flat at depth `le` coarser than its own depth
+//!   in that direction closes the crack to its coarser neighbour with a
+//!   wedge: the triangle from its own edge to the pivot, the node's
+//!   coordinate along the edge rounded **down** to depth `le`, i.e. the start
+//!   of the coarse edge in this patch's parameterisation. All fine nodes
+//!   along one coarse edge thus fan from the same coarse vertex, and the fan
+//!   exactly spans the polygon between the fine polyline and the coarse
+//!   chord. (Rounding some nodes up and others down would leave a triangle of
+//!   that polygon uncovered.) A node that starts at the coarse vertex has a
+//!   degenerate wedge, which is omitted. Under `iso` only the two edges a
+//!   node shares with its parent's boundary can have wedges; under `aniso`
+//!   all four can.
 //! - Wedges are wound opposite to the quad's traversal of the shared edge, so
 //!   the triangulation stays consistently oriented (front faces stay front).
 
-use super::bezier::{EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
+use super::bezier::{EDGE_BOTTOM, EDGE_LEFT, EDGE_TOP};
 use super::ops::pow2_neg;
-use super::quadnode::QuadNode;
+pub use super::quadnode::EDGE_PENDING;
+use super::quadnode::{along_u, QuadNode};
 
-/// Flat depths of the node's edges, indexed by `EDGE_*`.
-pub fn edge_depths(node: QuadNode) -> [u32; 4] {
-    let l = node.depth();
-    let mut d = [l; 4];
-    if node.n() & 1 == 0 {
-        d[EDGE_BOTTOM] = node.l0();
-    } else {
-        d[EDGE_TOP] = node.l0();
-    }
-    if node.m() & 1 == 0 {
-        d[EDGE_LEFT] = node.l1();
-    } else {
-        d[EDGE_RIGHT] = node.l1();
-    }
-    d
+/// Which edges are still to be test at the node's depth.
+pub fn pending(node: QuadNode) -> [bool; 4] {
+    node.edges().map(|s| s == EDGE_PENDING)
 }
 
-/// The edge depths a node passes down after testing its pending edges:
-/// unchanged where inherited flat, `l` where found flat now, `l + 1` (pending
-/// in the child) where not flat.
-pub fn resolve_depths(node: QuadNode, depths: [u32; 4], flat_now: [bool; 4]) -> [u32; 4] {
-    let l = node.depth();
-    let mut r = depths;
-    for e in 0..4 {
-        if depths[e] >= l {
-            r[e] = if flat_now[e] { l } else { l + 1 };
+/// The states a node passes down after testing its pending edges
+/// (`flat_now[e]`, read only where pending): flat now becomes the node's
+/// depth in the edge's direction; not flat stays pending (the children
+/// test the halves); inherited states are kept.
+pub fn resolve(node: QuadNode, flat_now: [bool; 4]) -> [u32; 4] {
+    std::array::from_fn(|e| match node.edge(e) {
+        EDGE_PENDING if flat_now[e] => node.depth_along(e),
+        s => s,
+    })
+}
+
+/// Which way a node splits: (halve u, halve v).
+pub type Split = (bool, bool);
+
+/// The children of a split, each carrying the resolved states of the
+/// parent edges it lies on and a pending state for the new ones; in the
+/// order (0,0), (1,0), (0,1), (1,1) of those that exist (two for a 1:2
+/// split, four for 1:4).
+pub fn children(node: QuadNode, split: Split, resolved: [u32; 4]) -> ([QuadNode; 4], usize) {
+    let (in_u, in_v) = split;
+    let mut out = [node; 4];
+    let mut k = 0;
+    for y in 0..=in_v as u32 {
+        for x in 0..=in_u as u32 {
+            // A child lies on the parent's edge e unless the split cut
+            // across it: then that side of the child is the new edge.
+            let keep = |e: usize| match e {
+                EDGE_BOTTOM => y == 0,
+                EDGE_TOP => y == 1 || !in_v,
+                EDGE_LEFT => x == 0,
+                _ => x == 1 || !in_u,
+            };
+            let edges = std::array::from_fn(|e| if keep(e) { resolved[e] } else { EDGE_PENDING });
+            out[k] = node.child(split, (x, y), edges);
+            k += 1;
         }
     }
-    r
-}
-
-/// The four children, in the order (0,0), (1,0), (0,1), (1,1), each
-/// inheriting the resolved depths of the parent edges it lies on.
-pub fn children(node: QuadNode, resolved: [u32; 4]) -> [QuadNode; 4] {
-    let mk = |x: u32, y: u32| {
-        let l0 = resolved[if y == 0 { EDGE_BOTTOM } else { EDGE_TOP }];
-        let l1 = resolved[if x == 0 { EDGE_LEFT } else { EDGE_RIGHT }];
-        node.child(x, y, l0, l1)
-    };
-    [mk(0, 0), mk(1, 0), mk(0, 1), mk(1, 1)]
+    (out, k)
 }
 
 /// Vertices of a ready node in parameter space, as exact (u, v) pairs:
-/// 0..4 are the corners (a,c), (b,c), (b,d), (a,d); then up to two pivots.
-/// `tris` lists the triangles as vertex indices, the two quad triangles
-/// first, then the wedges; `wedges` of them are wedges.
+/// 0..4 are the corners (a,c), (b,c), (b,d), (a,d); 4 + e the pivot of the
+/// wedge on edge e. `tris` lists the triangles as vertex indices, the two
+/// quad triangles first, then the wedges.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NodeMesh {
     /// Parameter-space vertices; only the first `vertex_count` are used.
-    pub uv: [(f32, f32); 6],
+    pub uv: [(f32, f32); 8],
     /// Number of vertices used.
     pub vertex_count: usize,
     /// Triangles as vertex indices; only the first `tri_count` are used.
-    pub tris: [[u8; 3]; 4],
+    pub tris: [[u8; 3]; 6],
     /// Number of triangles (2 + wedges).
     pub tri_count: usize,
 }
@@ -94,125 +118,165 @@ impl NodeMesh {
     }
 }
 
-/// The pivots (u, v) of the node's wedges, along u (on the bottom or top
-/// outer edge) and along v (left or right): the node's coordinate along an
-/// outer edge flat at a coarser depth, rounded down to that depth; `None`
-/// where the edge is not flat at a coarser depth or the pivot is the node's
-/// own corner. Every descendant along that edge has the same pivot, which is
-/// why frustum culling must keep a node whose pivots are in view.
-pub fn wedge_pivots(node: QuadNode) -> [Option<(f32, f32)>; 2] {
-    let l = node.depth();
-    let s = pow2_neg(l);
+/// The pivot (u, v) of the wedge on each edge (`EDGE_*`): the node's
+/// coordinate along an edge flat at a coarser depth than the node's in that
+/// direction, rounded down to that depth; `None` where the edge is not flat
+/// at a coarser depth or the pivot is the node's own corner. Every
+/// descendant along that edge has the same pivot, which is why frustum
+/// culling must keep a node whose pivots are in view.
+pub fn wedge_pivots(node: QuadNode) -> [Option<(f32, f32)>; 4] {
+    let (du, dv) = (node.du(), node.dv());
     let (m, n) = (node.m(), node.n());
-    let u = |k: u32| k as f32 * s;
-    let mut out = [None, None];
-    let le = node.l0();
-    if le < l {
-        let mp = (m >> (l - le)) << (l - le);
-        if mp != m {
-            let v_edge = if n & 1 == 0 { u(n) } else { u(n + 1) };
-            out[0] = Some((u(mp), v_edge));
+    let (su, sv) = (pow2_neg(du), pow2_neg(dv));
+    let rounded = |k: u32, d: u32, le: u32| (k >> (d - le)) << (d - le);
+    std::array::from_fn(|e| {
+        let le = node.edge(e);
+        let d = node.depth_along(e);
+        if le == EDGE_PENDING || le >= d {
+            return None;
         }
-    }
-    let le = node.l1();
-    if le < l {
-        let np = (n >> (l - le)) << (l - le);
-        if np != n {
-            let u_edge = if m & 1 == 0 { u(m) } else { u(m + 1) };
-            out[1] = Some((u_edge, u(np)));
+        if along_u(e) {
+            let mp = rounded(m, d, le);
+            let v = if e == EDGE_BOTTOM { n } else { n + 1 };
+            (mp != m).then_some((mp as f32 * su, v as f32 * sv))
+        } else {
+            let np = rounded(n, d, le);
+            let u = if e == EDGE_LEFT { m } else { m + 1 };
+            (np != n).then_some((u as f32 * su, np as f32 * sv))
         }
-    }
-    out
+    })
 }
 
+/// The wedge on edge `e`: the edge as the quad does not traverse it (the
+/// quad runs 0 → 1 → 2 → 3), then the pivot in slot 4 + e.
+const WEDGE_TRIS: [[u8; 3]; 4] = [[1, 0, 4], [2, 1, 5], [3, 2, 6], [0, 3, 7]];
+
 /// Builds the triangles of a ready node: two triangles split along the
-/// (0,0)–(1,1) diagonal, plus a wedge on each outer edge flat at a coarser
-/// depth whose pivot differs from the edge's end points.
+/// (0,0)–(1,1) diagonal, plus a wedge on each edge flat at a coarser depth
+/// whose pivot differs from the edge's end points.
 pub fn node_mesh(node: QuadNode, with_wedges: bool) -> NodeMesh {
-    let l = node.depth();
-    let s = pow2_neg(l);
-    let (m, n) = (node.m(), node.n());
-    let u = |k: u32| k as f32 * s;
-    let (a, b, c, d) = (u(m), u(m + 1), u(n), u(n + 1));
+    let (a, b, c, d) = node.domain();
     let mut mesh = NodeMesh {
-        uv: [(a, c), (b, c), (b, d), (a, d), (0.0, 0.0), (0.0, 0.0)],
+        uv: [
+            (a, c),
+            (b, c),
+            (b, d),
+            (a, d),
+            (0.0, 0.0),
+            (0.0, 0.0),
+            (0.0, 0.0),
+            (0.0, 0.0),
+        ],
         vertex_count: 4,
-        tris: [[0, 1, 2], [0, 2, 3], [0; 3], [0; 3]],
+        tris: [[0, 1, 2], [0, 2, 3], [0; 3], [0; 3], [0; 3], [0; 3]],
         tri_count: 2,
     };
     if !with_wedges {
         return mesh;
     }
-    let [along_u, along_v] = wedge_pivots(node);
-    if let Some(p) = along_u {
-        let bottom = n & 1 == 0;
-        push_wedge(&mut mesh, p, if bottom { [1, 0, 4] } else { [3, 2, 4] });
-    }
-    if let Some(p) = along_v {
-        let left = m & 1 == 0;
-        push_wedge(&mut mesh, p, if left { [0, 3, 5] } else { [2, 1, 5] });
+    for (e, pivot) in wedge_pivots(node).into_iter().enumerate() {
+        if let Some(p) = pivot {
+            // Pivot slots are fixed (4 + edge) so the GPU can write them
+            // without compaction; the used count covers the highest slot.
+            let slot = 4 + e;
+            mesh.uv[slot] = p;
+            mesh.vertex_count = mesh.vertex_count.max(slot + 1);
+            mesh.tris[mesh.tri_count] = WEDGE_TRIS[e];
+            mesh.tri_count += 1;
+        }
     }
     mesh
-}
-
-fn push_wedge(mesh: &mut NodeMesh, pivot: (f32, f32), tri: [u8; 3]) {
-    // Pivot slots are fixed (4: along u, 5: along v) so the GPU can write
-    // them without compaction; the used count covers the highest slot.
-    let slot = tri[2] as usize;
-    mesh.uv[slot] = pivot;
-    mesh.vertex_count = mesh.vertex_count.max(slot + 1);
-    mesh.tris[mesh.tri_count] = tri;
-    mesh.tri_count += 1;
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    const P: u32 = EDGE_PENDING;
+
     #[test]
     fn root_has_all_edges_pending() {
-        assert_eq!(edge_depths(QuadNode::root(0)), [0; 4]);
+        assert_eq!(pending(QuadNode::root(0)), [true; 4]);
     }
 
     #[test]
     fn inheritance_follows_child_position() {
         let root = QuadNode::root(1);
         // Bottom flat at 0, right not flat, top flat, left not flat.
-        let r = resolve_depths(root, edge_depths(root), [true, false, true, false]);
-        assert_eq!(r, [0, 1, 0, 1]);
-        let ch = children(root, r);
-        // Lower-left: bottom (0) and left (1).
-        assert_eq!(edge_depths(ch[0]), [0, 1, 1, 1]);
-        // Lower-right: bottom (0) and right (1).
-        assert_eq!(edge_depths(ch[1]), [0, 1, 1, 1]);
-        // Upper-left: top (0) and left (1).
-        assert_eq!(edge_depths(ch[2]), [1, 1, 0, 1]);
-        assert_eq!(ch[3].l0(), 0);
+        let r = resolve(root, [true, false, true, false]);
+        assert_eq!(r, [0, P, 0, P]);
+        let (ch, k) = children(root, (true, true), r);
+        assert_eq!(k, 4);
+        // Lower-left: bottom (0) and left (pending), new top and right.
+        assert_eq!(ch[0].edges(), [0, P, P, P]);
+        // Lower-right: bottom (0) and right.
+        assert_eq!(ch[1].edges(), [0, P, P, P]);
+        // Upper-left: top (0) and left.
+        assert_eq!(ch[2].edges(), [P, P, 0, P]);
         // Inherited-flat edges stay at their depth two levels down.
-        let r1 = resolve_depths(ch[2], edge_depths(ch[2]), [false; 4]);
-        assert_eq!(r1, [2, 2, 0, 2]);
-        let g = children(ch[2], r1)[3];
-        assert_eq!(edge_depths(g)[EDGE_TOP], 0);
+        let r1 = resolve(ch[2], [false; 4]);
+        assert_eq!(r1, [P, P, 0, P]);
+        let g = children(ch[2], (true, true), r1).0[3];
+        assert_eq!(g.edge(EDGE_TOP), 0);
+    }
+
+    /// A 1:2 split in u keeps both edges along u on both children (halves
+    /// of the parent's) and one edge along v each; the new middle edge is
+    /// pending. An edge along v found flat now keeps the node's v depth:
+    /// the child, at the same v depth, neither re-tests nor wedges it.
+    #[test]
+    fn a_split_in_u_hands_down_three_edges() {
+        let root = QuadNode::root(2);
+        let r = resolve(root, [false, true, true, true]);
+        assert_eq!(r, [P, 0, 0, 0]);
+        let (ch, k) = children(root, (true, false), r);
+        assert_eq!(k, 2);
+        assert_eq!((ch[0].du(), ch[0].dv()), (1, 0));
+        assert_eq!(ch[0].edges(), [P, P, 0, 0]);
+        assert_eq!(ch[1].edges(), [P, 0, 0, P]);
+        assert_eq!(wedge_pivots(ch[0])[EDGE_LEFT], None);
+        // The top edge, flat at u depth 0, gets a wedge on the right child
+        // (its pivot rounds m = 1 down to 0); the left child starts there.
+        assert_eq!(wedge_pivots(ch[1])[EDGE_TOP], Some((0.0, 1.0)));
+        assert_eq!(wedge_pivots(ch[0])[EDGE_TOP], None);
+        let (ch, k) = children(
+            root,
+            (false, true),
+            resolve(root, [true, true, true, false]),
+        );
+        assert_eq!(k, 2);
+        assert_eq!((ch[1].du(), ch[1].dv()), (0, 1));
+        assert_eq!(ch[0].edges(), [0, 0, P, P]);
+        assert_eq!(ch[1].edges(), [P, 0, 0, P]);
     }
 
     #[test]
     fn wedges_pivot_at_the_coarse_edge_start() {
-        // Depth 2, m = 3: the top-right grandchild along a bottom edge flat at 0.
-        let node = QuadNode::new(0, 2, 3, 0, 0, 2);
+        // Depth 2, m = 3: a node along a bottom edge flat at 0.
+        let node = QuadNode::new(0, (2, 3), (2, 0), [0, P, P, 2]);
         let mesh = node_mesh(node, true);
         assert_eq!(mesh.tri_count, 3);
         assert_eq!(mesh.uv[4], (0.0, 0.0));
         assert_eq!(mesh.tris[2], [1, 0, 4]);
         // m = 0 starts at the coarse vertex: degenerate, omitted.
-        let first = QuadNode::new(0, 2, 0, 0, 0, 2);
+        let first = QuadNode::new(0, (2, 0), (2, 0), [0, P, P, 2]);
         assert_eq!(node_mesh(first, true).tri_count, 2);
-        // Right edge flat at depth 1, node at depth 3 with n = 5 (odd → top
-        // child, m odd → right child): pivot rounds n to 4.
-        let node = QuadNode::new(0, 3, 7, 5, 3, 1);
+        // Right edge flat at depth 1, node at depth 3 with n = 5: the pivot
+        // rounds n to 4.
+        let node = QuadNode::new(0, (3, 7), (3, 5), [P, 1, 3, P]);
         let mesh = node_mesh(node, true);
         assert_eq!(mesh.tri_count, 3);
         assert_eq!(mesh.uv[5], (1.0, 0.5));
         assert_eq!(mesh.tris[2], [2, 1, 5]);
         assert_eq!(node_mesh(node, false).tri_count, 2);
+        // All four edges flat coarser: four wedges.
+        let node = QuadNode::new(0, (3, 3), (2, 1), [1, 0, 1, 0]);
+        let mesh = node_mesh(node, true);
+        assert_eq!(mesh.tri_count, 6);
+        assert_eq!(mesh.vertex_count, 8);
+        assert_eq!(mesh.uv[4], (0.0, 0.25));
+        assert_eq!(mesh.uv[6], (0.0, 0.5));
+        assert_eq!(mesh.uv[7], (0.375, 0.0));
+        assert_eq!(mesh.uv[5], (0.5, 0.0));
     }
 }

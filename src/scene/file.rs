@@ -102,6 +102,10 @@ pub struct ViewDefaults {
     /// Blend λ.
     #[serde(default = "default_lambda")]
     pub lambda: f64,
+    /// How `subdiv` and `subdiv-indirect` split a node (`iso`, the paper's
+    /// 1:4, or `aniso`).
+    #[serde(default)]
+    pub split: crate::patch::view::Split,
 }
 
 impl Default for ViewDefaults {
@@ -109,6 +113,7 @@ impl Default for ViewDefaults {
         ViewDefaults {
             eps: default_eps(),
             lambda: default_lambda(),
+            split: Default::default(),
         }
     }
 }

@@ -26,7 +26,7 @@ use crate::constants::*;
 use crate::frame::View;
 use crate::methods::{ground_truth, MethodOptions, RenderError};
 use crate::patch::bezier::BezierPatch;
-use crate::patch::view::FLAG_WEDGES;
+use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
 use crate::scene::camera::Camera;
 use crate::scene::file::{SceneGeometry, SceneShading};
@@ -289,11 +289,11 @@ pub const SEE_THROUGH: f32 = 0.01;
 pub fn run_model(
     renderer: &mut Renderer,
     geo: &SceneGeometry,
-    view_setup: (f64, f64),
+    view_setup: (f64, f64, Split),
     name: &str,
     debug_dir: Option<&std::path::Path>,
 ) -> Result<Vec<HoleView>, RenderError> {
-    let (eps, lambda) = view_setup;
+    let (eps, lambda, split) = view_setup;
     // The key colours come from the patches' own normals (which side of
     // the surface is seen), never from the shading patches.
     renderer.set_geometry(geo, &SceneShading::from_geometry(&geo.patches))?;
@@ -310,6 +310,7 @@ pub fn run_model(
             distance_scale: scale,
             ..View::new(cam, size, eps, lambda, SHADE_KEY)
         };
+        view.params.flags |= split.flag();
         let with = shots(renderer, &view, KEY_BACKGROUND)?;
         let without = if with_wedges_too {
             view.params.flags &= !FLAG_WEDGES;

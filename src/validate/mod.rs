@@ -68,7 +68,7 @@ fn used_slots(node: QuadNode, with_wedges: bool) -> (crate::patch::wedge::NodeMe
     (mesh, slots)
 }
 
-/// Compares the captured world positions (`capture[6 i + slot]`, one vec4
+/// Compares the captured world positions (`capture[NODE_MESH_SLOTS i + slot]`, one vec4
 /// per slot, in the GPU's ready order) with the oracle's evaluation.
 /// Returns (vertices compared, mismatches).
 pub fn compare_capture<S: Surfaces + ?Sized>(
@@ -83,7 +83,7 @@ pub fn compare_capture<S: Surfaces + ?Sized>(
         let (mesh, slots) = used_slots(node, with_wedges);
         let want = patches.node_positions(node, &mesh);
         for s in slots {
-            let c = capture[6 * i + s];
+            let c = capture[NODE_MESH_SLOTS as usize * i + s];
             compared += 1;
             bad += (bits(Vec3::new(c[0], c[1], c[2])) != bits(want[s])) as u64;
         }
@@ -107,13 +107,13 @@ pub fn compare_vertices<S: Surfaces + ?Sized>(
     for (i, &node) in ready.iter().enumerate() {
         let mesh = node_mesh(node, with_wedges);
         let pos = patches.node_positions(node, &mesh);
-        // Triangle slots: 0, 1 quad; 2 wedge along u (pivot 4); 3 along v (5).
-        let mut slot_tris = [[0usize; 3]; 4];
+        // Triangle slots: 0, 1 the quad; 2 + e the wedge on edge e (pivot
+        // slot 4 + e).
+        let mut slot_tris = [[0usize; 3]; NODE_MESH_TRIS as usize];
         slot_tris[0] = [0, 1, 2];
         slot_tris[1] = [0, 2, 3];
         for t in &mesh.tris[2..mesh.tri_count] {
-            let k = if t[2] == 4 { 2 } else { 3 };
-            slot_tris[k] = t.map(|x| x as usize);
+            slot_tris[t[2] as usize - 2] = t.map(|x| x as usize);
         }
         for (t, tri) in slot_tris.iter().enumerate() {
             for (k, &v) in tri.iter().enumerate() {

@@ -83,6 +83,20 @@ impl Case {
         }
     }
 
+    /// The same view subdivided with 1:2 splits (`--split aniso`): the
+    /// oracle's ready list again, under FLAG_ANISO.
+    pub fn aniso(&self, name: &str) -> Self {
+        let mut vp = self.vp;
+        vp.flags |= FLAG_ANISO;
+        let ready = subdivide(&self.patches, &self.flags, &vp).ready;
+        Case {
+            name: name.into(),
+            vp,
+            ready,
+            ..self.clone()
+        }
+    }
+
     /// The same ready list seen with other view flags.
     pub fn with_flags(&self, name: &str, flags: u32) -> Self {
         let mut c = Case {
@@ -307,9 +321,10 @@ pub fn bits(v: Vec3) -> [u32; 3] {
     v.to_array().map(f32::to_bits)
 }
 
-/// The fallback's 12 vertices per node equal the oracle's `triangulate`
-/// output, slot for slot: quad, quad, wedge along u, wedge along v, and a
-/// missing wedge as three copies of corner 0.
+/// The fallback's VERTICES_PER_NODE vertices per node equal the oracle's
+/// `triangulate` output, slot for slot: quad, quad, then the wedge on each
+/// edge (bottom, right, top, left), a missing wedge as three copies of
+/// corner 0.
 pub fn check_vertices(case: &Case, words: &[u32]) -> Result<(), String> {
     let tris = triangulate(&case.patches, &case.ready, case.wedges());
     let mut next = 0;
@@ -317,11 +332,12 @@ pub fn check_vertices(case: &Case, words: &[u32]) -> Result<(), String> {
         let mesh = node_mesh(node, case.wedges());
         let own = &tris[next..next + mesh.tri_count];
         next += mesh.tri_count;
-        let mut slots = [None; 4];
+        let mut slots = [None; NODE_MESH_TRIS as usize];
         slots[0] = Some(own[0]);
         slots[1] = Some(own[1]);
         for (k, tri) in own.iter().enumerate().skip(2) {
-            slots[if mesh.tris[k][2] == 4 { 2 } else { 3 }] = Some(*tri);
+            // A wedge's third vertex is its edge's pivot slot, 4 + edge.
+            slots[2 + mesh.tris[k][2] as usize - 4] = Some(*tri);
         }
         for (t, slot) in slots.iter().enumerate() {
             for k in 0..3 {
@@ -331,11 +347,11 @@ pub fn check_vertices(case: &Case, words: &[u32]) -> Result<(), String> {
                 };
                 let attrs = (uv.0 * 1024.0) as u32
                     | ((uv.1 * 1024.0) as u32) << PACK_V_SHIFT
-                    | node.depth() << PACK_DEPTH_SHIFT
+                    | (node.du() | node.dv() << 4) << PACK_DEPTH_SHIFT
                     | ((t >= 2) as u32) << PACK_WEDGE_SHIFT;
                 let mut want = bits(pos).to_vec();
-                want.extend([node.patch, attrs]);
-                let o = (i * 12 + 3 * t + k) * VERTEX_WORDS as usize;
+                want.extend([node.patch(), attrs]);
+                let o = (i * VERTICES_PER_NODE as usize + 3 * t + k) * VERTEX_WORDS as usize;
                 let got = &words[o..o + VERTEX_WORDS as usize];
                 if got != want.as_slice() {
                     return Err(format!(
@@ -356,10 +372,10 @@ pub fn check_capture(case: &Case, words: &[u32], path: DrawPath) -> Result<usize
     let mut pivots = 0;
     for (i, &node) in case.ready.iter().enumerate() {
         let mesh = node_mesh(node, case.wedges());
-        let pos = node_positions(&case.patches[node.patch as usize], &mesh);
+        let pos = node_positions(&case.patches[node.patch() as usize], &mesh);
         let used = |s: u8| s < 4 || mesh.tris[2..mesh.tri_count].iter().any(|t| t[2] == s);
-        for s in 0..6u8 {
-            let o = (6 * i + s as usize) * 4;
+        for s in 0..NODE_MESH_SLOTS as u8 {
+            let o = (NODE_MESH_SLOTS as usize * i + s as usize) * 4;
             let got = &words[o..o + 4];
             let want: Vec<u32> = if used(s) {
                 pivots += (s >= 4) as usize;
