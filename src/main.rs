@@ -104,7 +104,9 @@ enum Command {
         repeat: u32,
         /// Also draw the same view with ground-truth (at --grid) and compare:
         /// the mean FLIP goes into the stats file (flip_mean), the FLIP heat
-        /// map to NAME.flip.png beside the image.
+        /// map to NAME.flip.png beside the image, and the geometric error
+        /// (px between the drawn surface and the ground truth's, mean and
+        /// p99 off silhouettes; geometric_error) beside it.
         #[arg(long)]
         flip: bool,
     },

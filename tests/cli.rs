@@ -290,6 +290,14 @@ fn render_flip_writes_mean_and_heat_map() {
         assert_eq!(stats["flip_reference"]["grid"], 16);
         assert_eq!(mean == 0.0, zero, "{method}: FLIP {mean}");
         assert!((0.0..0.2).contains(&mean), "{method}: FLIP {mean}");
+        // The geometric error beside it: zero for the reference itself,
+        // within a pixel (ε = 1) for tess, measured on real pixels.
+        let g = &stats["geometric_error"];
+        let p99 = g["p99_px"].as_f64().unwrap();
+        assert!(g["pixels"].as_u64().unwrap() > 500, "{method}: {g}");
+        assert_eq!(p99 == 0.0, zero, "{method}: {g}");
+        assert!(p99 <= 1.0, "{method}: geometric error beyond ε: {g}");
+        assert!(text.contains("geometric error"), "{text}");
         let heat = image::open(dir.join(format!("{method}.flip.png"))).unwrap();
         assert_eq!((heat.width(), heat.height()), (128, 96));
     }

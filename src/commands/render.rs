@@ -142,6 +142,37 @@ pub fn stats_path(png: &Path) -> PathBuf {
     png.with_extension("json")
 }
 
+/// The distance in pixels between the method's surface and the ground
+/// truth's in `view` (eval::geometry), and where `flip`'s error lies.
+fn geometric_error(
+    renderer: &mut Renderer,
+    view: &View,
+    camera: &crate::scene::camera::Camera,
+    geo: &crate::scene::file::SceneGeometry,
+    flip: &FlipResult,
+) -> anyhow::Result<crate::eval::geometry::Breakdown> {
+    let far = camera.far as f32;
+    let model_of = |patch: u32| {
+        geo.flags
+            .get(patch as usize)
+            .map(|f| (f >> crate::constants::PATCH_MODEL_SHIFT) as usize)
+    };
+    let reference =
+        crate::eval::ground_truth_reference(renderer, view, far, camera.fov_y_deg, model_of)?;
+    let distance = crate::eval::distance_image(renderer, view, far)?;
+    let wedges = if renderer.method().has_wedges() {
+        Some(crate::eval::wedge_image(renderer, view)?)
+    } else {
+        None
+    };
+    Ok(crate::eval::geometry::breakdown(
+        &reference,
+        &distance,
+        wedges.as_deref(),
+        &flip.errors,
+    ))
+}
+
 /// The FLIP heat map path for an image path: `NAME.flip.png`.
 pub fn flip_path(png: &Path) -> PathBuf {
     png.with_extension("flip.png")
@@ -152,6 +183,8 @@ pub(crate) struct FlipOutput {
     result: FlipResult,
     /// Grid cells per patch side of the reference.
     grid: u32,
+    /// The geometric error against the same reference (distance images).
+    geometry: crate::eval::geometry::Breakdown,
 }
 
 /// The commit this binary was built from (short hash, `-dirty` when the
@@ -195,9 +228,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         let reference = ground_truth_image(&mut renderer, &view)?;
         let result = flip(&reference, &rgba, w, h)
             .ok_or_else(|| anyhow!("FLIP: the reference and the image differ in size"))?;
+        let geometry = geometric_error(&mut renderer, &view, &camera, &geo, &result)?;
         Some(FlipOutput {
             result,
             grid: renderer.options().grid,
+            geometry,
         })
     } else {
         None
@@ -217,6 +252,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     if let Some(f) = &flipped {
         stats["flip_mean"] = json!(f.result.mean);
         stats["flip_reference"] = json!({ "method": "ground-truth", "grid": f.grid });
+        let g = &f.geometry;
+        stats["geometric_error"] = json!({
+            "mean_px": g.geo_mean_px,
+            "p99_px": g.geo_p99_px,
+            "pixels": g.geo_pixels,
+            "silhouette_diff_px": g.silhouette_diff_px,
+            "flip_silhouette_share": g.flip_silhouette_share,
+            "eps": eps,
+        });
     }
     let heat = flipped.as_ref().zip(heat_path.as_deref());
     write_outputs(&out, &json_path, (w, h), &rgba, &stats, heat)?;
@@ -225,10 +269,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let wedges = s.get_u64("wedge_triangles");
     let flip_line = match (&flipped, &heat_path) {
         (Some(f), Some(p)) => format!(
-            "FLIP mean {:.4} against ground-truth (grid {}); heat map {}\n",
+            "FLIP mean {:.4} against ground-truth (grid {}); heat map {}\n\
+             geometric error {:.3} px mean, {:.3} px p99 off silhouettes (ε {eps}), \
+             {} silhouette pixels differ\n",
             f.result.mean,
             f.grid,
-            p.display()
+            p.display(),
+            f.geometry.geo_mean_px,
+            f.geometry.geo_p99_px,
+            thousands(f.geometry.silhouette_diff_px),
         ),
         _ => String::new(),
     };
