@@ -11,7 +11,7 @@ use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use bezier_subdiv::constants::SHADE_NORMAL;
+use bezier_subdiv::constants::{NODE_MESH_TRIS, SHADE_NORMAL};
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::{MethodOptions, RenderError};
@@ -139,7 +139,7 @@ fn switching_reuses_scene_shaders_and_methods() {
 /// means the same for every method: on the mesh path it equals the
 /// subdivision's own count (wedges included, missing wedges culled), on the
 /// fallback path it also counts the degenerate triangle standing in for
-/// each missing wedge (4 per ready node), and for the ground truth it is
+/// each missing wedge (6 slots per ready node), and for the ground truth it is
 /// 2·grid² per visible patch.
 #[test]
 fn the_triangle_query_counts_what_each_method_draws() {
@@ -180,8 +180,11 @@ fn the_triangle_query_counts_what_each_method_draws() {
     r.set_method("subdiv").unwrap();
     let fallback = r.render(&views[0]).unwrap();
     let quads = fallback.stats.get_u64("ready_quads").unwrap();
-    assert_eq!(fallback.triangles(), 4 * quads, "fallback path");
-    assert!(fallback.stats.triangles < 4 * quads);
+    // The fallback draws every node's NODE_MESH_TRIS slots (missing wedges
+    // as degenerate triangles the query still counts).
+    let slots = u64::from(NODE_MESH_TRIS);
+    assert_eq!(fallback.triangles(), slots * quads, "fallback path");
+    assert!(fallback.stats.triangles < slots * quads);
     gpu.finish();
 }
 

@@ -21,8 +21,8 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// Where the FLIP button and the "wireframe" radio button are.
-const FLIP_BUTTON: (u32, u32) = (193, 278);
-const WIREFRAME_RADIO: (u32, u32) = (93, 206);
+const FLIP_BUTTON: (u32, u32) = (193, 299);
+const WIREFRAME_RADIO: (u32, u32) = (93, 227);
 /// Long enough for lavapipe's first frames on a busy 2-core machine (the
 /// first compiles every shader).
 const PATIENCE: Duration = Duration::from_secs(300);

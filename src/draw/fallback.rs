@@ -1,5 +1,5 @@
 //! Draw path B, for devices without mesh shaders: `glsl/expand.comp` writes
-//! `VERTICES_PER_NODE` = 12 vertices per ready node (4 triangle slots, a
+//! `VERTICES_PER_NODE` = 18 vertices per ready node (6 triangle slots, a
 //! missing wedge as a degenerate triangle) into the list's vertex buffer,
 //! then one non-indexed `vkCmdDrawIndirect` pulls them by `gl_VertexIndex`
 //! in `glsl/draw.vert` (no vertex input state) and shades with

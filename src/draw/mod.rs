@@ -12,7 +12,7 @@
 //! - [`DrawPath::Mesh`]: task + mesh shaders ([`mesh`]), one indirect
 //!   `vkCmdDrawMeshTasksIndirectEXT` from `counters[C_MESH_ARGS]`;
 //! - [`DrawPath::Fallback`], for devices without VK_EXT_mesh_shader
-//!   ([`fallback`]): a compute pass writes 12 vertices per node, then one
+//!   ([`fallback`]): a compute pass writes 18 vertices per node, then one
 //!   `vkCmdDrawIndirect` pulls them in a pass-through vertex shader.
 //!
 //! Barrier contract: [`ReadyStage::record_draw`] starts with a global
