@@ -70,6 +70,22 @@ impl PatchRule {
         self.corners.iter().all(CornerRule::is_regular)
     }
 
+    /// The rule of the patch with u and v swapped: corners 1 and 3 trade
+    /// places, and edge k (corner k to k + 1) becomes edge 3 − k reversed.
+    pub fn flipped(&self) -> Self {
+        let c = self.corners;
+        let mut feature_edges = 0;
+        for k in 0..4 {
+            if self.feature_edges & (1 << (3 - k)) != 0 {
+                feature_edges |= 1 << k;
+            }
+        }
+        PatchRule {
+            corners: [c[0], c[3], c[2], c[1]],
+            feature_edges,
+        }
+    }
+
     /// One word for the sidecar and the deviation tables: `regular`,
     /// `crease` (boundaries included), `corner`, `extraordinary` (an
     /// irregular smooth vertex), `irregular-sharp` (dart, or a crease or
@@ -125,10 +141,10 @@ fn local(cage: &Cage, topo: &Topology, v: usize, cfg: Config) -> Local {
             }
         };
         for &c in &fan.corners {
-            consider(topo.incoming(cage, c));
+            consider(topo.incoming(c));
         }
         if let (false, Some(&last)) = (fan.closed, fan.corners.last()) {
-            consider(topo.outgoing(cage, last));
+            consider(topo.outgoing(last));
         }
     }
     let ends: Vec<usize> = ids
@@ -277,7 +293,7 @@ pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Conversion, 
             let (a, b) = topo.edges[e].ends;
             cage.edge_sharpness(a, b) > 0.0
         };
-        for s in sharpness::sectors(cage, topo, v, &is_sharp) {
+        for s in sharpness::sectors(topo, v, &is_sharp) {
             for &c in &s.corners {
                 sector_of.insert(c, s.corners.len() as u32);
             }

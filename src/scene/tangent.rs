@@ -79,7 +79,7 @@ fn corner_tangents(
         let (a, b) = topo.edges[e].ends;
         is_feature_edge(cage, topo, a, b)
     };
-    for sector in sharpness::sectors(cage, topo, v, &feature) {
+    for sector in sharpness::sectors(topo, v, &feature) {
         let geo: Vec<DVec3> = sector.edges.iter().map(|&e| g(e)).collect();
         let t = if sector.cyclic {
             fit_cyclic(&geo)

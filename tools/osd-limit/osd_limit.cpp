@@ -2,11 +2,12 @@
 // control cage, as reference data for the project's cage converter.
 //
 // Usage: osd_limit CAGE.obj [--boundary none|edge-only|edge-and-corner]
-//                  [--samples grid|nine|four]
+//                  [--samples grid|nine|four|corners:M]
 //
-// Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner` and
-// `t interpolateboundary` tags (the same reading rules as the converter,
-// see src/scene/tags.rs); `--boundary` is used only when the file has no
+// Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner`,
+// `t interpolateboundary`, `t hole`, `t creasemethod` and
+// `t smoothtriangles` tags (the same reading rules as the converter, see
+// src/scene/tags.rs); `--boundary` is used only when the file has no
 // interpolateboundary tag. Prints one line per sample:
 //
 //     FACE SUB U V X Y Z
@@ -16,10 +17,16 @@
 // X Y Z the limit point in double precision, or the word `hole` for faces the
 // boundary rule removes.
 //
+// Sample sets: `grid` 5x5 per (sub-)face, edges included; `nine` 3x3;
+// `four` four points; `corners:M` the 5x5 grid and, at each corner whose
+// vertex is not regular, the 5x5 grids of the squares of side 2^-m there,
+// m = 1..M (where isolation's irregular rings lie, down to level M).
+//
 // The points are exact: the cage is refined uniformly until every semi-sharp
-// feature has run out (and to level 2 at least), each sample is a vertex of
-// that level (all sample parameters are multiples of 1/4), and OpenSubdiv's
-// limit masks put it on the limit surface. (A feature-adaptive patch table
+// feature has run out and every sample is a vertex of the last level (the
+// parameters are multiples of 1/4, or of 2^-(M+2) for corners:M; faces that
+// are not quads take one level more, their sub-faces being the first), and
+// OpenSubdiv's limit masks put each on the limit surface. (A feature-adaptive patch table
 // would be cheaper but is not exact: its end caps next to an irregular
 // crease vertex miss the limit by up to 5e-5 of the model at level 10.)
 
@@ -58,7 +65,10 @@ struct Cage {
     std::vector<float> creaseSharpness;
     std::vector<int> corners;
     std::vector<float> cornerSharpness;
+    std::vector<int> holes;
     int boundaryTag = -1; // OpenSubdiv's integer, -1 when absent
+    bool chaikin = false;
+    bool smoothTriangles = false;
 };
 
 [[noreturn]] void fail(std::string const &where, std::string const &msg) {
@@ -110,8 +120,10 @@ Cage readCage(char const *path) {
                 fail(where, "bad tag counts");
             std::vector<int> ints(ni);
             std::vector<float> floats(nf);
+            std::vector<std::string> strings(ns);
             for (int &i : ints) words >> i;
             for (float &f : floats) words >> f;
+            for (std::string &w : strings) words >> w;
             if (!words) fail(where, "tag arguments missing");
             if (name == "crease") {
                 if (ni % 2 || nf < 1) fail(where, "crease needs vertex pairs and a sharpness");
@@ -129,6 +141,12 @@ Cage readCage(char const *path) {
             } else if (name == "interpolateboundary") {
                 if (ni != 1) fail(where, "interpolateboundary needs one integer");
                 cage.boundaryTag = ints[0];
+            } else if (name == "hole") {
+                for (int f : ints) cage.holes.push_back(f);
+            } else if (name == "creasemethod" && ns == 1) {
+                cage.chaikin = strings[0] == "chaikin";
+            } else if (name == "smoothtriangles" && ns == 1) {
+                cage.smoothTriangles = strings[0] == "smooth";
             } else {
                 std::fprintf(stderr, "osd_limit: %s: tag '%s' ignored\n", where.c_str(),
                              name.c_str());
@@ -170,7 +188,7 @@ int sampleVertex(Far::TopologyRefiner const &refiner, int at, int face, double u
                 return vert;
             }
         }
-        if (at == level) fail("sample", "a parameter is not a multiple of 1/4");
+        if (at == level) fail("sample", "a parameter is finer than the refinement level");
         int j = u < 0.5 ? (v < 0.5 ? 0 : 3) : (v < 0.5 ? 1 : 2);
         face = here.GetFaceChildFaces(face)[j];
         u = 2 * u - cu[j];
@@ -179,9 +197,70 @@ int sampleVertex(Far::TopologyRefiner const &refiner, int at, int face, double u
     }
 }
 
+// A sample set: the (u, v) of the whole (sub-)face, and per corner c the
+// (u, v) of the rings at that corner (corners:M only), and the number of
+// halvings the finest parameter needs.
+struct SampleSet {
+    std::vector<std::pair<double, double>> face;
+    std::vector<std::pair<double, double>> ring[4];
+    int depth = 2;
+};
+
+SampleSet sampleSet(std::string const &samples) {
+    SampleSet set;
+    auto &uvs = set.face;
+    if (samples == "grid") {
+        for (double v : {0.0, 0.25, 0.5, 0.75, 1.0})
+            for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) uvs.push_back({u, v});
+    } else if (samples == "nine") {
+        for (double v : {0.0, 0.5, 1.0})
+            for (double u : {0.0, 0.5, 1.0}) uvs.push_back({u, v});
+    } else if (samples == "four") {
+        uvs = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.25, 0.75}};
+    } else if (samples.rfind("corners:", 0) == 0) {
+        int m = std::atoi(samples.c_str() + 8);
+        if (m < 0 || m > 8) fail("--samples", "corners:M needs 0 <= M <= 8");
+        set.depth = m + 2;
+        for (double v : {0.0, 0.25, 0.5, 0.75, 1.0})
+            for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) uvs.push_back({u, v});
+        // Corner c of the square at (0,0), (1,0), (1,1), (0,1).
+        for (int l = 1; l <= m; ++l) {
+            double side = std::ldexp(1.0, -l);
+            for (int j = 0; j <= 4; ++j)
+                for (int i = 0; i <= 4; ++i) {
+                    double a = side * i / 4, b = side * j / 4;
+                    std::pair<double, double> at[4] = {{a, b}, {1 - a, b}, {1 - a, 1 - b}, {a, 1 - b}};
+                    for (int c = 0; c < 4; ++c) {
+                        auto &r = set.ring[c];
+                        if (std::find(uvs.begin(), uvs.end(), at[c]) == uvs.end() &&
+                            std::find(r.begin(), r.end(), at[c]) == r.end())
+                            r.push_back(at[c]);
+                    }
+                }
+        }
+    } else {
+        fail("--samples", "expected grid, nine, four or corners:M");
+    }
+    return set;
+}
+
+// Whether the limit surface near vertex v of the base level is anything but
+// a regular interior B-spline patch's: the rings are sampled there.
+// (A regular boundary vertex, two faces and three edges with only the
+// boundary sharp, counts as regular.)
+bool irregular(Far::TopologyLevel const &base, int v) {
+    if (base.IsVertexNonManifold(v) || base.GetVertexSharpness(v) > 0) return true;
+    int edges = base.GetVertexEdges(v).size(), faces = base.GetVertexFaces(v).size();
+    bool boundary = base.IsVertexBoundary(v);
+    if (boundary ? (edges != 3 || faces != 2) : (edges != 4 || faces != 4)) return true;
+    for (int e : base.GetVertexEdges(v))
+        if (base.GetEdgeSharpness(e) > 0 && !base.IsEdgeBoundary(e)) return true;
+    return false;
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four]\n");
+        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four|corners:M]\n");
         return 2;
     }
     std::string boundary = "edge-and-corner", samples = "grid";
@@ -195,7 +274,10 @@ int main(int argc, char **argv) {
 
     Sdc::Options sdc;
     sdc.SetVtxBoundaryInterpolation(boundaryRule(cage.boundaryTag, boundary));
-    sdc.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
+    sdc.SetCreasingMethod(cage.chaikin ? Sdc::Options::CREASE_CHAIKIN
+                                       : Sdc::Options::CREASE_UNIFORM);
+    sdc.SetTriangleSubdivision(cage.smoothTriangles ? Sdc::Options::TRI_SUB_SMOOTH
+                                                    : Sdc::Options::TRI_SUB_CATMARK);
 
     Far::TopologyDescriptor desc;
     desc.numVertices = (int)cage.points.size();
@@ -208,16 +290,24 @@ int main(int argc, char **argv) {
     desc.numCorners = (int)cage.cornerSharpness.size();
     desc.cornerVertexIndices = cage.corners.data();
     desc.cornerWeights = cage.cornerSharpness.data();
+    desc.numHoles = (int)cage.holes.size();
+    desc.holeIndices = cage.holes.data();
 
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     Far::TopologyRefiner *refiner =
         Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc));
     if (!refiner) fail(argv[1], "OpenSubdiv refused the topology");
-    // Deep enough that no semi-sharp feature is left (infinite ones stay).
+    SampleSet set = sampleSet(samples);
+    int depth = set.depth;
+    // Deep enough that no semi-sharp feature is left (infinite ones stay;
+    // Chaikin's rule never leaves more than the largest sharpness minus the
+    // steps taken) and every sample is a vertex.
     float semi = 0;
     for (float s : cage.creaseSharpness) if (s < 10) semi = std::max(semi, s);
     for (float s : cage.cornerSharpness) if (s < 10) semi = std::max(semi, s);
-    int level = std::max(2, (int)std::ceil(semi));
+    bool nonQuads = std::any_of(cage.faceSizes.begin(), cage.faceSizes.end(),
+                                [](int n) { return n != 4; });
+    int level = std::max(depth + (nonQuads ? 1 : 0), (int)std::ceil(semi));
     Far::TopologyRefiner::UniformOptions uniform(level);
     // The limit masks need each last-level vertex's edges and faces.
     uniform.fullTopologyInLastLevel = true;
@@ -237,27 +327,24 @@ int main(int argc, char **argv) {
     Point *dst = limit.data();
     primvar.Limit(src, dst);
 
-    std::vector<std::pair<double, double>> uvs;
-    // Sample sets: every set but `four` covers the face's corners and
-    // edges too, where creases and boundaries are.
-    if (samples == "grid") {
-        for (double v : {0.0, 0.25, 0.5, 0.75, 1.0})
-            for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) uvs.push_back({u, v});
-    } else if (samples == "nine") {
-        for (double v : {0.0, 0.5, 1.0})
-            for (double u : {0.0, 0.5, 1.0}) uvs.push_back({u, v});
-    } else if (samples == "four") {
-        uvs = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.25, 0.75}};
-    } else {
-        fail("--samples", "expected grid, nine or four");
-    }
-
     std::printf("# osd_limit %s boundary=%d level=%d samples=%s\n", argv[1],
                 (int)sdc.GetVtxBoundaryInterpolation(), level, samples.c_str());
     Far::TopologyLevel const &base = refiner->GetLevel(0);
     for (int f = 0; f < desc.numFaces; ++f) {
-        int subs = cage.faceSizes[f] == 4 ? 1 : cage.faceSizes[f];
+        int n = cage.faceSizes[f];
+        int subs = n == 4 ? 1 : n;
+        Far::ConstIndexArray fv = base.GetFaceVertices(f);
         for (int k = 0; k < subs; ++k) {
+            // Which corners of the (sub-)face are irregular: a quad's own
+            // vertices; a sub-face's corner 0 (the n-gon's vertex k) and
+            // corner 2 (its centre, of valence n).
+            bool at[4];
+            for (int c = 0; c < 4; ++c)
+                at[c] = subs == 1 ? irregular(base, fv[c])
+                                  : (c == 0 ? irregular(base, fv[k]) : c == 2);
+            std::vector<std::pair<double, double>> uvs = set.face;
+            for (int c = 0; c < 4; ++c)
+                if (at[c]) uvs.insert(uvs.end(), set.ring[c].begin(), set.ring[c].end());
             for (auto [u, v] : uvs) {
                 if (base.IsFaceHole(f)) {
                     std::printf("%d %d %g %g hole\n", f, k, u, v);
@@ -269,7 +356,7 @@ int main(int argc, char **argv) {
                                      : sampleVertex(*refiner, 1, base.GetFaceChildFaces(f)[k],
                                                     u, v, level);
                 Point const &p = limit[vert];
-                std::printf("%d %d %g %g %.9g %.9g %.9g\n", f, k, u, v, p.x, p.y, p.z);
+                std::printf("%d %d %.17g %.17g %.9g %.9g %.9g\n", f, k, u, v, p.x, p.y, p.z);
             }
         }
     }
