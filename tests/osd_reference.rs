@@ -454,9 +454,11 @@ impl<'a> Nearest<'a> {
     /// Gauss–Newton steps, clamped to the domain.
     fn project(&self, p: usize, x: DVec3, (mut u, mut v): (f64, f64)) -> f64 {
         let patch = &self.patches[p];
+        let mut best = f64::MAX;
         for _ in 0..30 {
             let (s, su, sv) = eval64(patch, u, v);
             let r = s - x;
+            best = best.min(r.length());
             let (a, b, c) = (su.dot(su), su.dot(sv), sv.dot(sv));
             let (g0, g1) = (su.dot(r), sv.dot(r));
             let det = a * c - b * b;
@@ -472,7 +474,7 @@ impl<'a> Nearest<'a> {
                 break;
             }
         }
-        (eval64(patch, u, v).0 - x).length()
+        best.min((eval64(patch, u, v).0 - x).length())
     }
 
     /// The distance from `x` to the surface, starting at patch `p`, (u, v).
@@ -561,5 +563,55 @@ fn isolation_geometric() {
                 );
             }
         }
+    }
+}
+
+#[test]
+#[ignore]
+fn shapes_explore() {
+    let levels: Vec<u32> = std::env::var("ISO").map_or(vec![0], |s| {
+        s.split(',').map(|n| n.parse().unwrap()).collect()
+    });
+    for case in &cases_in("tests/data/osd/shapes") {
+        let classes = import(case, false, 0);
+        for &n in &levels {
+            let model = import(case, false, n);
+            for (class, (k, par, geo)) in deviations2(case, &model, &classes) {
+                println!(
+                    "{:<28} iso {n} {:>7} {:<16} {k:>6} param {par:.2e} geo {geo:.2e}",
+                    case.name,
+                    model.patches.len(),
+                    class
+                );
+            }
+        }
+    }
+}
+
+#[test]
+#[ignore]
+fn worst_samples() {
+    let name = std::env::var("SHAPE").unwrap();
+    let n: u32 = std::env::var("ISO").map_or(0, |s| s.parse().unwrap());
+    let case = cases_in("tests/data/osd/shapes")
+        .into_iter()
+        .chain(cases_in("tests/data/osd"))
+        .find(|c| c.name == name)
+        .unwrap();
+    let model = import(&case, false, n);
+    let diag = diagonal(&model);
+    let mut rows = Vec::new();
+    for &(face, sub, u, v, point) in &case.samples {
+        let Some(limit) = point else { continue };
+        let (p, s, t) = locate(&model, (face, sub, u, v), case.quads[face]).unwrap();
+        let dev = (model.patches[p].eval(s, t).as_dvec3() - limit).length() / diag;
+        rows.push((dev, face, sub, u, v, p, s, t));
+    }
+    rows.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for r in rows.iter().take(12) {
+        println!(
+            "{:.3e} face {} sub {} ({}, {}) patch {} ({}, {}) {:?}",
+            r.0, r.1, r.2, r.3, r.4, r.5, r.6, r.7, model.origins[r.5]
+        );
     }
 }

@@ -35,7 +35,7 @@ use super::acc::{self, Conversion};
 use super::cage::{Cage, Topology};
 use super::refine::{refine, SubFace};
 use super::shading::ShadingPatch;
-use super::{tangent, PatchOrigin, SceneError};
+use super::{fit, tangent, PatchOrigin, SceneError};
 
 /// The most refinement steps `isolate` may ask for: each step quarters
 /// every face, so 6 is already 4,096 patches per cage face.
@@ -111,6 +111,8 @@ fn convert_refined(
     levels: u32,
     path: &Path,
 ) -> Result<Converted, SceneError> {
+    // The step every non-quad cage takes anyway.
+    let base = u32::from(cage.faces.iter().any(|f| f.len() != 4));
     let mut chain: Vec<Vec<SubFace>> = Vec::new();
     let mut fine = cage.clone();
     let mut fine_topo = topo.clone();
@@ -120,7 +122,15 @@ fn convert_refined(
         fine = next;
         chain.push(subs);
     }
-    let conv: Conversion = acc::convert(&fine, &fine_topo, path)?;
+    let mut conv: Conversion = acc::convert(&fine, &fine_topo, path)?;
+    // Next to semi-sharp features and darts, fit the patches to a finer
+    // surface (`fit.rs`), within FIT_STEPS steps beyond the non-quad one.
+    let budget = fit::FIT_STEPS.saturating_sub(levels.saturating_sub(base));
+    let steps = fit::steps(&fine).min(budget);
+    if steps > 0 {
+        let want = fit::wanted(&fine, &fine_topo, &conv);
+        fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
+    }
     let shading = tangent::tangent_patches(&fine, &fine_topo, &conv);
     let origins: Vec<PatchOrigin> = conv
         .faces
@@ -240,7 +250,7 @@ fn parts(cage: &Cage) -> Vec<Vec<usize>> {
 
 /// The faces `faces` of `cage` as a cage of their own, vertices renumbered
 /// in order of use; also the new index of each old vertex used.
-fn extract(cage: &Cage, faces: &[usize]) -> (Cage, Vec<Option<usize>>) {
+pub(crate) fn extract(cage: &Cage, faces: &[usize]) -> (Cage, Vec<Option<usize>>) {
     let mut map: Vec<Option<usize>> = vec![None; cage.positions.len()];
     let mut out = Cage {
         scheme: cage.scheme,
