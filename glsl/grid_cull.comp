@@ -1,9 +1,11 @@
 // Ground truth, pass 1: one invocation per base patch. A patch whose control
 // points lie wholly outside the view frustum cannot draw a pixel (the patch
 // lies in their convex hull, a rational one too, its weights being
-// positive) and is counted as culled; the others are
-// appended to the visible list, their count going straight into the
-// instance count of the indexed indirect draw that follows.
+// positive) and is counted as culled; the others are appended to the
+// visible list of their part of the frame (patches_per_part consecutive
+// base patches each), their count going straight into the instance count of
+// that part's indexed indirect draw. Part k's list starts at entry
+// k * patches_per_part, its draw's first instance (set by the host).
 #version 460
 
 #include "common/grid.glsl"
@@ -13,9 +15,9 @@ layout(local_size_x = GRID_CULL_GROUP_SIZE) in;
 // src/gpu/blocks.rs GridPush.
 layout(push_constant) uniform GridPush {
     uint patch_count;        // base patches
-    uint indices_per_patch;  // 6 per grid cell (the host sets the draw's index count)
+    uint indices_per_patch;  // 6 per grid cell (the host sets the draws' index counts)
+    uint patches_per_part;   // base patches drawn by one part of the frame
     uint pad0;
-    uint pad1;
 } pc;
 
 void main() {
@@ -33,6 +35,7 @@ void main() {
             return;
         }
     }
-    uint slot = atomicAdd(grid_counters[G_DRAW_ARGS + 1u], 1u);
-    visible[slot] = id;
+    uint part = id / pc.patches_per_part;
+    uint slot = atomicAdd(grid_counters[G_DRAW_ARGS + part * G_ARGS_WORDS + 1u], 1u);
+    visible[part * pc.patches_per_part + slot] = id;
 }

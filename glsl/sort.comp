@@ -6,16 +6,19 @@
 // order is a function of the ready set alone. Sorting by patch also keeps a
 // patch's control points hot in caches while it is drawn.
 //
-// A merge sort over the list's actual length (the producer writes the
-// dispatch arguments), recorded by src/draw/sort.rs:
+// A merge sort sized by the list's actual length n: the producer writes the
+// dispatch arguments of every pass (write_ready_args), a merge pass whose
+// runs already span the list gets none, and the direction of every pass
+// follows from n here, so the last pass that runs lands in `ready`.
+// Recorded by src/draw/sort.rs (only the queue kernel needs it: the level
+// kernels write the list in a canonical order):
 //   BLOCK: each workgroup sorts a block of SORT_BLOCK entries in shared
 //          memory (a bitonic network; entries past the end count as the
 //          largest key and are not written back);
 //   MERGE: one invocation per entry merges pairs of sorted runs of width
 //          pc.k into runs of 2 * pc.k, finding where its output comes from
 //          by a binary search along the merge path.
-// Passes alternate between `ready` and `sort_temp` (pc.j says the
-// direction); the host arranges for the last to land in `ready`.
+// Passes alternate between `ready` and `sort_temp`.
 #version 460
 
 #define USE_READY_RW
@@ -34,12 +37,37 @@ bool less(uvec2 a, uvec2 b) {
     return a.x < b.x || (a.x == b.x && a.y < b.y);
 }
 
+// Merge passes n entries need: runs start at SORT_BLOCK and double until
+// one spans the list (src/draw/sort.rs merge_passes).
+uint passes_needed(uint n) {
+    uint p = 0u;
+    for (uint run = SORT_BLOCK; run < n; run *= 2u) {
+        p += 1u;
+    }
+    return p;
+}
+
+// Whether this pass reads `sort_temp` (else `ready`) and so writes the
+// other: the block pass starts where an even number of merges ends in
+// `ready`, merge pass i (runs of SORT_BLOCK << i) reads what pass i - 1 wrote.
+bool from_temp = false;
+
 uvec2 read_src(uint i) {
-    return pc.j == 0u ? ready[i] : sort_temp[i];
+    return from_temp ? sort_temp[i] : ready[i];
 }
 
 void write_dst(uint i, uvec2 v) {
-    if (pc.j == 0u) {
+    if (from_temp) {
+        ready[i] = v;
+    } else {
+        sort_temp[i] = v;
+    }
+}
+
+// The block pass reads `ready`; it writes `sort_temp` when an odd number
+// of merges follows, else back into `ready`.
+void write_block(uint i, uvec2 v, uint passes) {
+    if (passes % 2u == 1u) {
         sort_temp[i] = v;
     } else {
         ready[i] = v;
@@ -57,7 +85,7 @@ void order(uint i, uint j, uint k) {
     }
 }
 
-void sort_block(uint n) {
+void sort_block(uint n, uint passes) {
     uint base = gl_WorkGroupID.x * SORT_BLOCK;
     uint lt = gl_LocalInvocationID.x;
     for (uint h = 0u; h < 2u; ++h) {
@@ -74,7 +102,7 @@ void sort_block(uint n) {
     for (uint h = 0u; h < 2u; ++h) {
         uint i = lt + h * SORT_GROUP_SIZE;
         if (base + i < n) {
-            write_dst(base + i, block[i]);
+            write_block(base + i, block[i], passes);
         }
     }
 }
@@ -109,9 +137,13 @@ void merge(uint n) {
 
 void main() {
     uint n = ready_count(pc.ready_capacity);
+    uint passes = passes_needed(n);
     if (pc.mode == MODE_BLOCK) {
-        sort_block(n);
+        sort_block(n, passes);
     } else {
+        // Merge pass i reads sort_temp when passes - i is odd.
+        uint i = findMSB(pc.k / SORT_BLOCK);
+        from_temp = (passes - i) % 2u == 1u;
         merge(n);
     }
 }

@@ -1,474 +1,217 @@
-// The recursive subdivision of every base patch down to l_max, in ONE
-// dispatch of persistent workgroups: the Vulkan stand-in for the paper's
-// work-graph recursion (§3.5).
+// Method subdiv: the level schedule of subdiv-indirect (common/level.glsl)
+// in ONE dispatch of persistent workgroups, a grid barrier between rounds
+// instead of a dispatch: the depth-synchronous persistent kernel
+// (docs/ARCHITECTURE.md, "The persistent kernel", says why this design).
 //
-// Work is shared the way a work graph shares its records: breadth first,
-// through one global queue, in batches. Each workgroup keeps a deque of
-// work items in shared memory and loops:
-//   1. refill: when fewer than SUBDIV_REFILL_BELOW items are left, claim a
-//      batch of base patches (one atomic) or pop a batch from the global
-//      queue (one compare-and-swap on its head);
-//   2. take the newest min(64, n) items, one per invocation, and process
-//      each exactly as src/patch/oracle.rs `process` does
-//      (common/process.glsl);
-//   3. push the children onto the deque; append the ready nodes with one
-//      atomic for the whole workgroup;
-//   4. donate the oldest items beyond SUBDIV_KEEP (beyond half of the deque
-//      while some workgroup is idle) to the global queue, one
-//      compare-and-swap on its tail per batch;
-//   5. publish the iteration's in-flight change with one atomic.
-// So the global atomics are a handful per workgroup iteration, not per item
-// or per lane, and a tree's breadth reaches every workgroup instead of one
-// invocation walking a subtree alone.
+// Occupancy discovery first (after Sorensen et al.): every workgroup asks
+// to join with one atomic; the first closes the window once no one else
+// has joined for pc.join_polls polls (or all launched have), and only the
+// ones that joined before that take part. They were all running at once,
+// so a barrier among them never waits for a workgroup that has not
+// started; latecomers (launched beyond what the device keeps resident)
+// leave at once.
 //
-// The queue (common/queue.glsl) never makes anyone wait: a pop takes only
-// the published slots at the head, a push only the free slots at the tail,
-// and a refused push (the queue is full) keeps the items in the workgroup's
-// deque and counts them as spills; it never draws a node early, which would
-// open a crack. With the queue full the deque grows instead, and a
-// workgroup then takes batches no larger than the deque can hold children
-// for, newest (deepest) first, so it drains without overflowing.
+// Each round: the participants take the round's blocks in turn (copy the
+// previous round's ready nodes, process this round's chunk), then arrive
+// at the barrier (acquire-release); the last to arrive scans the totals,
+// schedules the next round and releases the others (a release store of the
+// generation they poll with acquire), so it is also what orders every
+// block's writes before the next round's reads.
 //
-// Termination: the low bits of counters[C_IN_FLIGHT] (IN_FLIGHT_MASK) start
-// at the number of base patches (set by the host) and every processed item
-// adds +3 (split) or -1 (done), applied only after its children are in a
-// deque or the queue, so the count never reads 0 while work exists. A
-// workgroup without work marks itself idle and polls the count with one
-// invocation, backing off between polls, and leaves when it reads 0.
-//
-// Forward progress: Vulkan promises none between workgroups, so nothing here
-// waits on a workgroup that may not have started. Work lives only in the
-// deques of running workgroups, in the queue, or in unclaimed base patches;
-// an idle workgroup only polls while the count says some RUNNING workgroup
-// still holds work, which that workgroup finishes by itself if nobody helps.
-// A workgroup that starts late finds the work taken and leaves.
-//
-// Iteration cap: a workgroup that sees the in-flight count unchanged for
-// pc.idle_poll_cap consecutive polls concludes that nothing anywhere is making
-// progress, raises ERR_ITERATION_CAP and leaves; the host reports the error
-// (and never hangs: its fence wait has a timeout too).
+// Watchdog: a waiting workgroup that sees neither the generation nor the
+// arrivals change for pc.watchdog_polls polls (a participant that stopped
+// running: an unfair scheduler, a device that does not keep its promise)
+// raises ERR_WATCHDOG and S_ABORT, and every workgroup leaves; the host
+// then redoes the frame with the per-depth rounds (src/methods/subdiv.rs).
 #version 460
+#pragma use_vulkan_memory_model
 
 #define USE_READY_WRITE
 #include "common/ready.glsl"
 #include "common/process.glsl"
-#include "common/queue.glsl"
+#include "common/level.glsl"
 
-layout(local_size_x = SUBDIV_GROUP_SIZE) in;
+layout(local_size_x = LEVEL_GROUP_SIZE) in;
 
-const uint GROUP = SUBDIV_GROUP_SIZE;
-const uint LOCAL_MASK = SUBDIV_LOCAL_CAP - 1u;
+const uint NOT_JOINED = 0xffffffffu;
 
-const uint POLL_WORK = 0u;   // keep going
-const uint POLL_DONE = 1u;   // nothing in flight anywhere: leave
-const uint POLL_STUCK = 2u;  // no progress for the whole cap, or an error
-
-// The workgroup's deque [s_lo, s_hi) of work items (indices wrap by mask):
-// new items go on top, batches are taken from the top, donations from the
-// bottom.
-shared uvec2 s_items[SUBDIV_LOCAL_CAP];
-shared uint s_lo;
-shared uint s_hi;
-shared bool s_bases_left;
-// Broadcasts from invocation 0 to the workgroup.
-shared uint s_count;
-shared uint s_base;
-shared uint s_aux;
-shared bool s_from_bases;
-shared uint s_done;
-// Per slot of a queue batch: whether it is published (pop) or free (push).
-shared bool s_ok[GROUP];
-// Per iteration: ready nodes of the batch and where they go, and splits.
-shared uint s_ready;
-shared uint s_ready_base;
-shared uint s_splits;
-// Statistics summed over the workgroup at the end.
-shared uint s_stats[8];
+shared uint s_id;
+shared uint s_participants;
+shared bool s_last;
+shared bool s_stop;
+shared uint s_generation;
 
 // Invocation 0's own bookkeeping.
-uint atomics = 0u;
 uint polls = 0u;
-uint retries = 0u;
-uint spills = 0u;
-uint pushed = 0u;
-uint peak = 0u;
-uint iterations = 0u;
-uint stalls = 0u;
-uint last_in_flight = 0xffffffffu;
+uint atomics = 0u;
 uint backoff = 1u;
-bool idle = false;
 
-uint deque_count() {
-    return s_hi - s_lo;
-}
-
-// Invocation 0: how many items to refill and from where (bases or queue).
-void plan_refill(uint base_batch) {
-    s_count = 0u;
-    uint count = deque_count();
-    if (count >= SUBDIV_REFILL_BELOW) {
-        return;
-    }
-    if (s_bases_left) {
-        uint first = atomicAdd(counters[C_NEXT_BASE], base_batch);
-        atomics += 1u;
-        if (first < pc.patch_count) {
-            s_from_bases = true;
-            s_base = first;
-            s_count = min(base_batch, pc.patch_count - first);
-        }
-        if (first + base_batch >= pc.patch_count) {
-            s_bases_left = false;
-        }
-        return;
-    }
-    uint h = queue_state[Q_HEAD];
-    uint t = queue_state[Q_TAIL];
-    s_from_bases = false;
-    s_base = h;
-    s_count = min(GROUP - count, t - h);
-}
-
-// Refills the deque: a batch of base patches, or the published slots at
-// the queue's head (one compare-and-swap; a lost race is retried next
-// iteration).
-void refill(uint t, uint base_batch) {
-    if (t == 0u) {
-        plan_refill(base_batch);
-    }
-    barrier();
-    uint k = s_count;
-    if (k == 0u) {
-        // Everyone has read s_count before invocation 0 writes it again.
-        barrier();
-        return;
-    }
-    uint h = s_base;
-    if (s_from_bases) {
-        if (t < k) {
-            s_items[(s_hi + t) & LOCAL_MASK] = uvec2(h + t, 0u);
-        }
-    } else {
-        if (t < k) {
-            s_ok[t] = int(queue_seqs[queue_slot(h + t)] - (h + t + 1u)) == 0;
-        }
-        barrier();
-        if (t == 0u) {
-            uint run = 0u;
-            while (run < k && s_ok[run]) {
-                run += 1u;
-            }
-            bool won = false;
-            if (run > 0u) {
-                won = atomicCompSwap(queue_state[Q_HEAD], h, h + run) == h;
-                atomics += 1u;
-                retries += won ? 0u : 1u;
-            }
-            s_count = won ? run : 0u;
-        }
-        barrier();
-        k = s_count;
-        if (t < k) {
-            uint slot = queue_slot(h + t);
-            uvec2 item = queue_items[slot];
-            // The item is read before the slot is handed to the next lap.
-            memoryBarrierBuffer();
-            queue_seqs[slot] = h + t + pc.queue_capacity;
-            s_items[(s_hi + t) & LOCAL_MASK] = item;
-        }
-    }
-    barrier();
-    if (t == 0u) {
-        s_hi += k;
-    }
-    barrier();
-}
-
-// Invocation 0: how many of the oldest items to donate.
-void plan_donation() {
-    uint count = deque_count();
-    uint keep = (view.flags & FLAG_QUEUE_STRESS) != 0u ? 0u : SUBDIV_KEEP;
-    if (counters[C_IDLE] > 0u) {
-        // Someone waits: share half of what is here.
-        keep = min(keep, (count + 1u) / 2u);
-    }
-    uint m = count > keep ? min(count - keep, GROUP) : 0u;
-    s_count = m;
-    if (m > 0u) {
-        s_base = queue_state[Q_TAIL];
-    }
-}
-
-// Donates the deque's oldest items to the global queue: the free slots at
-// its tail, claimed with one compare-and-swap. Items the full queue refuses
-// stay here (spills); a lost race is retried next iteration.
-void donate(uint t) {
-    if (t == 0u) {
-        plan_donation();
-    }
-    barrier();
-    uint m = s_count;
-    if (m == 0u) {
-        return;
-    }
-    uint tail = s_base;
-    if (t < m) {
-        s_ok[t] = int(queue_seqs[queue_slot(tail + t)] - (tail + t)) == 0;
-    }
-    barrier();
-    if (t == 0u) {
-        uint run = 0u;
-        while (run < m && s_ok[run]) {
-            run += 1u;
-        }
-        bool won = false;
-        if (run > 0u) {
-            won = atomicCompSwap(queue_state[Q_TAIL], tail, tail + run) == tail;
-            atomics += 1u;
-            retries += won ? 0u : 1u;
-        }
-        if (won) {
-            pushed += run;
-            // Occupancy just after the push, with the head read now (a
-            // head read before the tail, as once here, is staler and made
-            // the figure exceed the capacity under stress). The head cannot
-            // pass tail + run (those slots are not published yet), so this
-            // never wraps; a plain read can still be a little stale, and
-            // only free slots were taken, so the capacity bounds it.
-            uint occupied = tail + run - queue_state[Q_HEAD];
-            peak = max(peak, min(occupied, pc.queue_capacity));
-        }
-        if (run < m && (won || run == 0u)) {
-            // A slot that is not free holds an item of the previous lap: the
-            // queue is full when that item is still queued (its position is
-            // not below the head), else a consumer is still reading it, or
-            // `tail` was stale: others pushed there and consumers may since
-            // have moved the head past it. The distance is signed so that
-            // last case reads as a retry, not as a wrapped, huge "full".
-            uint head_now = queue_state[Q_HEAD];
-            bool full = int((tail + run) - head_now) >= int(pc.queue_capacity);
-            spills += full ? m - run : 0u;
-            retries += full ? 0u : 1u;
-        }
-        s_count = won ? run : 0u;
-    }
-    barrier();
-    uint k = s_count;
-    if (t < k) {
-        uint slot = queue_slot(tail + t);
-        queue_items[slot] = s_items[(s_lo + t) & LOCAL_MASK];
-        // The item is written before its slot is published.
-        memoryBarrierBuffer();
-        queue_seqs[slot] = tail + t + 1u;
-    }
-    barrier();
-    if (t == 0u) {
-        s_lo += k;
-    }
-    barrier();
-}
-
-// Invocation 0, without work: polls the in-flight count once, after a
-// growing pause, and says whether to go on.
-uint poll_idle() {
-    if (!idle) {
-        idle = true;
-        atomicAdd(counters[C_IDLE], 1u);
-        atomics += 1u;
-    }
-    // A pause that does no memory traffic (and that the compiler keeps).
+// A pause that does no memory traffic (and that the compiler keeps).
+void pause_polling() {
     uint spin = backoff;
     for (uint i = 0u; i < backoff; ++i) {
         spin = spin * 1664525u + 1013904223u;
     }
     if (spin == 0x9e3779b9u) {
-        s_aux = spin;
+        s_part[0] = spin;
     }
     backoff = min(backoff * 2u, 256u);
     polls += 1u;
-    uint in_flight = counters[C_IN_FLIGHT];
-    if ((in_flight & IN_FLIGHT_MASK) == 0u) {
-        return POLL_DONE;
+}
+
+bool aborted() {
+    return atomicLoad(state[S_ABORT], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquire) != 0u;
+}
+
+void trip_watchdog() {
+    atomicOr(counters[C_ERROR], ERR_WATCHDOG);
+    atomicStore(state[S_ABORT], 1u, SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsRelease);
+    atomics += 2u;
+}
+
+// Invocation 0 of the first to join: waits (boundedly) for the others,
+// closes the window and publishes how many joined.
+void close_window() {
+    uint seen = 1u;
+    uint unchanged = 0u;
+    while (seen < pc.launched && unchanged < pc.join_polls) {
+        pause_polling();
+        uint now = atomicLoad(state[S_JOIN], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsRelaxed)
+            & ~JOIN_CLOSED;
+        unchanged = now == seen ? unchanged + 1u : 0u;
+        seen = now;
     }
-    if (in_flight == last_in_flight) {
-        stalls += 1u;
-        if (stalls > pc.idle_poll_cap) {
-            atomicOr(counters[C_ERROR], ERR_ITERATION_CAP);
-            return POLL_STUCK;
+    uint joined = atomicOr(state[S_JOIN], JOIN_CLOSED, SYNC_SCOPE, SYNC_STORAGE,
+        gl_SemanticsAcquireRelease) & ~JOIN_CLOSED;
+    atomics += 1u;
+    if ((pc.faults & FAULT_NO_DISCOVERY) != 0u) {
+        joined = pc.launched;
+    }
+    if ((pc.faults & FAULT_PHANTOM) != 0u) {
+        joined += 1u;
+    }
+    atomicStore(state[S_PARTICIPANTS], joined, SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsRelease);
+    s_participants = joined;
+}
+
+// Invocation 0 of a later joiner: waits for the window to close.
+void await_window() {
+    uint unchanged = 0u;
+    for (;;) {
+        uint n = atomicLoad(state[S_PARTICIPANTS], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquire);
+        if (n != 0u) {
+            s_participants = n;
+            return;
         }
-    } else {
-        stalls = 0u;
-        last_in_flight = in_flight;
+        if (aborted() || ++unchanged > pc.watchdog_polls) {
+            if (!aborted()) {
+                trip_watchdog();
+            }
+            s_stop = true;
+            return;
+        }
+        pause_polling();
     }
-    return POLL_WORK;
 }
 
-// Invocation 0: leaves the idle state after finding work.
-void busy_again() {
-    if (idle) {
-        idle = false;
-        atomicAdd(counters[C_IDLE], 0xffffffffu);
+// Whole workgroup: joins (or not) and learns the participants' count.
+bool discover(uint t) {
+    if (t == 0u) {
+        s_stop = false;
+        uint old = atomicAdd(state[S_JOIN], 1u, SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquireRelease);
+        atomics += 1u;
+        bool late = (old & JOIN_CLOSED) != 0u && (pc.faults & FAULT_NO_DISCOVERY) == 0u;
+        s_id = late ? NOT_JOINED : old & ~JOIN_CLOSED;
+        if (s_id == 0u) {
+            close_window();
+        } else if (s_id != NOT_JOINED) {
+            await_window();
+        }
+        backoff = 1u;
+    }
+    group_sync();
+    return s_id != NOT_JOINED && !s_stop;
+}
+
+// Invocation 0 of a workgroup that is not the last: waits for the round to
+// be released (true) or for the watchdog (false).
+bool await_release(uint generation) {
+    uint arrived = 0xffffffffu;
+    uint unchanged = 0u;
+    for (;;) {
+        pause_polling();
+        uint g = atomicLoad(state[S_GENERATION], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquire);
+        if (g != generation) {
+            return true;
+        }
+        if (aborted()) {
+            return false;
+        }
+        uint a = atomicLoad(state[S_ARRIVE], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsRelaxed);
+        unchanged = a == arrived ? unchanged + 1u : 0u;
+        arrived = a;
+        if (unchanged > pc.watchdog_polls) {
+            trip_watchdog();
+            return false;
+        }
+    }
+}
+
+// Whole workgroup: the grid barrier at the end of a round. Returns false
+// when the kernel must stop (watchdog).
+bool end_round(uint t) {
+    group_sync();
+    if (t == 0u) {
+        s_last = arrive(s_participants);
         atomics += 1u;
     }
-    backoff = 1u;
-}
-
-// Batch size: up to a workgroup's worth, but never more than the deque can
-// hold the children of (three more items per split).
-uint batch_size(uint count) {
-    uint room = SUBDIV_LOCAL_CAP - count;
-    return min(min(count, GROUP), max(room / 3u, 1u));
-}
-
-void add_stat(uint k, uint v) {
-    if (v != 0u) {
-        atomicAdd(s_stats[k], v);
+    group_sync();
+    if (s_last) {
+        finish_round(t);
+        group_sync();
+        if (t == 0u) {
+            rearm_arrive();
+            atomicStore(state[S_GENERATION], s_generation + 1u, SYNC_SCOPE, SYNC_STORAGE,
+                gl_SemanticsRelease);
+            atomics += 2u;
+        }
+    } else if (t == 0u) {
+        s_stop = !await_release(s_generation);
+        backoff = 1u;
     }
-}
-
-void flush_stat(uint index, uint k) {
-    if (s_stats[k] != 0u) {
-        atomicAdd(counters[index], s_stats[k]);
-        atomics += 1u;
-    }
+    group_sync();
+    return !s_stop;
 }
 
 void main() {
     uint t = gl_LocalInvocationIndex;
-    if (t < 8u) {
-        s_stats[t] = 0u;
+    if (discover(t)) {
+        for (;;) {
+            if (t == 0u) {
+                s_generation = atomicLoad(state[S_GENERATION], SYNC_SCOPE, SYNC_STORAGE,
+                    gl_SemanticsAcquire);
+                s_stop = aborted();
+            }
+            load_round(t);
+            if (s_done || s_stop) {
+                break;
+            }
+            uint work = max(round_blocks(), s_copy_blocks);
+            for (uint b = s_id; b < work; b += s_participants) {
+                if (b < s_copy_blocks) {
+                    copy_block(b, t);
+                }
+                if (b < round_blocks()) {
+                    process_block(b, t);
+                }
+            }
+            if (!end_round(t)) {
+                break;
+            }
+        }
     }
     if (t == 0u) {
-        s_lo = 0u;
-        s_hi = 0u;
-        s_bases_left = true;
-        s_done = POLL_WORK;
-    }
-    barrier();
-    // Spread the base patches over the workgroups.
-    uint base_batch = clamp(pc.patch_count / gl_NumWorkGroups.x, 1u, GROUP);
-    bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
-    uint processed = 0u, culled = 0u, backface = 0u, at_lmax = 0u;
-    uint tris = 0u, wedges = 0u, deepest = 0u;
-
-    for (;;) {
-        refill(t, base_batch);
-        if (t == 0u) {
-            iterations += 1u;
-            uint n = batch_size(deque_count());
-            s_count = n;
-            s_hi -= n;
-            s_ready = 0u;
-            s_splits = 0u;
-        }
-        barrier();
-        uint n = s_count;
-        bool have = t < n;
-        uvec2 item = have ? s_items[(s_hi + t) & LOCAL_MASK] : uvec2(0u);
-        // Every item is read before children land in the same slots.
-        barrier();
-
-        uint outcome = OUT_CULLED;
-        uint my_ready = 0u;
-        if (have) {
-            uvec2 kids[4];
-            outcome = process(item, kids);
-            processed += 1u;
-            if (outcome == OUT_SPLIT) {
-                uint at = atomicAdd(s_hi, 4u);
-                if (at + 4u - s_lo > SUBDIV_LOCAL_CAP) {
-                    atomicOr(counters[C_ERROR], ERR_STACK_OVERFLOW);
-                }
-                for (uint k = 0u; k < 4u; ++k) {
-                    s_items[(at + k) & LOCAL_MASK] = kids[k];
-                }
-                atomicAdd(s_splits, 1u);
-            } else if (outcome == OUT_CULLED) {
-                culled += 1u;
-            } else if (outcome == OUT_BACKFACE) {
-                backface += 1u;
-            } else {
-                uint l = node_depth(item);
-                deepest = max(deepest, l);
-                at_lmax += l >= view.l_max ? 1u : 0u;
-                uvec2 tw = ready_triangles(item, with_wedges);
-                tris += tw.x;
-                wedges += tw.y;
-                my_ready = atomicAdd(s_ready, 1u);
-            }
-        }
-        barrier();
-        // The batch's ready nodes with one atomic.
-        if (t == 0u && s_ready > 0u) {
-            s_ready_base = atomicAdd(counters[C_READY_COUNT], s_ready);
-            atomics += 1u;
-        }
-        barrier();
-        if (have && outcome == OUT_READY) {
-            uint idx = s_ready_base + my_ready;
-            if (idx < pc.ready_capacity) {
-                ready[idx] = item;
-            } else {
-                atomicOr(counters[C_ERROR], ERR_READY_FULL);
-            }
-        }
-        donate(t);
-        // The in-flight change, after the children are in the deque or the
-        // queue and the ready entries are written.
-        memoryBarrierBuffer();
-        barrier();
-        if (t == 0u) {
-            if (n > 0u) {
-                int delta = 4 * int(s_splits) - int(n);
-                atomicAdd(counters[C_IN_FLIGHT], uint(delta) + IN_FLIGHT_TICK);
-                atomics += 1u;
-                busy_again();
-            } else if (deque_count() == 0u) {
-                s_done = poll_idle();
-            }
-            if ((counters[C_ERROR] & ERR_STACK_OVERFLOW) != 0u) {
-                s_done = POLL_STUCK;
-            }
-        }
-        barrier();
-        if (s_done != POLL_WORK) {
-            break;
-        }
-    }
-
-    add_stat(0u, processed);
-    add_stat(1u, culled);
-    add_stat(2u, backface);
-    add_stat(3u, at_lmax);
-    add_stat(4u, tris);
-    add_stat(5u, wedges);
-    atomicMax(s_stats[6], deepest);
-    barrier();
-    if (t == 0u) {
-        flush_stat(C_PROCESSED, 0u);
-        flush_stat(C_CULLED, 1u);
-        flush_stat(C_BACKFACE, 2u);
-        flush_stat(C_AT_LMAX, 3u);
-        flush_stat(C_TRIANGLES, 4u);
-        flush_stat(C_WEDGES, 5u);
-        if (s_stats[6] != 0u) {
-            atomicMax(counters[C_MAX_DEPTH], s_stats[6]);
-            atomics += 1u;
-        }
-        atomicMax(counters[C_ITERATIONS_MAX], iterations);
-        atomicMax(counters[C_QUEUE_PEAK], peak);
-        // The four below, plus themselves.
-        atomics += 6u;
-        atomicAdd(counters[C_SPILLS], spills);
-        atomicAdd(counters[C_QUEUE_PUSHED], pushed);
-        atomicAdd(counters[C_QUEUE_RETRIES], retries);
         atomicAdd(counters[C_IDLE_POLLS], polls);
-        if (s_done == POLL_DONE) {
-            // In flight reached 0 after every ready append: the count is final.
-            atomics += 2u;
-            uint n = atomicAdd(counters[C_READY_COUNT], 0u);
-            write_ready_args(min(n, pc.ready_capacity));
-        }
-        atomicAdd(counters[C_GLOBAL_ATOMICS], atomics);
+        atomicAdd(counters[C_GLOBAL_ATOMICS], atomics + 2u);
     }
 }

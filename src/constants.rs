@@ -193,23 +193,84 @@ shared_constants! {
         Q_TAIL = 1;
         QUEUE_STATE_WORDS = 4;
     }
-    /// Set 2 of the per-depth kernel (subdiv-indirect): the ping-pong node
-    /// buffers (odd depths in one, even depths from 2 in the other; depth 0 is
-    /// the base patches themselves) and the level buffer.
+    /// Set 2 of the level kernels (subdiv's persistent kernel and
+    /// subdiv-indirect's per-depth rounds, glsl/common/level.glsl): the node
+    /// memory (a region of child slots per depth 1..levels, then two ready
+    /// scratch regions), the block scans of each region, the schedule state.
     group {
-        BIND_NODES_ODD = 0;
-        BIND_NODES_EVEN = 1;
-        BIND_LEVELS = 2;
+        BIND_LEVEL_NODES = 0;
+        BIND_LEVEL_SCANS = 1;
+        BIND_LEVEL_STATE = 2;
         LEVEL_BINDINGS = 3;
     }
-    /// Words of the per-depth kernel's level buffer: the nodes of depth d at
-    /// L_COUNTS + d (counted on, past the capacity, so an overflow says how
-    /// much was needed), and from L_ARGS the dispatch arguments of depth d,
-    /// four words each.
+    /// Most children one split makes (1:4 today; a 1:2 split would make 2):
+    /// each block of LEVEL_GROUP_SIZE nodes owns LEVEL_GROUP_SIZE *
+    /// SPLIT_MAX_CHILDREN child slots in the next depth's region.
     group {
-        L_COUNTS = 0;
-        L_ARGS = 16;
-        LEVEL_WORDS = 64;
+        SPLIT_MAX_CHILDREN = 4;
+    }
+    /// Per block of a round, beside its children and ready counts: culled,
+    /// back-facing, at l_max, triangles, wedges, deepest ready depth.
+    group {
+        LEVEL_BLOCK_STATS = 6;
+    }
+    /// Words of the level kernels' state buffer. Words that workgroups
+    /// synchronise on sit on cache lines of their own (16 words apart).
+    group {
+        /// The next round's vkCmdDispatchIndirect arguments x, y, z.
+        S_ARGS = 0;
+        /// Workgroups that finished this round (acquire-release; the last
+        /// one scans the round's block totals and schedules the next).
+        S_ARRIVE = 16;
+        /// Persistent kernel: rounds released (release by the last arriver,
+        /// polled with acquire by the others).
+        S_GENERATION = 32;
+        /// Persistent kernel, occupancy discovery: workgroups that asked to
+        /// join, with JOIN_CLOSED set once the first one closed the window.
+        S_JOIN = 48;
+        /// Persistent kernel: workgroups that joined (0 until the window closed).
+        S_PARTICIPANTS = 49;
+        /// Persistent kernel: a watchdog tripped, every workgroup leaves.
+        S_ABORT = 50;
+        /// This round: the depth of its chunk, the chunk's first dense index
+        /// and node count, the previous round's ready blocks it copies and
+        /// where in the ready list they go.
+        S_LEVEL = 64;
+        S_FIRST = 65;
+        S_COUNT = 66;
+        S_COPY_BLOCKS = 67;
+        S_COPY_BASE = 68;
+        /// Ready nodes found so far.
+        S_READY = 69;
+        /// Rounds finished.
+        S_ROUND = 70;
+        /// 1 once nothing is left to process or copy.
+        S_DONE = 71;
+        /// Rounds that took a chunk of a depth holding more than one chunk.
+        S_SPLIT_ROUNDS = 72;
+        /// Most nodes one depth held at once.
+        S_PEAK_NODES = 73;
+        /// Per depth d (0..=L_MAX): nodes it holds, nodes already taken, and
+        /// the blocks of the chunk that filled it (the length of its scan).
+        S_LEVEL_COUNT = 80;
+        S_LEVEL_NEXT = 96;
+        S_LEVEL_BLOCKS = 112;
+        /// Per depth d: nodes processed over the frame.
+        S_DEPTH_NODES = 128;
+        LEVEL_STATE_WORDS = 144;
+    }
+    /// S_JOIN: the window-closed bit above the count.
+    group {
+        JOIN_CLOSED = 0x8000_0000;
+    }
+    /// Test-only faults of the persistent level kernel (LevelPush.faults),
+    /// to show that its watchdog turns a broken promise into a fallback.
+    group {
+        /// One participant more than joined: a barrier that never completes.
+        FAULT_PHANTOM = 1;
+        /// Every launched workgroup joins, latecomers too: with more than the
+        /// device keeps resident, the first ones wait for ones that cannot start.
+        FAULT_NO_DISCOVERY = 2;
     }
     /// Set 1 of the ground truth's grids: the visible patches and the counters
     /// that hold its indexed indirect draw.
@@ -219,12 +280,16 @@ shared_constants! {
         GRID_BINDINGS = 2;
     }
     /// Words of the ground truth's counters: patches culled, and from
-    /// G_DRAW_ARGS the VkDrawIndexedIndirectCommand (index count, instance
-    /// count = visible patches, first index, vertex offset, first instance).
+    /// G_DRAW_ARGS one VkDrawIndexedIndirectCommand per part of the frame
+    /// (G_ARGS_WORDS words each: index count, instance count = the part's
+    /// visible patches, first index, vertex offset, first instance), for up
+    /// to G_MAX_PARTS parts (the frame ring's MAX_FRAME_PARTS).
     group {
         G_CULLED = 0;
         G_DRAW_ARGS = 4;
-        GRID_WORDS = 16;
+        G_ARGS_WORDS = 5;
+        G_MAX_PARTS = 64;
+        GRID_WORDS = 324;
     }
 
     /// Set 1 of the tessellation methods: their counters, and what validation
@@ -397,16 +462,18 @@ shared_constants! {
         /// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
         C_DRAW_ARGS = 40;
     }
-    /// Sorting the ready list (sort.comp): dispatch arguments of the block
-    /// pass (one workgroup per SORT_BLOCK entries) and of each merge pass (one
-    /// invocation per entry).
+    /// Sorting the ready list (sort.comp, the queue kernel only): dispatch
+    /// arguments of the block pass (one workgroup per SORT_BLOCK entries)
+    /// and, four words apart, of merge pass i (one invocation per entry, or
+    /// none once the runs span the list), for i < SORT_MAX_MERGES.
     group {
         C_SORT_BLOCK_ARGS = 48;
-        C_SORT_MERGE_ARGS = 52;
+        C_SORT_MERGE_ARGS = 64;
+        SORT_MAX_MERGES = 15;
     }
     /// Size of the counters buffer in uint words.
     group {
-        COUNTER_WORDS = 64;
+        COUNTER_WORDS = 128;
     }
 
     /// Error bits in counters[C_ERROR].
@@ -416,15 +483,17 @@ shared_constants! {
         /// A workgroup's local deque would have overflowed (never expected:
         /// batches are sized so it cannot).
         ERR_STACK_OVERFLOW = 4;
-        /// A depth's nodes did not fit the per-depth kernel's node buffer.
-        ERR_LEVEL_FULL = 8;
+        /// The persistent level kernel's watchdog: a barrier or the occupancy
+        /// discovery saw no progress for its whole poll cap (the frame is
+        /// redone with the per-depth rounds).
+        ERR_WATCHDOG = 8;
     }
 
     /// Workgroup sizes.
     group {
         SUBDIV_GROUP_SIZE = 64;
         EXPAND_GROUP_SIZE = 64;
-        /// The per-depth kernel: one invocation per node of the depth.
+        /// The level kernels: a block of one node per invocation.
         LEVEL_GROUP_SIZE = 64;
         /// The ground truth's culling pass: one invocation per base patch.
         GRID_CULL_GROUP_SIZE = 64;
@@ -490,5 +559,29 @@ shared_constants! {
         /// Tests: the base patch parameters (u, v) as 12 bits each
         /// (round(u * 4095) in r and the top of g, v below it and in b).
         SHADE_PARAMS = 9;
+        /// Tests: the model's tint unlit (`palette::model_tint`, the
+        /// shaders' `model_tint`).
+        SHADE_TINT = 10;
+    }
+
+    /// The depth heat map's colours (0xRRGGBB, display values): depth 0
+    /// dark blue through cyan, green and yellow to dark red at 10, the
+    /// lightness rising to the middle and falling again, so neighbouring
+    /// depths stay apart. The shaders, the CPU preview and the window's
+    /// legend all read these.
+    group {
+        DEPTH_RAMP_0 = 0x29_338c;
+        DEPTH_RAMP_1 = 0x29_66e0;
+        DEPTH_RAMP_2 = 0x1f_a3eb;
+        DEPTH_RAMP_3 = 0x24_ccbd;
+        DEPTH_RAMP_4 = 0x5c_e070;
+        DEPTH_RAMP_5 = 0xa8_eb3d;
+        DEPTH_RAMP_6 = 0xed_d933;
+        DEPTH_RAMP_7 = 0xfa_9e29;
+        DEPTH_RAMP_8 = 0xeb_6124;
+        DEPTH_RAMP_9 = 0xc2_2924;
+        DEPTH_RAMP_10 = 0x80_0f1f;
+        /// Crack-closing wedges in the wedge view.
+        WEDGE_RGB = 0xff_00ff;
     }
 }

@@ -11,7 +11,8 @@ use crate::gpu::{DrawPush, DrawTarget, SceneGpu};
 use crate::patch::view::ViewParams;
 use crate::scene::camera::Camera;
 use crate::vk::{
-    buffer_barrier, Access, Buffer, Context, GpuTimer, PipelineLayout, VkError, VkResult,
+    buffer_barrier, Access, Buffer, Context, FrameRing, GpuTimer, PipelineLayout, PrimitiveCounter,
+    VkError, VkResult, MAX_FRAME_PARTS,
 };
 
 /// One view: the criterion's constants plus what drawing needs.
@@ -103,11 +104,21 @@ pub struct CopyRange {
     pub len: u32,
 }
 
+/// What lets a recorder split its frame into parts: the ring whose slot it
+/// records into and the slot's primitive counter (a query cannot span
+/// command buffers).
+struct Parts<'a> {
+    frames: &'a mut FrameRing,
+    primitives: &'a mut PrimitiveCounter,
+    count: u32,
+}
+
 /// A method recording one frame. Created by the renderer per frame.
 pub struct FrameRec<'a> {
     /// The context.
     pub ctx: &'a Context,
-    /// The slot's command buffer, recording.
+    /// The command buffer being recorded (the current part's, see
+    /// [`FrameRec::split`]).
     pub cmd: vk::CommandBuffer,
     /// The frame slot (selects the view in set 0 and the copy-out area).
     pub slot: usize,
@@ -124,6 +135,7 @@ pub struct FrameRec<'a> {
     timer: &'a mut GpuTimer,
     copy_out: &'a Buffer,
     copied: u32,
+    parts: Option<Parts<'a>>,
 }
 
 impl<'a> FrameRec<'a> {
@@ -153,7 +165,59 @@ impl<'a> FrameRec<'a> {
             timer,
             copy_out,
             copied: 0,
+            parts: None,
         }
+    }
+
+    /// Lets the recorder split the frame (see [`FrameRec::split`]): `frames`
+    /// holds the slot being recorded, `primitives` its counter, begun in
+    /// the current command buffer (used by the renderer).
+    pub fn with_parts(
+        mut self,
+        frames: &'a mut FrameRing,
+        primitives: &'a mut PrimitiveCounter,
+    ) -> Self {
+        self.parts = Some(Parts {
+            frames,
+            primitives,
+            count: 1,
+        });
+        self
+    }
+
+    /// The most parts this frame can be recorded in: 1 for a recorder
+    /// without a frame ring (a one-shot command buffer).
+    pub fn max_parts(&self) -> u32 {
+        if self.parts.is_some() {
+            MAX_FRAME_PARTS
+        } else {
+            1
+        }
+    }
+
+    /// Parts recorded so far (1 before any split).
+    pub fn parts(&self) -> u32 {
+        self.parts.as_ref().map_or(1, |p| p.count)
+    }
+
+    /// Ends the current part of the frame and starts the next in a new
+    /// command buffer ([`FrameRec::cmd`]): its own submission and fence, so
+    /// that long work waits in pieces, each bounded by the fence timeout.
+    /// Nothing carries over between parts but memory: a method re-binds its
+    /// pipelines and sets, and begins rendering again (loading the target,
+    /// `DrawTarget::begin_part`). Timestamp scopes may repeat in every part
+    /// (they are summed); no scope may be open across a split.
+    pub fn split(&mut self) -> VkResult<()> {
+        let parts = self.parts.as_mut().ok_or_else(|| {
+            VkError::Usage("this frame recorder cannot split (a one-shot command buffer)".into())
+        })?;
+        // A query begins and ends in one command buffer.
+        parts.primitives.pause(self.cmd)?;
+        let next = parts.frames.next_part(self.ctx, self.slot)?;
+        parts.primitives.resume(next)?;
+        parts.count += 1;
+        self.cmd = next;
+        Ok(())
     }
 
     /// Records binding set 0 (the scene with this slot's view) for `layout`.

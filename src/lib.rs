@@ -11,6 +11,7 @@ pub mod files;
 pub mod frame;
 pub mod gpu;
 pub mod methods;
+pub mod palette;
 pub mod patch;
 pub mod raster;
 pub mod renderer;

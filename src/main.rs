@@ -1,5 +1,6 @@
 //! The `bezier-subdiv` command line.
 
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::str::FromStr;
@@ -30,6 +31,11 @@ use bezier_subdiv::vk::DeviceSelector;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Seconds one wait for the GPU may take before the run fails (default
+    /// 60, or BEZIER_SUBDIV_TIMEOUT). Long work is submitted in parts, each
+    /// waited for within this; raise it on a slow or busy device.
+    #[arg(long, global = true, value_name = "SECONDS", value_parser = parse_timeout)]
+    timeout: Option<std::time::Duration>,
 }
 
 #[derive(Subcommand)]
@@ -58,6 +64,11 @@ enum Command {
         /// dark blue … 10 dark red), wedges (depth darkened, wedges magenta).
         #[arg(long, value_name = "MODE", default_value = "normal", value_parser = PreviewShade::from_str)]
         preview_shade: PreviewShade,
+        /// Also break the figures down per model: patches drawn, ready
+        /// quads, triangles, the wedge share, and why nodes split (edges
+        /// along both directions, along one only, or the inner tier alone).
+        #[arg(long)]
+        by_model: bool,
     },
     /// Render one frame offscreen: a PNG plus its statistics as JSON.
     ///
@@ -78,9 +89,17 @@ enum Command {
         /// Output PNG (default: out/<scene name>.png; out/ is created).
         #[arg(long, value_name = "FILE.png")]
         out: Option<PathBuf>,
-        /// Time N more frames of the same view after the first (a warm-up):
-        /// the stats file's gpu_ms become the medians, with gpu_ms_min and
-        /// gpu_ms_max beside them.
+        /// Untimed frames of the same view before the timed one: the first
+        /// frame pays for shader compilation and caches (seconds on a fresh
+        /// machine). Its figures stay in the stats file as gpu_ms_cold; 0
+        /// times the first, cold frame itself. Default 1, and 0 for
+        /// ground-truth, whose image is what it is for (at grid 64 a frame
+        /// of the kitchen takes half a minute on a CPU device).
+        #[arg(long, value_name = "N")]
+        warmup: Option<u32>,
+        /// Time N frames after the warm-up instead of one: the stats file's
+        /// gpu_ms become the medians, with gpu_ms_min and gpu_ms_max beside
+        /// them.
         #[arg(long, value_name = "N", default_value_t = 0)]
         repeat: u32,
         /// Also draw the same view with ground-truth (at --grid) and compare:
@@ -277,11 +296,19 @@ struct FrameArgs {
     /// patch; lower it for quick references on a CPU device).
     #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
     grid: u32,
-    /// subdiv-indirect: the deepest level, at most 10 (6, as in the paper:
-    /// its node buffers are sized for the worst case, which grows fourfold
-    /// per level).
+    /// subdiv-indirect: the deepest level, at most 10 (the default; the
+    /// paper's variant stops at 6).
     #[arg(long, value_name = "D", default_value_t = bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH)]
     max_depth: u32,
+    /// subdiv: the persistent kernel, levels (depth-synchronous: the
+    /// per-depth schedule in one dispatch, a grid barrier between rounds;
+    /// the default) or queue (the work-queue kernel, kept for comparison).
+    #[arg(long, value_name = "K", default_value = "levels")]
+    kernel: bezier_subdiv::methods::subdiv::Kernel,
+    /// subdiv and subdiv-indirect: node memory of the level schedule in MiB
+    /// (default 24); a depth that does not fit is taken in parts.
+    #[arg(long, value_name = "MIB")]
+    node_memory: Option<f64>,
     /// Samples per pixel: 1 (no anti-aliasing), 2, 4 or 8 (default 1;
     /// view: 4). validate's oracle comparisons and hole test run
     /// single-sampled whatever this is.
@@ -321,12 +348,22 @@ impl FrameArgs {
             grid: self.grid,
             max_depth: self.max_depth,
             groups: self.groups,
+            kernel: self.kernel,
+            node_memory: self
+                .node_memory
+                .map_or(bezier_subdiv::methods::levels::DEFAULT_NODE_MEMORY, |m| {
+                    (m * f64::from(1u32 << 20)) as u64
+                }),
             msaa: self.msaa.unwrap_or(msaa),
             device: self.device.clone(),
             validation: self.vk_validation,
             forward_differencing: self.forward_diff,
         }
     }
+}
+
+fn parse_timeout(s: &str) -> Result<std::time::Duration, String> {
+    bezier_subdiv::vk::parse_timeout(s)
 }
 
 fn parse_on_off(s: &str) -> Result<bool, String> {
@@ -340,13 +377,38 @@ fn parse_on_off(s: &str) -> Result<bool, String> {
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
-    match run(cli.command) {
+    match set_timeout(cli.timeout).and_then(|()| run(cli.command)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // Not eprintln!: it panics when stderr is a closed pipe.
+            let _ = writeln!(std::io::stderr(), "error: {e:#}");
             ExitCode::FAILURE
         }
     }
+}
+
+/// Writes `text` to stdout. A reader that went away (a closed pipe, as in
+/// `| head -1`) is not a failure of the command: its work is done and its
+/// files are written, and what is left to print has nobody to read it, so
+/// the rest is dropped and the exit status stays the command's own. Every
+/// command prints through this, never through `print!` (which panics on a
+/// closed pipe).
+fn emit(text: &str) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r.map_err(|e| anyhow::anyhow!("writing to stdout: {e}")),
+    }
+}
+
+/// The fence timeout: `--timeout`, else the environment's (refused here, before
+/// any work, when it is not a number of seconds), else the default.
+fn set_timeout(flag: Option<std::time::Duration>) -> anyhow::Result<()> {
+    let env = bezier_subdiv::vk::env_fence_timeout().map_err(|e| anyhow::anyhow!(e))?;
+    if let Some(t) = flag.or(env) {
+        bezier_subdiv::vk::set_fence_timeout(t);
+    }
+    Ok(())
 }
 
 fn run(command: Command) -> anyhow::Result<()> {
@@ -357,6 +419,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             json,
             preview,
             preview_shade,
+            by_model,
         } => {
             let mut args = StatsArgs::new(resolve_scene(Some(&view.scene)));
             args.frame = frame;
@@ -365,22 +428,24 @@ fn run(command: Command) -> anyhow::Result<()> {
             args.size = view.size.unwrap_or(IMAGE_SIZE);
             args.preview = preview;
             args.preview_shade = preview_shade;
+            args.by_model = by_model;
             let report = commands::stats::run(&args)?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&report)?);
+                emit(&(serde_json::to_string_pretty(&report)? + "\n"))
             } else {
-                print!("{}", report.to_text());
+                let mut text = report.to_text();
                 if let Some(p) = &report.preview {
-                    println!("preview         {p} ({preview_shade})");
+                    text += &format!("preview         {p} ({preview_shade})\n");
                 }
-                println!("note: these are the CPU reference's figures; `render` runs the GPU.");
+                text += "note: these are the CPU reference's figures; `render` runs the GPU.\n";
+                emit(&text)
             }
-            Ok(())
         }
         Command::Render {
             frame,
             shade,
             out,
+            warmup,
             repeat,
             flip,
         } => {
@@ -389,11 +454,11 @@ fn run(command: Command) -> anyhow::Result<()> {
                 gpu: frame.request(IMAGE_SIZE, 1),
                 shade,
                 out,
+                warmup,
                 repeat,
                 flip,
             };
-            print!("{}", commands::render::run(&args)?);
-            Ok(())
+            emit(&commands::render::run(&args)?)
         }
         Command::Validate {
             frame,
@@ -407,7 +472,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 debug_dir,
             };
             let report = commands::validate::run(&args)?;
-            print!("{}", report.table);
+            emit(&report.table)?;
             if report.ok() {
                 Ok(())
             } else {
@@ -431,8 +496,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 screenshot,
                 resize,
             };
-            print!("{}", bezier_subdiv::app::run(&args)?);
-            Ok(())
+            emit(&bezier_subdiv::app::run(&args)?)
         }
         Command::Bench {
             scene,
@@ -464,12 +528,12 @@ fn run(command: Command) -> anyhow::Result<()> {
                 ..BenchArgs::new(resolve_scene(Some(&scene)), out)
             };
             let done = commands::bench::run(&args)?;
-            println!(
-                "wrote {}: frames.csv ({} frames), flip.csv ({} images), summary.json, report.md, plots",
+            emit(&format!(
+                "wrote {}: frames.csv ({} frames), flip.csv ({} images), summary.json, report.md, plots\n",
                 done.out.display(),
                 done.rows,
                 done.flips
-            );
+            ))?;
             match done.stopped {
                 None => Ok(()),
                 Some(why) => Err(anyhow::anyhow!(
@@ -477,10 +541,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 )),
             }
         }
-        Command::Info { vk_validation } => {
-            print!("{}", commands::info::run(vk_validation)?);
-            Ok(())
-        }
+        Command::Info { vk_validation } => emit(&commands::info::run(vk_validation)?),
         Command::Import {
             file,
             out,
@@ -488,11 +549,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             isolate,
         } => {
             let options = bezier_subdiv::scene::obj::CageOptions { boundary, isolate };
-            print!(
-                "{}",
-                commands::import::run(&file, out.as_deref(), &options)?
-            );
-            Ok(())
+            emit(&commands::import::run(&file, out.as_deref(), &options)?)
         }
     }
 }

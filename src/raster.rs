@@ -85,41 +85,16 @@ impl FromStr for PreviewShade {
     }
 }
 
-/// Per-model tints (linear RGB), cycled by model index.
-const PALETTE: [[f32; 3]; 12] = [
-    [0.62, 0.60, 0.56],
-    [0.55, 0.33, 0.18],
-    [0.85, 0.80, 0.68],
-    [0.22, 0.20, 0.22],
-    [0.92, 0.90, 0.86],
-    [0.86, 0.78, 0.60],
-    [0.28, 0.26, 0.30],
-    [0.80, 0.50, 0.30],
-    [0.80, 0.18, 0.15],
-    [0.18, 0.18, 0.20],
-    [0.20, 0.45, 0.80],
-    [0.35, 0.65, 0.40],
-];
+/// The tint of a model in linear RGB for this rasteriser's lighting: the
+/// display colour every image gives the model (`palette::model_tint`).
+fn model_tint_linear(flags: u32) -> [f32; 3] {
+    crate::palette::model_tint(flags >> PATCH_MODEL_SHIFT).map(|c| c.powf(2.2))
+}
 
-/// QuadNode depth 0..=10 as a turbo-like ramp (sRGB): dark blue, blue, cyan,
-/// green, yellow, orange, red, dark red.
-const DEPTH_RAMP: [[u8; 3]; 11] = [
-    [48, 18, 59],
-    [67, 85, 200],
-    [62, 150, 250],
-    [30, 200, 220],
-    [40, 235, 160],
-    [120, 250, 90],
-    [195, 240, 50],
-    [245, 200, 50],
-    [250, 135, 35],
-    [215, 60, 15],
-    [130, 10, 5],
-];
-
-/// The colour of QuadNode depth `l` in the depth ramp (clamped to 10).
+/// The colour of QuadNode depth `l` in the depth ramp (clamped to 10): the
+/// GPU's heat map colours (`palette::depth_color`).
 pub fn depth_color(l: u32) -> [u8; 3] {
-    DEPTH_RAMP[(l as usize).min(DEPTH_RAMP.len() - 1)]
+    crate::palette::depth_color(l)
 }
 
 const WEDGE_COLOR: [u8; 3] = [255, 0, 255];
@@ -497,7 +472,7 @@ fn face_light(t: &Triangle, eye: DVec3) -> f32 {
 }
 
 fn shade_normal(n: DVec3, flags: u32, f: &Fragment, eye: DVec3, light: DVec3) -> [u8; 4] {
-    let tint = PALETTE[((flags >> PATCH_MODEL_SHIFT) as usize) % PALETTE.len()];
+    let tint = model_tint_linear(flags);
     let to_eye = (eye - f.world).normalize_or_zero();
     let mut n = n.normalize_or_zero();
     let mut tint = tint;
@@ -520,6 +495,20 @@ fn shade_normal(n: DVec3, flags: u32, f: &Fragment, eye: DVec3, light: DVec3) ->
 mod tests {
     use super::*;
     use crate::patch::quadnode::QuadNode;
+
+    /// The preview shows each model in the tint every image gives it: fully
+    /// lit, its pixel is the palette's display colour.
+    #[test]
+    fn preview_tints_are_the_palette() {
+        for model in 0..40 {
+            let lit = to_srgb8(model_tint_linear(model << PATCH_MODEL_SHIFT));
+            let want = crate::palette::model_tint(model);
+            for k in 0..3 {
+                let d = (f32::from(lit[k]) - want[k] * 255.0).abs();
+                assert!(d <= 1.0, "model {model}: {lit:?} against {want:?}");
+            }
+        }
+    }
     use crate::scene::camera::Camera;
     use rand::{rngs::SmallRng, Rng, SeedableRng};
 

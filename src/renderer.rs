@@ -30,14 +30,23 @@ use crate::patch::view::ViewParams;
 use crate::scene::file::{SceneGeometry, SceneShading};
 use crate::vk::{
     host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, PrimitiveCounter,
-    PrimitiveQuery, VkError, VkResult,
+    PrimitiveQuery, ProgressSink, VkError, VkResult, MAX_FRAME_PARTS,
 };
 
 /// Frames in flight unless told otherwise.
 pub const DEFAULT_FRAMES_IN_FLIGHT: usize = 2;
 
-/// Timestamp scopes per frame: the frame, and a method's passes.
-const MAX_SCOPES: u32 = 12;
+/// How many fence timeouts the first frame of a method may wait on a CPU
+/// device: a CPU driver (lavapipe) compiles a pipeline's shaders when it
+/// first runs them, inside the frame, and no split can shorten that (the
+/// kitchen's first `subdiv` frame took 38 s on a busy 2-core machine, and
+/// over 60 s with a second render beside it). A GPU driver compiles when
+/// the pipeline is made, before any wait.
+pub const COLD_WAIT_FACTOR: u32 = 5;
+
+/// Timestamp scopes per frame: the frame, and a method's passes, some of
+/// them once per part of a frame recorded in parts.
+const MAX_SCOPES: u32 = 12 + 3 * MAX_FRAME_PARTS;
 
 /// How a renderer is set up.
 #[derive(Clone, Debug)]
@@ -124,6 +133,9 @@ pub struct Renderer {
     shaders: Shaders,
     /// Released once the slot in `.0` has finished (see `collect`).
     retired: Vec<(usize, Box<dyn Any>)>,
+    /// Methods that drew a frame since they were made (their shaders are
+    /// compiled; see [`COLD_WAIT_FACTOR`]).
+    warm: Vec<&'static str>,
     last_submitted: Option<usize>,
     serial: u64,
     /// Capture drawn positions for validation (ready-list methods).
@@ -179,6 +191,7 @@ impl Renderer {
             scene_layout,
             shaders,
             retired: Vec::new(),
+            warm: Vec::new(),
             last_submitted: None,
             serial: 0,
             capture: false,
@@ -191,6 +204,12 @@ impl Renderer {
     /// The context.
     pub fn context(&self) -> &Arc<Context> {
         &self.ctx
+    }
+
+    /// Where waits for frames recorded in more than one part report their
+    /// progress (a terminal's progress bar; `None`: nowhere).
+    pub fn set_progress(&mut self, sink: Option<ProgressSink>) {
+        self.frames.set_progress(sink);
     }
 
     /// Switches to method `name`, making it on first use.
@@ -231,8 +250,10 @@ impl Renderer {
             return Ok(());
         }
         // Methods are remade below, so frames in flight can no longer be
-        // finished by the method that recorded them.
+        // finished by the method that recorded them, and their first
+        // frames compile again.
         self.forget_frames();
+        self.warm.clear();
         if options.samples != self.options.samples {
             return self.set_samples(options);
         }
@@ -409,11 +430,17 @@ impl Renderer {
             self.frames.abandon(slot);
             return Err(e);
         }
-        self.frames.submit(
-            &self.ctx,
-            slot,
-            &format!("frame ({})", self.method().name()),
-        )?;
+        let name = self.method().name();
+        let cold = !self.warm.contains(&name);
+        let mut timeout = self.ctx.fence_timeout();
+        if cold && self.ctx.info().is_cpu {
+            timeout *= COLD_WAIT_FACTOR;
+        }
+        self.frames
+            .submit_timed(&self.ctx, slot, &format!("frame ({name})"), timeout)?;
+        if cold {
+            self.warm.push(name);
+        }
         self.serial += 1;
         self.slots[slot].frame = Some((self.active, self.serial));
         self.last_submitted = Some(slot);
@@ -435,23 +462,35 @@ impl Renderer {
         data.primitives.reset(cmd);
         let mesh = self.methods[self.active].uses_mesh_shaders();
         data.primitives.begin(cmd, mesh)?;
+        // The whole frame is one scope, across its parts: timestamps,
+        // unlike queries, may begin and end in different command buffers.
         data.timer.begin(cmd, "frame")?;
-        let mut f = FrameRec::new(
-            &self.ctx,
-            cmd,
-            slot,
-            &self.scene,
-            view,
-            &self.target,
-            self.capture,
-            retired,
-            &mut data.timer,
-            &data.copy_out,
-        );
-        self.methods[self.active].record(&mut f)?;
-        data.timer.end(cmd, "frame")?;
-        data.primitives.end(cmd)?;
-        host_read_barrier(&self.ctx, cmd);
+        // The command buffer of the last part the method recorded, and
+        // whether it recorded the frame.
+        let (recorded, last) = {
+            let mut f = FrameRec::new(
+                &self.ctx,
+                cmd,
+                slot,
+                &self.scene,
+                view,
+                &self.target,
+                self.capture,
+                retired,
+                &mut data.timer,
+                &data.copy_out,
+            )
+            .with_parts(&mut self.frames, &mut data.primitives);
+            let recorded = self.methods[self.active].record(&mut f);
+            (recorded, f.cmd)
+        };
+        // The query ends even when the method refused the frame, so the
+        // abandoned command buffer is still well formed.
+        let ended = data.primitives.end(last);
+        recorded?;
+        ended?;
+        data.timer.end(last, "frame")?;
+        host_read_barrier(&self.ctx, last);
         Ok(())
     }
 

@@ -106,14 +106,12 @@ fn a_short_bench_writes_every_report() {
         "wedge_share",
         "gpu_ms.frame",
         "gpu_ms.subdivide",
-        "gpu_ms.sort",
         "gpu_ms.draw",
-        "memory_bytes.queue",
-        "memory_bytes.node_buffers",
+        "memory_bytes.node_memory",
         "method_stats.ready_quads",
         "method_stats.max_depth",
-        "method_stats.queue_peak_items",
-        "method_stats.queue_spills",
+        "method_stats.rounds",
+        "method_stats.chunk_nodes",
     ] {
         column(&rows, name);
     }
@@ -386,4 +384,125 @@ fn ctrl_c_stops_the_binary_with_its_reports_written() {
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("stopped early"), "{md}");
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Against `tess` over several ε and λ: a method that ignores λ runs once
+/// per ε (its λ cell empty), perspectives count from 1 as the file names
+/// do, the report compares at equal error, a λ sweep draws Fig. 6, and
+/// two methods with identical curves both show in the plot.
+#[test]
+fn a_bench_against_tess_compares_at_equal_error() {
+    let gpu = common::gpu();
+    let out = out_dir("pareto");
+    let args = BenchArgs {
+        methods: Some(vec![
+            "subdiv".into(),
+            "subdiv-indirect".into(),
+            "tess".into(),
+        ]),
+        eps: vec![0.5, 1.0, 2.0, 4.0],
+        lambda: vec![0.0, 0.5, 1.0],
+        frames: Some(1),
+        size: (160, 90),
+        warmup: Some(0),
+        flip_frames: Some(1),
+        grid: 8,
+        ..BenchArgs::new(scene_file("teapot.toml"), out.clone())
+    };
+    let cancel = AtomicBool::new(false);
+    let done = run_on(&gpu.arc(), &args, &cancel, &mut |_| {}).unwrap();
+    assert_eq!(done.stopped, None);
+    // 2 methods × 3 λ × 4 ε, and tess once per ε.
+    assert_eq!(done.rows, 2 * 3 * 4 + 4);
+    let rows = csv(&out.join("frames.csv"));
+    let (m, l) = (column(&rows, "method"), column(&rows, "lambda"));
+    let tess: Vec<&Vec<String>> = rows[1..].iter().filter(|r| r[m] == "tess").collect();
+    assert_eq!(tess.len(), 4);
+    assert!(tess.iter().all(|r| r[l].is_empty()), "tess ignores λ");
+    let flips = csv(&out.join("flip.csv"));
+    let (p, img) = (column(&flips, "perspective"), column(&flips, "image"));
+    for r in &flips[1..] {
+        assert_eq!(r[p], "1");
+        assert!(r[img].ends_with("-p1.png"), "{}", r[img]);
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        md.contains("## At equal image error (against `tess`)"),
+        "{md}"
+    );
+    assert!(md.contains("| subdiv λ=0.5 | 1 |"), "{md}");
+    assert!(md.contains("- **subdiv λ=0.5**"), "{md}");
+    assert!(
+        md.contains("| ε | | tess | subdiv, λ = 1 | subdiv-indirect, λ = 1 | subdiv, λ = 0.5 |"),
+        "tess has one column in Table 2:\n{md}"
+    );
+    for f in [
+        "flip_vs_triangles.png",
+        "flip_vs_time.png",
+        "geometric_vs_triangles.png",
+        "lambda.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    // Beside FLIP: the geometric error, each method's ε against it, and
+    // where the image error lies (per model: the teapot alone here).
+    for want in [
+        "## At equal geometric error (against `tess`)",
+        "## Geometric error and each method's ε",
+        "## Where the image error lies (ε = 1)",
+        "teapot 100 %",
+    ] {
+        assert!(md.contains(want), "report.md lacks {want:?}:\n{md}");
+    }
+    let (geo, sil) = (
+        column(&flips, "geo_p99_px"),
+        column(&flips, "silhouette_diff_px"),
+    );
+    for r in &flips[1..] {
+        let p99: f64 = r[geo].parse().unwrap();
+        assert!(p99 > 0.0 && p99 < 20.0, "{p99}");
+        assert!(r[sil].parse::<u64>().is_ok());
+    }
+    let per_model = csv(&out.join("breakdown.csv"));
+    assert_eq!(per_model.len(), flips.len(), "one model, one row per image");
+    assert!(per_model[1..]
+        .iter()
+        .all(|r| r[column(&per_model, "model")] == "teapot"));
+    // subdiv and subdiv-indirect draw the same triangles, so their curves
+    // coincide; both colours must still show.
+    let png = image::open(out.join("flip_vs_triangles.png"))
+        .unwrap()
+        .to_rgb8();
+    // Inside the panel, not the legend column on the right.
+    let panel_width = png.width() - 300;
+    let count = |c: [u8; 3]| {
+        png.enumerate_pixels()
+            .filter(|(x, _, p)| *x < panel_width && p.0 == c)
+            .count()
+    };
+    let (blue, red) = (count([31, 119, 180]), count([214, 39, 40]));
+    assert!(
+        blue > 500 && red > 500,
+        "subdiv {blue} px, subdiv-indirect {red} px"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+    gpu.finish();
+}
+
+/// A method that cannot draw the scene refuses the run before anything is
+/// written: no output directory, no empty `flip/`.
+#[test]
+fn a_refused_method_leaves_nothing_behind() {
+    let gpu = common::gpu();
+    let out = out_dir("refused");
+    let mut args = short(scene_file("rational.toml"), out.clone());
+    args.methods = Some(vec!["subdiv".into(), "tess".into()]);
+    let cancel = AtomicBool::new(false);
+    let e = run_on(&gpu.arc(), &args, &cancel, &mut |_| {}).unwrap_err();
+    assert!(
+        format!("{e:#}").contains("cannot draw rational patches"),
+        "{e:#}"
+    );
+    assert!(!out.exists(), "{} was created", out.display());
+    gpu.finish();
 }

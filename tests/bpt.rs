@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::scene::bpt::{parse, read, write};
+use bezier_subdiv::scene::file::MAX_COORD;
 use bezier_subdiv::scene::SceneError;
 use glam::{DVec3, Vec3};
 fn teapot_path() -> PathBuf {
@@ -236,11 +237,12 @@ fn write_round_trips_awkward_floats() {
     let awkward = [
         1.0e-38f32,
         f32::MIN_POSITIVE / 3.0, // subnormal
-        f32::MAX,
-        -f32::MAX,
+        // The largest magnitudes a scene accepts (and the f32 just below).
+        f32::from_bits(MAX_COORD.to_bits() - 1),
+        -MAX_COORD,
         0.1,
         1.0 / 3.0,
-        16_777_217.0,
+        999_999.06, // not exact in f32
         -2.5e-7,
     ];
     for (k, p) in pts.iter_mut().enumerate() {
@@ -270,6 +272,12 @@ fn write_refuses_bad_input_and_leaves_nothing() {
     bad.pts[5].y = f32::NAN;
     assert!(matches!(
         write(&f.0, &[bad]),
+        Err(SceneError::Invalid { .. })
+    ));
+    let mut far = one_patch();
+    far.pts[5].y = 2.0 * MAX_COORD;
+    assert!(matches!(
+        write(&f.0, &[far]),
         Err(SceneError::Invalid { .. })
     ));
     assert!(!f.0.exists());
@@ -362,6 +370,18 @@ fn errors_name_the_file_and_line() {
     expect_error("nan", &with_line(7, "1.0,NaN,2"), 8, "not finite");
     expect_error("inf", &with_line(9, "inf,0,2"), 10, "not finite");
     expect_error("overflow", &with_line(9, "1e39,0,2"), 10, "not finite");
+    expect_error(
+        "beyond-scene-limit",
+        &with_line(9, "1e30,0,2"),
+        10,
+        "beyond ±1e6",
+    );
+    expect_error(
+        "just-beyond",
+        &with_line(9, "0,-1000000.1,2"),
+        10,
+        "coordinate y",
+    );
     expect_error(
         "trailing",
         &(good.join("\n") + "\n\nhello\n"),

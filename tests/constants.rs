@@ -118,7 +118,7 @@ fn flags_and_error_bits_are_distinct_single_bits() {
                 ERR_ITERATION_CAP,
                 ERR_READY_FULL,
                 ERR_STACK_OVERFLOW,
-                ERR_LEVEL_FULL,
+                ERR_WATCHDOG,
             ][..],
         ),
     ] {
@@ -136,7 +136,7 @@ fn flags_and_error_bits_are_distinct_single_bits() {
 
 #[test]
 fn bindings_number_each_set_from_zero() {
-    let sets: [(&str, Vec<u32>, u32); 5] = [
+    let sets: [(&str, Vec<u32>, u32); 6] = [
         (
             "scene",
             vec![
@@ -163,6 +163,11 @@ fn bindings_number_each_set_from_zero() {
             "queue",
             vec![BIND_QUEUE_ITEMS, BIND_QUEUE_SEQS, BIND_QUEUE_STATE],
             QUEUE_BINDINGS,
+        ),
+        (
+            "level",
+            vec![BIND_LEVEL_NODES, BIND_LEVEL_SCANS, BIND_LEVEL_STATE],
+            LEVEL_BINDINGS,
         ),
         (
             "grid",
@@ -238,10 +243,10 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
         (C_EXPAND_ARGS, 3),
         (C_DRAW_ARGS, 4),
         (C_SORT_BLOCK_ARGS, 3),
-        (C_SORT_MERGE_ARGS, 3),
     ];
+    let merges = (0..SORT_MAX_MERGES).map(|i| (C_SORT_MERGE_ARGS + 4 * i, 3));
     let mut owner = vec![None; COUNTER_WORDS as usize];
-    let slots = scalars.iter().map(|&c| (c, 1)).chain(ranges);
+    let slots = scalars.iter().map(|&c| (c, 1)).chain(ranges).chain(merges);
     for (i, (start, len)) in slots.enumerate() {
         for word in start..start + len {
             let slot = owner
@@ -251,4 +256,65 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
             *slot = Some(i);
         }
     }
+}
+
+#[test]
+fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
+    let depths = L_MAX + 1;
+    let mut slots: Vec<(u32, u32)> = vec![
+        (S_ARGS, 3),
+        (S_ARRIVE, 1),
+        (S_GENERATION, 1),
+        (S_JOIN, 1),
+        (S_PARTICIPANTS, 1),
+        (S_ABORT, 1),
+        (S_LEVEL_COUNT, depths),
+        (S_LEVEL_NEXT, depths),
+        (S_LEVEL_BLOCKS, depths),
+        (S_DEPTH_NODES, depths),
+    ];
+    slots.extend(
+        [
+            S_LEVEL,
+            S_FIRST,
+            S_COUNT,
+            S_COPY_BLOCKS,
+            S_COPY_BASE,
+            S_READY,
+            S_ROUND,
+            S_DONE,
+            S_SPLIT_ROUNDS,
+            S_PEAK_NODES,
+        ]
+        .map(|w| (w, 1)),
+    );
+    let mut owner = vec![None; LEVEL_STATE_WORDS as usize];
+    for (i, (start, len)) in slots.iter().enumerate() {
+        for word in *start..start + len {
+            let slot = owner
+                .get_mut(word as usize)
+                .unwrap_or_else(|| panic!("word {word} is beyond LEVEL_STATE_WORDS"));
+            assert_eq!(*slot, None, "word {word} is used twice");
+            *slot = Some(i);
+        }
+    }
+    // The words polled and hammered by every workgroup sit on 64-byte lines
+    // of their own; the discovery words share one (used once per frame).
+    let line = |w: u32| w / 16;
+    let hot = [S_ARRIVE, S_GENERATION, S_JOIN];
+    for (i, &a) in hot.iter().enumerate() {
+        for &b in &hot[i + 1..] {
+            assert_ne!(line(a), line(b), "{a} and {b} share a cache line");
+        }
+        for (start, len) in &slots {
+            if !hot.contains(start) && ![S_PARTICIPANTS, S_ABORT].contains(start) {
+                assert!(
+                    (*start..start + len).all(|w| line(w) != line(a)),
+                    "word {start} shares the line of {a}"
+                );
+            }
+        }
+    }
+    const { assert!(JOIN_CLOSED.is_power_of_two() && JOIN_CLOSED > 1 << 30) };
+    const { assert!(SPLIT_MAX_CHILDREN >= 2) };
 }

@@ -2,7 +2,8 @@
 //! ready list the CPU oracle made (so no subdivision kernel is involved):
 //! vertex positions equal the oracle's bit for bit, the two paths' images
 //! agree, wedges switch off as expected, and the winding makes outward
-//! faces front faces. Images go to `target/test-output/draw/`.
+//! faces front faces. Images of failures go to Cargo's scratch directory
+//! (`CARGO_TARGET_TMPDIR`), `draw/`.
 
 mod common;
 mod draw_rig;

@@ -1,14 +1,16 @@
 //! Whole GPU frames (subdivision kernel + draw) on lavapipe with the
 //! validation layer on: quads and vertex bits against the oracle over a grid
-//! of ε and λ on both draw paths, the two paths' images, determinism, a tiny
-//! queue, and hostile cameras. One device and one set of pipelines per path
-//! for the whole binary.
+//! of ε and λ on both draw paths, the two paths' images, determinism (the
+//! two methods' lists and images equal without a sort; the queue kernel's
+//! sorted ones with a tiny queue), and hostile cameras. One device and one
+//! set of pipelines per path for the whole binary.
 
 mod common;
 
 use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::subdiv::Kernel;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::patch::oracle::subdivide_parallel;
 use bezier_subdiv::patch::quadnode::QuadNode;
@@ -75,9 +77,8 @@ fn differing_pixels(a: &[u8], b: &[u8]) -> usize {
 }
 
 /// Both subdivision methods against the oracle over ε × λ, the persistent
-/// one on both draw paths; the paths' images agree, and the per-depth
-/// method draws the persistent one's image wherever its depth limit did
-/// not cut the tree.
+/// one on both draw paths; the paths' images agree, and the two methods
+/// write the same list in the same order, so they draw the same image.
 #[test]
 fn grid_of_eps_and_lambda_on_both_paths() {
     let gpu = common::gpu();
@@ -88,7 +89,7 @@ fn grid_of_eps_and_lambda_on_both_paths() {
     let mut indirect = method(&gpu, &teapot_geo, "subdiv-indirect", DrawPath::Mesh);
     let total = (SIZE.0 * SIZE.1) as usize;
     let mut worst = 0usize;
-    let mut same_as_persistent = 0;
+    let mut views = 0;
     for (s, geo, shading) in [
         (&teapot, &teapot_geo, &teapot_shading),
         (&kitchen, &kitchen_geo, &kitchen_shading),
@@ -106,12 +107,9 @@ fn grid_of_eps_and_lambda_on_both_paths() {
                     let (_, b) = check_frame(&mut fallback, geo, &v, &format!("{what} fallback"));
                     let (ready_c, c) =
                         check_frame(&mut indirect, geo, &v, &format!("{what} indirect"));
-                    let deepest = ready_a.iter().map(|q| q.depth()).max().unwrap_or(0);
-                    if deepest <= bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH {
-                        assert_eq!(ready_a.len(), ready_c.len(), "{what}");
-                        assert_eq!(differing_pixels(&a, &c), 0, "{what}: indirect image");
-                        same_as_persistent += 1;
-                    }
+                    assert!(ready_a == ready_c, "{what}: the methods' lists differ");
+                    assert_eq!(differing_pixels(&a, &c), 0, "{what}: indirect image");
+                    views += 1;
                     let diff = differing_pixels(&a, &b);
                     worst = worst.max(diff);
                     assert!(
@@ -124,15 +122,18 @@ fn grid_of_eps_and_lambda_on_both_paths() {
     }
     println!(
         "mesh vs fallback images: at most {worst} of {total} pixels differ; \
-         per-depth = persistent image in {same_as_persistent} of 36 views"
+         per-depth = persistent list and image in all {views} views"
     );
-    assert!(same_as_persistent > 20);
+    assert_eq!(views, 36);
     gpu.finish();
 }
 
-/// The same frame twice gives the same image, and a queue of a few dozen
-/// entries (stressed so that it overflows) gives the same ready set and
-/// image as the default budget.
+/// The same frame twice gives the same image, with either method and
+/// between them (no sort: the level kernels' order is canonical); a node
+/// memory small enough to take depths in parts gives the same ready set.
+/// The queue kernel's order depends on timing, so it sorts: a queue of a
+/// few dozen entries (stressed so that it overflows) gives the same ready
+/// set and image as its default budget.
 #[test]
 fn determinism_and_tiny_queue() {
     let gpu = common::gpu();
@@ -140,19 +141,48 @@ fn determinism_and_tiny_queue() {
     let cam = s.frame_camera(0).unwrap();
     let v = view(&cam, 1.0, 0.5, SHADE_NORMAL);
     let mut r = subdiv(&gpu, &geo, DrawPath::Mesh);
-    let (mut ready_a, img_a) = check_frame(&mut r, &geo, &v, "first");
+    let (ready_a, img_a) = check_frame(&mut r, &geo, &v, "first");
     let (_, img_b) = check_frame(&mut r, &geo, &v, "second");
     assert_eq!(
         differing_pixels(&img_a, &img_b),
         0,
         "the same frame rendered twice differs"
     );
+    let mut indirect = method(&gpu, &geo, "subdiv-indirect", DrawPath::Mesh);
+    let (ready_i, img_i) = check_frame(&mut indirect, &geo, &v, "per-depth");
+    assert!(ready_a == ready_i, "the two methods' lists differ");
+    assert_eq!(
+        differing_pixels(&img_a, &img_i),
+        0,
+        "the methods' images differ"
+    );
 
-    let tiny = MethodOptions {
-        queue_capacity: 32,
+    let small = MethodOptions {
+        node_memory: 64 << 10,
         ..MethodOptions::new(DrawPath::Mesh)
     };
-    let mut small = common::renderer(&gpu, &geo, "subdiv", SIZE, tiny);
+    let mut parts = common::renderer(&gpu, &geo, "subdiv", SIZE, small);
+    parts.capture = true;
+    let (mut ready_p, img_p) = check_frame(&mut parts, &geo, &v, "small node memory");
+    let report = parts.render(&v).unwrap();
+    let split = report.stats.get_u64("rounds_split").unwrap();
+    let diff = differing_pixels(&img_a, &img_p);
+    println!("node memory of 64 KiB: {split} rounds in parts; image differs in {diff} pixels");
+    assert!(split > 0);
+    let (mut sa, mut sb) = (ready_a.clone(), std::mem::take(&mut ready_p));
+    sa.sort();
+    sb.sort();
+    assert!(sa == sb);
+
+    let queue = |capacity: u32| MethodOptions {
+        kernel: Kernel::Queue,
+        queue_capacity: capacity,
+        ..MethodOptions::new(DrawPath::Mesh)
+    };
+    let mut big = common::renderer(&gpu, &geo, "subdiv", SIZE, queue(1 << 19));
+    big.capture = true;
+    let (mut ready_q, img_q) = check_frame(&mut big, &geo, &v, "queue kernel");
+    let mut small = common::renderer(&gpu, &geo, "subdiv", SIZE, queue(32));
     small.capture = true;
     let mut stressed = v;
     stressed.params.flags |= FLAG_QUEUE_STRESS;
@@ -161,11 +191,11 @@ fn determinism_and_tiny_queue() {
     let peak = report.stats.get_u64("queue_peak_items").unwrap();
     assert!(spills > 0, "{:?}", report.stats);
     assert!(peak <= 32);
-    let (mut ready_b, img_c) = check_frame(&mut small, &geo, &stressed, "tiny queue");
-    ready_a.sort();
-    ready_b.sort();
-    assert!(ready_a == ready_b);
-    let diff = differing_pixels(&img_a, &img_c);
+    let (mut ready_t, img_t) = check_frame(&mut small, &geo, &stressed, "tiny queue");
+    ready_q.sort();
+    ready_t.sort();
+    assert!(ready_q == ready_t);
+    let diff = differing_pixels(&img_q, &img_t);
     println!(
         "tiny queue: {spills} spills, peak {peak}; image differs from the default budget in {diff} pixels"
     );

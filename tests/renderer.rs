@@ -6,6 +6,8 @@
 
 mod common;
 
+use std::cell::RefCell;
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -215,10 +217,19 @@ fn failed_scene_replacement_leaves_the_old_one() {
     gpu.finish();
 }
 
+/// The queue kernel (whose planted phantom item keeps it running until its
+/// iteration cap), with no barriers that a loaded CPU could stretch.
+fn queue_options() -> MethodOptions {
+    MethodOptions {
+        kernel: bezier_subdiv::methods::subdiv::Kernel::Queue,
+        ..MethodOptions::new(DrawPath::Mesh)
+    }
+}
+
 fn short_timeout_renderer(ctx: &Arc<Context>, geo: &SceneGeometry) -> Renderer {
     let methods = MethodOptions {
         plant_endless_loop: true,
-        ..MethodOptions::new(DrawPath::Mesh)
+        ..queue_options()
     };
     Renderer::new(
         Arc::clone(ctx),
@@ -276,7 +287,7 @@ fn fence_timeout_keeps_resources_alive() {
         "the frame ended {:?} after its wait timed out",
         start.elapsed()
     );
-    r.set_options(MethodOptions::new(DrawPath::Mesh)).unwrap();
+    r.set_options(queue_options()).unwrap();
     let report = r.render(&views[0]).unwrap();
     assert_eq!(
         report.stats.get_u64("ready_quads"),
@@ -304,4 +315,57 @@ fn fence_timeout_keeps_resources_alive() {
     let (count, messages) = debug.take_errors();
     assert_eq!(count, 0, "{messages:#?}");
     shared.finish();
+}
+
+/// The ground truth of a large scene is submitted in parts of bounded size,
+/// each its own fence wait, reported to the progress sink as it finishes;
+/// the parts draw exactly the image and the counts of one submission, with
+/// and without multisampling (the later parts load colour samples and
+/// depth).
+#[test]
+fn ground_truth_in_parts_draws_what_one_submission_draws() {
+    let gpu = common::gpu();
+    let (s, geo) = common::scene("kitchen.toml");
+    let view = View::new(&s.frame_camera(0).unwrap(), SIZE, 1.0, 0.5, SHADE_NORMAL);
+    for samples in [1, 4] {
+        let draw = |part_triangles: u64| {
+            let mut options = MethodOptions::new(DrawPath::Mesh);
+            options.grid = 8;
+            options.samples = samples;
+            options.part_triangles = part_triangles;
+            let mut r = common::renderer(&gpu, &geo, "ground-truth", SIZE, options);
+            let seen = Rc::new(RefCell::new(Vec::new()));
+            let sink = Rc::clone(&seen);
+            r.set_progress(Some(Box::new(move |p| {
+                sink.borrow_mut().push((p.done, p.total))
+            })));
+            let report = r.render(&view).unwrap();
+            let image = r.read_image().unwrap();
+            let seen = seen.borrow().clone();
+            (image, report, seen)
+        };
+        let (whole, one, seen_one) = draw(u64::MAX);
+        // 128 triangles per patch at grid 8: 1,000 patches per part.
+        let (split, many, seen_many) = draw(128 * 1000);
+        let parts = |r: &bezier_subdiv::renderer::FrameReport| r.stats.get_u64("parts");
+        assert_eq!(parts(&one), Some(1));
+        assert!(
+            seen_one.is_empty(),
+            "one part reports nothing: {seen_one:?}"
+        );
+        let n = geo.patches.len().div_ceil(1000) as u32;
+        assert_eq!(parts(&many), Some(u64::from(n)), "{samples}x");
+        let expected: Vec<(u32, u32)> = (0..=n).map(|k| (k, n)).collect();
+        assert_eq!(seen_many, expected);
+        assert_eq!(one.triangles(), many.triangles());
+        assert_eq!(
+            one.stats.get_u64("visible_patches"),
+            many.stats.get_u64("visible_patches")
+        );
+        assert_eq!(one.stats.culled_patches, many.stats.culled_patches);
+        assert!(one.triangles() > 0);
+        let differing = whole.iter().zip(&split).filter(|(a, b)| a != b).count();
+        assert_eq!(differing, 0, "{samples}x: the parts drew another image");
+    }
+    gpu.finish();
 }

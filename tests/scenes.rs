@@ -13,7 +13,8 @@ use bezier_subdiv::scene::file::{Scene, SceneGeometry, PATCH_MODEL_SHIFT};
 /// The paper's kitchen has 35,940 base patches; ours is built to match.
 const SCENES: &[(&str, usize, usize)] = &[
     ("teapot.toml", 32, 4),
-    ("kitchen.toml", 35_940, 7),
+    ("kitchen.toml", 35_940, 8),
+    ("blobs.toml", 35_940, 7),
     ("cages.toml", 577, 4),
     ("rational.toml", 56, 3),
 ];
@@ -109,10 +110,16 @@ fn header_table(text: &str) -> Vec<TableRow> {
 }
 
 #[test]
-fn the_kitchen_header_table_matches_the_geometry() {
-    let text = std::fs::read_to_string(scenes_dir().join("kitchen.toml")).unwrap();
+fn the_kitchen_header_tables_match_the_geometry() {
+    for name in ["kitchen.toml", "blobs.toml"] {
+        header_table_matches(name);
+    }
+}
+
+fn header_table_matches(name: &str) {
+    let text = std::fs::read_to_string(scenes_dir().join(name)).unwrap();
     let rows = header_table(&text);
-    let (_, geo) = load("kitchen.toml");
+    let (_, geo) = load(name);
     assert_eq!(rows.len(), geo.models.len(), "one table row per model");
     for (row, m) in rows.iter().zip(&geo.models) {
         assert_eq!(row.name, m.name);
@@ -127,7 +134,48 @@ fn the_kitchen_header_table_matches_the_geometry() {
             m.name
         );
     }
-    assert!(text.contains("35,940\n"), "the table's total line is stale");
+    assert!(
+        text.contains("35,940\n"),
+        "{name}: the table's total line is stale"
+    );
+}
+
+/// The kitchen and its furniture cages are what `tools/kitchen/make.py`
+/// writes: the script, not the files, is what gets edited.
+#[test]
+fn the_kitchen_is_what_its_script_writes() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!("bezier-subdiv-kitchen-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let run = std::process::Command::new("python3")
+        .arg(root.join("tools/kitchen/make.py"))
+        .arg(&out)
+        .output()
+        .expect("python3 runs tools/kitchen/make.py");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let mut written = vec![out.join("kitchen.toml")];
+    for e in std::fs::read_dir(out.join("models")).unwrap() {
+        written.push(e.unwrap().path());
+    }
+    assert!(
+        written.len() > 5,
+        "the script writes the scene and its cages"
+    );
+    for w in &written {
+        let rel = w.strip_prefix(&out).unwrap();
+        let shipped = std::fs::read(scenes_dir().join(rel))
+            .unwrap_or_else(|e| panic!("scenes/{}: {e}", rel.display()));
+        assert!(
+            shipped == std::fs::read(w).unwrap(),
+            "scenes/{} is not what tools/kitchen/make.py writes: run it",
+            rel.display()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]

@@ -21,7 +21,7 @@ fn args(scene: &str, draw: DrawRequest) -> ValidateArgs {
         gpu,
         frame: None,
         skip_holes: false,
-        debug_dir: Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output/holes")),
+        debug_dir: Some(common::output_dir("holes")),
     }
 }
 
@@ -75,8 +75,7 @@ fn ground_truth_gets_the_hole_test() {
 fn a_hole_test_that_checked_nothing_fails() {
     let _gpu = common::gpu();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("inside-out-torus");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::output_dir("inside-out-torus");
     let bpt = dir.join("torus.bpt");
     bezier_subdiv::commands::import::run(
         &root.join("scenes/models/catmark_torus.obj"),
@@ -114,7 +113,11 @@ fn a_hole_test_that_checked_nothing_fails() {
         .find(|r| r.check == "holes torus-inside-out.bpt")
         .expect("no hole test line");
     assert!(!holes.ok, "{}", report.table);
-    assert!(holes.detail.starts_with("nothing checked"), "{}", report.table);
+    assert!(
+        holes.detail.starts_with("nothing checked"),
+        "{}",
+        report.table
+    );
     assert!(!report.ok(), "{}", report.table);
     // The oracle checks still pass: the surface is the same, only turned.
     for r in report.results.iter().filter(|r| r.check != holes.check) {

@@ -426,9 +426,16 @@ fn fence_timeout_returns_an_error() {
     });
     let returned = start.elapsed();
     match result {
-        Err(VkError::FenceTimeout { label, timeout }) => {
+        Err(VkError::FenceTimeout {
+            label,
+            timeout,
+            waited,
+            part,
+        }) => {
             assert_eq!(label, "long selftest dispatch");
             assert_eq!(timeout, Duration::from_millis(1));
+            assert!(waited >= timeout, "{waited:?}");
+            assert_eq!(part, None, "one submission");
         }
         Err(e) => panic!("wrong error: {e}"),
         Ok(()) => panic!("a dispatch of seconds finished within 1 ms"),

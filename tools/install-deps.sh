@@ -19,7 +19,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 # fonts-dejavu-core: the TTF `bench` draws its plots' text with.
 MAIN_PKGS=(build-essential pkg-config libvulkan1 vulkan-tools
   vulkan-validationlayers libshaderc-dev glslc spirv-tools glslang-tools
-  xvfb xauth libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
+  xvfb xauth xdotool libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
   fonts-dejavu-core)
 
 have_all() {

@@ -82,21 +82,78 @@ const uint Q_HEAD = 0;
 const uint Q_TAIL = 1;
 const uint QUEUE_STATE_WORDS = 4;
 
-// Set 2 of the per-depth kernel (subdiv-indirect): the ping-pong node
-// buffers (odd depths in one, even depths from 2 in the other; depth 0 is
-// the base patches themselves) and the level buffer.
-const uint BIND_NODES_ODD = 0;
-const uint BIND_NODES_EVEN = 1;
-const uint BIND_LEVELS = 2;
+// Set 2 of the level kernels (subdiv's persistent kernel and
+// subdiv-indirect's per-depth rounds, glsl/common/level.glsl): the node
+// memory (a region of child slots per depth 1..levels, then two ready
+// scratch regions), the block scans of each region, the schedule state.
+const uint BIND_LEVEL_NODES = 0;
+const uint BIND_LEVEL_SCANS = 1;
+const uint BIND_LEVEL_STATE = 2;
 const uint LEVEL_BINDINGS = 3;
 
-// Words of the per-depth kernel's level buffer: the nodes of depth d at
-// L_COUNTS + d (counted on, past the capacity, so an overflow says how
-// much was needed), and from L_ARGS the dispatch arguments of depth d,
-// four words each.
-const uint L_COUNTS = 0;
-const uint L_ARGS = 16;
-const uint LEVEL_WORDS = 64;
+// Most children one split makes (1:4 today; a 1:2 split would make 2):
+// each block of LEVEL_GROUP_SIZE nodes owns LEVEL_GROUP_SIZE *
+// SPLIT_MAX_CHILDREN child slots in the next depth's region.
+const uint SPLIT_MAX_CHILDREN = 4;
+
+// Per block of a round, beside its children and ready counts: culled,
+// back-facing, at l_max, triangles, wedges, deepest ready depth.
+const uint LEVEL_BLOCK_STATS = 6;
+
+// Words of the level kernels' state buffer. Words that workgroups
+// synchronise on sit on cache lines of their own (16 words apart).
+// The next round's vkCmdDispatchIndirect arguments x, y, z.
+const uint S_ARGS = 0;
+// Workgroups that finished this round (acquire-release; the last
+// one scans the round's block totals and schedules the next).
+const uint S_ARRIVE = 16;
+// Persistent kernel: rounds released (release by the last arriver,
+// polled with acquire by the others).
+const uint S_GENERATION = 32;
+// Persistent kernel, occupancy discovery: workgroups that asked to
+// join, with JOIN_CLOSED set once the first one closed the window.
+const uint S_JOIN = 48;
+// Persistent kernel: workgroups that joined (0 until the window closed).
+const uint S_PARTICIPANTS = 49;
+// Persistent kernel: a watchdog tripped, every workgroup leaves.
+const uint S_ABORT = 50;
+// This round: the depth of its chunk, the chunk's first dense index
+// and node count, the previous round's ready blocks it copies and
+// where in the ready list they go.
+const uint S_LEVEL = 64;
+const uint S_FIRST = 65;
+const uint S_COUNT = 66;
+const uint S_COPY_BLOCKS = 67;
+const uint S_COPY_BASE = 68;
+// Ready nodes found so far.
+const uint S_READY = 69;
+// Rounds finished.
+const uint S_ROUND = 70;
+// 1 once nothing is left to process or copy.
+const uint S_DONE = 71;
+// Rounds that took a chunk of a depth holding more than one chunk.
+const uint S_SPLIT_ROUNDS = 72;
+// Most nodes one depth held at once.
+const uint S_PEAK_NODES = 73;
+// Per depth d (0..=L_MAX): nodes it holds, nodes already taken, and
+// the blocks of the chunk that filled it (the length of its scan).
+const uint S_LEVEL_COUNT = 80;
+const uint S_LEVEL_NEXT = 96;
+const uint S_LEVEL_BLOCKS = 112;
+// Per depth d: nodes processed over the frame.
+const uint S_DEPTH_NODES = 128;
+const uint LEVEL_STATE_WORDS = 144;
+
+// S_JOIN: the window-closed bit above the count.
+const uint JOIN_CLOSED = 0x80000000u;
+
+// Test-only faults of the persistent level kernel (LevelPush.faults),
+// to show that its watchdog turns a broken promise into a fallback.
+// One participant more than joined: a barrier that never completes.
+const uint FAULT_PHANTOM = 1;
+// Every launched workgroup joins, latecomers too: with more than the
+// device keeps resident, the first ones wait for ones that cannot start.
+const uint FAULT_NO_DISCOVERY = 2;
 
 // Set 1 of the ground truth's grids: the visible patches and the counters
 // that hold its indexed indirect draw.
@@ -105,11 +162,15 @@ const uint BIND_GRID_COUNTERS = 1;
 const uint GRID_BINDINGS = 2;
 
 // Words of the ground truth's counters: patches culled, and from
-// G_DRAW_ARGS the VkDrawIndexedIndirectCommand (index count, instance
-// count = visible patches, first index, vertex offset, first instance).
+// G_DRAW_ARGS one VkDrawIndexedIndirectCommand per part of the frame
+// (G_ARGS_WORDS words each: index count, instance count = the part's
+// visible patches, first index, vertex offset, first instance), for up
+// to G_MAX_PARTS parts (the frame ring's MAX_FRAME_PARTS).
 const uint G_CULLED = 0;
 const uint G_DRAW_ARGS = 4;
-const uint GRID_WORDS = 16;
+const uint G_ARGS_WORDS = 5;
+const uint G_MAX_PARTS = 64;
+const uint GRID_WORDS = 324;
 
 // Set 1 of the tessellation methods: their counters, and what validation
 // captures: the levels of every patch and the vertices on patch edges.
@@ -261,14 +322,16 @@ const uint C_EXPAND_ARGS = 36;
 // vkCmdDrawIndirect: vertices, instances, first vertex, first instance
 const uint C_DRAW_ARGS = 40;
 
-// Sorting the ready list (sort.comp): dispatch arguments of the block
-// pass (one workgroup per SORT_BLOCK entries) and of each merge pass (one
-// invocation per entry).
+// Sorting the ready list (sort.comp, the queue kernel only): dispatch
+// arguments of the block pass (one workgroup per SORT_BLOCK entries)
+// and, four words apart, of merge pass i (one invocation per entry, or
+// none once the runs span the list), for i < SORT_MAX_MERGES.
 const uint C_SORT_BLOCK_ARGS = 48;
-const uint C_SORT_MERGE_ARGS = 52;
+const uint C_SORT_MERGE_ARGS = 64;
+const uint SORT_MAX_MERGES = 15;
 
 // Size of the counters buffer in uint words.
-const uint COUNTER_WORDS = 64;
+const uint COUNTER_WORDS = 128;
 
 // Error bits in counters[C_ERROR].
 const uint ERR_ITERATION_CAP = 1;
@@ -276,13 +339,15 @@ const uint ERR_READY_FULL = 2;
 // A workgroup's local deque would have overflowed (never expected:
 // batches are sized so it cannot).
 const uint ERR_STACK_OVERFLOW = 4;
-// A depth's nodes did not fit the per-depth kernel's node buffer.
-const uint ERR_LEVEL_FULL = 8;
+// The persistent level kernel's watchdog: a barrier or the occupancy
+// discovery saw no progress for its whole poll cap (the frame is
+// redone with the per-depth rounds).
+const uint ERR_WATCHDOG = 8;
 
 // Workgroup sizes.
 const uint SUBDIV_GROUP_SIZE = 64;
 const uint EXPAND_GROUP_SIZE = 64;
-// The per-depth kernel: one invocation per node of the depth.
+// The level kernels: a block of one node per invocation.
 const uint LEVEL_GROUP_SIZE = 64;
 // The ground truth's culling pass: one invocation per base patch.
 const uint GRID_CULL_GROUP_SIZE = 64;
@@ -339,5 +404,27 @@ const uint SHADE_PATCH_ID = 8;
 // Tests: the base patch parameters (u, v) as 12 bits each
 // (round(u * 4095) in r and the top of g, v below it and in b).
 const uint SHADE_PARAMS = 9;
+// Tests: the model's tint unlit (`palette::model_tint`, the
+// shaders' `model_tint`).
+const uint SHADE_TINT = 10;
+
+// The depth heat map's colours (0xRRGGBB, display values): depth 0
+// dark blue through cyan, green and yellow to dark red at 10, the
+// lightness rising to the middle and falling again, so neighbouring
+// depths stay apart. The shaders, the CPU preview and the window's
+// legend all read these.
+const uint DEPTH_RAMP_0 = 0x29338c;
+const uint DEPTH_RAMP_1 = 0x2966e0;
+const uint DEPTH_RAMP_2 = 0x1fa3eb;
+const uint DEPTH_RAMP_3 = 0x24ccbd;
+const uint DEPTH_RAMP_4 = 0x5ce070;
+const uint DEPTH_RAMP_5 = 0xa8eb3d;
+const uint DEPTH_RAMP_6 = 0xedd933;
+const uint DEPTH_RAMP_7 = 0xfa9e29;
+const uint DEPTH_RAMP_8 = 0xeb6124;
+const uint DEPTH_RAMP_9 = 0xc22924;
+const uint DEPTH_RAMP_10 = 0x800f1f;
+// Crack-closing wedges in the wedge view.
+const uint WEDGE_RGB = 0xff00ff;
 
 #endif

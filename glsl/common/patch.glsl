@@ -193,19 +193,61 @@ bool line_sample_flat(vec3 s, vec3 a, vec3 b, float t, float t2, ViewParams vp) 
     return r.x <= r.y;
 }
 
-bool plane_sample_flat(vec3 s, vec3 a, vec3 b, vec3 c, float t2, ViewParams vp) {
-    precise vec3 tri_mid = (a * THIRD + b * THIRD) + c * THIRD;
-    precise vec3 par = s - tri_mid;
-    precise float par2 = dot3(par, par);
+// Inner-tier candidates (src/patch/criterion.rs): `s` against the plane of
+// triangle (a, b, c) when its foot lies inside the triangle, and against the
+// diagonal a -> b when its foot lies within the segment.
+bool triangle_candidate_flat(vec3 s, vec3 a, vec3 b, vec3 c, float w_par2, float t2, ViewParams vp) {
     precise vec3 n = cross3(b - a, c - a);
     precise float n2 = dot3(n, n);
-    if (n2 == 0.0) {
-        return par2 <= t2;
-    }
-    precise float h = dot3(n, s - a);
-    precise float lhs = vp.w_orth * (h * h) + (vp.w_par * par2) * n2;
+    precise vec3 sa = s - a;
+    precise float e_ab = dot3(cross3(b - a, sa), n);
+    precise float e_bc = dot3(cross3(c - b, s - b), n);
+    precise float e_ca = dot3(cross3(a - c, s - c), n);
+    precise float h = dot3(n, sa);
+    precise float lhs = vp.w_orth * (h * h) + w_par2 * n2;
     precise float rhs = t2 * n2;
-    return lhs <= rhs;
+    bool inside = ((e_ab >= 0.0) && (e_bc >= 0.0)) && (e_ca >= 0.0);
+    return ((n2 > 0.0) && (lhs <= rhs)) && inside;
+}
+
+bool diagonal_candidate_flat(vec3 s, vec3 a, vec3 b, float w_par2, float t2, ViewParams vp) {
+    precise vec3 chord = b - a;
+    precise float chord2 = dot3(chord, chord);
+    precise vec3 d = s - a;
+    precise float along = dot3(d, chord);
+    precise vec3 x = cross3(d, chord);
+    precise float lhs = vp.w_orth * dot3(x, x) + w_par2 * chord2;
+    precise float rhs = t2 * chord2;
+    return ((chord2 > 0.0) && (lhs <= rhs)) && ((along >= 0.0) && (along <= chord2));
+}
+
+// One inner sample `s` with drawn point `p`, against the closest of the
+// quad's triangles (q00, q10, q11) and (q00, q11, q01).
+bool inner_sample_flat(vec3 s, vec3 p, vec3 q00, vec3 q10, vec3 q11, vec3 q01, float t2, ViewParams vp) {
+    precise vec3 par = s - p;
+    precise float par2 = dot3(par, par);
+    precise float w_par2 = vp.w_par * par2;
+    bool at_p = par2 <= t2;
+    bool diagonal = diagonal_candidate_flat(s, q00, q11, w_par2, t2, vp);
+    bool first = triangle_candidate_flat(s, q00, q10, q11, w_par2, t2, vp);
+    bool second = triangle_candidate_flat(s, q00, q11, q01, w_par2, t2, vp);
+    return (at_p || diagonal) || (first || second);
+}
+
+// The inner tier on the corners and the samples at (1/3,1/3), (2/3,2/3),
+// (2/3,1/3), (1/3,2/3), in that order.
+bool inner_flat_of(vec3 q00, vec3 q10, vec3 q11, vec3 q01, vec3 s[4], ViewParams vp) {
+    precise vec3 center = ((q00 + q11) + (q10 + q01)) * 0.25;
+    precise float t2 = tolerance2(center, vp);
+    precise vec3 l1 = q00 * (1.0 - THIRD) + q11 * THIRD;
+    precise vec3 l2 = q00 * (1.0 - TWO_THIRDS) + q11 * TWO_THIRDS;
+    precise vec3 m0 = (q00 * THIRD + q10 * THIRD) + q11 * THIRD;
+    precise vec3 m1 = (q00 * THIRD + q11 * THIRD) + q01 * THIRD;
+    bool d1 = inner_sample_flat(s[0], l1, q00, q10, q11, q01, t2, vp);
+    bool d2 = inner_sample_flat(s[1], l2, q00, q10, q11, q01, t2, vp);
+    bool t0 = inner_sample_flat(s[2], m0, q00, q10, q11, q01, t2, vp);
+    bool t1 = inner_sample_flat(s[3], m1, q00, q10, q11, q01, t2, vp);
+    return (d1 && d2) && (t0 && t1);
 }
 
 // Edge tier: samples at 1/3 on the curve and at 1/3 on the reversed curve,
@@ -221,19 +263,11 @@ bool edge_flat(vec3 p[4], ViewParams vp) {
     return f && b;
 }
 
-// Inner tier against the triangles (00,10,11) and (00,11,01).
+// Inner tier against the closest of the triangles (00,10,11) and (00,11,01).
 bool inner_flat(vec3 S[16], ViewParams vp) {
-    vec3 q00 = S[0];
-    vec3 q10 = S[3];
-    vec3 q11 = S[15];
-    vec3 q01 = S[12];
-    precise vec3 center = ((q00 + q11) + (q10 + q01)) * 0.25;
-    precise float t2 = tolerance2(center, vp);
-    bool d1 = line_sample_flat(eval_patch(S, THIRD, THIRD), q00, q11, THIRD, t2, vp);
-    bool d2 = line_sample_flat(eval_patch(S, TWO_THIRDS, TWO_THIRDS), q00, q11, TWO_THIRDS, t2, vp);
-    bool t0 = plane_sample_flat(eval_patch(S, TWO_THIRDS, THIRD), q00, q10, q11, t2, vp);
-    bool t1 = plane_sample_flat(eval_patch(S, THIRD, TWO_THIRDS), q00, q11, q01, t2, vp);
-    return (d1 && d2) && (t0 && t1);
+    vec3 s[4] = vec3[4](eval_patch(S, THIRD, THIRD), eval_patch(S, TWO_THIRDS, TWO_THIRDS),
+                        eval_patch(S, TWO_THIRDS, THIRD), eval_patch(S, THIRD, TWO_THIRDS));
+    return inner_flat_of(S[0], S[3], S[15], S[12], s, vp);
 }
 
 // ---------------------------------------------------------------- culling

@@ -1,5 +1,5 @@
-// Set 2 and the push block of the persistent subdivision kernel
-// (src/methods/subdiv.rs): a bounded ring of QuadNodes with one sequence
+// Set 2 and the push block of the queue kernel (`subdiv --kernel queue`,
+// glsl/subdivide_queue.comp, src/methods/subdiv.rs): a bounded ring of QuadNodes with one sequence
 // number per slot (after Vyukov's bounded MPMC queue), and its head and
 // tail. Slot s is free for position p when seq[s] == p and holds the item
 // of position p when seq[s] == p + 1; a consumer frees it for the next lap
@@ -25,6 +25,10 @@ layout(push_constant) uniform SubdivPush {
     uint queue_capacity;  // entries in the work queue (a power of two)
     uint patch_count;     // base patches
     uint idle_poll_cap;   // polls without progress before giving up
+    uint local_cap;       // deque entries used (at most SUBDIV_LOCAL_CAP; tests lower it)
+    uint base_batch;      // base patches per claim (0: spread over the workgroups)
+    uint pad0;
+    uint pad1;
 } pc;
 
 uint queue_slot(uint pos) {

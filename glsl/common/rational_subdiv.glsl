@@ -95,17 +95,9 @@ bool edge_flat4(vec4 h[4], ViewParams vp) {
 
 // Inner tier on the projected corners and samples.
 bool inner_flat4(vec4 S[16], ViewParams vp) {
-    precise vec3 q00 = project(S[0]);
-    precise vec3 q10 = project(S[3]);
-    precise vec3 q11 = project(S[15]);
-    precise vec3 q01 = project(S[12]);
-    precise vec3 center = ((q00 + q11) + (q10 + q01)) * 0.25;
-    precise float t2 = tolerance2(center, vp);
-    bool d1 = line_sample_flat(eval_rational(S, THIRD, THIRD), q00, q11, THIRD, t2, vp);
-    bool d2 = line_sample_flat(eval_rational(S, TWO_THIRDS, TWO_THIRDS), q00, q11, TWO_THIRDS, t2, vp);
-    bool t0 = plane_sample_flat(eval_rational(S, TWO_THIRDS, THIRD), q00, q10, q11, t2, vp);
-    bool t1 = plane_sample_flat(eval_rational(S, THIRD, TWO_THIRDS), q00, q11, q01, t2, vp);
-    return (d1 && d2) && (t0 && t1);
+    vec3 s[4] = vec3[4](eval_rational(S, THIRD, THIRD), eval_rational(S, TWO_THIRDS, TWO_THIRDS),
+                        eval_rational(S, TWO_THIRDS, THIRD), eval_rational(S, THIRD, TWO_THIRDS));
+    return inner_flat_of(project(S[0]), project(S[3]), project(S[15]), project(S[12]), s, vp);
 }
 
 // Conservative back-face test (homogeneous::back_facing): the polynomial

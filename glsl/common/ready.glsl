@@ -60,7 +60,7 @@ layout(push_constant) uniform ListPush {
     uint ready_capacity;  // entries in `ready`
     uint mode;            // sort: which pass
     uint k;               // sort: width of the sorted runs merged
-    uint j;               // sort: 0 reads `ready`, writes `sort_temp`; 1 back
+    uint j;               // unused (0)
 } pc;
 #endif
 
@@ -73,7 +73,7 @@ uint ready_count(uint capacity) {
 
 // The indirect arguments of everything after a producer, for n ready
 // nodes: the mesh draw, the fallback's expansion and draw, and the sort's
-// block and merge passes.
+// block and merge passes (a merge pass not needed for n gets none).
 // src/draw/ready.rs `indirect_args` is the host's copy.
 void write_ready_args(uint n) {
     counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
@@ -89,9 +89,13 @@ void write_ready_args(uint n) {
     counters[C_SORT_BLOCK_ARGS] = (n + SORT_BLOCK - 1u) / SORT_BLOCK;
     counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
     counters[C_SORT_BLOCK_ARGS + 2u] = 1u;
-    counters[C_SORT_MERGE_ARGS] = (n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE;
-    counters[C_SORT_MERGE_ARGS + 1u] = 1u;
-    counters[C_SORT_MERGE_ARGS + 2u] = 1u;
+    for (uint i = 0u; i < SORT_MAX_MERGES; ++i) {
+        // Merge pass i merges runs of SORT_BLOCK << i: none once one spans n.
+        uint a = C_SORT_MERGE_ARGS + 4u * i;
+        counters[a] = (SORT_BLOCK << i) < n ? (n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE : 0u;
+        counters[a + 1u] = 1u;
+        counters[a + 2u] = 1u;
+    }
 }
 
 #endif

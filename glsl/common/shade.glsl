@@ -35,8 +35,10 @@ uint shade_flags(uint patch_id) {
     return patch_flags[patch_id];
 }
 
-// Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT, wraps).
-const vec3 PALETTE[8] = vec3[8](
+// Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT), the twin
+// of src/palette.rs model_tint: eight hand-picked tints, then hues stepping
+// by the golden ratio at three brightness levels, so no colour comes back.
+const vec3 FIRST_TINTS[8] = vec3[8](
     vec3(0.90, 0.62, 0.38),
     vec3(0.42, 0.62, 0.90),
     vec3(0.52, 0.80, 0.45),
@@ -46,23 +48,27 @@ const vec3 PALETTE[8] = vec3[8](
     vec3(0.42, 0.80, 0.78),
     vec3(0.78, 0.78, 0.78));
 
-// QuadNode depth 0..L_MAX: dark blue through cyan, green and yellow to dark
-// red, with lightness rising to the middle and falling again, so
-// neighbouring depths stay distinguishable.
-const vec3 DEPTH_RAMP[11] = vec3[11](
-    vec3(0.16, 0.20, 0.55),
-    vec3(0.16, 0.40, 0.88),
-    vec3(0.12, 0.64, 0.92),
-    vec3(0.14, 0.80, 0.74),
-    vec3(0.36, 0.88, 0.44),
-    vec3(0.66, 0.92, 0.24),
-    vec3(0.93, 0.85, 0.20),
-    vec3(0.98, 0.62, 0.16),
-    vec3(0.92, 0.38, 0.14),
-    vec3(0.76, 0.16, 0.14),
-    vec3(0.50, 0.06, 0.12));
+vec3 model_tint(uint index) {
+    if (index < 8u) {
+        return FIRST_TINTS[index];
+    }
+    float h = fract(0.425 + fract(0.618034 * float(index % 4096u)));
+    float v = index % 3u == 0u ? 0.92 : (index % 3u == 1u ? 0.78 : 0.64);
+    vec3 c = clamp(abs(fract(h + vec3(1.0, 2.0 / 3.0, 1.0 / 3.0)) * 6.0 - 3.0) - 1.0, 0.0, 1.0);
+    return v * ((1.0 - 0.55) + 0.55 * c);
+}
 
-const vec3 WEDGE_COLOR = vec3(1.0, 0.0, 1.0);
+// QuadNode depth 0..L_MAX as the heat map's colours (constants.glsl, where
+// src/constants.rs documents them; the window's legend shows the same).
+const uint DEPTH_RAMP[11] = uint[11](
+    DEPTH_RAMP_0, DEPTH_RAMP_1, DEPTH_RAMP_2, DEPTH_RAMP_3, DEPTH_RAMP_4, DEPTH_RAMP_5,
+    DEPTH_RAMP_6, DEPTH_RAMP_7, DEPTH_RAMP_8, DEPTH_RAMP_9, DEPTH_RAMP_10);
+
+vec3 rgb_of(uint c) {
+    return vec3(float(c >> 16), float((c >> 8) & 255u), float(c & 255u)) / 255.0;
+}
+
+const vec3 WEDGE_COLOR = vec3(1.0, 0.0, 1.0); // WEDGE_RGB
 // SHADE_KEY: the hole test counts pixels of exactly this colour (surface
 // seen from behind, or the background).
 const vec3 KEY_BACK = vec3(0.0, 1.0, 0.0);
@@ -151,7 +157,7 @@ float diffuse(vec3 n, vec3 to_eye) {
 }
 
 vec3 depth_color(uint depth) {
-    return DEPTH_RAMP[min(depth, 10u)];
+    return rgb_of(DEPTH_RAMP[min(depth, 10u)]);
 }
 
 // 1 on the outline of the cell the fragment lies in, fading to 0 a pixel
@@ -175,6 +181,9 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
     }
     if (pc.shade == SHADE_PATCH_ID) {
         return code_color(patch_id & 0xffffffu);
+    }
+    if (pc.shade == SHADE_TINT) {
+        return vec4(model_tint(shade_flags(patch_id) >> PATCH_MODEL_SHIFT), 1.0);
     }
     if (pc.shade == SHADE_PARAMS) {
         uvec2 q = uvec2(clamp(uv, 0.0, 1.0) * 4095.0 + 0.5);
@@ -216,7 +225,7 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth, bool wedge, bool fron
         return vec4(c, 1.0);
     }
     // SHADE_NORMAL: Lambert + ambient + a little Blinn-Phong.
-    vec3 base = PALETTE[(shade_flags(patch_id) >> PATCH_MODEL_SHIFT) & 7u];
+    vec3 base = model_tint(shade_flags(patch_id) >> PATCH_MODEL_SHIFT);
     vec3 l = pc.light_dir.xyz;
     l = dot(l, l) > 0.0 ? normalize(l) : to_eye;
     vec3 h = l + to_eye;

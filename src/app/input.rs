@@ -39,6 +39,28 @@ const FLY_KEYS: [KeyCode; 6] = [
     KeyCode::KeyQ,
 ];
 
+/// The keys that act on the window and the camera rather than on a widget:
+/// R, P, F12, Tab, Escape and the fly keys.
+const WINDOW_KEYS: [KeyCode; 5] = [
+    KeyCode::KeyR,
+    KeyCode::KeyP,
+    KeyCode::F12,
+    KeyCode::Tab,
+    KeyCode::Escape,
+];
+
+/// Whether `event` is a press or release of one of the window's keys
+/// (which work whatever widget of the overlay has the focus).
+pub fn is_window_key(event: &WindowEvent) -> bool {
+    let WindowEvent::KeyboardInput { event, .. } = event else {
+        return false;
+    };
+    let PhysicalKey::Code(code) = event.physical_key else {
+        return false;
+    };
+    WINDOW_KEYS.contains(&code) || FLY_KEYS.contains(&code)
+}
+
 impl Input {
     /// The fly keys held now.
     pub fn fly_keys(&self) -> FlyKeys {

@@ -78,9 +78,16 @@ impl Gui {
         self.ctx.egui_wants_pointer_input()
     }
 
-    /// Whether egui has keyboard focus (a text field).
+    /// Whether egui has keyboard focus (any widget, e.g. a button clicked
+    /// last).
     pub fn wants_keyboard(&self) -> bool {
         self.ctx.egui_wants_keyboard_input()
+    }
+
+    /// Whether text is being typed into a widget (a slider's value being
+    /// edited): then every key is the widget's.
+    pub fn editing_text(&self) -> bool {
+        self.ctx.text_edit_focused()
     }
 
     /// Runs one frame of UI: `build` lays it out; the result is tessellated

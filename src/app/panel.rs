@@ -4,7 +4,8 @@
 
 use crate::commands::render::Shade;
 use crate::draw::DrawPath;
-use crate::methods::METHODS;
+use crate::methods::{self, METHODS};
+use crate::palette;
 use crate::renderer::FrameReport;
 
 /// What the user asked for with a button or key this frame.
@@ -89,6 +90,15 @@ impl LiveStats {
     }
 }
 
+/// What the device offers the controls.
+#[derive(Clone, Debug)]
+pub struct DeviceOffer {
+    /// Mesh shaders (the mesh draw path).
+    pub mesh: bool,
+    /// Sample counts of 1, 2, 4, 8 the device can render with.
+    pub samples: Vec<u32>,
+}
+
 /// The result of the last FLIP request, shown in its own window.
 pub struct FlipView {
     /// Mean FLIP against the ground truth.
@@ -97,6 +107,8 @@ pub struct FlipView {
     pub texture: egui::TextureHandle,
     /// Where the heat map was written.
     pub file: String,
+    /// Its colour scale, error 0 to 1.
+    pub legend: egui::TextureHandle,
 }
 
 const SHADES: [(Shade, &str); 5] = [
@@ -114,7 +126,7 @@ impl Controls {
         ctx: &egui::Context,
         stats: &LiveStats,
         flip: Option<&FlipView>,
-        has_mesh: bool,
+        device: &DeviceOffer,
     ) -> Vec<Action> {
         let mut actions = Vec::new();
         // Scrolls rather than running off a small window.
@@ -126,7 +138,7 @@ impl Controls {
                 egui::ScrollArea::vertical()
                     .max_height((height - 40.0).max(80.0))
                     .show(ui, |ui| {
-                        actions.extend(self.panel_ui(ui, stats, has_mesh));
+                        actions.extend(self.panel_ui(ui, stats, device));
                     });
             });
         if let Some(f) = flip {
@@ -139,6 +151,11 @@ impl Controls {
                     let size = f.texture.size_vec2();
                     let scale = (480.0 / size.x).min(1.0);
                     ui.image((f.texture.id(), size * scale));
+                    ui.horizontal(|ui| {
+                        ui.label("FLIP error 0");
+                        ui.image((f.legend.id(), egui::vec2(256.0, 12.0)));
+                        ui.label("1");
+                    });
                 });
             if !open {
                 actions.push(Action::CloseFlip);
@@ -148,15 +165,21 @@ impl Controls {
     }
 
     /// The panel's content; returns the buttons pressed.
-    fn panel_ui(&mut self, ui: &mut egui::Ui, stats: &LiveStats, has_mesh: bool) -> Vec<Action> {
+    fn panel_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        stats: &LiveStats,
+        device: &DeviceOffer,
+    ) -> Vec<Action> {
         let mut actions = Vec::new();
         // Auto-sized: the wrapped rows would otherwise take the screen.
         ui.set_max_width(330.0);
-        self.method_ui(ui, has_mesh);
+        self.method_ui(ui, device.mesh);
         ui.separator();
         self.criterion_ui(ui);
         ui.separator();
-        self.view_ui(ui);
+        self.view_ui(ui, &device.samples);
+        legend_ui(ui, self.shade, &self.method);
         ui.separator();
         ui.horizontal(|ui| {
             if ui.button("Screenshot (F12)").clicked() {
@@ -190,8 +213,8 @@ impl Controls {
                         .on_hover_text(m.about);
                 }
             });
-        let subdivides = self.method != crate::methods::ground_truth::INFO.name;
-        ui.add_enabled_ui(subdivides, |ui| {
+        let reads = methods::reads(&self.method);
+        ui.add_enabled_ui(reads.draw_path, |ui| {
             ui.horizontal(|ui| {
                 ui.label("draw path");
                 ui.add_enabled_ui(has_mesh, |ui| {
@@ -199,35 +222,55 @@ impl Controls {
                 });
                 ui.radio_value(&mut self.draw, DrawPath::Fallback, "fallback");
             })
-        });
-        if self.method == "ground-truth" {
+        })
+        .response
+        .on_disabled_hover_text(format!("{} draws itself", self.method));
+        if reads.grid {
             let mut exp = self.grid.max(1).ilog2();
             ui.add(egui::Slider::new(&mut exp, 0..=6).text("grid (log2)"));
             self.grid = 1 << exp;
         }
     }
 
+    /// The criterion and culling; a control the method does not read is
+    /// greyed out (`methods::reads`).
     fn criterion_ui(&mut self, ui: &mut egui::Ui) {
-        // The ground truth is a fixed grid: no criterion, no depths, no
-        // wedges.
-        let subdivides = self.method != crate::methods::ground_truth::INFO.name;
-        ui.add_enabled_ui(subdivides, |ui| {
-            ui.add(
-                egui::Slider::new(&mut self.eps, 0.1..=16.0)
-                    .logarithmic(true)
-                    .text("ε (pixels)"),
-            );
-            ui.add(egui::Slider::new(&mut self.lambda, 0.0..=1.0).text("λ"));
-            ui.add(egui::Slider::new(&mut self.l_max, 1..=crate::constants::L_MAX).text("l_max"));
-        });
+        let reads = methods::reads(&self.method);
+        let ignored = format!("{} does not read this", self.method);
+        ui.add_enabled(
+            reads.eps,
+            egui::Slider::new(&mut self.eps, 0.1..=16.0)
+                .logarithmic(true)
+                .text("ε (pixels)"),
+        )
+        .on_disabled_hover_text(&ignored);
+        ui.add_enabled(
+            reads.lambda,
+            egui::Slider::new(&mut self.lambda, 0.0..=1.0).text("λ"),
+        )
+        .on_disabled_hover_text(&ignored);
+        ui.add_enabled(
+            reads.l_max,
+            egui::Slider::new(&mut self.l_max, 1..=crate::constants::L_MAX).text("l_max"),
+        )
+        .on_disabled_hover_text(&ignored);
         ui.horizontal(|ui| {
             ui.checkbox(&mut self.frustum, "frustum cull");
-            ui.checkbox(&mut self.backface, "back-face cull");
-            ui.add_enabled_ui(subdivides, |ui| ui.checkbox(&mut self.wedges, "wedges"));
+            ui.add_enabled(
+                reads.backface,
+                egui::Checkbox::new(&mut self.backface, "back-face cull"),
+            )
+            .on_disabled_hover_text(&ignored);
+            ui.add_enabled(
+                reads.wedges,
+                egui::Checkbox::new(&mut self.wedges, "wedges"),
+            )
+            .on_disabled_hover_text(&ignored);
         });
     }
 
-    fn view_ui(&mut self, ui: &mut egui::Ui) {
+    /// The view and the sample counts the device offers.
+    fn view_ui(&mut self, ui: &mut egui::Ui, samples: &[u32]) {
         ui.horizontal_wrapped(|ui| {
             for (shade, name) in SHADES {
                 ui.radio_value(&mut self.shade, shade, name);
@@ -235,11 +278,70 @@ impl Controls {
         });
         ui.horizontal(|ui| {
             ui.label("MSAA");
-            for n in [1, 2, 4, 8] {
+            for &n in samples {
                 ui.radio_value(&mut self.msaa, n, format!("{n}x"));
             }
-        });
+        })
+        .response
+        .on_hover_text("the sample counts this device renders with (`info` lists them)");
     }
+}
+
+/// What the heat map's colours of `method` mean: depth 0..10 (QuadNode
+/// depth; the tessellators' log2 level or factor; the ground truth's
+/// log2 grid), the wedges' colour, or the normal's axes.
+fn legend_ui(ui: &mut egui::Ui, shade: Shade, method: &str) {
+    let what = match method {
+        "tess" | "tess-reparam" => "log2 of the inner tessellation level",
+        "cudatess" => "log2 of the patch's larger factor",
+        "ground-truth" => "log2 of the grid",
+        _ => "subdivision depth",
+    };
+    match shade {
+        Shade::Depth | Shade::Wedges => {
+            ui.label(format!("colour: {what}"));
+            ramp_ui(ui);
+            if shade == Shade::Wedges {
+                let label = if method.starts_with("subdiv") {
+                    "wedges (crack-closing triangles)"
+                } else if method == "cudatess" {
+                    "transition strips"
+                } else {
+                    "wedges (none for this method)"
+                };
+                ui.horizontal(|ui| {
+                    swatch(ui, palette::wedge_color());
+                    ui.label(label);
+                });
+            }
+        }
+        Shade::Normals => {
+            ui.label("colour: the shading normal, x → red, y → green, z → blue (world axes)");
+        }
+        Shade::Wireframe => {
+            ui.label("lines: the outline of every drawn cell");
+        }
+        Shade::Normal => {}
+    }
+}
+
+/// The depth ramp as swatches 0..10 with their numbers.
+fn ramp_ui(ui: &mut egui::Ui) {
+    ui.horizontal(|ui| {
+        ui.spacing_mut().item_spacing.x = 1.0;
+        for d in 0..=crate::constants::L_MAX {
+            ui.vertical(|ui| {
+                swatch(ui, palette::depth_color(d));
+                ui.label(egui::RichText::new(d.to_string()).small());
+            });
+        }
+    });
+}
+
+fn swatch(ui: &mut egui::Ui, rgb: [u8; 3]) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 14.0), egui::Sense::hover());
+    ui.painter()
+        .rect_filled(rect, 2.0, egui::Color32::from_rgb(rgb[0], rgb[1], rgb[2]));
 }
 
 fn stats_ui(ui: &mut egui::Ui, stats: &LiveStats) {

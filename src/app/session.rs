@@ -22,9 +22,9 @@ use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
 use super::camera::CameraRig;
-use super::input::{Command, Input};
+use super::input::{self, Command, Input};
 use super::overlay::Gui;
-use super::panel::{Action, Controls, FlipView, LiveStats};
+use super::panel::{Action, Controls, DeviceOffer, FlipView, LiveStats};
 use super::present::Presenter;
 use super::ViewArgs;
 use crate::commands::render::{stats_json, stats_path, write_outputs, RenderArgs};
@@ -187,8 +187,17 @@ impl Session {
         self.window.request_redraw();
     }
 
-    /// Handles one window event: egui first, then the camera and keys.
+    /// Handles one window event: the window's own keys first (whatever
+    /// widget has focus), then egui, then the camera and the other keys.
     pub fn on_window_event(&mut self, event: &WindowEvent) -> anyhow::Result<Flow> {
+        // egui takes Tab for moving the focus and swallows every key while
+        // a widget (a button clicked last) has it, until Escape; the
+        // window's keys must work regardless, unless text is being typed.
+        if input::is_window_key(event) && !self.gui.editing_text() {
+            let pointer_free = !self.gui.wants_pointer();
+            let command = self.input.on_event(event, &mut self.rig, pointer_free);
+            return Ok(self.command(command));
+        }
         let used = self.gui.on_event(&self.window, event);
         match event {
             WindowEvent::CloseRequested => return Ok(Flow::Exit),
@@ -219,13 +228,19 @@ impl Session {
             return Ok(Flow::Continue);
         }
         let pointer_free = !self.gui.wants_pointer();
-        match self.input.on_event(event, &mut self.rig, pointer_free) {
+        let command = self.input.on_event(event, &mut self.rig, pointer_free);
+        Ok(self.command(command))
+    }
+
+    /// Carries out what a key asked for.
+    fn command(&mut self, command: Option<Command>) -> Flow {
+        match command {
             Some(Command::Action(a)) => self.actions.push(a),
             Some(Command::ToggleOverlay) => self.show_overlay = !self.show_overlay,
-            Some(Command::Quit) => return Ok(Flow::Exit),
+            Some(Command::Quit) => return Flow::Exit,
             None => {}
         }
-        Ok(Flow::Continue)
+        Flow::Continue
     }
 
     /// Draws and presents one frame.
@@ -235,6 +250,12 @@ impl Session {
         self.clock = now;
         self.stats.add_frame_time(dt * 1000.0);
         for action in std::mem::take(&mut self.actions) {
+            // A screenshot or FLIP asked for before the first frame waits
+            // for it (a key pressed as the window opens is not lost).
+            if self.last.is_none() && matches!(action, Action::Screenshot | Action::Flip) {
+                self.actions.push(action);
+                continue;
+            }
             self.act(action)?;
         }
         let size = self.window.inner_size();
@@ -364,7 +385,10 @@ impl Session {
             .presenter
             .format()
             .ok_or_else(|| anyhow!("no swapchain format"))?;
-        let has_mesh = self.ctx.info().has_mesh_shader();
+        let device = DeviceOffer {
+            mesh: self.ctx.info().has_mesh_shader(),
+            samples: self.ctx.info().limits.msaa_sample_counts(),
+        };
         let Self {
             gui,
             controls,
@@ -378,7 +402,7 @@ impl Session {
         } = self;
         gui.run(ctx, window, format, |c| {
             if *show_overlay {
-                actions.extend(controls.ui(c, stats, flip.as_ref(), has_mesh));
+                actions.extend(controls.ui(c, stats, flip.as_ref(), &device));
             }
         })?;
         Ok(())
@@ -401,12 +425,23 @@ impl Session {
         Ok(())
     }
 
-    /// `out/<scene>-<what>-<k>.png` for the first k not taken.
+    /// Where a file of kind `what` goes: beside `--screenshot` as
+    /// `<its name>-<what>-<k>.png` when it was given, else
+    /// `out/<scene>-<what>-<k>.png`, for the first k not taken.
     fn free_path(&self, what: &str) -> anyhow::Result<PathBuf> {
-        let dir = PathBuf::from("out");
-        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        let (dir, stem) = match &self.args.screenshot {
+            Some(shot) => (
+                shot.parent().map_or_else(PathBuf::new, |d| d.to_path_buf()),
+                shot.file_stem()
+                    .map_or_else(|| self.scene.name.clone(), |s| s.to_string_lossy().into()),
+            ),
+            None => (PathBuf::from("out"), self.scene.name.clone()),
+        };
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        }
         (1..)
-            .map(|k| dir.join(format!("{}-{what}-{k}.png", self.scene.name)))
+            .map(|k| dir.join(format!("{stem}-{what}-{k}.png")))
             .find(|p| !p.exists())
             .ok_or_else(|| anyhow!("no free file name in {}", dir.display()))
     }
@@ -441,6 +476,9 @@ impl Session {
         stats["culling"] = json!({"frustum": c.frustum, "backface": c.backface});
         stats["wedges"] = json!(c.wedges);
         stats["present_mode"] = json!(self.presenter.present_mode());
+        // What the window showed around the frame (the keys' effects).
+        stats["overlay_shown"] = json!(self.show_overlay);
+        stats["path_playing"] = json!(self.rig.path.is_some());
         stats["camera"] = json!({
             "position": camera.position,
             "target": camera.target,
@@ -475,6 +513,7 @@ impl Session {
             frame: self.args.frame,
             shade: c.shade,
             out: Some(path.to_path_buf()),
+            warmup: Some(0),
             repeat: 0,
             flip: false,
         }
@@ -506,10 +545,19 @@ impl Session {
             .gui
             .egui()
             .load_texture("flip", image, egui::TextureOptions::LINEAR);
+        let scale = egui::ColorImage::from_rgba_unmultiplied(
+            [256, 1],
+            &crate::eval::flip::FlipResult::legend_rgba(256),
+        );
+        let legend =
+            self.gui
+                .egui()
+                .load_texture("flip legend", scale, egui::TextureOptions::LINEAR);
         self.flip = Some(FlipView {
             mean: result.mean,
             texture,
             file: file.display().to_string(),
+            legend,
         });
         Ok(())
     }

@@ -17,13 +17,16 @@ use anyhow::{anyhow, Context as _};
 
 use super::render::commit_id;
 use super::GpuRequest;
-use crate::constants::SHADE_NORMAL;
+use crate::constants::{PATCH_MODEL_SHIFT, SHADE_NORMAL};
 use crate::eval::record::{
-    figure_keys, flatten, flip_cells, frame_cells, Config, ConfigSummary, CsvLog, FlipRow,
-    FrameRow, FLIP_COLUMNS, FRAME_COLUMNS,
+    breakdown_rows, figure_keys, flatten, flip_cells, frame_cells, Config, ConfigSummary, CsvLog,
+    FlipRow, FrameRow, BREAKDOWN_COLUMNS, FLIP_COLUMNS, FRAME_COLUMNS,
 };
 use crate::eval::report::{markdown, summary_json, Setup};
-use crate::eval::{flip::flip, ground_truth_image, plot};
+use crate::eval::{
+    distance_image, flip::flip, geometry, ground_truth_image, ground_truth_reference, plot,
+    wedge_image,
+};
 use crate::files::{check_writable, write_atomic};
 use crate::frame::View;
 use crate::gpu::write_png;
@@ -147,6 +150,52 @@ fn check_list(name: &str, v: &[f64], ok: impl Fn(f64) -> bool, want: &str) -> an
     Ok(())
 }
 
+/// Refuses an output directory that cannot be made, without making it:
+/// its nearest existing ancestor must be a directory that accepts files.
+fn can_create_dir(dir: &Path) -> anyhow::Result<()> {
+    let refuse = |why: String| anyhow!("cannot write to {}: {why}", dir.display());
+    let mut probe_dir = dir;
+    while !probe_dir.exists() {
+        probe_dir = match probe_dir.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+    }
+    if !probe_dir.is_dir() {
+        return Err(refuse(format!(
+            "{} is not a directory",
+            probe_dir.display()
+        )));
+    }
+    check_writable(&probe_dir.join("bench-probe"), false).map_err(refuse)
+}
+
+/// Creates the output directory (and `flip/` when perspectives are
+/// measured) once nothing else can refuse the run, and checks every file
+/// the run writes there.
+fn prepare_output(dir: &Path, flip_frames: u32) -> anyhow::Result<()> {
+    let sub = if flip_frames > 0 {
+        dir.join("flip")
+    } else {
+        dir.to_path_buf()
+    };
+    std::fs::create_dir_all(&sub).map_err(|e| anyhow!("cannot write to {}: {e}", dir.display()))?;
+    let mut files = vec![
+        "frames.csv",
+        "flip.csv",
+        "breakdown.csv",
+        "summary.json",
+        "report.md",
+    ];
+    if flip_frames > 0 {
+        files.push("flip/x.png");
+    }
+    for f in files {
+        check_writable(&dir.join(f), false).map_err(|e| anyhow!(e))?;
+    }
+    Ok(())
+}
+
 /// Drops the configurations of methods that cannot draw the scene's
 /// geometry (rational patches, PN triangles), saying so on stderr, when
 /// the methods are the default list; a method the user named refuses the
@@ -210,27 +259,22 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
         return Err(anyhow!("--frames must be at least 1"));
     }
     let scene = Scene::load(&args.scene)?;
-    let dir = &args.out;
-    std::fs::create_dir_all(dir.join("flip"))
-        .map_err(|e| anyhow!("cannot write to {}: {e}", dir.display()))?;
-    for f in [
-        "frames.csv",
-        "flip.csv",
-        "summary.json",
-        "report.md",
-        "flip/x.png",
-    ] {
-        check_writable(&dir.join(f), false).map_err(|e| anyhow!(e))?;
-    }
+    can_create_dir(&args.out)?;
     plot::load_font().map_err(|e| anyhow!(e))?;
     // Given, else --quick's, else the full run's (0 frames: the path's own).
     let pick = |given: Option<u32>, quick: u32, full: u32| {
         given.unwrap_or(if args.quick { quick } else { full })
     };
     let (qf, qw, qp) = QUICK;
+    // A method that ignores λ is measured once per ε.
     let mut configs = Vec::new();
     for m in &methods {
-        for &lambda in &args.lambda {
+        let lambdas: Vec<Option<f64>> = if methods::find(m)?.reads_lambda {
+            args.lambda.iter().copied().map(Some).collect()
+        } else {
+            vec![None]
+        };
+        for &lambda in &lambdas {
             for &eps in &args.eps {
                 configs.push(Config {
                     method: m.clone(),
@@ -321,12 +365,13 @@ pub fn run_on(
         .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
     fit_methods_to_scene(&mut plan, &geo, args.methods.is_some())?;
+    prepare_output(&args.out, plan.flip_frames)?;
     let path = ScenePath::of(&plan.scene, &geo);
     if plan.frames == 0 {
         plan.frames = path.default_frames();
     }
     // Rows of an earlier run must not pass for this one's.
-    for f in ["frames.csv", "flip.csv"] {
+    for f in ["frames.csv", "flip.csv", "breakdown.csv"] {
         let _ = std::fs::remove_file(args.out.join(f));
     }
     let mut request = GpuRequest::new(args.scene.clone());
@@ -353,6 +398,7 @@ pub fn run_on(
         flip_t,
         grid: args.grid,
         commit: commit_id().to_string(),
+        models: geo.models.iter().map(|m| m.name.clone()).collect(),
         stopped: None,
     };
     let mut m = Measured {
@@ -363,6 +409,7 @@ pub fn run_on(
     };
     let result = measure(
         &mut renderer,
+        &geo,
         args,
         &plan,
         &path,
@@ -407,6 +454,7 @@ struct Measured {
 #[allow(clippy::too_many_arguments)]
 fn measure(
     renderer: &mut Renderer,
+    geo: &SceneGeometry,
     args: &BenchArgs,
     plan: &Plan,
     path: &ScenePath,
@@ -416,8 +464,11 @@ fn measure(
     m: &mut Measured,
 ) -> anyhow::Result<()> {
     let total = plan.total_steps();
-    let view =
-        |t: f64, c: &Config| View::new(&path.camera(t), args.size, c.eps, c.lambda, SHADE_NORMAL);
+    // A method that ignores λ draws the same at any: it gets the first.
+    let view = |t: f64, c: &Config| {
+        let lambda = c.lambda.unwrap_or(args.lambda[0]);
+        View::new(&path.camera(t), args.size, c.eps, lambda, SHADE_NORMAL)
+    };
     let mut step = |m: &mut Measured, what: &str| {
         m.steps += 1;
         watch(&Step {
@@ -488,12 +539,31 @@ fn measure(
             step(m, &label(&c, &format!("frame {}/{}", i + 1, plan.frames)));
         }
     }
+    let mut breakdown_csv = CsvLog::create(
+        &args.out.join("breakdown.csv"),
+        &BREAKDOWN_COLUMNS.map(String::from),
+    )?;
+    let model_names: Vec<String> = geo.models.iter().map(|m| m.name.clone()).collect();
+    let model_of = |patch: u32| {
+        geo.flags
+            .get(patch as usize)
+            .map(|f| (f >> PATCH_MODEL_SHIFT) as usize)
+    };
     for (k, &t) in setup.flip_t.iter().enumerate() {
         if cancel.load(Ordering::Relaxed) {
             return Ok(());
         }
         // The reference does not depend on ε or λ: one per perspective.
+        let cam = path.camera(t);
+        let far = cam.far as f32;
         let truth = ground_truth_image(renderer, &view(t, &m.configs[0]))?;
+        let reference = ground_truth_reference(
+            renderer,
+            &view(t, &m.configs[0]),
+            far,
+            cam.fov_y_deg,
+            model_of,
+        )?;
         write_png(
             &args.out.join(format!("flip/ground-truth-p{}.png", k + 1)),
             w,
@@ -511,20 +581,32 @@ fn measure(
             let img = renderer.read_image()?;
             let f = flip(&truth, &img, w, h)
                 .ok_or_else(|| anyhow!("FLIP: images of different sizes"))?;
+            let distance = distance_image(renderer, &view(t, &c), far)?;
+            let wedges = if report.stats.get_u64("wedge_triangles").is_some() {
+                Some(wedge_image(renderer, &view(t, &c))?)
+            } else {
+                None
+            };
+            let breakdown =
+                geometry::breakdown(&reference, &distance, wedges.as_deref(), &f.errors);
             let image = format!("flip/{}-p{}.png", c.stem(), k + 1);
             let heat_map = format!("flip/{}-p{}-flip.png", c.stem(), k + 1);
             write_png(&args.out.join(&image), w, h, &img)?;
             f.save_heat_map(&args.out.join(&heat_map))?;
             let row = FlipRow {
                 config: ci,
-                perspective: k,
+                perspective: k + 1,
                 t,
                 mean: f.mean,
                 triangles: report.triangles(),
                 image,
                 heat_map,
+                breakdown,
             };
             flip_csv.append(&flip_cells(&m.configs[ci], &row))?;
+            for cells in breakdown_rows(&m.configs[ci], &row, &model_names) {
+                breakdown_csv.append(&cells)?;
+            }
             m.flips.push(row);
             step(m, &label(&c, &format!("FLIP perspective {}", k + 1)));
         }
@@ -539,6 +621,7 @@ fn finish(out: &Path, setup: &Setup, m: &Measured) -> anyhow::Result<String> {
     for (f, cols) in [
         ("frames.csv", &FRAME_COLUMNS[..]),
         ("flip.csv", &FLIP_COLUMNS[..]),
+        ("breakdown.csv", &BREAKDOWN_COLUMNS[..]),
     ] {
         if !out.join(f).exists() {
             let cols: Vec<String> = cols.iter().map(|s| s.to_string()).collect();

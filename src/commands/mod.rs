@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod import;
 pub mod info;
+pub mod progress;
 pub mod render;
 pub mod stats;
 pub mod validate;
@@ -56,6 +57,10 @@ pub struct GpuRequest {
     pub max_depth: u32,
     /// `subdiv`: persistent workgroups (`None`: the device's default).
     pub groups: Option<u32>,
+    /// `subdiv`: which persistent kernel.
+    pub kernel: crate::methods::subdiv::Kernel,
+    /// `subdiv`, `subdiv-indirect`: bytes of node memory.
+    pub node_memory: u64,
     /// Samples per pixel of the image.
     pub msaa: u32,
     /// Device choice.
@@ -80,6 +85,8 @@ impl GpuRequest {
             grid: crate::methods::ground_truth::DEFAULT_GRID,
             max_depth: crate::methods::subdiv_indirect::DEFAULT_MAX_DEPTH,
             groups: None,
+            kernel: crate::methods::subdiv::Kernel::Levels,
+            node_memory: crate::methods::levels::DEFAULT_NODE_MEMORY,
             msaa: 1,
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
@@ -96,6 +103,9 @@ impl GpuRequest {
         }
         if self.groups == Some(0) {
             return Err(anyhow!("--groups must be at least 1"));
+        }
+        if self.node_memory == 0 {
+            return Err(anyhow!("--node-memory must be positive"));
         }
         if self.max_depth > crate::constants::L_MAX {
             return Err(anyhow!(
@@ -121,6 +131,8 @@ impl GpuRequest {
             grid: self.grid,
             max_depth: self.max_depth,
             groups: self.groups,
+            kernel: self.kernel,
+            node_memory: self.node_memory,
             samples: self.msaa,
             forward_differencing: self.forward_differencing,
             ..crate::methods::MethodOptions::new(draw)

@@ -72,7 +72,11 @@ pub struct RenderArgs {
     pub shade: Shade,
     /// Output PNG (`None`: `out/<scene name>.png`).
     pub out: Option<PathBuf>,
-    /// Timed frames after a warm-up one (0: just the one frame).
+    /// Untimed frames drawn first (the shader caches' and the driver's
+    /// first-use costs go there); 0 times the first, cold frame; `None`:
+    /// [`default_warmup`].
+    pub warmup: Option<u32>,
+    /// Timed frames whose medians are reported (0: the one frame).
     pub repeat: u32,
     /// Also compare with `ground-truth` of the same view: the mean FLIP
     /// goes into the stats, the heat map beside the image.
@@ -178,14 +182,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
 
     let ctx = args.gpu.context()?;
     let mut renderer = args.gpu.renderer(&ctx, &geo, &shading)?;
+    renderer.set_progress(super::progress::parts_bar());
     let view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
-    let mut report = renderer.render(&view)?;
-    let mut times = Vec::new();
-    for _ in 0..args.repeat {
-        report = renderer.render(&view)?;
-        times.push(report.gpu_ms.clone());
-    }
-    let timing = (args.repeat > 0).then(|| Timing::of(&times));
+    let warmup = args.warmup.unwrap_or_else(|| default_warmup(method.name));
+    let frames = timed_frames(&mut renderer, &view, warmup, args.repeat)?;
+    let report = &frames.report;
+    let timing = frames.timing.as_ref();
     let rgba = renderer.read_image()?;
     let (w, h) = args.gpu.size;
     let flipped = if args.flip {
@@ -203,9 +205,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         ctx.check_validation()?;
     }
 
-    let mut stats = stats_json(args, &scene, eps, lambda, &renderer, &report);
-    if let Some(t) = &timing {
+    let mut stats = stats_json(args, &scene, eps, lambda, &renderer, report);
+    if let Some(t) = timing {
         add_timing(&mut stats, t);
+    }
+    stats["warmup_frames"] = json!(warmup);
+    if let Some(cold) = &frames.cold {
+        stats["gpu_ms_cold"] = gpu_ms_json(cold);
     }
     if let Some(f) = &flipped {
         stats["flip_mean"] = json!(f.result.mean);
@@ -225,8 +231,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         ),
         _ => String::new(),
     };
+    let frame_ms = timing
+        .and_then(|t| t.scopes.iter().find(|s| s.0 == "frame").map(|s| s.1))
+        .or_else(|| report.ms("frame"))
+        .unwrap_or(0.0);
     Ok(format!(
-        "{} ({}) on {}{}, {} path: {} triangles{}, {:.3} ms GPU{}\n{flip_line}wrote {} and {}\n",
+        "{} ({}) on {}{}, {} path: {} triangles{}, {:.3} ms GPU{}{}\n{flip_line}wrote {} and {}\n",
         args.gpu.scene.display(),
         method.name,
         info.name,
@@ -237,19 +247,79 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
             " ({:.1} % wedges)",
             100.0 * w as f64 / s.triangles.max(1) as f64
         )),
-        timing
-            .as_ref()
-            .and_then(|t| t.scopes.iter().find(|s| s.0 == "frame").map(|s| s.1))
-            .or_else(|| report.ms("frame"))
-            .unwrap_or(0.0),
+        frame_ms,
         if args.repeat > 0 {
             format!(" (median of {})", args.repeat)
         } else {
             String::new()
         },
+        warmth(warmup, frames.cold.as_deref()),
         out.display(),
         json_path.display()
     ))
+}
+
+/// Warm-up frames `render` draws unless told: 1, so the figures are not the
+/// shader compiler's; none for the ground truth, whose image is what it is
+/// for (its frames are the longest).
+pub fn default_warmup(method: &str) -> u32 {
+    u32::from(method != crate::methods::ground_truth::INFO.name)
+}
+
+/// The frames `render` draws: `warmup` untimed ones (the first of them
+/// kept as the cold figure), then the timed one, or `repeat` timed ones
+/// summarised by their medians.
+struct Frames {
+    /// The last timed frame.
+    report: FrameReport,
+    /// Medians over `repeat` timed frames.
+    timing: Option<Timing>,
+    /// GPU time per scope of the first frame, when it was not the one
+    /// timed.
+    cold: Option<Vec<(String, f64)>>,
+}
+
+fn timed_frames(
+    renderer: &mut Renderer,
+    view: &View,
+    warmup: u32,
+    repeat: u32,
+) -> anyhow::Result<Frames> {
+    let mut cold = None;
+    for k in 0..warmup {
+        let first = renderer.render(view)?;
+        if k == 0 {
+            cold = Some(first.gpu_ms);
+        }
+    }
+    let mut report = renderer.render(view)?;
+    let mut times = vec![report.gpu_ms.clone()];
+    for _ in 1..repeat {
+        report = renderer.render(view)?;
+        times.push(report.gpu_ms.clone());
+    }
+    Ok(Frames {
+        report,
+        timing: (repeat > 0).then(|| Timing::of(&times)),
+        cold,
+    })
+}
+
+/// How the summary says which frame was timed.
+fn warmth(warmup: u32, cold: Option<&[(String, f64)]>) -> String {
+    let first = cold.and_then(|c| c.iter().find(|(n, _)| n == "frame").map(|(_, ms)| *ms));
+    match first {
+        Some(ms) => format!(
+            ", after {warmup} warm-up frame{} (the first took {ms:.3} ms)",
+            if warmup == 1 { "" } else { "s" }
+        ),
+        None => " (the first frame: cold)".into(),
+    }
+}
+
+/// GPU milliseconds per scope as a JSON object.
+fn gpu_ms_json(ms: &[(String, f64)]) -> Value {
+    Value::Object(ms.iter().map(|(n, v)| (n.clone(), json!(v))).collect())
 }
 
 /// Replaces `gpu_ms` with the medians of repeated frames and adds their
@@ -318,11 +388,6 @@ pub(crate) fn stats_json(
     report: &FrameReport,
 ) -> Value {
     let info = renderer.context().info();
-    let gpu_ms: Map<String, Value> = report
-        .gpu_ms
-        .iter()
-        .map(|(name, ms)| (name.clone(), json!(ms)))
-        .collect();
     let memory: Map<String, Value> = renderer
         .memory()
         .into_iter()
@@ -362,7 +427,7 @@ pub(crate) fn stats_json(
         "triangles_source": report.triangles_source(),
         "culled_patches": report.stats.culled_patches,
         "frames_redone": report.redone,
-        "gpu_ms": gpu_ms,
+        "gpu_ms": gpu_ms_json(&report.gpu_ms),
         "memory_bytes": memory,
         "memory_per_patch_bytes": {
             "base_patches": GEOMETRY_BYTES_PER_PATCH,

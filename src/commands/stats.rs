@@ -7,12 +7,16 @@ use anyhow::{anyhow, Context as _};
 use serde::Serialize;
 
 use super::{eps_lambda, keyframe, thousands};
+use crate::constants::PATCH_MODEL_SHIFT;
 use crate::patch::oracle::{
-    subdivide_parallel_weighted, triangle_counts, triangulate_surfaces, WeightedPatches,
+    explain, process_any, subdivide_parallel_weighted, triangle_counts, triangulate_surfaces,
+    Outcome, SplitCause, WeightedPatches,
 };
-use crate::patch::view::{FLAGS_DEFAULT, FLAG_WEDGES};
+use crate::patch::quadnode::QuadNode;
+use crate::patch::view::{ViewParams, FLAGS_DEFAULT, FLAG_WEDGES};
 use crate::raster::{PreviewShade, Raster};
 use crate::scene::file::Scene;
+use crate::scene::file::SceneGeometry;
 
 /// Background of preview images.
 const PREVIEW_BACKGROUND: [u8; 4] = [38, 42, 50, 255];
@@ -38,6 +42,8 @@ pub struct StatsArgs {
     pub preview: Option<PathBuf>,
     /// What the preview's colours show.
     pub preview_shade: PreviewShade,
+    /// Also break the figures down per model, with why nodes split.
+    pub by_model: bool,
 }
 
 impl StatsArgs {
@@ -52,6 +58,7 @@ impl StatsArgs {
             flags: FLAGS_DEFAULT,
             preview: None,
             preview_shade: PreviewShade::Normal,
+            by_model: false,
         }
     }
 }
@@ -97,6 +104,31 @@ pub struct StatsReport {
     pub oracle_seconds: f64,
     /// The preview image written, if one was asked for.
     pub preview: Option<String>,
+    /// Per model (with `by_model`), in scene order.
+    pub models: Option<Vec<ModelStats>>,
+}
+
+/// One model's share of a view (`stats --by-model`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ModelStats {
+    /// Model name.
+    pub name: String,
+    /// Its base patches (all instances).
+    pub patches: u64,
+    /// Base patches with at least one ready node drawn.
+    pub drawn_patches: u64,
+    /// Ready quads drawn.
+    pub ready_quads: u64,
+    /// Triangles drawn, wedges included.
+    pub triangles: u64,
+    /// Wedge triangles among them.
+    pub wedge_triangles: u64,
+    /// Nodes split because edges along both directions were not flat.
+    pub splits_both_directions: u64,
+    /// Nodes split because edges along one direction only were not flat.
+    pub splits_one_direction: u64,
+    /// Nodes split by the inner tier alone (every edge flat).
+    pub splits_inner_only: u64,
 }
 
 impl StatsReport {
@@ -142,7 +174,46 @@ impl StatsReport {
             t(self.nodes_at_lmax),
             t(self.nodes_processed),
             self.oracle_seconds,
-        )
+        ) + &self.models_text()
+    }
+
+    fn models_text(&self) -> String {
+        let Some(models) = &self.models else {
+            return String::new();
+        };
+        let t = |n: u64| thousands(n);
+        let mut out = format!(
+            "\n{:<14} {:>8} {:>8} {:>9} {:>10} {:>7} {:>8} {:>8} {:>8}\n",
+            "model",
+            "patches",
+            "drawn",
+            "quads",
+            "triangles",
+            "wedges",
+            "split uv",
+            "split 1d",
+            "inner"
+        );
+        for m in models {
+            let share = if m.triangles == 0 {
+                0.0
+            } else {
+                100.0 * m.wedge_triangles as f64 / m.triangles as f64
+            };
+            out += &format!(
+                "{:<14} {:>8} {:>8} {:>9} {:>10} {:>6.1}% {:>8} {:>8} {:>8}\n",
+                m.name,
+                t(m.patches),
+                t(m.drawn_patches),
+                t(m.ready_quads),
+                t(m.triangles),
+                share,
+                t(m.splits_both_directions),
+                t(m.splits_one_direction),
+                t(m.splits_inner_only),
+            );
+        }
+        out + "(split uv: edges along u and v not flat; 1d: along one direction only; inner: every edge flat, the inner tier not)\n"
     }
 }
 
@@ -214,5 +285,51 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
         nodes_processed: s.nodes_processed,
         oracle_seconds,
         preview: args.preview.as_ref().map(|p| p.display().to_string()),
+        models: args.by_model.then(|| model_stats(&geo, &res.ready, &vp)),
     })
+}
+
+/// The per-model breakdown: ready nodes and triangles from the oracle's
+/// result, and why each split happened from a second walk of every tree
+/// with [`explain`] at each split.
+fn model_stats(geo: &SceneGeometry, ready: &[QuadNode], vp: &ViewParams) -> Vec<ModelStats> {
+    let model_of = |patch: usize| (geo.flags[patch] >> PATCH_MODEL_SHIFT) as usize;
+    let mut out: Vec<ModelStats> = geo
+        .models
+        .iter()
+        .map(|m| ModelStats {
+            name: m.name.clone(),
+            patches: (m.patches_per_instance * m.instances) as u64,
+            ..ModelStats::default()
+        })
+        .collect();
+    let mut last_drawn = None;
+    for &node in ready {
+        let m = &mut out[model_of(node.patch as usize)];
+        let (tris, wedges) = triangle_counts(&[node], vp.has(FLAG_WEDGES));
+        m.ready_quads += 1;
+        m.triangles += tris;
+        m.wedge_triangles += wedges;
+        if last_drawn != Some(node.patch) {
+            m.drawn_patches += 1;
+            last_drawn = Some(node.patch);
+        }
+    }
+    let mut stack = Vec::new();
+    for (id, base) in geo.patches.iter().enumerate() {
+        let (w, flags) = (geo.weights.get(id), geo.flags[id]);
+        let m = &mut out[model_of(id)];
+        stack.push(QuadNode::root(id as u32));
+        while let Some(node) = stack.pop() {
+            if let Outcome::Split(kids) = process_any(base, w, flags, node, vp) {
+                match explain(base, w, flags, node, vp).and_then(|v| v.cause()) {
+                    Some(SplitCause::BothDirections) => m.splits_both_directions += 1,
+                    Some(SplitCause::OneDirection) => m.splits_one_direction += 1,
+                    Some(SplitCause::InnerOnly) | None => m.splits_inner_only += 1,
+                }
+                stack.extend(kids);
+            }
+        }
+    }
+    out
 }

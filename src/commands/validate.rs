@@ -90,6 +90,8 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         ..args.gpu.clone()
     };
     let mut renderer = request.renderer(&ctx, &geo, &shading)?;
+    // The hole test's ground truth of a large scene runs in parts.
+    renderer.set_progress(super::progress::parts_bar());
 
     // The keyframes' views, each with its frame number.
     let views = frames

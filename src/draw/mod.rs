@@ -2,9 +2,11 @@
 //! ready QuadNode, every vertex the base patch evaluated by the one shared
 //! precise function, so positions equal the oracle's bit for bit.
 //!
-//! [`ReadyStage`] is what every ready-list producer (`subdiv`, later
+//! [`ReadyStage`] is what every ready-list producer (`subdiv`,
 //! `subdiv-indirect`) shares: the list and its counters ([`ready`]), the
-//! sort that makes the draw order canonical ([`sort`]), and one of two draw
+//! sort that makes the draw order canonical for a producer whose order
+//! depends on timing ([`sort`]; the level kernels write a canonical order
+//! and skip it), and one of two draw
 //! paths sharing the push block and the fragment shading
 //! (`glsl/common/shade.glsl`):
 //! - [`DrawPath::Mesh`]: task + mesh shaders ([`mesh`]), one indirect
@@ -349,6 +351,11 @@ impl ReadyStage {
         let pc = f.view.draw_push(self.list.caps.ready, f.capture, 0);
         self.check(f.ctx, &pc)?;
         barrier_from_producers(f.ctx, f.cmd);
+        if sort && !self.list.caps.sort {
+            return Err(VkError::Usage(
+                "a sort was recorded for a ready list made without its second buffer".into(),
+            ));
+        }
         if sort {
             f.scoped("sort", |f| self.sort.record(f, self))?;
         }

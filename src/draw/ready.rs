@@ -23,6 +23,9 @@ pub struct ReadyCaps {
     pub vertices: bool,
     /// Allocate the capture of world positions (6 per ready entry).
     pub capture: bool,
+    /// Allocate the sort's second buffer (only a producer whose order
+    /// depends on timing sorts).
+    pub sort: bool,
 }
 
 impl ReadyCaps {
@@ -37,6 +40,14 @@ impl ReadyCaps {
     fn vertex_bytes(&self) -> u64 {
         if self.vertices {
             u64::from(self.ready) * u64::from(VERTICES_PER_NODE * VERTEX_WORDS * 4)
+        } else {
+            16
+        }
+    }
+
+    fn sort_bytes(&self) -> u64 {
+        if self.sort {
+            u64::from(self.ready) * 8
         } else {
             16
         }
@@ -90,7 +101,8 @@ pub struct ReadyList {
     pub vertices: Buffer,
     /// Capture of world positions (or a 16-byte placeholder).
     pub capture: Buffer,
-    /// The sort's second buffer, as large as the list.
+    /// The sort's second buffer, as large as the list (or a 16-byte
+    /// placeholder when the producer does not sort).
     pub sort_temp: Buffer,
     /// What was allocated.
     pub caps: ReadyCaps,
@@ -115,7 +127,7 @@ impl ReadyList {
         )?;
         let vertices = Buffer::new(ctx, "fallback vertices", caps.vertex_bytes(), storage, gpu)?;
         let capture = Buffer::new(ctx, "position capture", caps.capture_bytes(), storage, gpu)?;
-        let sort_temp = Buffer::new(ctx, "sort temp", u64::from(caps.ready) * 8, storage, gpu)?;
+        let sort_temp = Buffer::new(ctx, "sort temp", caps.sort_bytes(), storage, gpu)?;
         let mut bound = [BufferBinding::from(&ready); READY_BINDINGS as usize];
         bound[BIND_READY as usize] = (&ready).into();
         bound[BIND_COUNTERS as usize] = (&counters).into();
@@ -164,11 +176,11 @@ impl ReadyList {
 
     /// Bytes per purpose, for the stats file.
     pub fn memory_bytes(&self) -> Vec<(&'static str, u64)> {
-        let mut v = vec![
-            ("ready_list", self.ready.size()),
-            ("sort_temp", self.sort_temp.size()),
-            ("counters", self.counters.size()),
-        ];
+        let mut v = vec![("ready_list", self.ready.size())];
+        if self.caps.sort {
+            v.push(("sort_temp", self.sort_temp.size()));
+        }
+        v.push(("counters", self.counters.size()));
         if self.caps.vertices {
             v.push(("fallback_vertices", self.vertices.size()));
         }
@@ -185,7 +197,7 @@ impl ReadyList {
 /// CPU-made ready list use this.
 pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
     let per_task = MESH_NODES * TASK_MESH_GROUPS;
-    vec![
+    let mut args = vec![
         (C_READY_COUNT, ready),
         (C_MESH_ARGS, ready.div_ceil(per_task)),
         (C_MESH_ARGS + 1, 1),
@@ -200,8 +212,15 @@ pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
         (C_SORT_BLOCK_ARGS, ready.div_ceil(SORT_BLOCK)),
         (C_SORT_BLOCK_ARGS + 1, 1),
         (C_SORT_BLOCK_ARGS + 2, 1),
-        (C_SORT_MERGE_ARGS, ready.div_ceil(SORT_GROUP_SIZE)),
-        (C_SORT_MERGE_ARGS + 1, 1),
-        (C_SORT_MERGE_ARGS + 2, 1),
-    ]
+    ];
+    for i in 0..SORT_MAX_MERGES {
+        let a = C_SORT_MERGE_ARGS + 4 * i;
+        let groups = if (SORT_BLOCK << i) < ready {
+            ready.div_ceil(SORT_GROUP_SIZE)
+        } else {
+            0
+        };
+        args.extend([(a, groups), (a + 1, 1), (a + 2, 1)]);
+    }
+    args
 }

@@ -2,9 +2,11 @@
 //! that a frame's draw order, and with it every equal-depth tie, does not
 //! depend on how a producer's threads happened to interleave: a block pass
 //! (blocks of `SORT_BLOCK` entries sorted in shared memory), then merge
-//! passes doubling the sorted runs, all over the list's actual length (the
-//! producer writes the dispatch arguments). Recorded between the producer
-//! and the draw.
+//! passes doubling the sorted runs, all sized by the list's actual length
+//! (the producer writes each pass's dispatch arguments; passes the length
+//! does not need get no workgroups). Recorded between the producer and the
+//! draw, for the producer that needs it (`subdiv --kernel queue`): the
+//! level kernels write the list in a canonical order already.
 
 use ash::vk;
 
@@ -18,7 +20,8 @@ const MODE_BLOCK: u32 = 0;
 const MODE_MERGE: u32 = 1;
 
 /// Merge passes a list of `capacity` entries needs: runs start at
-/// `SORT_BLOCK` and double until one spans the list.
+/// `SORT_BLOCK` and double until one spans the list (`passes_needed` in
+/// `glsl/sort.comp`), at most `SORT_MAX_MERGES`.
 pub fn merge_passes(capacity: u32) -> u32 {
     let mut passes = 0;
     let mut run = SORT_BLOCK;
@@ -43,8 +46,10 @@ impl ReadySort {
     }
 
     /// Records the block pass and every merge pass the list's capacity may
-    /// need (a pass over runs already spanning the list only copies), with
-    /// barriers; the sorted list ends in `ready`.
+    /// need, with barriers. The producer's arguments give a pass no
+    /// workgroups once the runs span the actual list, and the shader picks
+    /// each pass's direction from the actual length, so the sorted list ends
+    /// in `ready` whatever the count.
     pub fn record(&self, f: &mut FrameRec<'_>, stage: &ReadyStage) -> VkResult<()> {
         let cap = stage.list().caps.ready;
         let layout = stage.list_layout();
@@ -52,16 +57,12 @@ impl ReadySort {
         stage.bind_sets(f, vk::PipelineBindPoint::COMPUTE, layout);
         let counters = stage.list().counters.handle();
         let compute = Access::COMPUTE_READ_WRITE;
-        let passes = merge_passes(cap);
-        // Direction of the block pass: an odd number of merges must start in
-        // the temporary buffer to end in `ready`.
-        let mut to_temp = passes % 2 == 1;
-        let pass = |mode: u32, k: u32, to_temp: bool, args: u32| -> VkResult<()> {
+        let pass = |mode: u32, k: u32, args: u32| -> VkResult<()> {
             let pc = ListPush {
                 ready_capacity: cap,
                 mode,
                 k,
-                j: if to_temp { 0 } else { 1 },
+                j: 0,
             };
             layout.push_block(f.cmd, &pc)?;
             unsafe {
@@ -74,15 +75,9 @@ impl ReadySort {
         };
         // The producer's writes (list, count, arguments) first.
         memory_barrier(f.ctx, f.cmd, Access::ALL, Access::ALL);
-        // The block pass reads `ready` and writes its blocks in place
-        // (j = 1) or to the temporary buffer (j = 0).
-        pass(MODE_BLOCK, 0, to_temp, C_SORT_BLOCK_ARGS)?;
-        let mut run = SORT_BLOCK;
-        for _ in 0..passes {
-            // A merge reads where the last pass wrote.
-            to_temp = !to_temp;
-            pass(MODE_MERGE, run, to_temp, C_SORT_MERGE_ARGS)?;
-            run *= 2;
+        pass(MODE_BLOCK, 0, C_SORT_BLOCK_ARGS)?;
+        for i in 0..merge_passes(cap) {
+            pass(MODE_MERGE, SORT_BLOCK << i, C_SORT_MERGE_ARGS + 4 * i)?;
         }
         memory_barrier(f.ctx, f.cmd, Access::ALL, Access::ALL);
         Ok(())
@@ -98,5 +93,7 @@ mod tests {
         assert_eq!(merge_passes(SORT_BLOCK), 0);
         assert_eq!(merge_passes(SORT_BLOCK + 1), 1);
         assert_eq!(merge_passes(1 << 18), 8);
+        // The largest ready list the methods grow to has its arguments.
+        assert!(merge_passes(crate::methods::subdiv::MAX_READY_CAPACITY) <= SORT_MAX_MERGES);
     }
 }

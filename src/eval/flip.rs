@@ -59,6 +59,20 @@ impl FlipResult {
             .collect()
     }
 
+    /// The heat map's colour scale: `width` RGBA8 pixels from error 0
+    /// (left) to 1 (right), for a legend beside it.
+    pub fn legend_rgba(width: u32) -> Vec<u8> {
+        let ramp = FlipResult {
+            errors: (0..width)
+                .map(|i| i as f32 / (width.max(2) - 1) as f32)
+                .collect(),
+            width,
+            height: 1,
+            mean: 0.0,
+        };
+        ramp.heat_map_rgba()
+    }
+
     /// The heat map ([`FlipResult::heat_map_rgba`]) as a PNG, written
     /// atomically to `path`.
     pub fn save_heat_map(&self, path: &Path) -> Result<(), ImageError> {

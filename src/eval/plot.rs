@@ -1,7 +1,15 @@
 //! The plots of a `bench` run (plotters, drawn into a pixel buffer and
 //! written with the renderer's own PNG writer): frame time and triangles
-//! along the path, one panel per ε and λ with a line per method, and FLIP
-//! against triangles per method and λ.
+//! along the path, one panel per ε and λ with a line per method; the
+//! curves over ε of FLIP against triangles and against frame time (log-log,
+//! the comparison at equal error); and, when a run sweeps λ, the paper's
+//! Fig. 6 (triangles and FLIP against λ).
+//!
+//! Every series stays visible: a method has its colour, a λ its marker
+//! (methods that ignore λ a square and a dashed line), and series that
+//! coincide (the two subdivision methods draw the same triangles) are drawn
+//! earlier ones wider and larger, so the later one lies inside the earlier.
+//! The legend has a column of its own beside the panels, never over data.
 //!
 //! Text needs a TrueType font. Plotters' own font lookup goes through the
 //! system's font configuration; ab_glyph takes the bytes of a file, so
@@ -11,8 +19,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::pareto::{self, Curve};
 use super::record::{Config, ConfigSummary, FrameRow};
 use crate::gpu::write_png;
 
@@ -28,6 +38,8 @@ pub const FONT_PATHS: &[&str] = &[
 
 /// Plot size in pixels.
 const SIZE: (u32, u32) = (1600, 900);
+/// Width of the legend column.
+const LEGEND_WIDTH: u32 = 260;
 
 /// Method colours, by the method's place in the run (the same in every plot).
 const COLOURS: [RGBColor; 8] = [
@@ -84,13 +96,70 @@ pub fn load_font() -> Result<(), String> {
         .clone()
 }
 
-/// One line or point set of a panel.
-struct Series {
+/// Marker shapes, by λ's place in the run; `SQUARE` for methods that
+/// ignore λ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Marker {
+    Dot,
+    Ring,
+    Cross,
+    Triangle,
+    Square,
+}
+
+const LAMBDA_MARKERS: [Marker; 4] = [Marker::Dot, Marker::Ring, Marker::Cross, Marker::Triangle];
+
+/// How one series looks, the same in every panel of a figure.
+#[derive(Clone, Debug, PartialEq)]
+struct Style {
     label: String,
     colour: usize,
-    /// 0: filled dot, 1: ring, 2: cross (λ in the FLIP plot).
-    marker: usize,
+    marker: Marker,
+    dashed: bool,
+    /// 0 for the last series drawn; earlier ones are wider and larger so
+    /// identical series stay visible.
+    rank: u32,
+}
+
+impl Style {
+    /// Line width: 3 px wider per rank (at most 4), so a series drawn
+    /// exactly under a later one shows beside it.
+    fn width(&self) -> u32 {
+        2 + 3 * self.rank.min(4)
+    }
+
+    /// Marker radius, growing with the rank; small where points are
+    /// dense (a path of many frames).
+    fn radius(&self, dense: bool) -> i32 {
+        if dense {
+            2 + self.rank.min(4) as i32
+        } else {
+            5 + 2 * self.rank.min(4) as i32
+        }
+    }
+}
+
+/// One line or point set of a panel, drawn with `styles[style]`.
+struct Series {
+    style: usize,
     points: Vec<(f64, f64)>,
+}
+
+/// One chart.
+struct Panel {
+    title: String,
+    series: Vec<Series>,
+}
+
+/// A figure: panels in a grid, one legend.
+struct Figure<'a> {
+    title: &'a str,
+    axes: (&'a str, &'a str),
+    styles: Vec<Style>,
+    panels: Vec<Panel>,
+    cols: usize,
+    lines: bool,
+    log: bool,
 }
 
 /// Axis labels for an axis reaching `span`: integers (with thousands
@@ -108,38 +177,40 @@ fn label(v: &f64, span: f64) -> String {
     }
 }
 
-/// One chart.
-struct Panel {
-    title: String,
-    series: Vec<Series>,
+/// Labels on a logarithmic axis: enough digits to tell neighbours apart.
+fn log_label(v: &f64) -> String {
+    if *v >= 100.0 {
+        crate::commands::thousands(v.round() as u64)
+    } else if *v >= 1.0 {
+        format!("{v:.1}")
+    } else {
+        let digits = (-v.log10()).ceil().max(0.0) as usize + 1;
+        format!("{v:.digits$}")
+    }
 }
 
 type PlotResult = Result<(), String>;
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 
 fn err<E: std::fmt::Display>(e: E) -> String {
     format!("drawing a plot: {e}")
 }
 
-/// Draws `panels` in a grid of `cols` columns into a PNG at `path`.
-fn draw(
-    path: &Path,
-    title: &str,
-    axes: (&str, &str),
-    panels: &[Panel],
-    cols: usize,
-    lines: bool,
-) -> PlotResult {
+/// Draws `fig` into a PNG at `path`.
+fn draw(path: &Path, fig: &Figure<'_>) -> PlotResult {
     let (w, h) = SIZE;
     let mut rgb = vec![255u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        let root = root.titled(title, ("sans-serif", 28)).map_err(err)?;
-        let rows = panels.len().div_ceil(cols.max(1)).max(1);
-        let areas = root.split_evenly((rows, cols.max(1)));
-        for (panel, area) in panels.iter().zip(areas.iter()) {
-            draw_panel(area, panel, axes, lines)?;
+        let root = root.titled(fig.title, ("sans-serif", 28)).map_err(err)?;
+        let (plots, legend) = root.split_horizontally(w - LEGEND_WIDTH);
+        let rows = fig.panels.len().div_ceil(fig.cols.max(1)).max(1);
+        let areas = plots.split_evenly((rows, fig.cols.max(1)));
+        for (panel, area) in fig.panels.iter().zip(areas.iter()) {
+            draw_panel(area, panel, fig)?;
         }
+        draw_legend(&legend, fig)?;
         root.present().map_err(err)?;
     }
     let rgba: Vec<u8> = rgb
@@ -149,15 +220,80 @@ fn draw(
     write_png(path, w, h, &rgba).map_err(|e| e.to_string())
 }
 
-fn draw_panel(
-    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
-    panel: &Panel,
-    (x_desc, y_desc): (&str, &str),
-    lines: bool,
-) -> PlotResult {
-    let all = panel.series.iter().flat_map(|s| s.points.iter());
-    let (x_max, y_max) = all.fold((0f64, 0f64), |(a, b), &(x, y)| (a.max(x), b.max(y)));
-    if x_max <= 0.0 && y_max <= 0.0 {
+/// The legend column: a line and marker sample and the label per style
+/// that some panel uses.
+fn draw_legend(area: &Area<'_>, fig: &Figure<'_>) -> PlotResult {
+    let used = |i: usize| {
+        fig.panels
+            .iter()
+            .any(|p| p.series.iter().any(|s| s.style == i))
+    };
+    let mut y = 60;
+    for (i, st) in fig.styles.iter().enumerate().filter(|(i, _)| used(*i)) {
+        let colour = COLOURS[st.colour % COLOURS.len()];
+        let stroke = colour.stroke_width(st.width());
+        if fig.lines {
+            if st.dashed {
+                for x in (10..50).step_by(12) {
+                    area.draw(&PathElement::new(vec![(x, y), (x + 7, y)], stroke))
+                        .map_err(err)?;
+                }
+            } else {
+                area.draw(&PathElement::new(vec![(10, y), (50, y)], stroke))
+                    .map_err(err)?;
+            }
+        }
+        draw_marker(area, st, (30, y), st.radius(false)).map_err(err)?;
+        area.draw(&Text::new(
+            st.label.clone(),
+            (60, y - 8),
+            ("sans-serif", 16),
+        ))
+        .map_err(err)?;
+        y += 28;
+        let _ = i;
+    }
+    Ok(())
+}
+
+fn draw_marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    st: &Style,
+    at: (i32, i32),
+    r: i32,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let colour = COLOURS[st.colour % COLOURS.len()];
+    let (dot, ring) = (colour.filled(), colour.stroke_width(2));
+    match st.marker {
+        Marker::Dot => area.draw(&Circle::new(at, r, dot)),
+        Marker::Ring => area.draw(&Circle::new(at, r, ring)),
+        Marker::Cross => area.draw(&Cross::new(at, r, ring)),
+        Marker::Triangle => area.draw(&TriangleMarker::new(at, r, ring)),
+        Marker::Square => area.draw(&Rectangle::new(
+            [(at.0 - r, at.1 - r), (at.0 + r, at.1 + r)],
+            ring,
+        )),
+    }
+}
+
+fn draw_panel(area: &Area<'_>, panel: &Panel, fig: &Figure<'_>) -> PlotResult {
+    // A log-log panel plots log10 of both coordinates on linear axes whose
+    // labels show the values again: ticks then fall evenly in ratio, also
+    // when the data spans less than a decade.
+    let tf = |(x, y): (f64, f64)| {
+        if fig.log {
+            (x > 0.0 && y > 0.0).then(|| (x.log10(), y.log10()))
+        } else {
+            Some((x, y))
+        }
+    };
+    let all: Vec<(f64, f64)> = panel
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter_map(tf)
+        .collect();
+    if all.is_empty() {
         area.draw(&Text::new(
             format!("{}: no data", panel.title),
             (20, 20),
@@ -166,99 +302,190 @@ fn draw_panel(
         .map_err(err)?;
         return Ok(());
     }
+    let lo_hi = |k: fn(&(f64, f64)) -> f64| {
+        all.iter()
+            .map(k)
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)))
+    };
+    let ((x_lo, x_hi), (y_lo, y_hi)) = (lo_hi(|p| p.0), lo_hi(|p| p.1));
+    let (x, y) = if fig.log {
+        // A twentieth of the span (at least 0.02 decades) beyond the data.
+        let pad = |lo: f64, hi: f64| {
+            let d = ((hi - lo) / 20.0).max(0.02);
+            (lo - d)..(hi + d)
+        };
+        (pad(x_lo, x_hi), pad(y_lo, y_hi))
+    } else {
+        (0f64..(x_hi * 1.02).max(1.0), 0f64..(y_hi * 1.05).max(1e-9))
+    };
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 20))
         .margin(10)
         .x_label_area_size(40)
-        .y_label_area_size(70)
-        // Headroom above the data for the legend in the upper right.
-        .build_cartesian_2d(0f64..(x_max * 1.02).max(1.0), 0f64..(y_max * 1.3).max(1e-9))
+        .y_label_area_size(80)
+        .build_cartesian_2d(x, y)
         .map_err(err)?;
-    let (xf, yf) = (|v: &f64| label(v, x_max), |v: &f64| label(v, y_max));
+    let xf = |v: &f64| {
+        if fig.log {
+            log_label(&10f64.powf(*v))
+        } else {
+            label(v, x_hi)
+        }
+    };
+    let yf = |v: &f64| {
+        if fig.log {
+            log_label(&10f64.powf(*v))
+        } else {
+            label(v, y_hi)
+        }
+    };
     chart
         .configure_mesh()
-        .x_desc(x_desc)
-        .y_desc(y_desc)
+        .x_desc(fig.axes.0)
+        .y_desc(fig.axes.1)
         .x_label_formatter(&xf)
         .y_label_formatter(&yf)
+        // Along the path x counts frames: no more labels than frames.
+        .x_labels(if fig.log {
+            12
+        } else {
+            (x_hi as usize + 1).clamp(2, 12)
+        })
+        .y_labels(12)
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
         .light_line_style(WHITE)
         .draw()
         .map_err(err)?;
-    let last = panel.series.iter().map(|s| s.colour).max().unwrap_or(0);
-    for s in &panel.series {
-        let colour = COLOURS[s.colour % COLOURS.len()];
-        // Earlier methods are drawn wider, so identical lines (the two
-        // subdivision methods draw the same triangles) stay visible.
-        let style = colour.stroke_width(2 + 2 * (last - s.colour).min(2) as u32);
-        if lines {
-            chart
-                .draw_series(LineSeries::new(s.points.iter().copied(), style))
-                .map_err(err)?;
+    // Earlier styles first: the later (narrower) ones land on top.
+    let mut order: Vec<&Series> = panel.series.iter().collect();
+    order.sort_by_key(|s| s.style);
+    for s in order {
+        let st = &fig.styles[s.style];
+        let colour = COLOURS[st.colour % COLOURS.len()];
+        let style = colour.stroke_width(st.width());
+        let pts: Vec<(f64, f64)> = s.points.iter().copied().filter_map(tf).collect();
+        if fig.lines {
+            if st.dashed {
+                chart
+                    .draw_series(DashedLineSeries::new(pts.iter().copied(), 10, 6, style))
+                    .map_err(err)?;
+            } else {
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied(), style))
+                    .map_err(err)?;
+            }
         }
-        let pts = s.points.iter().copied();
+        let r = st.radius(pts.len() > 30);
         let (dot, ring) = (colour.filled(), colour.stroke_width(2));
-        // Small marks where the points are dense (a path of many frames).
-        let r = if s.points.len() > 30 { 2 } else { 5 };
-        let anno = match s.marker % 3 {
-            0 => chart.draw_series(pts.map(|p| Circle::new(p, r, dot))),
-            1 => chart.draw_series(pts.map(|p| Circle::new(p, r, ring))),
-            _ => chart.draw_series(pts.map(|p| Cross::new(p, r, ring))),
+        let it = pts.iter().copied();
+        match st.marker {
+            Marker::Dot => chart.draw_series(it.map(|p| Circle::new(p, r, dot))),
+            Marker::Ring => chart.draw_series(it.map(|p| Circle::new(p, r, ring))),
+            Marker::Cross => chart.draw_series(it.map(|p| Cross::new(p, r, ring))),
+            Marker::Triangle => chart.draw_series(it.map(|p| TriangleMarker::new(p, r, ring))),
+            Marker::Square => chart.draw_series(
+                it.map(|p| EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], ring)),
+            ),
         }
-        .map_err(err)?
-        .label(&s.label);
-        let line = move |(x, y): (i32, i32)| {
-            EmptyElement::at((x, y)) + PathElement::new(vec![(0, 0), (20, 0)], style)
-        };
-        match s.marker % 3 {
-            0 => anno.legend(move |p| line(p) + Circle::new((10, 0), 5, dot)),
-            1 => anno.legend(move |p| line(p) + Circle::new((10, 0), 5, ring)),
-            _ => anno.legend(move |p| line(p) + Cross::new((10, 0), 5, ring)),
-        };
-    }
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 14))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
         .map_err(err)?;
+    }
     Ok(())
 }
 
 /// The distinct values of `f` over `configs`, sorted (descending with `desc`).
-fn distinct(configs: &[Config], f: impl Fn(&Config) -> f64, desc: bool) -> Vec<f64> {
+fn distinct(configs: &[Config], f: impl Fn(&Config) -> Option<f64>, desc: bool) -> Vec<f64> {
     let mut v: Vec<f64> = Vec::new();
-    for c in configs {
-        if !v.contains(&f(c)) {
-            v.push(f(c));
+    for x in configs.iter().filter_map(f) {
+        if !v.contains(&x) {
+            v.push(x);
         }
     }
     v.sort_by(|a, b| if desc { b.total_cmp(a) } else { a.total_cmp(b) });
     v
 }
 
-/// Panels of figure `key` along the path: rows λ (descending), columns ε.
-fn along_path(
-    configs: &[Config],
-    methods: &[String],
-    rows: &[FrameRow],
-    key: &str,
-) -> (Vec<Panel>, usize) {
-    let eps = distinct(configs, |c| c.eps, false);
+/// The methods in run order.
+fn methods_of(configs: &[Config]) -> Vec<String> {
+    let mut methods: Vec<String> = Vec::new();
+    for c in configs {
+        if !methods.contains(&c.method) {
+            methods.push(c.method.clone());
+        }
+    }
+    methods
+}
+
+/// The style of every (method, λ) curve: colour by method, marker by λ
+/// (a dashed line and a square for methods that ignore λ), rank by order.
+fn curve_styles(configs: &[Config]) -> Vec<(String, Option<f64>, Style)> {
+    let methods = methods_of(configs);
+    let lambdas = distinct(configs, |c| c.lambda, true);
+    let mut keys: Vec<(String, Option<f64>)> = Vec::new();
+    for c in configs {
+        let k = (c.method.clone(), c.lambda);
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    let n = methods.len() as u32;
+    keys.into_iter()
+        .map(|(m, l)| {
+            let i = methods.iter().position(|x| *x == m).unwrap_or(0);
+            let style = Style {
+                label: match l {
+                    Some(l) => format!("{m} λ={l}"),
+                    None => m.clone(),
+                },
+                colour: i,
+                marker: match l {
+                    Some(l) => {
+                        let k = lambdas.iter().position(|x| *x == l).unwrap_or(0);
+                        LAMBDA_MARKERS[k % LAMBDA_MARKERS.len()]
+                    }
+                    None => Marker::Square,
+                },
+                dashed: l.is_none(),
+                rank: n - 1 - i as u32,
+            };
+            (m, l, style)
+        })
+        .collect()
+}
+
+/// Panels of figure `key` along the path: rows λ (descending), columns ε,
+/// a line per method (methods that ignore λ in every row).
+fn along_path(configs: &[Config], rows: &[FrameRow], key: &str) -> (Vec<Style>, Vec<Panel>, usize) {
+    let methods = methods_of(configs);
+    let n = methods.len() as u32;
+    let styles: Vec<Style> = methods
+        .iter()
+        .enumerate()
+        .map(|(i, m)| Style {
+            label: m.clone(),
+            colour: i,
+            marker: Marker::Dot,
+            dashed: false,
+            rank: n - 1 - i as u32,
+        })
+        .collect();
+    let eps = distinct(configs, |c| Some(c.eps), false);
+    let mut lambdas: Vec<Option<f64>> = distinct(configs, |c| c.lambda, true)
+        .into_iter()
+        .map(Some)
+        .collect();
+    if lambdas.is_empty() {
+        lambdas.push(None);
+    }
     let mut panels = Vec::new();
-    for l in distinct(configs, |c| c.lambda, true) {
+    for &l in &lambdas {
         for &e in &eps {
             let series = configs
                 .iter()
                 .enumerate()
-                .filter(|(_, c)| c.eps == e && c.lambda == l)
+                .filter(|(_, c)| c.eps == e && (c.lambda.is_none() || c.lambda == l))
                 .map(|(i, c)| Series {
-                    label: c.method.clone(),
-                    colour: methods.iter().position(|m| *m == c.method).unwrap_or(0),
-                    marker: 0,
+                    style: methods.iter().position(|m| *m == c.method).unwrap_or(0),
                     points: rows
                         .iter()
                         .filter(|r| r.config == i)
@@ -270,13 +497,98 @@ fn along_path(
                 })
                 .collect();
             panels.push(Panel {
-                title: format!("ε = {e}, λ = {l}"),
+                title: match l {
+                    Some(l) => format!("ε = {e}, λ = {l}"),
+                    None => format!("ε = {e}"),
+                },
                 series,
             });
         }
     }
-    (panels, eps.len())
+    (styles, panels, eps.len())
 }
+
+/// The curves over ε as one panel: `y` against `x` of each point.
+fn curve_panel(
+    title: &str,
+    curves: &[Curve],
+    styles: &[(String, Option<f64>, Style)],
+    xy: impl Fn(&pareto::Point) -> Option<(f64, f64)>,
+) -> Panel {
+    let series = curves
+        .iter()
+        .filter_map(|c| {
+            let style = styles
+                .iter()
+                .position(|(m, l, _)| *m == c.method && *l == c.lambda)?;
+            let mut points: Vec<(f64, f64)> = c.points.iter().filter_map(&xy).collect();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            Some(Series { style, points })
+        })
+        .collect();
+    Panel {
+        title: title.into(),
+        series,
+    }
+}
+
+/// Fig. 6: per method that reads λ and ε with three or more λ measured,
+/// triangles and FLIP against λ. `None` when the run sweeps no λ.
+fn lambda_figure(configs: &[Config], summaries: &[ConfigSummary]) -> Option<Vec<Panel>> {
+    let mut keys: Vec<(String, f64)> = Vec::new();
+    for c in configs {
+        let k = (c.method.clone(), c.eps);
+        let swept = configs
+            .iter()
+            .filter(|d| d.method == c.method && d.eps == c.eps && d.lambda.is_some())
+            .count();
+        if swept >= 3 && !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    if keys.is_empty() {
+        return None;
+    }
+    let along_lambda = |(m, e): &(String, f64), value: &dyn Fn(&ConfigSummary) -> Option<f64>| {
+        let mut pts: Vec<(f64, f64)> = summaries
+            .iter()
+            .filter(|s| configs[s.config].method == *m && configs[s.config].eps == *e)
+            .filter_map(|s| Some((configs[s.config].lambda?, value(s)?)))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        pts
+    };
+    let triangles = |s: &ConfigSummary| {
+        s.flip_triangles_median()
+            .or(s.get("triangles").map(|x| x.0))
+    };
+    let flip = |s: &ConfigSummary| s.flip_median();
+    let mk = |title: &str, value: &dyn Fn(&ConfigSummary) -> Option<f64>| Panel {
+        title: title.into(),
+        series: keys
+            .iter()
+            .enumerate()
+            .map(|(i, k)| Series {
+                style: i,
+                points: along_lambda(k, value),
+            })
+            .collect(),
+    };
+    Some(vec![
+        mk("triangles", &triangles),
+        mk("FLIP against the ground truth", &flip),
+    ])
+}
+
+/// A plot of the curves over ε: file, title, x axis, what it shows, and
+/// each point's (x, y).
+type CurvePlot = (
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    fn(&pareto::Point) -> Option<(f64, f64)>,
+);
 
 /// Writes the run's plots into `dir`; returns (file name, what it shows).
 pub fn write_plots(
@@ -286,75 +598,125 @@ pub fn write_plots(
     summaries: &[ConfigSummary],
 ) -> Result<Vec<(&'static str, &'static str)>, String> {
     load_font()?;
-    let mut methods: Vec<String> = Vec::new();
-    for c in configs {
-        if !methods.contains(&c.method) {
-            methods.push(c.method.clone());
-        }
+    let mut written = Vec::new();
+    for (file, title, key, y, what) in [
+        (
+            "frame_time.png",
+            "GPU frame time along the path",
+            "gpu_ms.frame",
+            "ms",
+            "frame time along the path",
+        ),
+        (
+            "triangles.png",
+            "Triangles along the path",
+            "triangles",
+            "triangles",
+            "triangles along the path",
+        ),
+    ] {
+        let (styles, panels, cols) = along_path(configs, rows, key);
+        let fig = Figure {
+            title,
+            axes: ("frame", y),
+            styles,
+            panels,
+            cols,
+            lines: true,
+            log: false,
+        };
+        draw(&dir.join(file), &fig)?;
+        written.push((file, what));
     }
-    let (panels, cols) = along_path(configs, &methods, rows, "gpu_ms.frame");
-    draw(
-        &dir.join("frame_time.png"),
-        "GPU frame time along the path",
-        ("frame", "ms"),
-        &panels,
-        cols,
-        true,
-    )?;
-    let (panels, cols) = along_path(configs, &methods, rows, "triangles");
-    draw(
-        &dir.join("triangles.png"),
-        "Triangles along the path",
-        ("frame", "triangles"),
-        &panels,
-        cols,
-        true,
-    )?;
-    // FLIP against triangles: per method and λ, one point per ε (medians
-    // over the perspectives), joined in ε order.
-    let mut series = Vec::new();
-    for (mi, m) in methods.iter().enumerate() {
-        for (li, l) in distinct(configs, |c| c.lambda, true)
-            .into_iter()
-            .enumerate()
-        {
-            let mut points: Vec<(f64, f64)> = summaries
-                .iter()
-                .filter(|s| configs[s.config].method == *m && configs[s.config].lambda == l)
-                .filter_map(|s| {
-                    let mut t: Vec<f64> = s.flips.iter().map(|f| f.triangles as f64).collect();
-                    t.sort_by(f64::total_cmp);
-                    Some((crate::commands::render::median(&t), s.flip_median()?))
-                })
-                .collect();
-            points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            if !points.is_empty() {
-                series.push(Series {
-                    label: format!("{m} λ={l}"),
-                    colour: mi,
-                    marker: li,
-                    points,
-                });
+    // The curves over ε: one point per ε (medians over the perspectives).
+    let curves = pareto::curves(configs, summaries);
+    let styles = curve_styles(configs);
+    let plain: Vec<Style> = styles.iter().map(|(_, _, s)| s.clone()).collect();
+    let pareto_plots: [CurvePlot; 3] = [
+        (
+            "flip_vs_triangles.png",
+            "FLIP against the ground truth vs triangles (one point per ε)",
+            "triangles (median of the FLIP images)",
+            "FLIP vs triangles",
+            |p| Some((p.triangles, p.error)),
+        ),
+        (
+            "flip_vs_time.png",
+            "FLIP against the ground truth vs GPU frame time (one point per ε)",
+            "frame time, ms (median along the path)",
+            "FLIP vs frame time",
+            |p| Some((p.frame_ms?, p.error)),
+        ),
+        (
+            "geometric_vs_triangles.png",
+            "Geometric error against the ground truth vs triangles (one point per ε)",
+            "triangles (median of the FLIP images)",
+            "geometric error vs triangles",
+            |p| Some((p.triangles, p.error)),
+        ),
+    ];
+    let geometric = pareto::geometric_curves(configs, summaries);
+    for (i, (file, title, x, what, xy)) in pareto_plots.into_iter().enumerate() {
+        let (curves, y) = if i < 2 {
+            (&curves, "FLIP mean (median of the perspectives)")
+        } else {
+            (
+                &geometric,
+                "mean geometric error, px (median of the perspectives)",
+            )
+        };
+        let fig = Figure {
+            title,
+            axes: (x, y),
+            styles: plain.clone(),
+            panels: vec![curve_panel(
+                "log-log: lower left is better",
+                curves,
+                &styles,
+                xy,
+            )],
+            cols: 1,
+            lines: true,
+            log: true,
+        };
+        draw(&dir.join(file), &fig)?;
+        written.push((file, what));
+    }
+    if let Some(panels) = lambda_figure(configs, summaries) {
+        let mut keys: Vec<(String, f64)> = Vec::new();
+        for c in configs.iter().filter(|c| c.lambda.is_some()) {
+            if !keys.contains(&(c.method.clone(), c.eps)) {
+                keys.push((c.method.clone(), c.eps));
             }
         }
+        let methods = methods_of(configs);
+        let n = panels[0].series.len() as u32;
+        let styles = panels[0]
+            .series
+            .iter()
+            .zip(&keys)
+            .enumerate()
+            .map(|(i, (_, (m, e)))| Style {
+                label: format!("{m} ε={e}"),
+                colour: methods.iter().position(|x| x == m).unwrap_or(0) + i,
+                marker: LAMBDA_MARKERS[i % LAMBDA_MARKERS.len()],
+                dashed: false,
+                rank: n - 1 - i as u32,
+            })
+            .collect();
+        let fig = Figure {
+            title: "λ: triangles and FLIP (the paper's Fig. 6)",
+            axes: ("λ", ""),
+            styles,
+            panels,
+            cols: 2,
+            lines: true,
+            log: false,
+        };
+        draw(&dir.join("lambda.png"), &fig)?;
+        written.push(("lambda.png", "triangles and FLIP against λ (Fig. 6)"));
     }
-    let panel = Panel {
-        title: "one point per ε: medians over the FLIP perspectives".into(),
-        series,
-    };
-    draw(
-        &dir.join("flip_vs_triangles.png"),
-        "FLIP against the ground truth vs triangles",
-        ("triangles", "FLIP mean"),
-        &[panel],
-        1,
-        true,
-    )?;
-    Ok(vec![
-        ("frame_time.png", "frame time along the path"),
-        ("triangles.png", "triangles along the path"),
-        ("flip_vs_triangles.png", "FLIP vs triangles"),
-    ])
+    Ok(written)
 }
 
 #[cfg(test)]

@@ -23,21 +23,41 @@ pub struct Config {
     pub method: String,
     /// Pixel tolerance.
     pub eps: f64,
-    /// Distance blend.
-    pub lambda: f64,
+    /// Distance blend; `None` for a method that ignores λ (measured once
+    /// per ε).
+    pub lambda: Option<f64>,
     /// The method's draw path, once a frame has told it.
     pub draw_path: String,
 }
 
 impl Config {
-    /// `subdiv ε=1 λ=0.5`, for progress and legends.
+    /// `subdiv ε=1 λ=0.5` (`tess ε=1`), for progress and legends.
     pub fn label(&self) -> String {
-        format!("{} ε={} λ={}", self.method, self.eps, self.lambda)
+        match self.lambda {
+            Some(l) => format!("{} ε={} λ={l}", self.method, self.eps),
+            None => format!("{} ε={}", self.method, self.eps),
+        }
     }
 
-    /// `subdiv-e1-l0.5`, for file names.
+    /// `subdiv-e1-l0.5` (`tess-e1`), for file names.
     pub fn stem(&self) -> String {
-        format!("{}-e{}-l{}", self.method, self.eps, self.lambda)
+        match self.lambda {
+            Some(l) => format!("{}-e{}-l{l}", self.method, self.eps),
+            None => format!("{}-e{}", self.method, self.eps),
+        }
+    }
+
+    /// The method and λ, the name of one curve over ε (`subdiv λ=0.5`, `tess`).
+    pub fn series(&self) -> String {
+        match self.lambda {
+            Some(l) => format!("{} λ={l}", self.method),
+            None => self.method.clone(),
+        }
+    }
+
+    /// λ as a CSV cell (empty when the method ignores it).
+    pub fn lambda_cell(&self) -> String {
+        self.lambda.map_or_else(String::new, |l| l.to_string())
     }
 }
 
@@ -59,7 +79,7 @@ pub struct FrameRow {
 pub struct FlipRow {
     /// Index into the run's configurations.
     pub config: usize,
-    /// Perspective number (0-based).
+    /// Perspective number (1-based, as in the image file names).
     pub perspective: usize,
     /// Its position on the path.
     pub t: f64,
@@ -71,6 +91,8 @@ pub struct FlipRow {
     pub image: String,
     /// The FLIP heat map, relative to the output directory.
     pub heat_map: String,
+    /// Where the error lies, and the geometric error beside FLIP.
+    pub breakdown: crate::eval::geometry::Breakdown,
 }
 
 /// The run's figures of one frame under `render`'s stats key names: the
@@ -112,7 +134,7 @@ pub fn flatten(report: &FrameReport, memory: &[(&'static str, u64)]) -> Vec<(Str
 pub const FRAME_COLUMNS: [&str; 6] = ["method", "draw_path", "eps", "lambda", "frame", "t"];
 
 /// The columns of `flip.csv`.
-pub const FLIP_COLUMNS: [&str; 10] = [
+pub const FLIP_COLUMNS: [&str; 16] = [
     "method",
     "draw_path",
     "eps",
@@ -121,8 +143,30 @@ pub const FLIP_COLUMNS: [&str; 10] = [
     "t",
     "flip_mean",
     "triangles",
+    "geo_mean_px",
+    "geo_p99_px",
+    "silhouette_diff_px",
+    "flip_silhouette_share",
+    "flip_wedge_share",
+    "wedge_pixel_share",
     "image",
     "heat_map",
+];
+
+/// The columns of `breakdown.csv`: per configuration, perspective and
+/// model, the reference pixels showing the model, FLIP over them and the
+/// geometric error.
+pub const BREAKDOWN_COLUMNS: [&str; 10] = [
+    "method",
+    "eps",
+    "lambda",
+    "perspective",
+    "model",
+    "pixels",
+    "flip_sum",
+    "flip_share",
+    "geo_mean_px",
+    "geo_pixels",
 ];
 
 /// The figure keys of several frames' flattened values, each once, in the
@@ -219,7 +263,7 @@ pub fn frame_cells(config: &Config, row: &FrameRow, keys: &[String]) -> Vec<Stri
         config.method.clone(),
         config.draw_path.clone(),
         config.eps.to_string(),
-        config.lambda.to_string(),
+        config.lambda_cell(),
         row.frame.to_string(),
         row.t.to_string(),
     ];
@@ -236,14 +280,58 @@ pub fn flip_cells(config: &Config, row: &FlipRow) -> Vec<String> {
         config.method.clone(),
         config.draw_path.clone(),
         config.eps.to_string(),
-        config.lambda.to_string(),
+        config.lambda_cell(),
         row.perspective.to_string(),
         row.t.to_string(),
         row.mean.to_string(),
         row.triangles.to_string(),
+        row.breakdown.geo_mean_px.to_string(),
+        row.breakdown.geo_p99_px.to_string(),
+        row.breakdown.silhouette_diff_px.to_string(),
+        row.breakdown.flip_silhouette_share.to_string(),
+        opt_cell(row.breakdown.flip_wedge_share),
+        opt_cell(row.breakdown.wedge_pixel_share),
         row.image.clone(),
         row.heat_map.clone(),
     ]
+}
+
+fn opt_cell(x: Option<f64>) -> String {
+    x.map_or_else(String::new, |v| v.to_string())
+}
+
+/// The rows of `breakdown.csv` for one FLIP row (models by name; models
+/// the reference does not show are left out).
+pub fn breakdown_rows(config: &Config, row: &FlipRow, models: &[String]) -> Vec<Vec<String>> {
+    let total: f64 = row.breakdown.models.iter().map(|m| m.flip_sum).sum();
+    row.breakdown
+        .models
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.pixels > 0)
+        .map(|(i, m)| {
+            vec![
+                config.method.clone(),
+                config.eps.to_string(),
+                config.lambda_cell(),
+                row.perspective.to_string(),
+                models
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| format!("model {i}")),
+                m.pixels.to_string(),
+                m.flip_sum.to_string(),
+                if total > 0.0 { m.flip_sum / total } else { 0.0 }.to_string(),
+                if m.geo_pixels > 0 {
+                    m.geo_sum_px / m.geo_pixels as f64
+                } else {
+                    0.0
+                }
+                .to_string(),
+                m.geo_pixels.to_string(),
+            ]
+        })
+        .collect()
 }
 
 /// One configuration's frames summarised: median, min and max of every
@@ -314,6 +402,23 @@ impl ConfigSummary {
         (!v.is_empty()).then(|| crate::commands::render::median(&v))
     }
 
+    /// The median over the perspectives of a figure of their breakdowns.
+    pub fn flip_figure_median(
+        &self,
+        f: impl Fn(&crate::eval::geometry::Breakdown) -> Option<f64>,
+    ) -> Option<f64> {
+        let mut v: Vec<f64> = self.flips.iter().filter_map(|r| f(&r.breakdown)).collect();
+        v.sort_by(f64::total_cmp);
+        (!v.is_empty()).then(|| crate::commands::render::median(&v))
+    }
+
+    /// The median triangle count of the FLIP images.
+    pub fn flip_triangles_median(&self) -> Option<f64> {
+        let mut v: Vec<f64> = self.flips.iter().map(|f| f.triangles as f64).collect();
+        v.sort_by(f64::total_cmp);
+        (!v.is_empty()).then(|| crate::commands::render::median(&v))
+    }
+
     /// The `summary.json` entry: the medians nested as in `render`'s stats
     /// file, with `min` and `max` beside them in the same layout, and FLIP.
     pub fn to_json(&self, config: &Config) -> Value {
@@ -340,13 +445,24 @@ impl ConfigSummary {
             .flips
             .iter()
             .map(|f| {
+                let b = &f.breakdown;
                 json!({"perspective": f.perspective, "t": f.t, "flip_mean": f.mean,
-                       "triangles": f.triangles, "image": f.image, "heat_map": f.heat_map})
+                       "triangles": f.triangles, "geo_mean_px": b.geo_mean_px,
+                       "geo_p99_px": b.geo_p99_px, "silhouette_diff_px": b.silhouette_diff_px,
+                       "flip_silhouette_share": b.flip_silhouette_share,
+                       "flip_wedge_share": b.flip_wedge_share,
+                       "image": f.image, "heat_map": f.heat_map})
             })
             .collect();
         entry.insert(
             "flip".into(),
-            json!({"median": self.flip_median(), "perspectives": per}),
+            json!({"median": self.flip_median(),
+                   "geo_mean_px": self.flip_figure_median(|b| Some(b.geo_mean_px)),
+                   "geo_p99_px": self.flip_figure_median(|b| Some(b.geo_p99_px)),
+                   "silhouette_diff_px": self.flip_figure_median(|b| Some(b.silhouette_diff_px as f64)),
+                   "flip_silhouette_share": self.flip_figure_median(|b| Some(b.flip_silhouette_share)),
+                   "flip_wedge_share": self.flip_figure_median(|b| b.flip_wedge_share),
+                   "perspectives": per}),
         );
         Value::Object(entry)
     }
@@ -439,7 +555,7 @@ mod tests {
         let config = Config {
             method: "subdiv".into(),
             eps: 1.0,
-            lambda: 0.5,
+            lambda: Some(0.5),
             draw_path: "mesh".into(),
         };
         let j = s.to_json(&config);

@@ -77,8 +77,8 @@ gpu_block!(
     [view_proj, light_dir, shade, capacity, capture_enabled, grid]
 );
 
-/// Push constants of the persistent subdivision kernel (`SubdivPush` in
-/// `glsl/subdivide.comp`).
+/// Push constants of the queue kernel (`SubdivPush` in
+/// `glsl/common/queue.glsl`, `subdiv --kernel queue`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct SubdivPush {
@@ -91,43 +91,67 @@ pub struct SubdivPush {
     /// Polls without any progress anywhere before the kernel gives up with
     /// `ERR_ITERATION_CAP`.
     pub idle_poll_cap: u32,
+    /// Deque entries a workgroup uses (at most `SUBDIV_LOCAL_CAP`).
+    pub local_cap: u32,
+    /// Base patches per claim (0: spread over the workgroups).
+    pub base_batch: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 2],
 }
 gpu_block!(
     SubdivPush,
     "SubdivPush",
-    [ready_capacity, queue_capacity, patch_count, idle_poll_cap]
+    [
+        ready_capacity,
+        queue_capacity,
+        patch_count,
+        idle_poll_cap,
+        local_cap,
+        base_batch,
+        pad
+    ]
 );
 
-/// Push constants of the per-depth kernel and its argument pass
-/// (`LevelPush` in `glsl/common/level.glsl`).
+/// Push constants of the level kernels: the persistent one, the per-depth
+/// rounds and their first step (`LevelPush` in `glsl/common/level.glsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct LevelPush {
-    /// The depth this dispatch processes (the argument pass: prepares).
-    pub level: u32,
     /// Base patches (the nodes of depth 0).
     pub patch_count: u32,
-    /// Entries of the buffer of odd depths.
-    pub odd_capacity: u32,
-    /// Entries of the buffer of even depths.
-    pub even_capacity: u32,
+    /// Nodes per round at most (a multiple of `LEVEL_GROUP_SIZE`).
+    pub chunk: u32,
     /// Entries in the ready list.
     pub ready_capacity: u32,
-    /// Most workgroups one dispatch may have (the kernel loops over the rest).
-    pub max_groups: u32,
+    /// Depths with a region in the node memory.
+    pub levels: u32,
+    /// Persistent kernel: polls without progress before its watchdog trips.
+    pub watchdog_polls: u32,
+    /// Persistent kernel: polls of an unchanged join count before the
+    /// occupancy window closes.
+    pub join_polls: u32,
+    /// Persistent kernel: workgroups launched.
+    pub launched: u32,
+    /// `FAULT_*` bits (tests).
+    pub faults: u32,
+    /// Per-depth rounds: blocks per workgroup.
+    pub group_blocks: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: [u32; 3],
 }
 gpu_block!(
     LevelPush,
     "LevelPush",
     [
-        level,
         patch_count,
-        odd_capacity,
-        even_capacity,
+        chunk,
         ready_capacity,
-        max_groups,
+        levels,
+        watchdog_polls,
+        join_polls,
+        launched,
+        faults,
+        group_blocks,
         pad
     ]
 );
@@ -158,10 +182,16 @@ pub struct GridPush {
     pub patch_count: u32,
     /// Indices per patch (6 per grid cell).
     pub indices_per_patch: u32,
+    /// Base patches one part of the frame draws.
+    pub patches_per_part: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
-gpu_block!(GridPush, "GridPush", [patch_count, indices_per_patch, pad]);
+gpu_block!(
+    GridPush,
+    "GridPush",
+    [patch_count, indices_per_patch, patches_per_part, pad]
+);
 
 /// Push constants of cudatess's compute passes (`CtPush` in
 /// `glsl/common/cudatess_push.glsl`).

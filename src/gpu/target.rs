@@ -96,7 +96,16 @@ impl DrawTarget {
             .ok_or_else(|| VkError::FeatureMissing {
                 device: ctx.info().name.clone(),
                 feature: format!("{samples} samples per pixel"),
-                hint: "; pick 1, 2, 4 or 8 within what `info` lists".into(),
+                hint: format!(
+                    "; it renders with {} (`info` lists them under MSAA)",
+                    ctx.info()
+                        .limits
+                        .msaa_sample_counts()
+                        .iter()
+                        .map(u32::to_string)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
             })?;
         let image = |name, format, usage, samples| {
             Image::new(
@@ -179,62 +188,90 @@ impl DrawTarget {
     /// multisampled colour into the result at the end), full-target
     /// viewport and scissor.
     pub fn begin(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        self.begin_part(ctx, cmd, true, true);
+    }
+
+    /// [`DrawTarget::begin`] for one of several parts of a frame
+    /// (`FrameRec::split`): the `first` part clears, the others load what
+    /// the earlier parts drew (colour samples and depth); every part but
+    /// the `last` stores them for the next, and every part resolves.
+    pub fn begin_part(&self, ctx: &Context, cmd: vk::CommandBuffer, first: bool, last: bool) {
         let attach = Access::new(
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
             vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         );
-        // From UNDEFINED: the old contents are cleared anyway. The source
-        // scope is everything, so this frame's writes wait for any earlier
-        // reads (readback copies, blits) and writes of the same images.
-        for image in std::iter::once(&self.color).chain(self.msaa.as_ref()) {
-            image_barrier(
-                ctx,
-                cmd,
-                image,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                Access::ALL,
-                attach,
-            );
+        let color_layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+        let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+        // The first part comes from UNDEFINED: the old contents are cleared
+        // anyway. A later part keeps them: the resolved colour image was
+        // left in FINAL_LAYOUT, the others in their attachment layouts. The
+        // source scope is everything, so this part's writes wait for any
+        // earlier reads (readback copies, blits) and writes of the images.
+        let (color_from, msaa_from, depth_from) = if first {
+            let u = vk::ImageLayout::UNDEFINED;
+            (u, u, u)
+        } else {
+            (Self::FINAL_LAYOUT, color_layout, depth_layout)
+        };
+        image_barrier(
+            ctx,
+            cmd,
+            &self.color,
+            color_from,
+            color_layout,
+            Access::ALL,
+            attach,
+        );
+        if let Some(ms) = &self.msaa {
+            image_barrier(ctx, cmd, ms, msaa_from, color_layout, Access::ALL, attach);
         }
         image_barrier(
             ctx,
             cmd,
             &self.depth,
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            depth_from,
+            depth_layout,
             Access::ALL,
             Access::DEPTH_ATTACHMENT,
         );
+        let load = if first {
+            vk::AttachmentLoadOp::CLEAR
+        } else {
+            vk::AttachmentLoadOp::LOAD
+        };
+        // Samples and depth are only needed until they are resolved, or
+        // until the last part has drawn.
+        let keep = if last {
+            vk::AttachmentStoreOp::DONT_CARE
+        } else {
+            vk::AttachmentStoreOp::STORE
+        };
         let extent = self.extent();
         let clear = vk::ClearValue {
             color: vk::ClearColorValue {
                 float32: self.clear,
             },
         };
-        let layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
         let mut color = vk::RenderingAttachmentInfo::default()
-            .image_layout(layout)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .image_layout(color_layout)
+            .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(clear);
         color = match &self.msaa {
             Some(ms) => color
                 .image_view(ms.view())
-                // The samples are only needed until they are resolved.
-                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .store_op(keep)
                 .resolve_mode(vk::ResolveModeFlags::AVERAGE)
                 .resolve_image_view(self.color.view())
-                .resolve_image_layout(layout),
+                .resolve_image_layout(color_layout),
             None => color.image_view(self.color.view()),
         };
         let colors = [color];
-        // Depth is only needed while drawing.
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view())
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .image_layout(depth_layout)
+            .load_op(load)
+            .store_op(keep)
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue {
                     depth: 1.0,

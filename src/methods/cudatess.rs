@@ -63,6 +63,7 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "Schwarz-Stamminger compute tessellation: Zheng-Sederberg factors, scan, \
             vertex and index buffers, one indexed indirect draw (rational patches too)",
     rational: true,
+    reads_lambda: false,
     build: |setup| Ok(Box::new(CudaTess::new(setup)?)),
 };
 

@@ -22,6 +22,15 @@
 //! 1920×1080 kitchen frame (~32,000 visible patches, 2.6·10⁸ triangles)
 //! takes a while; `--grid 16` gives a coarser reference quickly.
 //!
+//! In parts: the draws of a frame are split ([`plan_parts`],
+//! `FrameRec::split`) into submissions of at most [`PART_TRIANGLES`]
+//! triangles each, so no single fence wait comes near the timeout on a
+//! slow device (the kitchen at grid 64 is 18 parts of 2,048 patches), and a
+//! terminal shows the parts finish. The culling pass runs once, in the
+//! first part, and sorts each visible patch into its part's list and
+//! draw arguments (part k draws the visible patches among base patches
+//! k·P .. (k+1)·P).
+//!
 //! PN triangles ([`pn`]) are drawn in the same pass as uniform triangular
 //! grids of the same size (grid² triangles each), not culled.
 
@@ -44,6 +53,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "ground-truth",
     about: "every patch as a uniform grid (64x64 quads by default, the paper's reference)",
     rational: true,
+    reads_lambda: false,
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };
 
@@ -52,6 +62,71 @@ pub const INFO: MethodInfo = MethodInfo {
 pub const DEFAULT_GRID: u32 = 64;
 /// Largest grid accepted (6·grid² indices per patch).
 pub const MAX_GRID: u32 = 256;
+
+/// Triangles one part of a frame draws at most (unless the scene needs
+/// more than [`G_MAX_PARTS`] such parts): 2^24, about 2 s on this
+/// project's 2-core lavapipe when idle and 8 s when busy, far inside the
+/// default 60 s fence timeout.
+pub const PART_TRIANGLES: u64 = 1 << 24;
+
+const _: () = assert!(G_MAX_PARTS == crate::vk::MAX_FRAME_PARTS);
+const _: () = assert!(GRID_WORDS >= G_DRAW_ARGS + G_ARGS_WORDS * G_MAX_PARTS);
+
+/// How a frame's draws are split into parts: base patches in runs of
+/// `patches_per_part` (`patch_parts` parts), then PN triangles in runs of
+/// `pn_per_part` (`pn_parts` parts).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PartPlan {
+    /// Base patches per part.
+    pub patches_per_part: u32,
+    /// Parts drawing base patches.
+    pub patch_parts: u32,
+    /// PN triangles per part.
+    pub pn_per_part: u32,
+    /// Parts drawing PN triangles.
+    pub pn_parts: u32,
+}
+
+impl PartPlan {
+    /// Parts in all (at least 1: the first clears the target).
+    pub fn parts(&self) -> u32 {
+        (self.patch_parts + self.pn_parts).max(1)
+    }
+}
+
+/// Splits `patches` base patches (2·grid² triangles each) and
+/// `pn_triangles` PN triangles (grid² each) into parts of at most
+/// `part_triangles` triangles ([`PART_TRIANGLES`] by default), or into
+/// `max_parts` parts of more where that would take more.
+pub fn plan_parts(
+    patches: u32,
+    pn_triangles: u32,
+    grid: u32,
+    part_triangles: u64,
+    max_parts: u32,
+) -> PartPlan {
+    let cells = u64::from(grid) * u64::from(grid);
+    let total = u64::from(patches) * 2 * cells + u64::from(pn_triangles) * cells;
+    // Room for one more part per kind than an even split needs (the runs
+    // are whole).
+    let least = total.div_ceil(u64::from(max_parts.saturating_sub(2).max(1)));
+    let budget = part_triangles.max(least).max(1);
+    let run = |count: u32, per: u64| -> (u32, u32) {
+        if count == 0 {
+            return (1, 0);
+        }
+        let n = (budget / per).clamp(1, u64::from(count)) as u32;
+        (n, count.div_ceil(n))
+    };
+    let (patches_per_part, patch_parts) = run(patches, 2 * cells);
+    let (pn_per_part, pn_parts) = run(pn_triangles, cells);
+    PartPlan {
+        patches_per_part,
+        patch_parts,
+        pn_per_part,
+        pn_parts,
+    }
+}
 
 /// Checks a grid size: a power of two in 1..=[`MAX_GRID`].
 pub fn check_grid(grid: u32) -> Result<(), String> {
@@ -111,6 +186,9 @@ pub struct GroundTruth {
     draw: Pipeline,
     pn: pn::GroundTruthPn,
     copied: Option<CopyRange>,
+    /// How the last recorded frame was split.
+    plan: Option<PartPlan>,
+    part_triangles: u64,
 }
 
 impl GroundTruth {
@@ -171,6 +249,8 @@ impl GroundTruth {
             draw,
             pn,
             copied: None,
+            plan: None,
+            part_triangles: setup.options.part_triangles,
         })
     }
 
@@ -204,18 +284,27 @@ impl GroundTruth {
         Ok(())
     }
 
-    /// Records the counters' reset (index count of the indirect draw set,
-    /// the rest zero) and the culling pass.
-    fn record_cull(&self, f: &mut FrameRec<'_>, visible: &Visible) -> VkResult<()> {
+    /// Records the counters' reset (each part's draw arguments set, the
+    /// instance counts zero) and the culling pass, which sorts the visible
+    /// patches into their parts.
+    fn record_cull(
+        &self,
+        f: &mut FrameRec<'_>,
+        visible: &Visible,
+        plan: &PartPlan,
+    ) -> VkResult<()> {
         let (ctx, cmd) = (f.ctx, f.cmd);
         let per_patch = 6 * self.grid * self.grid;
         fill_buffer(ctx, cmd, &self.counters, 0);
+        let args: Vec<u32> = (0..plan.patch_parts.max(1))
+            .flat_map(|k| [per_patch, 0, 0, 0, k * plan.patches_per_part])
+            .collect();
         unsafe {
             ctx.device().cmd_update_buffer(
                 cmd,
                 self.counters.handle(),
                 u64::from(G_DRAW_ARGS) * 4,
-                &per_patch.to_le_bytes(),
+                bytemuck::cast_slice(&args),
             );
         }
         buffer_barrier(
@@ -234,7 +323,8 @@ impl GroundTruth {
         let pc = GridPush {
             patch_count: f.scene.count,
             indices_per_patch: per_patch,
-            pad: [0; 2],
+            patches_per_part: plan.patches_per_part,
+            pad: 0,
         };
         self.cull_layout.push_block(cmd, &pc)?;
         let groups = f.scene.count.div_ceil(GRID_CULL_GROUP_SIZE);
@@ -254,40 +344,64 @@ impl GroundTruth {
         Ok(())
     }
 
-    /// Records the instanced indexed draw of the visible patches.
-    fn record_draw(&self, f: &mut FrameRec<'_>, visible: &Visible) -> VkResult<()> {
+    /// Records part `k` of the frame's draws (of `plan.parts()`): base
+    /// patches through part k's indirect arguments, or a run of PN
+    /// triangles.
+    fn record_draw(
+        &self,
+        f: &mut FrameRec<'_>,
+        visible: &Visible,
+        plan: &PartPlan,
+        k: u32,
+    ) -> VkResult<()> {
         let pc = f.view.draw_push(visible.capacity, false, self.grid);
+        let (first, last) = (k == 0, k + 1 == plan.parts());
         f.scoped("draw", |f| {
             let (ctx, cmd) = (f.ctx, f.cmd);
-            f.target.begin(ctx, cmd);
-            let bind = vk::PipelineBindPoint::GRAPHICS;
-            self.draw.bind(cmd);
-            f.bind_scene(bind, &self.draw_layout);
-            visible
-                .set
-                .bind(ctx, cmd, bind, &self.draw_layout, SET_PASS, &[]);
-            let pushed = self.draw_layout.push_block(cmd, &pc);
-            if pushed.is_ok() {
-                unsafe {
-                    ctx.device().cmd_bind_index_buffer(
-                        cmd,
-                        self.indices.handle(),
-                        0,
-                        vk::IndexType::UINT32,
-                    );
-                    ctx.device().cmd_draw_indexed_indirect(
-                        cmd,
-                        self.counters.handle(),
-                        u64::from(G_DRAW_ARGS) * 4,
-                        1,
-                        20,
-                    );
-                }
-            }
-            let pushed = pushed.and_then(|_| self.pn.record(f, &pc));
+            f.target.begin_part(ctx, cmd, first, last);
+            let drawn = if k < plan.patch_parts {
+                self.record_patch_part(f, visible, &pc, k)
+            } else {
+                let first_pn = (k - plan.patch_parts) * plan.pn_per_part;
+                self.pn.record(f, &pc, first_pn, plan.pn_per_part)
+            };
             f.target.end(ctx, cmd);
-            pushed
+            drawn
         })
+    }
+
+    /// The instanced indexed draw of part `k`'s visible patches.
+    fn record_patch_part(
+        &self,
+        f: &FrameRec<'_>,
+        visible: &Visible,
+        pc: &DrawPush,
+        k: u32,
+    ) -> VkResult<()> {
+        let (ctx, cmd) = (f.ctx, f.cmd);
+        let bind = vk::PipelineBindPoint::GRAPHICS;
+        self.draw.bind(cmd);
+        f.bind_scene(bind, &self.draw_layout);
+        visible
+            .set
+            .bind(ctx, cmd, bind, &self.draw_layout, SET_PASS, &[]);
+        self.draw_layout.push_block(cmd, pc)?;
+        unsafe {
+            ctx.device().cmd_bind_index_buffer(
+                cmd,
+                self.indices.handle(),
+                0,
+                vk::IndexType::UINT32,
+            );
+            ctx.device().cmd_draw_indexed_indirect(
+                cmd,
+                self.counters.handle(),
+                u64::from(G_DRAW_ARGS + k * G_ARGS_WORDS) * 4,
+                1,
+                20,
+            );
+        }
+        Ok(())
     }
 }
 
@@ -306,9 +420,22 @@ impl Method for GroundTruth {
             .visible
             .as_ref()
             .ok_or_else(|| VkError::Usage("no visible list".into()))?;
-        self.record_cull(f, visible)?;
+        let plan = plan_parts(
+            f.scene.count,
+            f.scene.pn.count(),
+            self.grid,
+            self.part_triangles,
+            f.max_parts(),
+        );
+        self.record_cull(f, visible, &plan)?;
         self.pn.prepare(f)?;
-        self.record_draw(f, visible)?;
+        for k in 0..plan.parts() {
+            if k > 0 {
+                f.split()?;
+            }
+            self.record_draw(f, visible, &plan, k)?;
+        }
+        self.plan = Some(plan);
         self.copied = Some(f.copy_out(&self.counters, GRID_WORDS)?);
         Ok(())
     }
@@ -318,6 +445,7 @@ impl Method for GroundTruth {
         setup: &mut MethodSetup<'_>,
         retired: &mut Retired,
     ) -> Result<bool, RenderError> {
+        self.part_triangles = setup.options.part_triangles;
         let grid = setup.options.grid;
         if grid != self.grid {
             check_grid(grid).map_err(RenderError::Request)?;
@@ -336,7 +464,10 @@ impl Method for GroundTruth {
             .copied
             .ok_or_else(|| RenderError::Request("finish() before any frame was recorded".into()))?;
         let words = out.words(range);
-        let visible = u64::from(words[(G_DRAW_ARGS + 1) as usize]);
+        let parts = self.plan.map_or(1, |p| p.patch_parts.max(1));
+        let visible: u64 = (0..parts)
+            .map(|k| u64::from(words[(G_DRAW_ARGS + k * G_ARGS_WORDS + 1) as usize]))
+            .sum();
         let culled = u64::from(words[G_CULLED as usize]);
         let per_patch = 2 * u64::from(self.grid) * u64::from(self.grid);
         Ok(Finished::Done(MethodStats {
@@ -345,6 +476,7 @@ impl Method for GroundTruth {
             own: vec![
                 ("grid", json!(self.grid)),
                 ("visible_patches", json!(visible)),
+                ("parts", json!(self.plan.map_or(1, |p| p.parts()))),
                 ("pn_triangles", json!(self.pn.triangles())),
             ],
         }))
@@ -377,5 +509,44 @@ mod tests {
         assert_eq!(*idx.iter().max().unwrap(), 8);
         assert!(check_grid(64).is_ok() && check_grid(1).is_ok());
         assert!(check_grid(48).is_err() && check_grid(0).is_err() && check_grid(512).is_err());
+    }
+
+    /// Parts hold at most PART_TRIANGLES each, cover every patch and PN
+    /// triangle, and never exceed the ring's limit.
+    #[test]
+    fn parts_are_bounded_and_cover_everything() {
+        let kitchen = plan_parts(35_940, 0, 64, PART_TRIANGLES, G_MAX_PARTS);
+        assert_eq!(kitchen.patches_per_part, 2_048);
+        assert_eq!((kitchen.patch_parts, kitchen.parts()), (18, 18));
+        assert_eq!(
+            plan_parts(35_940, 0, 16, PART_TRIANGLES, G_MAX_PARTS).parts(),
+            2
+        );
+        assert_eq!(
+            plan_parts(32, 0, 64, PART_TRIANGLES, G_MAX_PARTS).parts(),
+            1
+        );
+        assert_eq!(plan_parts(0, 0, 64, PART_TRIANGLES, G_MAX_PARTS).parts(), 1);
+        assert_eq!(
+            plan_parts(35_940, 0, 64, PART_TRIANGLES, 1).parts(),
+            1,
+            "a one-shot recorder"
+        );
+        for (patches, pn, grid) in [
+            (1_000_000, 0, 256),
+            (100, 5_000, 64),
+            (7, 3, 1),
+            (0, 9_000, 128),
+        ] {
+            let p = plan_parts(patches, pn, grid, PART_TRIANGLES, G_MAX_PARTS);
+            assert!(p.parts() <= G_MAX_PARTS, "{p:?}");
+            assert!(p.patch_parts * p.patches_per_part >= patches, "{p:?}");
+            assert!(p.pn_parts * p.pn_per_part >= pn, "{p:?}");
+            let cells = u64::from(grid * grid);
+            let biggest =
+                (u64::from(p.patches_per_part) * 2 * cells).max(u64::from(p.pn_per_part) * cells);
+            let even = (u64::from(patches) * 2 * cells + u64::from(pn) * cells).div_ceil(62);
+            assert!(biggest <= PART_TRIANGLES.max(even), "{p:?}");
+        }
     }
 }

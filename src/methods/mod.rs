@@ -4,7 +4,7 @@
 //! A method records everything between the start of a frame and a drawn
 //! image: its own passes and the draw into the frame's target. There are two
 //! kinds, and the interface fits both:
-//! - *ready-list producers* (`subdiv`; later `subdiv-indirect`) fill a list
+//! - *ready-list producers* (`subdiv`, `subdiv-indirect`) fill a list
 //!   of QuadNodes and hand it to the shared [`ReadyStage`] (sort, mesh or
 //!   fallback draw path), which is also what validation compares with the
 //!   CPU oracle;
@@ -20,6 +20,7 @@
 
 pub mod cudatess;
 pub mod ground_truth;
+pub mod levels;
 pub mod subdiv;
 pub mod subdiv_indirect;
 pub mod tess;
@@ -61,24 +62,44 @@ pub struct MethodOptions {
     pub draw: DrawPath,
     /// Initial ready-list entries (grown on overflow).
     pub ready_capacity: u32,
-    /// `subdiv`: work-queue entries.
-    pub queue_capacity: u32,
+    /// `subdiv`: which persistent kernel (`--kernel`).
+    pub kernel: subdiv::Kernel,
     /// `subdiv`: persistent workgroups (`None`: the device's default).
     pub groups: Option<u32>,
-    /// `subdiv`: polls without progress before the kernel gives up.
+    /// `subdiv` and `subdiv-indirect`: bytes of node memory of the level
+    /// schedule (rounds take chunks of a depth that fit it).
+    pub node_memory: u64,
+    /// `subdiv`: polls without progress before the level kernel's watchdog
+    /// sends the frame to the per-depth rounds.
+    pub watchdog_polls: u32,
+    /// `subdiv`: polls of an unchanged join count before the occupancy
+    /// window closes (`None`: the device's default).
+    pub join_polls: Option<u32>,
+    /// Test-only faults of the persistent level kernel (`FAULT_*`).
+    pub level_faults: u32,
+    /// `subdiv --kernel queue`: work-queue entries.
+    pub queue_capacity: u32,
+    /// `subdiv --kernel queue`: polls without progress before it gives up.
     pub idle_poll_cap: u32,
-    /// Sort the ready list before drawing (deterministic images).
+    /// `subdiv --kernel queue`: deque entries per workgroup (tests lower it).
+    pub deque_capacity: u32,
+    /// `subdiv --kernel queue`: base patches per claim (0: spread over the
+    /// workgroups; tests fill the deque with it).
+    pub base_batch: u32,
+    /// `subdiv --kernel queue`: sort the ready list before drawing
+    /// (deterministic images; the level kernels need no sort).
     pub sort: bool,
     /// `ground-truth`: grid cells per patch side.
     pub grid: u32,
-    /// `subdiv-indirect`: the deepest level (its buffers grow fourfold per
-    /// level).
+    /// `ground-truth`: the most triangles one part of a frame (one
+    /// submission, one bounded fence wait) draws; see
+    /// `ground_truth::plan_parts`.
+    pub part_triangles: u64,
+    /// `subdiv-indirect`: the deepest level (at most l_max = 10).
     pub max_depth: u32,
-    /// `subdiv-indirect`: entries per node buffer instead of the worst case
-    /// (a memory budget; a depth that overflows it fails the frame).
-    pub node_capacity: Option<u32>,
-    /// Test-only fault for `subdiv`: one phantom item in flight that never
-    /// completes, so the kernel can only end through its iteration cap.
+    /// Test-only fault for `subdiv --kernel queue`: one phantom item in
+    /// flight that never completes, so the kernel can only end through its
+    /// iteration cap.
     pub plant_endless_loop: bool,
     /// Samples per pixel of the draw target (1: no multisampling). The
     /// draw pipelines are made for it.
@@ -97,13 +118,20 @@ impl MethodOptions {
         Self {
             draw,
             ready_capacity: 1 << 18,
-            queue_capacity: 1 << 19,
+            kernel: subdiv::Kernel::Levels,
             groups: None,
+            node_memory: levels::DEFAULT_NODE_MEMORY,
+            watchdog_polls: levels::DEFAULT_WATCHDOG_POLLS,
+            join_polls: None,
+            level_faults: 0,
+            queue_capacity: 1 << 19,
             idle_poll_cap: subdiv::DEFAULT_IDLE_POLL_CAP,
+            deque_capacity: crate::constants::SUBDIV_LOCAL_CAP,
+            base_batch: 0,
             sort: true,
             grid: ground_truth::DEFAULT_GRID,
+            part_triangles: ground_truth::PART_TRIANGLES,
             max_depth: subdiv_indirect::DEFAULT_MAX_DEPTH,
-            node_capacity: None,
             samples: 1,
             plant_endless_loop: false,
             forward_differencing: false,
@@ -233,6 +261,9 @@ pub struct MethodInfo {
     pub about: &'static str,
     /// Whether it draws rational patches (scenes with weights other than 1).
     pub rational: bool,
+    /// Whether λ changes what it draws (`bench` runs a method that ignores
+    /// λ once per ε, not once per λ).
+    pub reads_lambda: bool,
     /// Makes the method.
     pub build: fn(&mut MethodSetup<'_>) -> Result<Box<dyn Method>, RenderError>,
 }
@@ -246,6 +277,63 @@ pub const METHODS: &[MethodInfo] = &[
     tess::INFO_REPARAM,
     cudatess::INFO,
 ];
+
+/// The view settings a method reads, beyond ε and culling by the frustum,
+/// which every method but the ground truth reads: the window greys out the
+/// controls of the others (they would change nothing).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reads {
+    /// The draw path (mesh or fallback) of the ready-list methods.
+    pub draw_path: bool,
+    /// The pixel tolerance ε.
+    pub eps: bool,
+    /// The distance blend λ of the subdivision criterion.
+    pub lambda: bool,
+    /// The deepest subdivision level.
+    pub l_max: bool,
+    /// Crack-closing wedges on or off.
+    pub wedges: bool,
+    /// Back-face culling on or off.
+    pub backface: bool,
+    /// The ground truth's grid.
+    pub grid: bool,
+}
+
+/// What method `name` reads ([`Reads`]); an unknown name reads everything.
+pub fn reads(name: &str) -> Reads {
+    let subdivides = Reads {
+        draw_path: true,
+        eps: true,
+        lambda: true,
+        l_max: true,
+        wedges: true,
+        backface: true,
+        grid: false,
+    };
+    // The tessellators set their levels from ε alone and draw themselves.
+    let tessellates = Reads {
+        draw_path: false,
+        lambda: false,
+        l_max: false,
+        wedges: false,
+        ..subdivides
+    };
+    match name {
+        "subdiv" | "subdiv-indirect" => subdivides,
+        "tess" | "tess-reparam" | "cudatess" => tessellates,
+        // A fixed grid per patch, nothing back-face culled.
+        "ground-truth" => Reads {
+            eps: false,
+            backface: false,
+            grid: true,
+            ..tessellates
+        },
+        _ => Reads {
+            grid: true,
+            ..subdivides
+        },
+    }
+}
 
 /// Names reserved for methods still to come (none at present; a name put
 /// here is refused with "not built yet" instead of "unknown").
@@ -341,6 +429,20 @@ fn find_in<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every built method says what it reads (none falls to the default),
+    /// and only the subdivision methods read λ, l_max and wedges.
+    #[test]
+    fn every_method_says_what_it_reads() {
+        let unknown = reads("no such method");
+        for m in METHODS {
+            let r = reads(m.name);
+            assert_ne!(r, unknown, "{} has no entry in reads()", m.name);
+            let subdivides = m.name.starts_with("subdiv");
+            assert_eq!(r.lambda && r.l_max && r.wedges, subdivides, "{}", m.name);
+            assert_eq!(r.grid, m.name == ground_truth::INFO.name, "{}", m.name);
+        }
+    }
 
     #[test]
     fn names_are_unique_and_found() {

@@ -1,13 +1,33 @@
 //! Method `subdiv`: the paper's recursive subdivision in one dispatch of
-//! persistent workgroups (`glsl/subdivide.comp`), which also writes the
-//! indirect arguments of the sort and the draw; then the shared ready-list
-//! stage (sort, mesh or fallback draw). Rational patches (`PATCH_RATIONAL`)
-//! are subdivided in homogeneous coordinates by the same kernel
-//! (`oracle::process_rational`; docs/ARCHITECTURE.md, "Rational patches").
+//! persistent workgroups, then the shared ready-list stage (mesh or
+//! fallback draw). Rational patches (`PATCH_RATIONAL`) are subdivided in
+//! homogeneous coordinates by the same kernels (`oracle::process_rational`;
+//! docs/ARCHITECTURE.md, "Rational patches").
+//!
+//! Two kernels, `--kernel`:
+//! - `levels` (the default): the depth-synchronous persistent kernel
+//!   (`glsl/subdivide.comp`), the level schedule of `subdiv-indirect`
+//!   ([`super::levels`]) looped inside one dispatch with a grid barrier
+//!   between rounds, among the workgroups its occupancy discovery found
+//!   resident. Its ready list is in the canonical order: no sort, and the
+//!   image of `subdiv-indirect`.
+//! - `queue`: the work-queue kernel of commit a7d19dc
+//!   (`glsl/subdivide_queue.comp`), kept until a GPU run shows whether it
+//!   wins anywhere; its order depends on timing, so its list is sorted.
+//!
+//! Where a kernel's watchdog trips (a workgroup that stopped running, a
+//! device that does not keep its promises), the frame is drawn again with
+//! the per-depth rounds of `subdiv-indirect`, and so is every later frame
+//! of this method; the stats say so (`kernel`, `fallback`).
+
+use std::fmt;
+use std::str::FromStr;
 
 use ash::vk;
 use serde_json::json;
 
+use super::levels::{self, LevelState, Levels, PersistentRun};
+use super::subdiv_indirect::{base_rounds, finish_rounds};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
 use crate::constants::*;
 use crate::draw::{ReadyCaps, ReadyStage};
@@ -24,25 +44,75 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "recursive subdivision, one dispatch of persistent workgroups (this project's \
             stand-in for the paper's work graph)",
     rational: true,
+    reads_lambda: true,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
 
-/// Polls without observed progress before the kernel gives up. One idle
-/// poll costs about 8 µs on this project's lavapipe (2 cores), so the cap
-/// is about 2 s there and far less on a GPU; any item finishing anywhere
-/// resets it, so only a truly stuck kernel reaches it.
+/// Polls without observed progress before the queue kernel gives up. One
+/// idle poll costs about 8 µs on this project's lavapipe (2 cores), so the
+/// cap is about 2 s there and far less on a GPU; any item finishing
+/// anywhere resets it, so only a truly stuck kernel reaches it.
 pub const DEFAULT_IDLE_POLL_CAP: u32 = 1 << 18;
 
 /// Largest ready list the method grows to (8 bytes per entry, plus the
 /// fallback's 240 bytes of vertices per entry).
 pub const MAX_READY_CAPACITY: u32 = 1 << 24;
 
-/// How many workgroups to launch: about as many as the device keeps
-/// resident. On a CPU device that is one per worker thread (lavapipe runs
-/// each workgroup to completion on one thread); on a GPU a generous fixed
-/// number, since a workgroup that starts late only finds the work taken.
-pub fn default_groups(ctx: &Context) -> u32 {
+/// Which persistent kernel `subdiv` runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Kernel {
+    /// The depth-synchronous level kernel (`glsl/subdivide.comp`).
+    #[default]
+    Levels,
+    /// The work-queue kernel (`glsl/subdivide_queue.comp`).
+    Queue,
+}
+
+impl Kernel {
+    /// The name the command line uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Levels => "levels",
+            Kernel::Queue => "queue",
+        }
+    }
+}
+
+impl fmt::Display for Kernel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Kernel {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "levels" => Ok(Kernel::Levels),
+            "queue" => Ok(Kernel::Queue),
+            other => Err(format!(
+                "unknown kernel `{other}`: expected levels (depth-synchronous) or queue"
+            )),
+        }
+    }
+}
+
+/// How many workgroups to launch. On a GPU a generous fixed number: the
+/// level kernel's discovery keeps only the resident ones, the queue
+/// kernel's late starters find the work taken. On a CPU device (lavapipe
+/// runs each workgroup to completion on one worker thread) the queue kernel
+/// takes one per thread; the level kernel takes one, because a barrier
+/// among lavapipe's threads costs a scheduler time slice whenever other
+/// processes share the cores (the teapot at 1920x1080 on this project's
+/// 2-core machine: 5 ms with 1 workgroup, 55 ms with 2), and a CPU gains
+/// nothing from one dispatch over several. `--groups` and the tests run it
+/// with many.
+pub fn default_groups(ctx: &Context, kernel: Kernel) -> u32 {
     if ctx.info().is_cpu {
+        if kernel == Kernel::Levels {
+            return 1;
+        }
         let threads = std::env::var("LP_NUM_THREADS")
             .ok()
             .and_then(|s| s.parse::<u32>().ok())
@@ -50,14 +120,51 @@ pub fn default_groups(ctx: &Context) -> u32 {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get() as u32));
         threads.max(1)
     } else {
-        512
+        match kernel {
+            Kernel::Levels => 256,
+            Kernel::Queue => 512,
+        }
     }
 }
 
-/// The work queue (set 2 of the kernel, `glsl/common/queue.glsl`): nodes,
-/// a sequence number per slot, and the head and tail. It is put in its
-/// empty state when made and after a frame that ended abnormally; a frame
-/// that ends normally leaves it empty and valid for the next.
+/// `groups` (or the default), refused with a sentence beyond what one
+/// dispatch may launch on this device.
+pub fn check_groups(
+    ctx: &Context,
+    groups: Option<u32>,
+    kernel: Kernel,
+) -> Result<u32, RenderError> {
+    let n = groups.unwrap_or_else(|| default_groups(ctx, kernel));
+    let max = ctx.info().limits.max_compute_work_group_count[0];
+    if n == 0 || n > max {
+        return Err(RenderError::Request(format!(
+            "--groups {n}: a dispatch on {} launches 1 to {max} workgroups \
+             (maxComputeWorkGroupCount[0])",
+            ctx.info().name
+        )));
+    }
+    Ok(n)
+}
+
+/// Refuses a queue-kernel launch whose items in flight could pass the 24
+/// bits of its in-flight count: at most every unclaimed base patch, a full
+/// queue and a full deque per workgroup are in flight at once.
+pub fn check_in_flight(patches: u32, queue: u32, groups: u32, deque: u32) -> Result<(), String> {
+    let most = u64::from(patches) + u64::from(queue) + u64::from(groups) * u64::from(deque);
+    if most > u64::from(IN_FLIGHT_MASK) {
+        return Err(format!(
+            "the queue kernel counts at most {IN_FLIGHT_MASK} items in flight, and {patches} base \
+             patches + a {queue}-entry queue + {groups} workgroups x {deque} deque entries could \
+             hold {most}; use fewer --groups (or the levels kernel)"
+        ));
+    }
+    Ok(())
+}
+
+/// The work queue (set 2 of the queue kernel, `glsl/common/queue.glsl`):
+/// nodes, a sequence number per slot, and the head and tail. It is put in
+/// its empty state when made and after a frame that ended abnormally; a
+/// frame that ends normally leaves it empty and valid for the next.
 struct Queue {
     items: Buffer,
     seqs: Buffer,
@@ -108,32 +215,29 @@ impl Queue {
     }
 }
 
-/// The persistent subdivision method.
-pub struct Subdiv {
-    stage: ReadyStage,
+/// The queue kernel: its queue, pipelines and knobs.
+struct QueueKernel {
     queue: Queue,
     layout: PipelineLayout,
     pipeline: Pipeline,
     reset: Pipeline,
-    groups: u32,
     idle_poll_cap: u32,
     plant_endless_loop: bool,
-    sort: bool,
-    counters: Option<CopyRange>,
+    deque: u32,
+    base_batch: u32,
     // Kept alive for the queue set's layout.
     _queue_layout: SetLayout,
 }
 
-impl Subdiv {
-    /// Creates the ready stage, the queue and the kernel's pipeline.
-    pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
+impl QueueKernel {
+    fn new(setup: &mut MethodSetup<'_>, stage: &ReadyStage) -> Result<Self, RenderError> {
         let (ctx, o) = (setup.ctx, setup.options);
-        let caps = ReadyCaps {
-            ready: o.ready_capacity,
-            vertices: false,
-            capture: false,
-        };
-        let stage = ReadyStage::new(ctx, setup.shaders, setup.scene_layout, o.draw, caps)?;
+        if o.deque_capacity == 0 || o.deque_capacity > SUBDIV_LOCAL_CAP {
+            return Err(RenderError::Request(format!(
+                "a deque of {} entries: the queue kernel's workgroups hold 1 to {SUBDIV_LOCAL_CAP}",
+                o.deque_capacity
+            )));
+        }
         let queue_layout = SetLayout::storage(
             ctx,
             "queue set",
@@ -143,47 +247,43 @@ impl Subdiv {
         let queue = Queue::new(ctx, &queue_layout, o.queue_capacity)?;
         let layout = setup.scene_layout.pipeline_layout::<SubdivPush>(
             ctx,
-            "subdivide layout",
+            "queue kernel layout",
             &[stage.set_layout(), &queue_layout],
             vk::ShaderStageFlags::COMPUTE,
         )?;
-        let pipeline = setup
-            .shaders
-            .compute(ctx, &layout, "subdivide", "subdivide.comp")?;
+        let pipeline =
+            setup
+                .shaders
+                .compute(ctx, &layout, "subdivide (queue)", "subdivide_queue.comp")?;
         let reset = setup
             .shaders
             .compute(ctx, &layout, "queue reset", "queue_reset.comp")?;
         Ok(Self {
-            stage,
             queue,
             layout,
             pipeline,
             reset,
-            groups: o.groups.unwrap_or_else(|| default_groups(ctx)).max(1),
             idle_poll_cap: o.idle_poll_cap,
             plant_endless_loop: o.plant_endless_loop,
-            sort: o.sort,
-            counters: None,
+            deque: o.deque_capacity,
+            base_batch: o.base_batch,
             _queue_layout: queue_layout,
         })
     }
 
-    /// Workgroups launched per dispatch.
-    pub fn groups(&self) -> u32 {
-        self.groups
-    }
-
     /// Records the reset of the counters and the queue, the in-flight
     /// count, and the kernel's dispatch (scope "subdivide").
-    fn record_subdivide(&self, f: &mut FrameRec<'_>) -> VkResult<()> {
+    fn record(
+        &self,
+        f: &mut FrameRec<'_>,
+        stage: &ReadyStage,
+        groups: u32,
+    ) -> Result<(), RenderError> {
         let count = f.scene.count;
-        if count > IN_FLIGHT_MASK {
-            return Err(VkError::Usage(format!(
-                "{count} base patches: the subdivision kernel counts at most {IN_FLIGHT_MASK}"
-            )));
-        }
-        let list = self.stage.list();
-        self.stage.record_reset(f);
+        check_in_flight(count, self.queue.capacity, groups, self.deque)
+            .map_err(RenderError::Request)?;
+        let list = stage.list();
+        stage.record_reset(f);
         let in_flight = count + self.plant_endless_loop as u32;
         unsafe {
             f.ctx.device().cmd_update_buffer(
@@ -205,9 +305,12 @@ impl Subdiv {
             queue_capacity: self.queue.capacity,
             patch_count: count,
             idle_poll_cap: self.idle_poll_cap,
+            local_cap: self.deque,
+            base_batch: self.base_batch,
+            pad: [0; 2],
         };
         let bind = vk::PipelineBindPoint::COMPUTE;
-        self.stage.bind_sets(f, bind, &self.layout);
+        stage.bind_sets(f, bind, &self.layout);
         self.queue
             .set
             .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
@@ -224,7 +327,6 @@ impl Subdiv {
             );
         }
         self.pipeline.bind(f.cmd);
-        let groups = self.groups;
         f.scoped("subdivide", |f| {
             unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
             Ok(())
@@ -247,6 +349,168 @@ impl Subdiv {
     }
 }
 
+/// The persistent subdivision method.
+pub struct Subdiv {
+    stage: ReadyStage,
+    levels: Levels,
+    queue: Option<QueueKernel>,
+    kernel: Kernel,
+    groups: u32,
+    watchdog_polls: u32,
+    join_polls: u32,
+    faults: u32,
+    node_memory: u64,
+    sort: bool,
+    /// Why this method now runs the per-depth rounds, once a watchdog
+    /// tripped.
+    fallback: Option<String>,
+    /// Rounds recorded for the per-depth fallback.
+    rounds: u32,
+    counters: Option<CopyRange>,
+    state: Option<CopyRange>,
+}
+
+impl Subdiv {
+    /// Creates the ready stage, the node memory, the kernel's pipelines
+    /// (and the queue, for the queue kernel).
+    pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
+        let (ctx, o) = (setup.ctx, setup.options);
+        let groups = check_groups(ctx, o.groups, o.kernel)?;
+        let sort = o.kernel == Kernel::Queue && o.sort;
+        let caps = ReadyCaps {
+            ready: o.ready_capacity,
+            vertices: false,
+            capture: false,
+            sort,
+        };
+        let stage = ReadyStage::new(ctx, setup.shaders, setup.scene_layout, o.draw, caps)?;
+        let levels = Levels::new(
+            ctx,
+            setup.shaders,
+            setup.scene_layout,
+            &stage,
+            o.node_memory,
+            true,
+        )?;
+        let queue = match o.kernel {
+            Kernel::Queue => Some(QueueKernel::new(setup, &stage)?),
+            Kernel::Levels => None,
+        };
+        Ok(Self {
+            stage,
+            levels,
+            queue,
+            kernel: o.kernel,
+            groups,
+            watchdog_polls: o.watchdog_polls,
+            join_polls: o
+                .join_polls
+                .unwrap_or_else(|| levels::default_join_polls(setup.ctx)),
+            faults: o.level_faults,
+            node_memory: o.node_memory,
+            sort,
+            fallback: None,
+            rounds: base_rounds(L_MAX),
+            counters: None,
+            state: None,
+        })
+    }
+
+    /// Workgroups launched per dispatch.
+    pub fn groups(&self) -> u32 {
+        self.groups
+    }
+
+    /// Why the method runs the per-depth rounds, once it does.
+    pub fn fallback(&self) -> Option<&str> {
+        self.fallback.as_deref()
+    }
+
+    fn persistent_run(&self) -> PersistentRun {
+        PersistentRun {
+            groups: self.groups,
+            watchdog_polls: self.watchdog_polls,
+            join_polls: self.join_polls,
+            faults: self.faults,
+        }
+    }
+
+    /// After a watchdog: every frame from now on takes the per-depth rounds.
+    fn fall_back(&mut self, reason: String) -> Finished {
+        log::warn!("subdiv: {reason}; this and every later frame takes the per-depth rounds");
+        self.fallback = Some(reason.clone());
+        Finished::Redo { reason }
+    }
+
+    /// The persistent level kernel's frame.
+    fn finish_levels(&mut self, words: &[u32], state: &[u32]) -> Result<Finished, RenderError> {
+        let stats = GpuSubdivStats::from_counters(words);
+        let st = LevelState::from_words(state);
+        if stats.errors & ERR_WATCHDOG != 0 {
+            return Ok(self.fall_back(format!(
+                "the persistent kernel's watchdog tripped ({} of {} launched workgroups had \
+                 joined; a barrier or the occupancy discovery saw no progress for {} polls)",
+                st.participants, self.groups, self.watchdog_polls
+            )));
+        }
+        if let Some(message) = stats.error_message() {
+            return Err(RenderError::Method {
+                method: INFO.name,
+                message,
+            });
+        }
+        if !st.done {
+            return Err(RenderError::Method {
+                method: INFO.name,
+                message: format!(
+                    "the persistent kernel stopped after {} rounds with work left",
+                    st.rounds
+                ),
+            });
+        }
+        let mut m = stats.method_stats(self.stage.list().caps.ready);
+        m.own.retain(|(k, _)| {
+            !k.starts_with("queue") && !["iterations_max", "idle_polls"].contains(k)
+        });
+        m.own.extend(st.stats(self.levels.plan()));
+        m.own.push(("workgroups", json!(self.groups)));
+        m.own.push(("workgroups_joined", json!(st.participants)));
+        m.own.push(("barrier_polls", json!(stats.idle_polls)));
+        // The first step and the kernel.
+        m.own.push(("dispatches", json!(2)));
+        Ok(Finished::Done(m))
+    }
+
+    /// The queue kernel's frame.
+    fn finish_queue(&mut self, words: &[u32]) -> Result<Finished, RenderError> {
+        let stats = GpuSubdivStats::from_counters(words);
+        let Some(q) = self.queue.as_mut() else {
+            return Err(RenderError::Request("the queue kernel has no queue".into()));
+        };
+        // An abnormal end leaves the queue in an unknown state.
+        q.queue.needs_reset = stats.errors != 0 || stats.in_flight_left != 0;
+        let capacity = q.queue.capacity;
+        if stats.errors & ERR_ITERATION_CAP != 0 {
+            return Ok(self.fall_back(format!(
+                "the queue kernel made no progress for its whole iteration cap ({} items \
+                 still in flight)",
+                stats.in_flight_left
+            )));
+        }
+        if let Some(message) = stats.error_message() {
+            return Err(RenderError::Method {
+                method: INFO.name,
+                message,
+            });
+        }
+        let mut m = stats.method_stats(self.stage.list().caps.ready);
+        m.own.push(("queue_capacity_items", json!(capacity)));
+        m.own.push(("workgroups", json!(self.groups)));
+        m.own.push(("dispatches", json!(1)));
+        Ok(Finished::Done(m))
+    }
+}
+
 impl Method for Subdiv {
     fn name(&self) -> &'static str {
         INFO.name
@@ -258,38 +522,66 @@ impl Method for Subdiv {
 
     fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError> {
         self.stage.ensure_capture(f.ctx, f.capture, f.retired)?;
-        self.record_subdivide(f)?;
-        self.stage.record_draw(f, self.sort)?;
+        let mut sort = false;
+        if self.fallback.is_some() {
+            self.levels.record_rounds(f, &self.stage, self.rounds)?;
+        } else if let Some(q) = &self.queue {
+            q.record(f, &self.stage, self.groups)?;
+            sort = self.sort;
+        } else {
+            self.levels
+                .record_persistent(f, &self.stage, self.persistent_run())?;
+        }
+        self.stage.record_draw(f, sort)?;
         self.counters = Some(f.copy_out(&self.stage.list().counters, COUNTER_WORDS)?);
+        self.state = Some(self.levels.copy_out_state(f)?);
         Ok(())
     }
 
     fn finish(&mut self, out: &mut FrameOut<'_>) -> Result<Finished, RenderError> {
-        let range = self
-            .counters
-            .ok_or_else(|| RenderError::Request("finish() before any frame was recorded".into()))?;
-        let words = out.words(range);
-        let stats = GpuSubdivStats::from_counters(words);
-        // This frame's reset (if any) is done; an abnormal end leaves the
-        // queue in an unknown state.
-        self.queue.needs_reset = stats.errors != 0 || stats.in_flight_left != 0;
-        if let Some(reason) =
-            self.stage
-                .grow_if_full(out.ctx, words, MAX_READY_CAPACITY, out.retired)?
-        {
-            return Ok(Finished::Redo { reason });
+        let (Some(c), Some(s)) = (self.counters, self.state) else {
+            return Err(RenderError::Request(
+                "finish() before any frame was recorded".into(),
+            ));
+        };
+        let mut finished = if let Some(reason) = self.fallback.clone() {
+            let mut m = finish_rounds(
+                &mut self.stage,
+                &self.levels,
+                &mut self.rounds,
+                out,
+                (c, s),
+                INFO.name,
+            )?;
+            if let Finished::Done(m) = &mut m {
+                m.own.push(("fallback", json!(reason)));
+            }
+            m
+        } else {
+            let words = out.words(c);
+            if let Some(reason) =
+                self.stage
+                    .grow_if_full(out.ctx, words, MAX_READY_CAPACITY, out.retired)?
+            {
+                if let Some(q) = self.queue.as_mut() {
+                    q.queue.needs_reset = true;
+                }
+                return Ok(Finished::Redo { reason });
+            }
+            match self.kernel {
+                Kernel::Levels => self.finish_levels(words, out.words(s))?,
+                Kernel::Queue => self.finish_queue(words)?,
+            }
+        };
+        if let Finished::Done(m) = &mut finished {
+            let kernel = if self.fallback.is_some() {
+                "per-depth (fallback)"
+            } else {
+                self.kernel.name()
+            };
+            m.own.insert(0, ("kernel", json!(kernel)));
         }
-        if let Some(message) = stats.error_message() {
-            return Err(RenderError::Method {
-                method: INFO.name,
-                message,
-            });
-        }
-        let mut m = stats.method_stats(self.stage.list().caps.ready);
-        m.own
-            .push(("queue_capacity_items", json!(self.queue.capacity)));
-        m.own.push(("workgroups", json!(self.groups)));
-        Ok(Finished::Done(m))
+        Ok(finished)
     }
 
     fn reconfigure(
@@ -298,23 +590,40 @@ impl Method for Subdiv {
         _retired: &mut Retired,
     ) -> Result<bool, RenderError> {
         let o = setup.options;
-        // Buffer sizes and the draw path need a new method; the rest are
-        // values recorded per frame.
+        // Buffer sizes, the kernel and the draw path need a new method; the
+        // rest are values recorded per frame.
+        let queue_changed = self.queue.as_ref().is_some_and(|q| {
+            o.queue_capacity.next_power_of_two() != q.queue.capacity
+                || o.deque_capacity != q.deque
+                || o.base_batch != q.base_batch
+        });
         if o.draw != self.stage.path()
-            || o.queue_capacity.next_power_of_two() != self.queue.capacity
+            || o.kernel != self.kernel
+            || o.node_memory != self.node_memory
+            || queue_changed
+            || (o.kernel == Kernel::Queue && o.sort) != self.sort
             || o.ready_capacity > self.stage.list().caps.ready
         {
             return Ok(false);
         }
-        self.groups = o.groups.unwrap_or_else(|| default_groups(setup.ctx)).max(1);
-        self.idle_poll_cap = o.idle_poll_cap;
-        self.plant_endless_loop = o.plant_endless_loop;
-        self.sort = o.sort;
+        self.groups = check_groups(setup.ctx, o.groups, o.kernel)?;
+        self.watchdog_polls = o.watchdog_polls;
+        self.join_polls = o
+            .join_polls
+            .unwrap_or_else(|| levels::default_join_polls(setup.ctx));
+        self.faults = o.level_faults;
+        if let Some(q) = self.queue.as_mut() {
+            q.idle_poll_cap = o.idle_poll_cap;
+            q.plant_endless_loop = o.plant_endless_loop;
+        }
         Ok(true)
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {
-        let mut v = vec![("queue", self.queue.bytes())];
+        let mut v = vec![("node_memory", self.levels.bytes())];
+        if let Some(q) = &self.queue {
+            v.push(("queue", q.queue.bytes()));
+        }
         v.extend(self.stage.memory_bytes());
         v
     }
@@ -351,7 +660,8 @@ pub struct GpuSubdivStats {
     pub queue_spills: u32,
     /// Queue operations that lost a compare-and-swap (retried later).
     pub queue_retries: u32,
-    /// Polls of the in-flight count by idle workgroups.
+    /// Polls by waiting workgroups (the queue kernel's idle ones, the level
+    /// kernel's at its barriers).
     pub idle_polls: u32,
     /// Atomic read-modify-write operations on global memory.
     pub global_atomics: u32,
@@ -359,7 +669,7 @@ pub struct GpuSubdivStats {
     pub queue_pushed: u32,
     /// Most items in the queue at once (sampled at pushes).
     pub queue_peak_items: u32,
-    /// Most outer iterations of one invocation.
+    /// Most outer iterations of one workgroup (queue kernel).
     pub iterations_max: u32,
     /// `ERR_*` bits.
     pub errors: u32,
@@ -440,7 +750,10 @@ impl GpuSubdivStats {
             ));
         }
         if self.errors & ERR_STACK_OVERFLOW != 0 {
-            parts.push("an invocation's depth-first stack overflowed".into());
+            parts.push("a workgroup's deque of the queue kernel overflowed".into());
+        }
+        if self.errors & ERR_WATCHDOG != 0 {
+            parts.push("the persistent kernel's watchdog tripped".into());
         }
         Some(parts.join("; "))
     }

@@ -38,6 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "tess",
     about: "hardware tessellation, uniform levels from the Filip et al. bound (Buchenau-Guthe §3)",
     rational: false,
+    reads_lambda: false,
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Uniform)?)),
 };
 
@@ -46,6 +47,7 @@ pub const INFO_REPARAM: MethodInfo = MethodInfo {
     name: "tess-reparam",
     about: "hardware tessellation with Buchenau-Guthe's curvature re-parameterisation (§4, §5.2)",
     rational: false,
+    reads_lambda: false,
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Reparam)?)),
 };
 

@@ -14,7 +14,7 @@
 
 use glam::Vec3;
 
-use super::bezier::BezierPatch;
+use super::bezier::{BezierPatch, EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
 use super::blossom::reconstruct;
 use super::criterion::{edge_flat, inner_flat};
 use super::cull::{back_facing, outside_frustum, wedges_face_away, wedges_face_away_with};
@@ -147,6 +147,81 @@ fn frustum_culled(
     outside_frustum(clo, chi, vp)
 }
 
+/// What the criterion found for a node below the depth limit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Verdict {
+    /// The node's edge flatness depths before this test (`edge_depths`).
+    pub depths: [u32; 4],
+    /// Per edge: tested now (pending) or inherited flat.
+    pub tested: [bool; 4],
+    /// Per edge: flat (inherited, or found flat now).
+    pub flat: [bool; 4],
+    /// The inner tier's answer; `None` when an edge already asked to split
+    /// (the inner tier is not evaluated then).
+    pub inner_flat: Option<bool>,
+}
+
+impl Verdict {
+    /// Does the node split?
+    pub fn splits(&self) -> bool {
+        self.flat.contains(&false) || self.inner_flat == Some(false)
+    }
+
+    /// Why it splits, for statistics: which directions' edges asked for it.
+    pub fn cause(&self) -> Option<SplitCause> {
+        let along_u = !self.flat[EDGE_BOTTOM] || !self.flat[EDGE_TOP];
+        let along_v = !self.flat[EDGE_LEFT] || !self.flat[EDGE_RIGHT];
+        match (along_u, along_v) {
+            (true, true) => Some(SplitCause::BothDirections),
+            (true, false) | (false, true) => Some(SplitCause::OneDirection),
+            (false, false) if self.inner_flat == Some(false) => Some(SplitCause::InnerOnly),
+            _ => None,
+        }
+    }
+}
+
+/// Why a node split (see [`Verdict::cause`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SplitCause {
+    /// Edges along u and along v were not flat.
+    BothDirections,
+    /// Only the edges along one direction were not flat: a 1:4 split
+    /// refines the other direction for nothing.
+    OneDirection,
+    /// Every edge flat, the inner tier not.
+    InnerOnly,
+}
+
+/// The criterion of a node: `None` at the depth limit, else what the edge
+/// tests (`edge_flat(e)`, pending edges only, no early exit: the children
+/// inherit the results) and the inner tier found.
+fn verdict(
+    node: QuadNode,
+    vp: &ViewParams,
+    edge_flat: impl Fn(usize) -> bool,
+    inner_flat: impl FnOnce() -> bool,
+) -> Option<Verdict> {
+    let l = node.depth();
+    if l >= vp.l_max {
+        return None;
+    }
+    let depths = edge_depths(node);
+    let tested = depths.map(|d| d >= l);
+    let mut flat = [true; 4];
+    for e in 0..4 {
+        if tested[e] {
+            flat[e] = edge_flat(e);
+        }
+    }
+    let inner_flat = (!flat.contains(&false)).then(inner_flat);
+    Some(Verdict {
+        depths,
+        tested,
+        flat,
+        inner_flat,
+    })
+}
+
 /// The criterion of a node below the depth limit: its four children when
 /// an edge (`edge_flat(e)`) or the inner tier (`inner_flat`) says split.
 fn split(
@@ -155,25 +230,38 @@ fn split(
     edge_flat: impl Fn(usize) -> bool,
     inner_flat: impl FnOnce() -> bool,
 ) -> Option<[QuadNode; 4]> {
-    let l = node.depth();
-    if l >= vp.l_max {
-        return None;
-    }
-    let depths = edge_depths(node);
-    let mut flat = [true; 4];
-    let mut edges_flat = true;
-    // Every pending edge is tested, with no early exit: the children
-    // inherit the results.
-    for (e, f) in flat.iter_mut().enumerate() {
-        if depths[e] >= l {
-            *f = edge_flat(e);
-            edges_flat &= *f;
+    let v = verdict(node, vp, edge_flat, inner_flat)?;
+    // Untested edges keep their inherited depth whatever `flat` says.
+    v.splits()
+        .then(|| children(node, resolve_depths(node, v.depths, v.flat)))
+}
+
+/// The criterion's verdict on `node` of `base` (rational when `flags` and
+/// `w` say so), as [`process_any`] would reach it: for statistics and tests.
+pub fn explain(
+    base: &BezierPatch,
+    w: Option<&Weights>,
+    flags: u32,
+    node: QuadNode,
+    vp: &ViewParams,
+) -> Option<Verdict> {
+    let (a, b, c, d) = node.domain();
+    match w {
+        Some(w) if flags & PATCH_RATIONAL != 0 => {
+            let sub = HomPatch::of(&RationalPatch::new(*base, *w)).sub(a, b, c, d);
+            let edge = |e| homogeneous::edge_flat(&sub.edge(e), vp);
+            verdict(node, vp, edge, || homogeneous::inner_flat(&sub, vp))
+        }
+        _ => {
+            let sub = reconstruct(base, a, b, c, d);
+            verdict(
+                node,
+                vp,
+                |e| edge_flat(&sub.edge(e), vp),
+                || inner_flat(&sub, vp),
+            )
         }
     }
-    if !edges_flat || !inner_flat() {
-        return Some(children(node, resolve_depths(node, depths, flat)));
-    }
-    None
 }
 
 /// Counts gathered by one subdivision run.

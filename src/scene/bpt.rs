@@ -20,7 +20,8 @@
 //! the end of the file. What is refused, each with file and 1-based line: an
 //! empty file, a file that ends before the counts promise, garbled numbers, a
 //! patch line without exactly 16 indices, an index that is 0 or past the
-//! point count, a coordinate that is NaN or infinite, a point line without
+//! point count, a coordinate that is NaN, infinite or beyond ±1e6 (the
+//! largest a scene accepts, [`MAX_COORD`]), a point line without
 //! exactly three coordinates, anything after the last point, and a patch
 //! count of 0. -0.0 is read as +0.0 (see `BezierPatch::canonical_zeros`).
 //!
@@ -51,6 +52,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::file::MAX_COORD;
 use super::SceneError;
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{weight_ok, Weights, MAX_WEIGHT, MIN_WEIGHT};
@@ -248,6 +250,16 @@ fn write_any(
             format!("patch {i} has a NaN or infinite control point"),
         ));
     }
+    // What `read` would refuse is not written either.
+    if let Some(i) = patches
+        .iter()
+        .position(|p| p.pts.iter().any(|q| q.abs().max_element() > MAX_COORD))
+    {
+        return Err(SceneError::invalid(
+            path,
+            format!("patch {i} has a control point beyond ±{MAX_COORD:e}"),
+        ));
+    }
 
     let mut index_of: HashMap<[u32; 4], usize> = HashMap::new();
     let mut points: Vec<(Vec3, f32)> = Vec::new();
@@ -398,6 +410,20 @@ fn parse_point(
                 line_no,
                 format!(
                     "coordinate {} is not finite: {:?}",
+                    "xyz".as_bytes()[k] as char,
+                    clip(f)
+                ),
+            ));
+        }
+        // A scene refuses a world coordinate past ±MAX_COORD; saying so
+        // here names the line, where the scene could only name the model.
+        if x.abs() > MAX_COORD {
+            return Err(SceneError::at(
+                path,
+                line_no,
+                format!(
+                    "coordinate {} = {:?} is beyond ±{MAX_COORD:e}, the largest a scene accepts \
+                     (scale the model down)",
                     "xyz".as_bytes()[k] as char,
                     clip(f)
                 ),

@@ -5,7 +5,7 @@ use super::context::{duration_ns, Context, Pending, SubmitState};
 use super::error::{VkError, VkResult, VkResultExt};
 use super::memory::{Buffer, Image};
 use ash::vk;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// A pipeline stage paired with the memory access made there: one side of a
 /// barrier.
@@ -194,6 +194,7 @@ impl Context {
         f: impl FnOnce(vk::CommandBuffer, &[Buffer]) -> VkResult<R>,
     ) -> VkResult<(R, Vec<Buffer>)> {
         let device = self.device();
+        let submitted;
         // The pool and its command buffers need external synchronisation
         // while allocating, recording and freeing, the queue while
         // submitting; the wait itself holds no lock.
@@ -216,6 +217,7 @@ impl Context {
             };
             let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
             let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
+            submitted = Instant::now();
             if let Err(e) = unsafe { device.queue_submit2(self.queue, &submit, fence) } {
                 free_one_shot(device, &state, cmd, fence);
                 return Err(VkError::Call {
@@ -239,10 +241,13 @@ impl Context {
                     fence,
                     cmd,
                     keep_alive: keep,
+                    submitted,
                 });
                 Err(VkError::FenceTimeout {
                     label: label.to_owned(),
                     timeout,
+                    waited: submitted.elapsed(),
+                    part: None,
                 })
             }
             Err(vk::Result::ERROR_DEVICE_LOST) => {
@@ -258,6 +263,7 @@ impl Context {
                     fence,
                     cmd,
                     keep_alive: keep,
+                    submitted,
                 });
                 Err(VkError::Call {
                     context: format!("vkWaitForFences({label})"),
@@ -289,6 +295,13 @@ impl Context {
                     .collect::<Vec<_>>()
                     .join(", "),
                 timeout,
+                waited: state
+                    .pending
+                    .iter()
+                    .map(|p| p.submitted.elapsed())
+                    .max()
+                    .unwrap_or(timeout),
+                part: None,
             }),
             Err(e) => Err(VkError::Call {
                 context: String::from("vkWaitForFences(pending)"),

@@ -9,19 +9,75 @@
 
 use super::debug::{self, DebugState, VALIDATION_LAYER};
 use super::device::{self, DeviceSelector};
-use super::error::{VkError, VkResult, VkResultExt};
+use super::error::{VkError, VkResult, VkResultExt, TIMEOUT_ENV};
 use super::info::{version_string, DeviceInfo};
 use super::memory::Buffer;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 use std::mem::ManuallyDrop;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
-/// Fence waits give up after this long unless told otherwise.
+/// Fence waits give up after this long unless told otherwise (the
+/// `--timeout` flag, [`TIMEOUT_ENV`]). Long work is submitted in parts
+/// (`FrameRec::split`), so the limit applies to a part, not to a frame.
 pub const DEFAULT_FENCE_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// The process-wide fence timeout set by [`set_fence_timeout`], in ns (0:
+/// none set).
+static TIMEOUT_OVERRIDE_NS: AtomicU64 = AtomicU64::new(0);
+
+/// Sets the fence timeout every later [`ContextOptions::default`] takes
+/// (the command line's `--timeout`; it wins over [`TIMEOUT_ENV`]).
+pub fn set_fence_timeout(timeout: Duration) {
+    let ns = u64::try_from(timeout.as_nanos()).unwrap_or(u64::MAX).max(1);
+    TIMEOUT_OVERRIDE_NS.store(ns, Ordering::SeqCst);
+}
+
+/// Parses a timeout in seconds ("300", "2.5"): positive and finite.
+pub fn parse_timeout(s: &str) -> Result<Duration, String> {
+    let secs: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of seconds"))?;
+    if !(secs.is_finite() && secs > 0.0 && secs < 1.0e9) {
+        return Err(format!(
+            "the timeout must be a positive number of seconds (got {s})"
+        ));
+    }
+    Ok(Duration::from_secs_f64(secs))
+}
+
+/// The fence timeout [`TIMEOUT_ENV`] asks for: `None` when unset, an error
+/// naming the variable when it is not a positive number of seconds.
+pub fn env_fence_timeout() -> Result<Option<Duration>, String> {
+    match std::env::var(TIMEOUT_ENV) {
+        Err(_) => Ok(None),
+        Ok(v) => parse_timeout(&v)
+            .map(Some)
+            .map_err(|e| format!("{TIMEOUT_ENV}: {e}")),
+    }
+}
+
+/// The fence timeout a context gets by default: [`set_fence_timeout`]'s,
+/// else [`TIMEOUT_ENV`]'s (a bad value is logged and ignored; the command
+/// line refuses it before any work), else [`DEFAULT_FENCE_TIMEOUT`].
+pub fn default_fence_timeout() -> Duration {
+    let ns = TIMEOUT_OVERRIDE_NS.load(Ordering::SeqCst);
+    if ns > 0 {
+        return Duration::from_nanos(ns);
+    }
+    match env_fence_timeout() {
+        Ok(Some(t)) => t,
+        Ok(None) => DEFAULT_FENCE_TIMEOUT,
+        Err(e) => {
+            log::warn!("{e}; using {DEFAULT_FENCE_TIMEOUT:?}");
+            DEFAULT_FENCE_TIMEOUT
+        }
+    }
+}
 
 /// How to create a [`Context`].
 #[derive(Debug, Clone)]
@@ -59,7 +115,7 @@ impl Default for ContextOptions {
             validation: false,
             sync_validation: true,
             require_mesh_shader: false,
-            fence_timeout: DEFAULT_FENCE_TIMEOUT,
+            fence_timeout: default_fence_timeout(),
             window: None,
         }
     }
@@ -134,6 +190,8 @@ pub(crate) struct Pending {
     pub cmd: vk::CommandBuffer,
     /// Resources the command buffer uses (e.g. a staging buffer).
     pub keep_alive: Vec<Buffer>,
+    /// When it was submitted (for the timeout's message).
+    pub submitted: std::time::Instant,
 }
 
 /// The command pool and queue, which Vulkan requires to be externally

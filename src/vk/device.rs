@@ -267,6 +267,8 @@ fn read_features(
         geometry_shader: on(f10.geometry_shader),
         primitives_generated_query: prims_ext && on(fprims.primitives_generated_query),
         mesh_shader_queries: mesh_ext && on(fmesh.mesh_shader_queries),
+        vulkan_memory_model: on(f12.vulkan_memory_model)
+            && on(f12.vulkan_memory_model_device_scope),
     };
     [
         (f13.synchronization2, "synchronization2"),
@@ -415,8 +417,10 @@ pub(crate) fn create_device(
         .pipeline_statistics_query(f.pipeline_statistics_query)
         .tessellation_shader(f.tessellation_shader)
         .geometry_shader(f.geometry_shader);
-    let mut f12 =
-        vk::PhysicalDeviceVulkan12Features::default().draw_indirect_count(f.draw_indirect_count);
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
+        .draw_indirect_count(f.draw_indirect_count)
+        .vulkan_memory_model(f.vulkan_memory_model)
+        .vulkan_memory_model_device_scope(f.vulkan_memory_model);
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
         .synchronization2(true)
         .dynamic_rendering(true)

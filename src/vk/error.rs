@@ -5,6 +5,23 @@ use ash::vk;
 use std::path::PathBuf;
 use std::time::Duration;
 
+/// The environment variable that sets the fence timeout in seconds (the
+/// `--timeout` flag wins over it).
+pub const TIMEOUT_ENV: &str = "BEZIER_SUBDIV_TIMEOUT";
+
+/// A duration as a person reads it: "850 ms", "42 s", "2 min 4 s".
+pub fn seconds_text(d: Duration) -> String {
+    let s = d.as_secs_f64();
+    if s < 1.0 {
+        format!("{:.0} ms", s * 1000.0)
+    } else if s < 60.0 {
+        format!("{:.0} s", s)
+    } else {
+        let whole = s.round() as u64;
+        format!("{} min {} s", whole / 60, whole % 60)
+    }
+}
+
 /// Result alias for the Vulkan layer.
 pub type VkResult<T> = Result<T, VkError>;
 
@@ -79,16 +96,28 @@ pub enum VkError {
         cause: gpu_allocator::AllocationError,
     },
 
-    /// A fence did not signal in time: the GPU work probably hangs.
+    /// A fence did not signal in time: the device is slow or busy, or the
+    /// work hangs. The message says what ran, for how long, and what to try.
     #[error(
-        "`{label}` did not finish within {timeout:?}; the GPU work is probably hung \
-         (e.g. a persistent-threads loop that never exits)"
+        "{label}{} did not finish within the {} fence timeout ({} since it was submitted). \
+         A slow or busy device (a CPU device such as lavapipe, or one shared with other work) \
+         may only need longer: pass --timeout SECONDS or set {TIMEOUT_ENV}=SECONDS. Or ask for \
+         less work per frame: a smaller --size, and for ground-truth a coarser --grid (16 draws \
+         1/16 of the triangles of the default 64). On an idle, fast device the work more likely \
+         hangs (e.g. a persistent-threads loop that never exits)",
+        part.map_or(String::new(), |(k, n)| format!(" (part {k} of {n})")),
+        seconds_text(*timeout),
+        seconds_text(*waited)
     )]
     FenceTimeout {
         /// What was submitted.
         label: String,
-        /// How long we waited.
+        /// How long one wait may take.
         timeout: Duration,
+        /// How long it had been running (since its submission) when given up.
+        waited: Duration,
+        /// Which part of a frame submitted in parts (1-based, of how many).
+        part: Option<(u32, u32)>,
     },
 
     /// The device was lost (driver reset, crash or hang).

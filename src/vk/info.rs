@@ -74,11 +74,14 @@ pub struct OptionalFeatures {
     /// `meshShaderQueries` (VK_EXT_mesh_shader): primitives counted at the end
     /// of mesh pipelines.
     pub mesh_shader_queries: bool,
+    /// `vulkanMemoryModel` and `vulkanMemoryModelDeviceScope` (Vulkan 1.2):
+    /// the subdivision kernels' acquire/release atomics between workgroups.
+    pub vulkan_memory_model: bool,
 }
 
 impl OptionalFeatures {
     /// (name, enabled) pairs in a stable order, for reports.
-    pub fn list(&self) -> [(&'static str, bool); 13] {
+    pub fn list(&self) -> [(&'static str, bool); 14] {
         [
             ("mesh shader (VK_EXT_mesh_shader)", self.mesh_shader),
             ("multiDrawIndirect", self.multi_draw_indirect),
@@ -99,6 +102,7 @@ impl OptionalFeatures {
                 self.primitives_generated_query,
             ),
             ("meshShaderQueries", self.mesh_shader_queries),
+            ("vulkanMemoryModel (device scope)", self.vulkan_memory_model),
         ]
     }
 }
@@ -130,6 +134,20 @@ pub struct DeviceLimits {
     pub max_tessellation_generation_level: u32,
     /// Sample counts colour and depth attachments both support.
     pub framebuffer_sample_counts: vk::SampleCountFlags,
+}
+
+impl DeviceLimits {
+    /// The samples per pixel of 1, 2, 4 and 8 (what `--msaa` takes) that
+    /// colour and depth attachments both support, ascending.
+    pub fn msaa_sample_counts(&self) -> Vec<u32> {
+        [1, 2, 4, 8]
+            .into_iter()
+            .filter(|&n| {
+                self.framebuffer_sample_counts
+                    .contains(vk::SampleCountFlags::from_raw(n))
+            })
+            .collect()
+    }
 }
 
 /// VK_EXT_mesh_shader properties.
@@ -295,6 +313,12 @@ pub fn describe(info: &DeviceInfo) -> String {
         s,
         "  indirect:        max draw count {}",
         l.max_draw_indirect_count
+    );
+    let samples: Vec<String> = l.msaa_sample_counts().iter().map(u32::to_string).collect();
+    let _ = writeln!(
+        s,
+        "  MSAA (--msaa):   {} samples per pixel",
+        samples.join(", ")
     );
     if let Some(m) = &info.mesh {
         let _ = writeln!(

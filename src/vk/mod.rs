@@ -18,10 +18,13 @@ pub mod swapchain;
 pub use commands::{
     buffer_barrier, fill_buffer, host_read_barrier, image_barrier, memory_barrier, Access,
 };
-pub use context::{Context, ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT};
+pub use context::{
+    default_fence_timeout, env_fence_timeout, parse_timeout, set_fence_timeout, Context,
+    ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT,
+};
 pub use device::DeviceSelector;
-pub use error::{VkError, VkResult};
-pub use frames::FrameRing;
+pub use error::{seconds_text, VkError, VkResult, TIMEOUT_ENV};
+pub use frames::{FrameRing, Progress, ProgressSink, MAX_FRAME_PARTS};
 pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, OptionalFeatures};
 pub use layout::{BufferBinding, DescriptorSet, PipelineLayout, SetLayout};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};

@@ -7,6 +7,7 @@
 
 use super::context::{Context, Core};
 use super::error::{VkError, VkResult, VkResultExt};
+use super::frames::MAX_FRAME_PARTS;
 use ash::vk;
 use std::sync::Arc;
 
@@ -69,7 +70,9 @@ impl GpuTimer {
         self.scopes.clear();
     }
 
-    /// Writes the start timestamp of scope `name`.
+    /// Writes the start timestamp of scope `name`. A name may come back
+    /// once its previous scope has ended (a pass recorded once per part of
+    /// a frame): [`GpuTimer::read`] sums its scopes.
     ///
     /// ALL_COMMANDS waits for earlier work, so a scope measures its own
     /// commands rather than overlapping the previous ones.
@@ -80,7 +83,7 @@ impl GpuTimer {
                 self.capacity
             )));
         }
-        if self.scopes.iter().any(|(n, _)| n == name) {
+        if self.scopes.iter().any(|(n, ended)| n == name && !ended) {
             return Err(VkError::Usage(format!(
                 "GpuTimer scope `{name}` begun twice"
             )));
@@ -117,8 +120,9 @@ impl GpuTimer {
         Ok(())
     }
 
-    /// Durations in milliseconds per scope, in begin order. Call only after
-    /// the fence of the recording command buffer was waited on.
+    /// Durations in milliseconds per scope name (the sum of its scopes), in
+    /// first-begin order. Call only after the fences of the recording
+    /// command buffers were waited on.
     pub fn read(&self) -> VkResult<Vec<(String, f64)>> {
         if let Some((name, _)) = self.scopes.iter().find(|(_, ended)| !ended) {
             return Err(VkError::Usage(format!(
@@ -139,18 +143,19 @@ impl GpuTimer {
             )
         }
         .ctx("vkGetQueryPoolResults(timestamps)")?;
-        Ok(self
-            .scopes
-            .iter()
-            .enumerate()
-            .map(|(i, (name, _))| {
-                let start = ticks[2 * i] & self.valid_mask;
-                let end = ticks[2 * i + 1] & self.valid_mask;
-                // Masked wrapping difference: correct across one counter wrap.
-                let delta = end.wrapping_sub(start) & self.valid_mask;
-                (name.clone(), delta as f64 * self.period_ns / 1.0e6)
-            })
-            .collect())
+        let mut out: Vec<(String, f64)> = Vec::new();
+        for (i, (name, _)) in self.scopes.iter().enumerate() {
+            let start = ticks[2 * i] & self.valid_mask;
+            let end = ticks[2 * i + 1] & self.valid_mask;
+            // Masked wrapping difference: correct across one counter wrap.
+            let delta = end.wrapping_sub(start) & self.valid_mask;
+            let ms = delta as f64 * self.period_ns / 1.0e6;
+            match out.iter_mut().find(|(n, _)| n == name) {
+                Some((_, sum)) => *sum += ms,
+                None => out.push((name.clone(), ms)),
+            }
+        }
+        Ok(out)
     }
 }
 
@@ -200,16 +205,20 @@ impl PrimitiveQuery {
 /// Counts the primitives a frame's draws generate, so every method's
 /// triangle count means the same thing: what the rasterizer is handed.
 ///
-/// One query per frame, chosen by the kind of pipeline the frame draws with
-/// (mesh pipelines need their own query type; lavapipe counts a mesh draw
-/// in both the mesh and the generic query, so both at once would count it
-/// twice). Compute work inside the query is not counted.
+/// One kind of query per frame, chosen by the kind of pipeline the frame
+/// draws with (mesh pipelines need their own query type; lavapipe counts a
+/// mesh draw in both the mesh and the generic query, so both at once would
+/// count it twice). A query must begin and end in one command buffer, so a
+/// frame recorded in parts counts each part in its own query
+/// ([`PrimitiveCounter::next_part`]) and [`PrimitiveCounter::read`] sums
+/// them. Compute work inside the query is not counted.
 pub struct PrimitiveCounter {
     core: Arc<Core>,
-    /// The device's queries, one pool of one query each.
+    /// The device's queries, one pool each, one query per frame part.
     pools: Vec<(PrimitiveQuery, vk::QueryPool)>,
-    /// The query begun in the current command buffer, and whether it ended.
-    active: Option<(PrimitiveQuery, bool)>,
+    /// The query kind begun this frame, the queries used (parts), and
+    /// whether the last one ended.
+    active: Option<(PrimitiveQuery, u32, bool)>,
 }
 
 impl PrimitiveCounter {
@@ -233,7 +242,7 @@ impl PrimitiveCounter {
         for (query, _) in available.into_iter().filter(|(_, on)| *on) {
             let mut create = vk::QueryPoolCreateInfo::default()
                 .query_type(query.query_type())
-                .query_count(1);
+                .query_count(MAX_FRAME_PARTS);
             if query == PrimitiveQuery::ClippingInvocations {
                 create = create
                     .pipeline_statistics(vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS);
@@ -275,7 +284,11 @@ impl PrimitiveCounter {
     /// the previous frame's choice. Call before [`PrimitiveCounter::begin`].
     pub fn reset(&mut self, cmd: vk::CommandBuffer) {
         for &(_, pool) in &self.pools {
-            unsafe { self.core.device.cmd_reset_query_pool(cmd, pool, 0, 1) };
+            unsafe {
+                self.core
+                    .device
+                    .cmd_reset_query_pool(cmd, pool, 0, MAX_FRAME_PARTS)
+            };
         }
         self.active = None;
     }
@@ -285,7 +298,7 @@ impl PrimitiveCounter {
     pub fn begin(&mut self, cmd: vk::CommandBuffer, mesh: bool) -> VkResult<()> {
         if self.active.is_some() {
             return Err(VkError::Usage(
-                "PrimitiveCounter begun twice in one command buffer".into(),
+                "PrimitiveCounter begun twice in one frame".into(),
             ));
         }
         let Some(query) = self.choice(mesh) else {
@@ -297,31 +310,76 @@ impl PrimitiveCounter {
                     .device
                     .cmd_begin_query(cmd, pool, 0, vk::QueryControlFlags::empty())
             };
-            self.active = Some((query, false));
+            self.active = Some((query, 1, false));
         }
         Ok(())
+    }
+
+    /// Ends the current part's query in `cmd` (that part's last command
+    /// buffer, outside any render pass); [`PrimitiveCounter::resume`] begins
+    /// the next part's.
+    pub fn pause(&mut self, cmd: vk::CommandBuffer) -> VkResult<()> {
+        match self.active {
+            None => Ok(()),
+            Some((_, _, true)) => Err(VkError::Usage("PrimitiveCounter already ended".into())),
+            Some((query, used, false)) => {
+                if used >= MAX_FRAME_PARTS {
+                    return Err(VkError::Usage(format!(
+                        "PrimitiveCounter counts at most {MAX_FRAME_PARTS} parts"
+                    )));
+                }
+                if let Some(pool) = self.pool(query) {
+                    unsafe { self.core.device.cmd_end_query(cmd, pool, used - 1) };
+                }
+                self.active = Some((query, used, true));
+                Ok(())
+            }
+        }
+    }
+
+    /// Begins the next part's query in `cmd` (its first command buffer)
+    /// after a [`PrimitiveCounter::pause`].
+    pub fn resume(&mut self, cmd: vk::CommandBuffer) -> VkResult<()> {
+        match self.active {
+            None => Ok(()),
+            Some((_, _, false)) => Err(VkError::Usage("PrimitiveCounter is not paused".into())),
+            Some((query, used, true)) => {
+                if let Some(pool) = self.pool(query) {
+                    unsafe {
+                        self.core.device.cmd_begin_query(
+                            cmd,
+                            pool,
+                            used,
+                            vk::QueryControlFlags::empty(),
+                        )
+                    };
+                }
+                self.active = Some((query, used + 1, false));
+                Ok(())
+            }
+        }
     }
 
     /// Ends counting (outside any render pass).
     pub fn end(&mut self, cmd: vk::CommandBuffer) -> VkResult<()> {
         match self.active {
             None => Ok(()),
-            Some((_, true)) => Err(VkError::Usage("PrimitiveCounter ended twice".into())),
-            Some((query, false)) => {
+            Some((_, _, true)) => Err(VkError::Usage("PrimitiveCounter ended twice".into())),
+            Some((query, used, false)) => {
                 if let Some(pool) = self.pool(query) {
-                    unsafe { self.core.device.cmd_end_query(cmd, pool, 0) };
+                    unsafe { self.core.device.cmd_end_query(cmd, pool, used - 1) };
                 }
-                self.active = Some((query, true));
+                self.active = Some((query, used, true));
                 Ok(())
             }
         }
     }
 
-    /// The count and the query it came from, or `None` when the frame was
-    /// not counted. Call only after the recording command buffer's fence
-    /// was waited on.
+    /// The count (summed over the frame's parts) and the query it came
+    /// from, or `None` when the frame was not counted. Call only after the
+    /// recording command buffers' fences were waited on.
     pub fn read(&self) -> VkResult<Option<(PrimitiveQuery, u64)>> {
-        let Some((query, ended)) = self.active else {
+        let Some((query, used, ended)) = self.active else {
             return Ok(None);
         };
         if !ended {
@@ -332,17 +390,17 @@ impl PrimitiveCounter {
         };
         // Every query type here has exactly one 64-bit result (the
         // statistics pool counts one statistic).
-        let mut count = [0u64; 1];
+        let mut counts = vec![0u64; used as usize];
         unsafe {
             self.core.device.get_query_pool_results(
                 pool,
                 0,
-                &mut count,
+                &mut counts,
                 vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
             )
         }
         .ctx("vkGetQueryPoolResults(primitives)")?;
-        Ok(Some((query, count[0])))
+        Ok(Some((query, counts.iter().sum())))
     }
 }
 

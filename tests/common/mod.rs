@@ -103,6 +103,15 @@ impl Drop for Gpu {
     }
 }
 
+/// A directory for what a test writes (images of failures, reports):
+/// under Cargo's scratch directory for integration tests, never in the
+/// source tree, so the suite runs from a read-only checkout.
+pub fn output_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(tag);
+    std::fs::create_dir_all(&dir).expect("create the test output directory");
+    dir
+}
+
 /// A scene of `scenes/` and its geometry.
 pub fn scene(
     name: &str,
@@ -157,4 +166,17 @@ pub fn renderer(
         },
     )
     .unwrap_or_else(|e| panic!("renderer for {method}: {e}"))
+}
+
+/// How many hole checks `validate` runs on a scene: one per distinct model
+/// file that has patches (instances of one file are checked once).
+#[allow(dead_code)]
+pub fn distinct_models(name: &str) -> usize {
+    let (_, geo) = scene(name);
+    geo.models
+        .iter()
+        .filter(|m| m.patches_per_instance > 0)
+        .map(|m| m.file.clone())
+        .collect::<std::collections::HashSet<_>>()
+        .len()
 }

@@ -40,8 +40,10 @@ pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// Where failures' images go: Cargo's scratch directory for integration
+/// tests, never the source tree (the suite runs from a read-only checkout).
 pub fn out_dir() -> PathBuf {
-    let dir = root().join("target/test-output/draw");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("draw");
     std::fs::create_dir_all(&dir).expect("create the test output directory");
     dir
 }
@@ -159,6 +161,7 @@ impl Rig {
             ready: 1,
             vertices: true,
             capture: true,
+            sort: false,
         };
         let stages = PATHS
             .iter()

@@ -5,9 +5,12 @@
 
 RESULTS.jsonl is what ../shared/gpu/run.sh writes (one render stats object
 per line, with the command that made it). Prints Markdown: the device and
-commit, kitchen keyframes (persistent vs per-depth subdivide time and their
-ratio), the teapot and eps 0.25, the workgroup sweep, and queue use against
-the targets of issue 7. Times are the medians `render --repeat` wrote.
+commit; kitchen keyframes (persistent against per-depth subdivide time, their
+ratio, and the issue-18 target subdiv <= 0.9x subdiv-indirect); the teapot,
+eps 0.25 and the queue kernel with rounds, atomics and polls per node and
+memory; the workgroup sweep against its best; the node-memory sweep; and any
+frame that fell back to the per-depth rounds. Times are the medians
+`render --repeat` wrote.
 """
 
 import json
@@ -43,7 +46,30 @@ def key(r):
         float(arg(c, "eps", "1")),
         arg(c, "method", "subdiv"),
         arg(c, "groups"),
+        arg(c, "kernel", "levels"),
+        arg(c, "node-memory"),
     )
+
+
+def per_node(s, k):
+    n = max(s.get("nodes_processed", 0), 1)
+    return "%.4f" % (s[k] / n) if k in s else "–"
+
+
+def mib(r, purpose):
+    b = r.get("memory_bytes", {}).get(purpose)
+    return "%.2f" % (b / 2**20) if b is not None else "–"
+
+
+def figures_row(label, r):
+    s = r["method_stats"]
+    rounds = s.get("rounds", s.get("iterations_max", "–"))
+    polls = "barrier_polls" if "barrier_polls" in s else "idle_polls"
+    memory = mib(r, "node_memory") if "node_memory" in r.get("memory_bytes", {}) else mib(r, "queue")
+    return "| %s | %s | %.3f | %.3f | %.3f | %d | %s | %s | %s | %s | %s |" % (
+        label, s.get("kernel", "per-depth"), ms(r), ms(r, "sort") if "sort" in r["gpu_ms"] else 0.0,
+        ms(r, "draw"), s["nodes_processed"], rounds, per_node(s, "global_atomics"),
+        per_node(s, polls), memory, s.get("fallback", "–"))
 
 
 def main():
@@ -54,57 +80,62 @@ def main():
     print("Device: %s, driver %s, commit %s, %dx%d.\n"
           % (first["device"], first["driver"], first["commit"], first["width"], first["height"]))
     by = {key(r): r for r in rows}
+    base = lambda scene, f, eps, m: by.get((scene, f, eps, m, None, "levels", None))
 
-    print("| kitchen frame | subdiv ms (min–max) | subdiv-indirect ms (min–max) | ratio | sort ms | draw ms |")
-    print("|---|---|---|---|---|---|")
-    for f in range(7):
-        a = by.get(("scenes/kitchen.toml", f, 1.0, "subdiv", None))
-        b = by.get(("scenes/kitchen.toml", f, 1.0, "subdiv-indirect", None))
+    print("| kitchen frame | subdiv ms (min–max) | subdiv-indirect ms (min–max) | ratio (target ≤ 0.9) | draw ms |")
+    print("|---|---|---|---|---|")
+    for f in range(8):
+        a = base("scenes/kitchen.toml", f, 1.0, "subdiv")
+        b = base("scenes/kitchen.toml", f, 1.0, "subdiv-indirect")
         if not (a and b):
             continue
-        print("| %d | %.3f (%s) | %.3f (%s) | %.2f | %.3f | %.3f |"
-              % (f, ms(a), rng(a), ms(b), rng(b), ms(a) / ms(b), ms(a, "sort"), ms(a, "draw")))
+        print("| %d | %.3f (%s) | %.3f (%s) | %.2f | %.3f |"
+              % (f, ms(a), rng(a), ms(b), rng(b), ms(a) / ms(b), ms(a, "draw")))
 
-    print("\n| case | method | subdivide ms | nodes | iterations_max | atomics/node | queue peak | spills |")
-    print("|---|---|---|---|---|---|---|---|")
-    for scene, eps in [("scenes/teapot.toml", 1.0), ("scenes/kitchen.toml", 0.25)]:
+    print("\n| case | kernel | subdivide ms | sort ms | draw ms | nodes | rounds / iterations | "
+          "atomics/node | polls/node | node memory or queue MiB | fallback |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for scene, f, eps in [("scenes/kitchen.toml", 0, 1.0), ("scenes/teapot.toml", 0, 1.0),
+                          ("scenes/kitchen.toml", 0, 0.25), ("scenes/kitchen.toml", 2, 1.0)]:
+        label = "%s %d eps %g" % (scene.split("/")[-1], f, eps)
         for m in ["subdiv", "subdiv-indirect"]:
-            r = by.get((scene, 0, eps, m, None))
-            if not r:
-                continue
-            s = r["method_stats"]
-            print("| %s eps %g | %s | %.3f | %d | %s | %s | %s | %s |"
-                  % (scene.split("/")[-1], eps, m, ms(r), s["nodes_processed"],
-                     s.get("iterations_max", "–"),
-                     "%.3f" % s["global_atomics_per_node"] if "global_atomics_per_node" in s else "–",
-                     s.get("queue_peak_items", "–"), s.get("queue_spills", "–")))
+            r = base(scene, f, eps, m)
+            if r:
+                print(figures_row("%s %s" % (label, m), r))
+        q = by.get((scene, f, eps, "subdiv", None, "queue", None))
+        if q:
+            print(figures_row("%s subdiv --kernel queue" % label, q))
 
-    sweep = sorted((int(k[4]), r) for k, r in by.items() if k[4] and k[0].endswith("kitchen.toml"))
-    if sweep:
+    for scene in ["scenes/kitchen.toml", "scenes/teapot.toml"]:
+        sweep = sorted((int(k[4]), r) for k, r in by.items()
+                       if k[4] and k[0] == scene and k[5] == "levels" and k[6] is None)
+        if not sweep:
+            continue
         best = min(ms(r) for _, r in sweep)
-        default = by.get(("scenes/kitchen.toml", 0, 1.0, "subdiv", None))
-        print("\n| workgroups | kitchen subdivide ms | vs best |")
-        print("|---|---|---|")
+        default = base(scene, 0, 1.0, "subdiv")
+        print("\n| %s workgroups launched | joined | subdivide ms | vs best |" % scene.split("/")[-1])
+        print("|---|---|---|---|")
         for g, r in sweep:
-            print("| %d | %.3f | %.2f |" % (g, ms(r), ms(r) / best))
+            print("| %d | %s | %.3f | %.2f |"
+                  % (g, r["method_stats"].get("workgroups_joined", "–"), ms(r), ms(r) / best))
         if default:
-            print("| default (%s) | %.3f | %.2f |"
-                  % (default["method_stats"].get("workgroups"), ms(default), ms(default) / best))
+            s = default["method_stats"]
+            print("| default (%s) | %s | %.3f | %.2f (target ≤ 1.10) |"
+                  % (s.get("workgroups"), s.get("workgroups_joined"), ms(default), ms(default) / best))
 
-    spills = [r for k, r in by.items()
-              if k[0].endswith("kitchen.toml") and k[3] == "subdiv" and not k[4]]
-    if spills:
-        worst = max(spills, key=lambda r: r["method_stats"]["queue_peak_items"])
-        total = sum(r["method_stats"]["queue_spills"] for r in spills)
-        q = worst["memory_bytes"].get("queue", 0)
-        print("\nQueue over %d kitchen views (keyframes x eps): %d spills, peak %d items in a "
-              "%d-entry queue (%.1f MiB)."
-              % (len(spills), total, worst["method_stats"]["queue_peak_items"],
-                 worst["method_stats"]["queue_capacity_items"], q / 2**20))
-        ind = [r for k, r in by.items() if k[3] == "subdiv-indirect" and k[0].endswith("kitchen.toml")]
-        if ind:
-            print("subdiv-indirect node buffers: %.1f MiB."
-                  % (ind[0]["memory_bytes"].get("node_buffers", 0) / 2**20))
+    mem = sorted((float(k[6]), k[3], r) for k, r in by.items() if k[6])
+    if mem:
+        print("\n| kitchen eps 0.25, node memory MiB | method | subdivide ms | rounds | rounds in parts | dispatches |")
+        print("|---|---|---|---|---|---|")
+        for m, method, r in mem:
+            s = r["method_stats"]
+            print("| %g | %s | %.3f | %s | %s | %s |" % (m, method, ms(r), s.get("rounds"),
+                                                       s.get("rounds_split"), s.get("dispatches")))
+
+    fell = [r for r in rows if r.get("method_stats", {}).get("fallback")]
+    print("\nFrames that fell back to the per-depth rounds: %d%s"
+          % (len(fell), "".join("\n- %s: %s" % (r["command"], r["method_stats"]["fallback"])
+                                for r in fell)))
 
 
 if __name__ == "__main__":

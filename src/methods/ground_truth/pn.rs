@@ -153,11 +153,16 @@ impl GroundTruthPn {
         Ok(true)
     }
 
-    /// Records the draw (inside the target's rendering, after the patches').
-    pub fn record(&self, f: &FrameRec<'_>, pc: &DrawPush) -> VkResult<()> {
+    /// Records the draw of PN triangles `first .. first + count` (inside
+    /// the target's rendering; a part of the frame of its own).
+    pub fn record(&self, f: &FrameRec<'_>, pc: &DrawPush, first: u32, count: u32) -> VkResult<()> {
         let Some(s) = &self.scene else {
             return Ok(());
         };
+        let count = count.min(s.count.saturating_sub(first));
+        if count == 0 {
+            return Ok(());
+        }
         let (ctx, cmd) = (f.ctx, f.cmd);
         let bind = vk::PipelineBindPoint::GRAPHICS;
         self.draw.bind(cmd);
@@ -172,7 +177,7 @@ impl GroundTruthPn {
                 vk::IndexType::UINT32,
             );
             ctx.device()
-                .cmd_draw_indexed(cmd, 3 * self.grid * self.grid, s.count, 0, 0, 0);
+                .cmd_draw_indexed(cmd, 3 * self.grid * self.grid, count, 0, 0, first);
         }
         Ok(())
     }

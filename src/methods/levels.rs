@@ -1,0 +1,545 @@
+//! The level schedule both subdivision methods run (`glsl/common/level.glsl`):
+//! `subdiv` in one dispatch of persistent workgroups with a grid barrier
+//! between rounds (`glsl/subdivide.comp`), `subdiv-indirect` as one indirect
+//! dispatch per round (`glsl/subdivide_level.comp`), and `subdiv` again when
+//! its watchdog sends it back to the per-depth rounds.
+//!
+//! A round processes a chunk of at most [`LevelPlan::chunk`] nodes of one
+//! depth; the next round takes the deepest depth that still holds nodes
+//! (depth first over chunks), so each depth's region only ever holds the
+//! children of one chunk of the depth above: the node memory is bounded by
+//! the plan whatever the depth, and a depth too large for one chunk is
+//! simply taken in several. Within a depth nodes keep their parents' order,
+//! so the ready list comes out in a canonical order ([`canonical_ready`] is
+//! the CPU twin) and no sort is needed.
+
+use ash::vk;
+use serde_json::{json, Value};
+
+use super::RenderError;
+use crate::constants::*;
+use crate::draw::ReadyStage;
+use crate::frame::{CopyRange, FrameRec};
+use crate::gpu::{LevelPush, SceneLayout, Shaders};
+use crate::patch::bezier::BezierPatch;
+use crate::patch::oracle::{process_any, Outcome};
+use crate::patch::quadnode::QuadNode;
+use crate::patch::rational::Weights;
+use crate::patch::view::ViewParams;
+use crate::vk::{
+    memory_barrier, Access, Buffer, Context, DescriptorSet, MemoryLocation, Pipeline,
+    PipelineLayout, SetLayout, VkResult,
+};
+
+/// Node memory of the level kernels unless asked otherwise: under the
+/// 26.39 MiB of backing memory the paper's work graph needs at depth 10,
+/// and enough that no kitchen keyframe at ε = 1 needs a depth in parts.
+pub const DEFAULT_NODE_MEMORY: u64 = 24 << 20;
+
+/// Depths with a region: every depth a node can reach.
+pub const LEVELS: u32 = L_MAX;
+
+/// Polls of a barrier without progress before the persistent kernel's
+/// watchdog trips: about a second of polling with its back-off, far beyond
+/// any round (a kitchen round at ε = 0.25 is tens of milliseconds on a
+/// 2-core lavapipe).
+pub const DEFAULT_WATCHDOG_POLLS: u32 = 1 << 20;
+
+/// Polls of an unchanged join count before the occupancy window closes: a
+/// GPU starts its resident workgroups within microseconds; lavapipe's
+/// worker threads can start milliseconds apart on a loaded machine.
+pub fn default_join_polls(ctx: &Context) -> u32 {
+    if ctx.info().is_cpu {
+        4096
+    } else {
+        16
+    }
+}
+
+/// Blocks per workgroup of a per-depth round: one on a GPU, where a
+/// workgroup's barriers cost cycles and more workgroups hide latency; 16
+/// on a CPU device, where lavapipe pays about 5 µs per workgroup barrier
+/// (it switches between the workgroup's subgroups) and a workgroup that
+/// takes 16 blocks shares its arrival's two barriers among them.
+pub fn group_blocks(ctx: &Context) -> u32 {
+    if ctx.info().is_cpu {
+        16
+    } else {
+        1
+    }
+}
+
+/// How a node-memory budget is spent: rounds of at most `chunk` nodes,
+/// regions for depths 1..=`levels`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LevelPlan {
+    /// Nodes per round at most (a multiple of `LEVEL_GROUP_SIZE`).
+    pub chunk: u32,
+    /// Depths with a region of child slots.
+    pub levels: u32,
+}
+
+impl LevelPlan {
+    /// Entries (8 bytes) of the node buffer: a region of `chunk ×
+    /// SPLIT_MAX_CHILDREN` child slots per depth, two ready scratches.
+    pub fn node_entries(self) -> u64 {
+        let chunk = u64::from(self.chunk);
+        u64::from(self.levels) * chunk * u64::from(SPLIT_MAX_CHILDREN) + 2 * chunk
+    }
+
+    /// Words of the scan buffer: a block scan per depth 1..=levels+1, two
+    /// ready scans, and the round's block statistics.
+    pub fn scan_words(self) -> u64 {
+        let blocks = u64::from(self.chunk / LEVEL_GROUP_SIZE);
+        u64::from(self.levels + 3) * (blocks + 1) + u64::from(LEVEL_BLOCK_STATS) * blocks
+    }
+
+    /// Bytes of the three buffers together.
+    pub fn bytes(self) -> u64 {
+        8 * self.node_entries() + 4 * self.scan_words() + 4 * u64::from(LEVEL_STATE_WORDS)
+    }
+
+    /// The largest plan within `budget` bytes whose buffers each fit
+    /// `max_buffer` bytes (one storage-buffer binding).
+    pub fn for_budget(budget: u64, max_buffer: u64) -> Result<Self, String> {
+        let fits = |chunk: u32| {
+            let p = LevelPlan {
+                chunk,
+                levels: LEVELS,
+            };
+            p.bytes() <= budget && 8 * p.node_entries() <= max_buffer
+        };
+        let smallest = LevelPlan {
+            chunk: LEVEL_GROUP_SIZE,
+            levels: LEVELS,
+        };
+        if !fits(LEVEL_GROUP_SIZE) {
+            return Err(format!(
+                "a node memory of {budget} bytes is below the smallest the level kernels \
+                 can work in ({} bytes: one block of {LEVEL_GROUP_SIZE} nodes per round)",
+                smallest.bytes()
+            ));
+        }
+        // Blocks per round: the largest count that fits (a binary search;
+        // the cost grows with the chunk).
+        let (mut lo, mut hi) = (1u32, u32::MAX / LEVEL_GROUP_SIZE / 2);
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if fits(mid * LEVEL_GROUP_SIZE) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Ok(LevelPlan {
+            chunk: lo * LEVEL_GROUP_SIZE,
+            levels: LEVELS,
+        })
+    }
+}
+
+/// The node memory and set 2 of the level kernels.
+struct LevelMemory {
+    nodes: Buffer,
+    scans: Buffer,
+    state: Buffer,
+    plan: LevelPlan,
+    set: DescriptorSet,
+}
+
+impl LevelMemory {
+    fn new(ctx: &Context, layout: &SetLayout, plan: LevelPlan) -> VkResult<Self> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let gpu = MemoryLocation::GpuOnly;
+        let nodes = Buffer::new(ctx, "level nodes", 8 * plan.node_entries(), storage, gpu)?;
+        let scans = Buffer::new(ctx, "level scans", 4 * plan.scan_words(), storage, gpu)?;
+        let state = Buffer::new(
+            ctx,
+            "level state",
+            4 * u64::from(LEVEL_STATE_WORDS),
+            storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            gpu,
+        )?;
+        let mut bound = [(&nodes).into(); LEVEL_BINDINGS as usize];
+        bound[BIND_LEVEL_NODES as usize] = (&nodes).into();
+        bound[BIND_LEVEL_SCANS as usize] = (&scans).into();
+        bound[BIND_LEVEL_STATE as usize] = (&state).into();
+        let set = DescriptorSet::new(ctx, "level set", layout, &bound)?;
+        Ok(Self {
+            nodes,
+            scans,
+            state,
+            plan,
+            set,
+        })
+    }
+
+    fn bytes(&self) -> u64 {
+        self.nodes.size() + self.scans.size() + self.state.size()
+    }
+}
+
+/// How the persistent kernel is launched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PersistentRun {
+    /// Workgroups launched (those beyond what the device keeps resident
+    /// leave at once).
+    pub groups: u32,
+    /// Polls without progress before the watchdog trips.
+    pub watchdog_polls: u32,
+    /// Polls of an unchanged join count before the window closes.
+    pub join_polls: u32,
+    /// `FAULT_*` bits (tests).
+    pub faults: u32,
+}
+
+/// The level kernels' memory, set 2 and pipelines.
+pub struct Levels {
+    memory: LevelMemory,
+    layout: PipelineLayout,
+    init: Pipeline,
+    round: Pipeline,
+    persistent: Option<Pipeline>,
+    group_blocks: u32,
+    _set_layout: SetLayout,
+}
+
+impl Levels {
+    /// Node memory for `budget` bytes, the init and round pipelines, and the
+    /// persistent kernel's when `persistent`.
+    pub fn new(
+        ctx: &Context,
+        shaders: &mut Shaders,
+        scene_layout: &SceneLayout,
+        stage: &ReadyStage,
+        budget: u64,
+        persistent: bool,
+    ) -> Result<Self, RenderError> {
+        if !ctx.info().features.vulkan_memory_model {
+            return Err(RenderError::Request(format!(
+                "the subdivision kernels need the Vulkan memory model with device scope \
+                 (vulkanMemoryModel, vulkanMemoryModelDeviceScope) for their acquire/release \
+                 atomics, and {} does not offer it",
+                ctx.info().name
+            )));
+        }
+        let max_buffer = u64::from(ctx.info().limits.max_storage_buffer_range);
+        let plan = LevelPlan::for_budget(budget, max_buffer).map_err(RenderError::Request)?;
+        let set_layout = SetLayout::storage(
+            ctx,
+            "level set",
+            LEVEL_BINDINGS as usize,
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let memory = LevelMemory::new(ctx, &set_layout, plan)?;
+        let layout = scene_layout.pipeline_layout::<LevelPush>(
+            ctx,
+            "level layout",
+            &[stage.set_layout(), &set_layout],
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let init = shaders.compute(ctx, &layout, "level init", "level_init.comp")?;
+        let round = shaders.compute(ctx, &layout, "level round", "subdivide_level.comp")?;
+        let persistent = if persistent {
+            Some(shaders.compute(ctx, &layout, "subdivide (persistent)", "subdivide.comp")?)
+        } else {
+            None
+        };
+        Ok(Self {
+            memory,
+            layout,
+            init,
+            round,
+            persistent,
+            group_blocks: group_blocks(ctx),
+            _set_layout: set_layout,
+        })
+    }
+
+    /// The plan the memory was made for.
+    pub fn plan(&self) -> LevelPlan {
+        self.memory.plan
+    }
+
+    /// Bytes of node memory (nodes, scans, state).
+    pub fn bytes(&self) -> u64 {
+        self.memory.bytes()
+    }
+
+    fn push(
+        &self,
+        f: &FrameRec<'_>,
+        stage: &ReadyStage,
+        run: Option<PersistentRun>,
+    ) -> VkResult<()> {
+        let run = run.unwrap_or(PersistentRun {
+            groups: 0,
+            watchdog_polls: 0,
+            join_polls: 0,
+            faults: 0,
+        });
+        let pc = LevelPush {
+            patch_count: f.scene.count,
+            chunk: self.memory.plan.chunk,
+            ready_capacity: stage.list().caps.ready,
+            levels: self.memory.plan.levels,
+            watchdog_polls: run.watchdog_polls,
+            join_polls: run.join_polls,
+            launched: run.groups,
+            faults: run.faults,
+            group_blocks: self.group_blocks,
+            pad: [0; 3],
+        };
+        self.layout.push_block(f.cmd, &pc)
+    }
+
+    /// Records the counters' reset, binding sets 0-2 and the push block,
+    /// and (inside the caller's scope) the first step: the state for the
+    /// first round.
+    fn record_start(
+        &self,
+        f: &FrameRec<'_>,
+        stage: &ReadyStage,
+        run: Option<PersistentRun>,
+    ) -> VkResult<()> {
+        stage.record_reset(f);
+        // The previous frame's rounds and copy-out are done with the memory.
+        memory_barrier(f.ctx, f.cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
+        let bind = vk::PipelineBindPoint::COMPUTE;
+        stage.bind_sets(f, bind, &self.layout);
+        self.memory
+            .set
+            .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
+        self.init.bind(f.cmd);
+        self.push(f, stage, run)
+    }
+
+    fn init_dispatch(&self, f: &FrameRec<'_>) {
+        unsafe { f.ctx.device().cmd_dispatch(f.cmd, 1, 1, 1) };
+        memory_barrier(f.ctx, f.cmd, Access::COMPUTE_WRITE, round_access());
+    }
+
+    /// Records `rounds` per-depth rounds (scope "subdivide"): the first
+    /// step, then one indirect dispatch per round, each after a barrier
+    /// from the last. Rounds past the end of the schedule dispatch nothing.
+    pub fn record_rounds(
+        &self,
+        f: &mut FrameRec<'_>,
+        stage: &ReadyStage,
+        rounds: u32,
+    ) -> VkResult<()> {
+        self.record_start(f, stage, None)?;
+        let state = self.memory.state.handle();
+        f.scoped("subdivide", |f| {
+            self.init_dispatch(f);
+            self.round.bind(f.cmd);
+            for _ in 0..rounds {
+                let offset = u64::from(S_ARGS) * 4;
+                unsafe { f.ctx.device().cmd_dispatch_indirect(f.cmd, state, offset) };
+                memory_barrier(f.ctx, f.cmd, Access::COMPUTE_WRITE, round_access());
+            }
+            Ok(())
+        })?;
+        memory_barrier(f.ctx, f.cmd, Access::COMPUTE_READ_WRITE, Access::ALL);
+        Ok(())
+    }
+
+    /// Records the persistent kernel (scope "subdivide"): the first step
+    /// and one dispatch of `run.groups` workgroups.
+    pub fn record_persistent(
+        &self,
+        f: &mut FrameRec<'_>,
+        stage: &ReadyStage,
+        run: PersistentRun,
+    ) -> VkResult<()> {
+        let Some(pipeline) = &self.persistent else {
+            return Err(crate::vk::VkError::Usage(
+                "the persistent level kernel was not made for this method".into(),
+            ));
+        };
+        self.record_start(f, stage, Some(run))?;
+        f.scoped("subdivide", |f| {
+            self.init_dispatch(f);
+            pipeline.bind(f.cmd);
+            unsafe { f.ctx.device().cmd_dispatch(f.cmd, run.groups, 1, 1) };
+            Ok(())
+        })?;
+        memory_barrier(f.ctx, f.cmd, Access::COMPUTE_READ_WRITE, Access::ALL);
+        Ok(())
+    }
+
+    /// Records copying the state words out of the frame.
+    pub fn copy_out_state(&self, f: &mut FrameRec<'_>) -> VkResult<CopyRange> {
+        f.copy_out(&self.memory.state, LEVEL_STATE_WORDS)
+    }
+}
+
+/// What a round reads after the previous one: its arguments and storage.
+fn round_access() -> Access {
+    Access::new(
+        vk::PipelineStageFlags2::DRAW_INDIRECT | vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::INDIRECT_COMMAND_READ
+            | vk::AccessFlags2::SHADER_STORAGE_READ
+            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+    )
+}
+
+/// The schedule's state at the end of a frame (the state words).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LevelState {
+    /// Rounds run.
+    pub rounds: u32,
+    /// Whether the schedule ran out of work (else it ran out of rounds).
+    pub done: bool,
+    /// Persistent kernel: workgroups that joined (0 for the per-depth rounds).
+    pub participants: u32,
+    /// Persistent kernel: a watchdog tripped.
+    pub aborted: bool,
+    /// Rounds that took part of a depth too large for one chunk.
+    pub split_rounds: u32,
+    /// Most nodes one depth held at once.
+    pub peak_nodes: u32,
+    /// Nodes processed per depth 0..=L_MAX.
+    pub nodes_per_depth: Vec<u32>,
+}
+
+impl LevelState {
+    /// Reads the copied-out state words.
+    pub fn from_words(w: &[u32]) -> Self {
+        let at = |i: u32| w[i as usize];
+        let depths = (0..=L_MAX).map(|d| at(S_DEPTH_NODES + d)).collect();
+        LevelState {
+            rounds: at(S_ROUND),
+            done: at(S_DONE) != 0,
+            participants: at(S_PARTICIPANTS),
+            aborted: at(S_ABORT) != 0,
+            split_rounds: at(S_SPLIT_ROUNDS),
+            peak_nodes: at(S_PEAK_NODES),
+            nodes_per_depth: depths,
+        }
+    }
+
+    /// The schedule's figures for `method_stats`.
+    pub fn stats(&self, plan: LevelPlan) -> Vec<(&'static str, Value)> {
+        vec![
+            ("rounds", json!(self.rounds)),
+            ("rounds_split", json!(self.split_rounds)),
+            ("chunk_nodes", json!(plan.chunk)),
+            ("peak_depth_nodes", json!(self.peak_nodes)),
+            ("nodes_per_depth", json!(self.nodes_per_depth)),
+            ("node_memory_bytes", json!(plan.bytes())),
+        ]
+    }
+}
+
+/// The level schedule on the CPU: the ready list the level kernels write,
+/// in their order, and the rounds it takes.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CanonicalRun {
+    /// Ready nodes in list order.
+    pub ready: Vec<QuadNode>,
+    /// Rounds (processing and the final copy).
+    pub rounds: u32,
+    /// Rounds that took part of a depth too large for one chunk.
+    pub split_rounds: u32,
+    /// Nodes processed per depth 0..=L_MAX.
+    pub nodes_per_depth: Vec<u32>,
+    /// Most nodes one depth held at once.
+    pub peak_nodes: u32,
+}
+
+/// Runs the schedule of `glsl/common/level.glsl` (`schedule`,
+/// `finish_round`) with the oracle's `process` on the CPU: what the GPU's
+/// ready list must equal, entry for entry. `weights` is parallel to
+/// `patches` or empty.
+pub fn canonical_ready(
+    patches: &[BezierPatch],
+    weights: &[Weights],
+    flags: &[u32],
+    vp: &ViewParams,
+    plan: LevelPlan,
+) -> CanonicalRun {
+    let depths = (L_MAX + 1) as usize;
+    let mut held: Vec<Vec<QuadNode>> = vec![Vec::new(); depths];
+    held[0] = (0..patches.len() as u32).map(QuadNode::root).collect();
+    let mut next = vec![0usize; depths];
+    let mut out = CanonicalRun {
+        nodes_per_depth: vec![0; depths],
+        ..CanonicalRun::default()
+    };
+    let chunk = plan.chunk as usize;
+    let mut copy_blocks = 0;
+    loop {
+        // `schedule`: the deepest depth with nodes left.
+        let pick = (0..=plan.levels as usize)
+            .rev()
+            .find(|&d| next[d] < held[d].len());
+        let Some(d) = pick else {
+            if copy_blocks > 0 {
+                out.rounds += 1; // the final copy
+            }
+            return out;
+        };
+        let (first, n) = (next[d], chunk.min(held[d].len() - next[d]));
+        next[d] += n;
+        out.split_rounds += (held[d].len() > chunk) as u32;
+        out.rounds += 1;
+        out.nodes_per_depth[d] += n as u32;
+        let mut children = Vec::new();
+        let mut readies = 0;
+        for &q in &held[d][first..first + n] {
+            let id = q.patch as usize;
+            match process_any(&patches[id], weights.get(id), flags[id], q, vp) {
+                Outcome::Ready => {
+                    out.ready.push(q);
+                    readies += 1;
+                }
+                Outcome::Split(kids) => children.extend(kids),
+                Outcome::Culled | Outcome::BackFacing => {}
+            }
+        }
+        if !children.is_empty() {
+            out.peak_nodes = out.peak_nodes.max(children.len() as u32);
+            held[d + 1] = children;
+            next[d + 1] = 0;
+        }
+        copy_blocks = if readies > 0 {
+            n.div_ceil(LEVEL_GROUP_SIZE as usize)
+        } else {
+            0
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plans_fill_the_budget_in_whole_blocks() {
+        let range = 128 << 20;
+        let p = LevelPlan::for_budget(DEFAULT_NODE_MEMORY, range).unwrap();
+        assert_eq!(p.chunk % LEVEL_GROUP_SIZE, 0);
+        assert!(p.bytes() <= DEFAULT_NODE_MEMORY);
+        let bigger = LevelPlan {
+            chunk: p.chunk + LEVEL_GROUP_SIZE,
+            ..p
+        };
+        assert!(
+            bigger.bytes() > DEFAULT_NODE_MEMORY,
+            "{p:?} is not the largest"
+        );
+        // A budget that is not a multiple of anything still gives whole blocks.
+        let odd = LevelPlan::for_budget(1_000_003, range).unwrap();
+        assert_eq!(odd.chunk % LEVEL_GROUP_SIZE, 0);
+        assert!(odd.bytes() <= 1_000_003);
+        // One block is the least; below that, a sentence.
+        let least = LevelPlan::for_budget(p.bytes().min(30_000), range).unwrap();
+        assert_eq!(least.chunk, LEVEL_GROUP_SIZE);
+        let e = LevelPlan::for_budget(1000, range).unwrap_err();
+        assert!(e.contains("below the smallest"), "{e}");
+        // The buffer range caps the chunk too.
+        let capped = LevelPlan::for_budget(1 << 40, 1 << 20).unwrap();
+        assert!(8 * capped.node_entries() <= 1 << 20);
+    }
+}
