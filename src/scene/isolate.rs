@@ -23,8 +23,8 @@
 //! which no per-edge decision can draw without a crack; making the coarse
 //! face's neighbours conform spreads to every face of the part. Drawing
 //! T-junctions crack-free needs the subdivision kernel to take a coarse
-//! edge's halves from its finer neighbours (see docs/ARCHITECTURE.md,
-//! "Isolation").
+//! edge's halves from its finer neighbours, which it does not (see
+//! docs/GUIDE.md, "Isolation").
 //!
 //! Crack-freeness is the converter's as always: the refined cage is
 //! converted by `acc.rs`, which computes every boundary point once.
