@@ -11,7 +11,7 @@
 //! `cargo test --release --test osd_reference -- --nocapture` prints the
 //! table: "before" imports the cage as the converter did before tags were
 //! read (tags dropped, edge-and-corner: bit for bit the old converter's
-//! output, see `untagged_cages_convert_as_before` in tests/import.rs; it
+//! output, see `untagged_cages_convert_as_before` in tests/creases.rs; it
 //! refused non-manifold cages), "after" as it does now.
 
 use std::collections::{BTreeMap, HashMap};
@@ -315,6 +315,7 @@ fn isolation_converges_to_the_limit_surface() {
         "{:<18} {:<16} {:>7} {:>9}  deviation at isolate = …",
         "case", "class", "samples", "patches"
     );
+    let mut failures = Vec::new();
     for case in &cases {
         let classes = import(case, false, 0);
         let mut rows: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
@@ -337,8 +338,29 @@ fn isolation_converges_to_the_limit_surface() {
                 patches.last().unwrap(),
                 shown.join("  ")
             );
+            // Each step brings the surface closer (rounding aside), exact
+            // classes stay exact, and a semi-sharp crease has run out by
+            // the last level (the iso_* cases' sharpness is below it).
+            for (k, w) in devs.windows(2).enumerate() {
+                if w[1] > w[0] * 1.01 + 1e-8 {
+                    failures.push(format!(
+                        "{} {class}: isolate {} {:.2e} > isolate {} {:.2e}",
+                        case.name,
+                        case.isolate[k + 1],
+                        w[1],
+                        case.isolate[k],
+                        w[0]
+                    ));
+                }
+            }
+            let last = *devs.last().unwrap();
+            let exact = matches!(*class, "regular" | "crease" | "corner" | "semi-sharp");
+            if exact && last > 1e-5 {
+                failures.push(format!("{} {class}: {last:.2e} > 1e-5", case.name));
+            }
         }
     }
+    assert!(failures.is_empty(), "{failures:#?}");
 }
 
 /// Every `catmark_*` regression shape of OpenSubdiv imports and is
@@ -544,14 +566,22 @@ fn deviations2(case: &Case, model: &ImportedModel, classes: &ImportedModel) -> T
     table
 }
 
+/// Isolation measured geometrically too: how far each limit point lies
+/// from the drawn surface anywhere (the parametric deviation above also
+/// counts the irregular ring's patches sliding along the surface, which
+/// does not show in a picture). At the deepest level every class is
+/// within 1e-4 of the diagonal (the issue's target for extraordinary
+/// faces at `isolate = 4`).
 #[test]
 fn isolation_geometric() {
     let cases: Vec<Case> = cases_in("tests/data/osd")
         .into_iter()
         .filter(|c| c.isolate.len() > 1)
         .collect();
+    let mut failures = Vec::new();
     for case in &cases {
         let classes = import(case, false, 0);
+        let deepest = *case.isolate.iter().max().unwrap();
         for &n in &case.isolate {
             let model = import(case, false, n);
             for (class, (k, par, geo)) in deviations2(case, &model, &classes) {
@@ -561,14 +591,29 @@ fn isolation_geometric() {
                     model.patches.len(),
                     class
                 );
+                if n == deepest && geo > 1e-4 {
+                    failures.push(format!(
+                        "{} {class} at isolate {n}: geometric {geo:.2e} > 1e-4",
+                        case.name
+                    ));
+                }
             }
         }
     }
+    assert!(failures.is_empty(), "{failures:#?}");
 }
 
+/// A measurement helper, not a check (hence ignored): the parametric and
+/// geometric deviation of every OpenSubdiv regression shape, per class, at
+/// the isolation levels in `ISO` (comma-separated, default 0), for tables
+/// like docs/OPENSUBDIV.md's. Run it with
+///
+/// ```text
+/// ISO=0,2 cargo test --release --test osd_reference shape_deviations -- --ignored --nocapture
+/// ```
 #[test]
 #[ignore]
-fn shapes_explore() {
+fn shape_deviations() {
     let levels: Vec<u32> = std::env::var("ISO").map_or(vec![0], |s| {
         s.split(',').map(|n| n.parse().unwrap()).collect()
     });
@@ -585,33 +630,5 @@ fn shapes_explore() {
                 );
             }
         }
-    }
-}
-
-#[test]
-#[ignore]
-fn worst_samples() {
-    let name = std::env::var("SHAPE").unwrap();
-    let n: u32 = std::env::var("ISO").map_or(0, |s| s.parse().unwrap());
-    let case = cases_in("tests/data/osd/shapes")
-        .into_iter()
-        .chain(cases_in("tests/data/osd"))
-        .find(|c| c.name == name)
-        .unwrap();
-    let model = import(&case, false, n);
-    let diag = diagonal(&model);
-    let mut rows = Vec::new();
-    for &(face, sub, u, v, point) in &case.samples {
-        let Some(limit) = point else { continue };
-        let (p, s, t) = locate(&model, (face, sub, u, v), case.quads[face]).unwrap();
-        let dev = (model.patches[p].eval(s, t).as_dvec3() - limit).length() / diag;
-        rows.push((dev, face, sub, u, v, p, s, t));
-    }
-    rows.sort_by(|a, b| b.0.total_cmp(&a.0));
-    for r in rows.iter().take(12) {
-        println!(
-            "{:.3e} face {} sub {} ({}, {}) patch {} ({}, {}) {:?}",
-            r.0, r.1, r.2, r.3, r.4, r.5, r.6, r.7, model.origins[r.5]
-        );
     }
 }
