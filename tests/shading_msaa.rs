@@ -32,8 +32,13 @@ const SPECKLE: i32 = 16;
 /// steps): MSAA blends there by design.
 const EDGE: i32 = 40;
 
-fn temp_dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("bezier-subdiv-msaa-{}", std::process::id()));
+/// One directory per method: the two tests run at once in one process, and
+/// a shared one was emptied by the other test mid-render.
+fn temp_dir(method: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "bezier-subdiv-msaa-{method}-{}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -103,7 +108,7 @@ fn speckles(
 }
 
 fn check(method: &str, extra: &[&str]) {
-    let dir = temp_dir();
+    let dir = temp_dir(method);
     let msaa = render(&dir, method, 4, extra);
     let single = render(&dir, method, 1, extra);
     let (compared, bad, worst, first) = speckles(&msaa, &single);
