@@ -9,8 +9,8 @@
 #include "common/draw.glsl"
 #include "common/shade.glsl"
 
-layout(location = 0) in vec3 in_world;
-layout(location = 1) in vec2 in_uv;
+layout(location = 0) centroid in vec3 in_world;
+layout(location = 1) centroid in vec2 in_uv;
 layout(location = 2) flat in uint in_patch;
 layout(location = 3) flat in uint in_depth;
 layout(location = 4) flat in uint in_wedge;

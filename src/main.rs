@@ -247,6 +247,15 @@ enum Command {
         /// none, edge-only or edge-and-corner (the default).
         #[arg(long, value_name = "RULE")]
         boundary: Option<bezier_subdiv::scene::sharpness::BoundaryRule>,
+        /// Catmull-Clark steps before conversion for the parts of the cage
+        /// whose patches would only approximate the limit surface
+        /// (extraordinary vertices, darts, semi-sharp or irregular creases,
+        /// non-quads): each step quarters their faces and the approximation
+        /// shrinks to the faces around the irregular vertices (0..6; the
+        /// scene key `isolate`).
+        #[arg(long, value_name = "N", default_value_t = 0,
+              value_parser = clap::value_parser!(u32).range(0..=bezier_subdiv::scene::isolate::MAX_ISOLATE as i64))]
+        isolate: u32,
     },
 }
 
@@ -555,8 +564,9 @@ fn run(command: Command) -> anyhow::Result<()> {
             file,
             out,
             boundary,
+            isolate,
         } => {
-            let options = bezier_subdiv::scene::obj::CageOptions { boundary };
+            let options = bezier_subdiv::scene::obj::CageOptions { boundary, isolate };
             emit(&commands::import::run(&file, out.as_deref(), &options)?)
         }
     }

@@ -55,8 +55,15 @@ fn retag(text: &str, crease: Option<&str>) -> String {
 }
 
 fn import(rel: &str, text: &str, boundary: Option<BoundaryRule>) -> ImportedModel {
-    obj::parse_with(Path::new(rel), text, &CageOptions { boundary })
-        .unwrap_or_else(|e| panic!("{rel}: {e}"))
+    obj::parse_with(
+        Path::new(rel),
+        text,
+        &CageOptions {
+            boundary,
+            ..CageOptions::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{rel}: {e}"))
 }
 
 fn bits(c: [Vec3; 4]) -> [[u32; 3]; 4] {
@@ -141,6 +148,7 @@ fn creased_cages_stay_watertight_bit_for_bit() {
                     &t,
                     &CageOptions {
                         boundary: Some(rule),
+                        ..CageOptions::default()
                     },
                 );
                 let model = match model {

@@ -85,3 +85,64 @@ fn ground_truth_gets_the_hole_test() {
         report.table
     );
 }
+
+/// The hole test must not pass when it checked nothing (issue 21, item 4).
+/// The report's case: a closed cage wound inside out, drawn one-sided, so
+/// every view of it sees only back faces and the eroded front region is
+/// empty; the test used to print `ok … (0 px checked)`. Import turns such
+/// cages now (`scene::orient`), so the torus's patches are turned back
+/// inside out here (u and v swapped, as `orient::flip_patch` does) and
+/// written as a .bpt, which nothing turns.
+#[test]
+fn a_hole_test_that_checked_nothing_fails() {
+    let _gpu = common::gpu();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = common::output_dir("inside-out-torus");
+    let bpt = dir.join("torus.bpt");
+    bezier_subdiv::commands::import::run(
+        &root.join("scenes/models/catmark_torus.obj"),
+        Some(&bpt),
+        &Default::default(),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(&bpt).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let patches: usize = lines[0].trim().parse().unwrap();
+    for line in &mut lines[1..=patches] {
+        let idx: Vec<&str> = line.split(',').collect();
+        *line = (0..16)
+            .map(|k| idx[4 * (k % 4) + k / 4])
+            .collect::<Vec<_>>()
+            .join(",");
+    }
+    let inside_out = dir.join("torus-inside-out.bpt");
+    std::fs::write(&inside_out, lines.join("\n") + "\n").unwrap();
+    let scene = dir.join("inside-out.toml");
+    std::fs::write(
+        &scene,
+        "name = \"inside-out\"\n[camera]\nposition = [3.25, -4.33, 2.89]\n\
+         target = [0.0, 0.0, 0.0]\nnear = 0.01\nfar = 100.0\n\
+         [[model]]\nname = \"torus\"\nfile = \"torus-inside-out.bpt\"\n",
+    )
+    .unwrap();
+    let mut a = args("teapot.toml", DrawRequest::Auto);
+    a.gpu.scene = scene;
+    let report = run(&a).unwrap();
+    println!("{}", report.table);
+    let holes = report
+        .results
+        .iter()
+        .find(|r| r.check == "holes torus-inside-out.bpt")
+        .expect("no hole test line");
+    assert!(!holes.ok, "{}", report.table);
+    assert!(
+        holes.detail.starts_with("nothing checked"),
+        "{}",
+        report.table
+    );
+    assert!(!report.ok(), "{}", report.table);
+    // The oracle checks still pass: the surface is the same, only turned.
+    for r in report.results.iter().filter(|r| r.check != holes.check) {
+        assert!(r.ok, "{}", report.table);
+    }
+}

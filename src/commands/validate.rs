@@ -25,7 +25,7 @@ use crate::validate::cudatess as ct_checks;
 use crate::validate::edges::{
     check_edge_vertices, check_levels, shared_edges, EdgeCheck, EdgeKey, EdgeSide,
 };
-use crate::validate::holes::run_model;
+use crate::validate::holes::{self, run_model};
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
 };
@@ -389,20 +389,8 @@ fn hole_checks(
             .file_name()
             .map_or("model".into(), |f| f.to_string_lossy().into_owned());
         let views = run_model(renderer, &one, eps_lambda, &name, debug_dir)?;
-        let holes: u64 = views.iter().map(|v| v.holes).sum();
-        let without: Option<u64> = views.iter().map(|v| v.holes_without_wedges).sum();
-        let checked: u64 = views.iter().map(|v| v.checked_pixels).sum();
-        out.push(line(
-            &format!("holes {name}"),
-            None,
-            holes == 0,
-            format!(
-                "{holes} key pixels in {} views ({} px checked){}",
-                views.len(),
-                thousands(checked),
-                without.map_or(String::new(), |w| format!("; wedges off: {}", thousands(w)))
-            ),
-        ));
+        let (ok, detail) = holes::verdict(&views);
+        out.push(line(&format!("holes {name}"), None, ok, detail));
     }
     Ok(out)
 }

@@ -70,6 +70,22 @@ impl PatchRule {
         self.corners.iter().all(CornerRule::is_regular)
     }
 
+    /// The rule of the patch with u and v swapped: corners 1 and 3 trade
+    /// places, and edge k (corner k to k + 1) becomes edge 3 − k reversed.
+    pub fn flipped(&self) -> Self {
+        let c = self.corners;
+        let mut feature_edges = 0;
+        for k in 0..4 {
+            if self.feature_edges & (1 << (3 - k)) != 0 {
+                feature_edges |= 1 << k;
+            }
+        }
+        PatchRule {
+            corners: [c[0], c[3], c[2], c[1]],
+            feature_edges,
+        }
+    }
+
     /// One word for the sidecar and the deviation tables: `regular`,
     /// `crease` (boundaries included), `corner`, `extraordinary` (an
     /// irregular smooth vertex), `irregular-sharp` (dart, or a crease or
@@ -125,10 +141,10 @@ fn local(cage: &Cage, topo: &Topology, v: usize, cfg: Config) -> Local {
             }
         };
         for &c in &fan.corners {
-            consider(topo.incoming(cage, c));
+            consider(topo.incoming(c));
         }
         if let (false, Some(&last)) = (fan.closed, fan.corners.last()) {
-            consider(topo.outgoing(cage, last));
+            consider(topo.outgoing(last));
         }
     }
     let ends: Vec<usize> = ids
@@ -151,7 +167,12 @@ struct Points {
     edge: HashMap<(usize, usize), DVec3>,
 }
 
-fn points(cage: &Cage, topo: &Topology, cfg: Config) -> (Points, Vec<Local>) {
+fn points(
+    cage: &Cage,
+    topo: &Topology,
+    cfg: Config,
+    exact: &[Option<DVec3>],
+) -> (Points, Vec<Local>) {
     let p = &cage.positions;
     let locals: Vec<Local> = (0..p.len()).map(|v| local(cage, topo, v, cfg)).collect();
 
@@ -176,6 +197,7 @@ fn points(cage: &Cage, topo: &Topology, cfg: Config) -> (Points, Vec<Local>) {
 
     let corner: Vec<DVec3> = (0..p.len())
         .map(|v| match locals[v].rule {
+            _ if exact[v].is_some() => exact[v].unwrap_or(p[v]),
             VertexRule::Corner => p[v],
             VertexRule::Crease => {
                 let [a, b] = [locals[v].ends[0], locals[v].ends[1]];
@@ -228,6 +250,18 @@ fn points(cage: &Cage, topo: &Topology, cfg: Config) -> (Points, Vec<Local>) {
 /// one patch per face that is not a hole, in face order. Face (v0, v1, v2,
 /// v3) gets its parameter origin at v0, u towards v1, v towards v3.
 pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Conversion, SceneError> {
+    convert_with(cage, topo, path, true)
+}
+
+/// [`convert`]; `exact_corners` false keeps OpenSubdiv's closed-form masks
+/// at semi-sharp vertices, darts and valence 2 instead of refining their
+/// rings to the limit (for a surface only sampled in between, `fit.rs`).
+pub fn convert_with(
+    cage: &Cage,
+    topo: &Topology,
+    path: &Path,
+    exact_corners: bool,
+) -> Result<Conversion, SceneError> {
     if let Some(f) = cage.faces.iter().position(|face| face.len() != 4) {
         return Err(SceneError::invalid(
             path,
@@ -235,7 +269,16 @@ pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Conversion, 
         ));
     }
     let nv = cage.positions.len();
-    let (sharp, locals) = points(cage, topo, Config::Sharp);
+    // Where no closed-form mask gives the limit (semi-sharp features,
+    // darts, valence 2), refine the one-ring to it (`limit.rs`).
+    let exact: Vec<Option<DVec3>> = (0..nv)
+        .map(|v| {
+            (exact_corners && super::limit::needs_iteration(cage, topo, v))
+                .then(|| super::limit::limit_position(cage, topo, v))
+                .flatten()
+        })
+        .collect();
+    let (sharp, locals) = points(cage, topo, Config::Sharp, &exact);
     // Features of sharpness below 1: the points near such a vertex are the
     // soft configuration's moved towards the sharp one's by its weight.
     let weight: Vec<Option<f64>> = (0..nv)
@@ -244,7 +287,7 @@ pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Conversion, 
     let smooth = weight
         .iter()
         .any(Option::is_some)
-        .then(|| points(cage, topo, Config::Soft).0);
+        .then(|| points(cage, topo, Config::Soft, &exact).0);
     let blend = |v: usize, pick: &dyn Fn(&Points) -> DVec3| -> DVec3 {
         let hard = pick(&sharp);
         match (weight[v], &smooth) {
@@ -277,7 +320,7 @@ pub fn convert(cage: &Cage, topo: &Topology, path: &Path) -> Result<Conversion, 
             let (a, b) = topo.edges[e].ends;
             cage.edge_sharpness(a, b) > 0.0
         };
-        for s in sharpness::sectors(cage, topo, v, &is_sharp) {
+        for s in sharpness::sectors(topo, v, &is_sharp) {
             for &c in &s.corners {
                 sector_of.insert(c, s.corners.len() as u32);
             }

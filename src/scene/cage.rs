@@ -1,22 +1,28 @@
-//! Polygonal control cages and their adjacency.
+//! Polygonal control cages and their adjacency, read as OpenSubdiv reads
+//! them (`Vtr::Level`'s rules), so that every cage OpenSubdiv draws is
+//! accepted and has the same edges, fans and non-manifold features:
 //!
-//! A cage is accepted when every face has at least three distinct vertices
-//! and every edge used by exactly two faces is traversed by them in opposite
-//! directions (two faces running an edge the same way almost always means a
-//! flipped face, so that is refused with the line of the second face).
-//! Everything else a polygon soup can do is accepted and described:
-//!
-//! - an edge with one face is a boundary edge;
-//! - an edge with three or more faces (in any directions) is a non-manifold
-//!   edge: every face on it treats it as its own boundary, so each fan of
-//!   faces is a separate sheet that meets the others along the edge's curve
-//!   (the curve is shared, see `sharpness.rs` for the rules that make it so);
+//! - an edge is a pair of vertices, shared by every face that runs between
+//!   them; an edge with one face is a boundary edge;
+//! - a *non-manifold* edge is one with three or more faces, one whose two
+//!   faces run it in the same direction (inconsistent orientation, often a
+//!   flipped face), a degenerate edge (a face repeats a vertex, e.g. the
+//!   quad `4 3 5 5`: each such edge is its own), or an edge a face uses
+//!   twice (then each use is its own edge). Every face on a non-manifold
+//!   edge treats it as its own boundary, so each fan of faces is a separate
+//!   sheet that meets the others along the edge's curve (`sharpness.rs`
+//!   makes such edges infinitely sharp, as OpenSubdiv does);
 //! - the faces around a vertex form one or more fans, each a run of faces
-//!   joined through manifold edges; a vertex with more than one fan is a
-//!   non-manifold vertex.
+//!   joined through manifold edges; a vertex with more than one fan, or on
+//!   a non-manifold edge, is a non-manifold vertex.
 //!
-//! Refusals name the source line of a face involved, where the cage came
-//! from a file.
+//! Refused, naming the source line of a face involved where the cage came
+//! from a file: a face with fewer than three corners, a vertex index out of
+//! range, a NaN or infinite position.
+//!
+//! A refined cage (`refine.rs`) names its edges explicitly
+//! ([`Cage::face_edges`]): the two halves of a degenerate edge join the same
+//! two vertices and are still two edges, as in OpenSubdiv.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -39,13 +45,32 @@ pub struct Cage {
     pub face_lines: Vec<Option<usize>>,
     /// Crease sharpness of edges keyed by (smaller, larger) vertex index;
     /// an edge not listed is smooth (0). `sharpness::INFINITE` and above is
-    /// infinitely sharp.
+    /// infinitely sharp. (Edges joining the same two vertices share it; all
+    /// such edges are non-manifold, hence infinitely sharp.)
     pub edge_sharpness: HashMap<(usize, usize), f64>,
     /// Corner sharpness of vertices; a vertex not listed has 0.
     pub vertex_sharpness: HashMap<usize, f64>,
-    /// Faces that give no patch (the `none` boundary rule's boundary faces);
-    /// empty when there are none.
+    /// Faces that give no patch (`t hole`, the `none` boundary rule's
+    /// boundary faces); empty when there are none.
     pub holes: Vec<bool>,
+    /// Explicit edges of a refined cage: per face, the edge of each corner k
+    /// (from corner k to k + 1), indices into [`Cage::edge_list`]. Empty:
+    /// edges follow from the vertex pairs ([`Topology::build`]).
+    pub face_edges: Vec<Vec<usize>>,
+    /// With [`Cage::face_edges`]: each edge's ends and whether it descends
+    /// from a non-manifold edge (it stays one, as in OpenSubdiv).
+    pub edge_list: Vec<CageEdge>,
+    /// How the cage refines: creasing method, triangle rule.
+    pub scheme: super::refine::Scheme,
+}
+
+/// An explicit edge of a refined cage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CageEdge {
+    /// Its two vertices.
+    pub ends: (usize, usize),
+    /// Inherited from a non-manifold parent edge.
+    pub non_manifold: bool,
 }
 
 impl Cage {
@@ -73,22 +98,25 @@ impl Cage {
     }
 }
 
-/// One undirected edge of a cage.
+/// One edge of a cage.
 #[derive(Clone, Debug)]
 pub struct Edge {
     /// Its ends, in the direction of the first face that uses it.
     pub ends: (usize, usize),
     /// Every (face, corner) whose outgoing edge this is, in face order.
     pub uses: Vec<(usize, usize)>,
+    /// Non-manifold (see the module doc); an edge with one face is a
+    /// boundary edge, and also non-manifold when degenerate.
+    pub non_manifold: bool,
 }
 
 impl Edge {
-    /// Exactly two faces, running the edge in opposite directions.
+    /// A manifold edge: two faces running it in opposite directions.
     pub fn is_manifold(&self) -> bool {
-        self.uses.len() == 2
+        !self.non_manifold && self.uses.len() == 2
     }
 
-    /// The end that is not `v`.
+    /// The end that is not `v` (`v` itself for a degenerate edge).
     pub fn other(&self, v: usize) -> usize {
         if self.ends.0 == v {
             self.ends.1
@@ -113,20 +141,30 @@ pub struct Fan {
 /// Adjacency of a validated cage.
 #[derive(Clone, Debug)]
 pub struct Topology {
-    /// Undirected edges in order of first use.
+    /// Edges in order of first use.
     pub edges: Vec<Edge>,
-    /// (smaller, larger) vertex → index into `edges`.
+    /// Per face, the edge of each corner k (from corner k to k + 1).
+    pub face_edges: Vec<Vec<usize>>,
+    /// (smaller, larger) vertex → the first edge between them.
     edge_index: HashMap<(usize, usize), usize>,
     /// Directed manifold edge (a, b) → (face, corner of a in that face).
     half_edges: HashMap<(usize, usize), (usize, usize)>,
     /// The fans of each vertex (none for vertices no face uses).
     pub fans: Vec<Vec<Fan>>,
-    /// The edges at each vertex, in order of first use.
+    /// The edges at each vertex, in order of first use; a degenerate edge
+    /// is listed twice (both its ends are the vertex), as in OpenSubdiv.
     pub vertex_edges: Vec<Vec<usize>>,
+    /// Whether each vertex is non-manifold: on a non-manifold edge, or
+    /// with more than one fan.
+    pub non_manifold_vertex: Vec<bool>,
     /// Number of edges with a single face.
     pub boundary_edges: usize,
-    /// Number of edges with three or more faces.
+    /// Number of non-manifold edges, for whatever reason.
     pub non_manifold_edges: usize,
+    /// Of those: degenerate edges (a face repeats a vertex).
+    pub degenerate_edges: usize,
+    /// Of those: edges whose two faces run them in the same direction.
+    pub misoriented_edges: usize,
 }
 
 impl Topology {
@@ -136,116 +174,63 @@ impl Topology {
         self.half_edges.get(&(a, b)).copied()
     }
 
-    /// Index of the edge between `a` and `b`.
+    /// Index of the (first) edge between `a` and `b`.
     pub fn edge_id(&self, a: usize, b: usize) -> Option<usize> {
         self.edge_index.get(&(a.min(b), a.max(b))).copied()
     }
 
-    /// The edge between `a` and `b`. Panics if there is none: callers only
-    /// ask about edges of the cage's own faces.
+    /// The (first) edge between `a` and `b`. Panics if there is none:
+    /// callers only ask about edges of the cage's own faces.
     pub fn edge(&self, a: usize, b: usize) -> &Edge {
         &self.edges[self.edge_id(a, b).expect("an edge of the cage")]
     }
 
-    /// Number of edges at `v`.
+    /// Number of edges at `v` (a degenerate edge counts twice).
     pub fn valence(&self, v: usize) -> usize {
         self.vertex_edges[v].len()
     }
 
-    /// Number of faces at `v`.
+    /// Number of face corners at `v` (a face that repeats `v` counts twice).
     pub fn face_count(&self, v: usize) -> usize {
         self.fans[v].iter().map(|f| f.corners.len()).sum()
     }
 
-    /// More than one fan of faces meets at `v`.
+    /// `v` is non-manifold: on a non-manifold edge, or more than one fan of
+    /// faces meets there.
     pub fn is_non_manifold_vertex(&self, v: usize) -> bool {
-        self.fans[v].len() > 1
+        self.non_manifold_vertex[v]
     }
 
     /// Validates `cage` and builds its adjacency. `path` only names the
     /// source in errors.
     pub fn build(cage: &Cage, path: &Path) -> Result<Topology, SceneError> {
-        let fail = |face: usize, msg: String| match cage.line_of(face) {
-            Some(line) => SceneError::at(path, line, msg),
-            None => SceneError::invalid(path, format!("face {}: {msg}", face + 1)),
-        };
+        check_faces(cage, path)?;
         let nv = cage.positions.len();
-        if cage.faces.is_empty() {
-            return Err(SceneError::invalid(path, "the cage has no faces"));
-        }
-        if let Some(i) = cage.positions.iter().position(|p| !p.is_finite()) {
-            return Err(SceneError::invalid(
-                path,
-                format!("vertex {} has a NaN or infinite coordinate", i + 1),
-            ));
-        }
-        for (f, face) in cage.faces.iter().enumerate() {
-            if face.len() < 3 {
-                return Err(fail(
-                    f,
-                    format!(
-                        "a face needs at least 3 vertices, this one has {}",
-                        face.len()
-                    ),
-                ));
-            }
-            if let Some(&v) = face.iter().find(|&&v| v >= nv) {
-                return Err(fail(f, format!("vertex index {} out of range", v + 1)));
-            }
-            for (k, &v) in face.iter().enumerate() {
-                if face[k + 1..].contains(&v) {
-                    return Err(fail(
-                        f,
-                        format!(
-                            "degenerate face: vertex at {} appears twice",
-                            show(cage.positions[v])
-                        ),
-                    ));
-                }
-            }
-        }
-
-        let mut edges: Vec<Edge> = Vec::new();
-        let mut edge_index: HashMap<(usize, usize), usize> = HashMap::new();
+        let (edges, face_edges) = if cage.face_edges.is_empty() {
+            edges_from_pairs(cage)
+        } else {
+            edges_given(cage, path)?
+        };
         let mut vertex_edges: Vec<Vec<usize>> = vec![Vec::new(); nv];
-        for (f, face) in cage.faces.iter().enumerate() {
-            for (k, (a, b)) in face_edges(face).enumerate() {
-                let id = *edge_index.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                    edges.push(Edge {
-                        ends: (a, b),
-                        uses: Vec::new(),
-                    });
-                    vertex_edges[a].push(edges.len() - 1);
-                    vertex_edges[b].push(edges.len() - 1);
-                    edges.len() - 1
-                });
-                edges[id].uses.push((f, k));
-            }
+        let mut edge_index: HashMap<(usize, usize), usize> = HashMap::new();
+        for (id, e) in edges.iter().enumerate() {
+            let (a, b) = e.ends;
+            vertex_edges[a].push(id);
+            vertex_edges[b].push(id);
+            edge_index.entry((a.min(b), a.max(b))).or_insert(id);
         }
-
-        // In face order, so a flipped face is reported at the first face
-        // that runs a two-face edge the way an earlier one did.
         let mut half_edges = HashMap::with_capacity(edges.len() * 2);
-        for (f, face) in cage.faces.iter().enumerate() {
-            for (k, (a, b)) in face_edges(face).enumerate() {
-                if edges[edge_index[&(a.min(b), a.max(b))]].uses.len() != 2 {
-                    continue;
-                }
-                if half_edges.insert((a, b), (f, k)).is_some() {
-                    return Err(fail(
-                        f,
-                        format!(
-                            "two faces run along the edge from {} to {} in the same direction: \
-                             the faces are not consistently oriented (a flipped face?)",
-                            show(cage.positions[a]),
-                            show(cage.positions[b])
-                        ),
-                    ));
-                }
+        for e in edges.iter().filter(|e| e.is_manifold()) {
+            for &(f, k) in &e.uses {
+                let face = &cage.faces[f];
+                half_edges.insert((face[k], face[(k + 1) % face.len()]), (f, k));
             }
         }
-        let boundary_edges = edges.iter().filter(|e| e.uses.len() == 1).count();
-        let non_manifold_edges = edges.iter().filter(|e| e.uses.len() > 2).count();
+        let count = |pred: &dyn Fn(&Edge) -> bool| edges.iter().filter(|e| pred(e)).count();
+        let boundary_edges = count(&|e| e.uses.len() == 1 && !e.non_manifold);
+        let non_manifold_edges = count(&|e| e.non_manifold);
+        let degenerate_edges = count(&|e| e.ends.0 == e.ends.1);
+        let misoriented_edges = count(&|e| misoriented(cage, e));
 
         let mut incident: Vec<Vec<(usize, usize)>> = vec![Vec::new(); nv];
         for (f, face) in cage.faces.iter().enumerate() {
@@ -255,42 +240,52 @@ impl Topology {
         }
         let mut topo = Topology {
             edges,
+            face_edges,
             edge_index,
             half_edges,
             fans: Vec::with_capacity(nv),
             vertex_edges,
+            non_manifold_vertex: Vec::new(),
             boundary_edges,
             non_manifold_edges,
+            degenerate_edges,
+            misoriented_edges,
         };
-        for (v, inc) in incident.iter().enumerate() {
-            let fans = topo.walk_fans(cage, v, inc);
+        for inc in &incident {
+            let fans = topo.walk_fans(cage, inc);
             topo.fans.push(fans);
         }
+        topo.non_manifold_vertex = (0..nv)
+            .map(|v| {
+                topo.fans[v].len() > 1
+                    || topo.vertex_edges[v]
+                        .iter()
+                        .any(|&e| topo.edges[e].non_manifold)
+            })
+            .collect();
         Ok(topo)
     }
 
-    /// Orders the faces around `v` into fans: open ones first (from each
-    /// corner whose incoming edge is not manifold), then closed ones.
-    fn walk_fans(&self, cage: &Cage, v: usize, incident: &[(usize, usize)]) -> Vec<Fan> {
-        let prev_of = |(f, k): (usize, usize)| {
-            let face = &cage.faces[f];
-            face[(k + face.len() - 1) % face.len()]
-        };
-        let next_of = |(f, k): (usize, usize)| {
-            let face = &cage.faces[f];
-            face[(k + 1) % face.len()]
-        };
+    /// Orders the faces around a vertex (its `incident` corners) into fans:
+    /// open ones first (from each corner whose incoming edge is not
+    /// manifold), then closed ones.
+    fn walk_fans(&self, cage: &Cage, incident: &[(usize, usize)]) -> Vec<Fan> {
+        // Across the outgoing (manifold) edge of corner c: the other face
+        // runs it the other way, so its corner after the edge is at v.
         let step = |c: (usize, usize)| {
-            self.half_edges
-                .get(&(next_of(c), v))
-                .map(|&(g, m)| (g, (m + 1) % cage.faces[g].len()))
+            let e = &self.edges[self.outgoing(c)];
+            if !e.is_manifold() {
+                return None;
+            }
+            let &(g, m) = e.uses.iter().find(|&&u| u != c)?;
+            Some((g, (m + 1) % cage.faces[g].len()))
         };
         let mut seen: Vec<(usize, usize)> = Vec::with_capacity(incident.len());
         let mut fans = Vec::new();
         let starts = incident
             .iter()
             .copied()
-            .filter(|&c| !self.half_edges.contains_key(&(v, prev_of(c))));
+            .filter(|&c| !self.edges[self.incoming(c)].is_manifold());
         for start in starts {
             let mut corners = vec![start];
             let mut at = start;
@@ -332,22 +327,170 @@ impl Topology {
     }
 
     /// The edge entering corner `c` of its face (from the previous vertex).
-    pub fn incoming(&self, cage: &Cage, (f, k): (usize, usize)) -> usize {
-        let face = &cage.faces[f];
-        let prev = face[(k + face.len() - 1) % face.len()];
-        self.edge_id(prev, face[k]).expect("face edge")
+    pub fn incoming(&self, (f, k): (usize, usize)) -> usize {
+        let edges = &self.face_edges[f];
+        edges[(k + edges.len() - 1) % edges.len()]
     }
 
     /// The edge leaving corner `c` of its face (to the next vertex).
-    pub fn outgoing(&self, cage: &Cage, (f, k): (usize, usize)) -> usize {
+    pub fn outgoing(&self, (f, k): (usize, usize)) -> usize {
+        self.face_edges[f][k]
+    }
+
+    /// Which end of its edge corner k of face f starts, 0 or 1: the face
+    /// runs the edge from that end. (A degenerate edge is its face's own,
+    /// run from end 0.)
+    pub fn start_end(&self, cage: &Cage, (f, k): (usize, usize)) -> usize {
+        let e = &self.edges[self.face_edges[f][k]];
         let face = &cage.faces[f];
-        self.edge_id(face[k], face[(k + 1) % face.len()])
-            .expect("face edge")
+        let run = (face[k], face[(k + 1) % face.len()]);
+        usize::from(e.ends != run)
     }
 }
 
+/// Two faces run the edge in the same direction.
+fn misoriented(cage: &Cage, e: &Edge) -> bool {
+    let dir = |&(f, k): &(usize, usize)| {
+        let face = &cage.faces[f];
+        (face[k], face[(k + 1) % face.len()])
+    };
+    matches!(&e.uses[..], [a, b] if a.0 != b.0 && dir(a) == dir(b) && e.ends.0 != e.ends.1)
+}
+
+/// What no cage can be: faces of fewer than three corners, indices out of
+/// range, non-finite positions.
+fn check_faces(cage: &Cage, path: &Path) -> Result<(), SceneError> {
+    let fail = |face: usize, msg: String| match cage.line_of(face) {
+        Some(line) => SceneError::at(path, line, msg),
+        None => SceneError::invalid(path, format!("face {}: {msg}", face + 1)),
+    };
+    let nv = cage.positions.len();
+    if cage.faces.is_empty() {
+        return Err(SceneError::invalid(path, "the cage has no faces"));
+    }
+    if let Some(i) = cage.positions.iter().position(|p| !p.is_finite()) {
+        return Err(SceneError::invalid(
+            path,
+            format!("vertex {} has a NaN or infinite coordinate", i + 1),
+        ));
+    }
+    for (f, face) in cage.faces.iter().enumerate() {
+        if face.len() < 3 {
+            return Err(fail(
+                f,
+                format!(
+                    "a face needs at least 3 vertices, this one has {}",
+                    face.len()
+                ),
+            ));
+        }
+        if let Some(&v) = face.iter().find(|&&v| v >= nv) {
+            return Err(fail(f, format!("vertex index {} out of range", v + 1)));
+        }
+    }
+    Ok(())
+}
+
+/// Edges from vertex pairs, in OpenSubdiv's way (`Vtr::Level::
+/// completeTopologyFromFaceVertices`): faces in order, each corner's edge
+/// the first one between its two vertices, except that a degenerate edge
+/// is always new, and so is an edge the same face already uses; a third
+/// face, or a second running the same way, makes it non-manifold.
+fn edges_from_pairs(cage: &Cage) -> (Vec<Edge>, Vec<Vec<usize>>) {
+    let mut edges: Vec<Edge> = Vec::new();
+    let mut first: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut face_edges = Vec::with_capacity(cage.faces.len());
+    for (f, face) in cage.faces.iter().enumerate() {
+        let mut ids = Vec::with_capacity(face.len());
+        for (k, (a, b)) in face_edges_of(face).enumerate() {
+            let key = (a.min(b), a.max(b));
+            let mut found = if a == b {
+                None
+            } else {
+                first.get(&key).copied()
+            };
+            let mut twice = false;
+            if let Some(id) = found {
+                let e = &mut edges[id];
+                // Faces come in order, so this face used the edge already
+                // exactly when it is the last one on it.
+                if e.uses.last().map(|u| u.0) == Some(f) {
+                    e.non_manifold = true;
+                    twice = true;
+                    found = None;
+                } else if e.uses.len() > 1 || e.ends.0 == a {
+                    e.non_manifold = true;
+                }
+            }
+            let id = found.unwrap_or_else(|| {
+                edges.push(Edge {
+                    ends: (a, b),
+                    uses: Vec::new(),
+                    non_manifold: a == b || twice,
+                });
+                first.entry(key).or_insert(edges.len() - 1);
+                edges.len() - 1
+            });
+            edges[id].uses.push((f, k));
+            ids.push(id);
+        }
+        face_edges.push(ids);
+    }
+    (edges, face_edges)
+}
+
+/// Edges as a refined cage names them, with the same non-manifold rules.
+fn edges_given(cage: &Cage, path: &Path) -> Result<(Vec<Edge>, Vec<Vec<usize>>), SceneError> {
+    let mut edges: Vec<Edge> = cage
+        .edge_list
+        .iter()
+        .map(|e| Edge {
+            ends: e.ends,
+            uses: Vec::new(),
+            non_manifold: e.non_manifold || e.ends.0 == e.ends.1,
+        })
+        .collect();
+    if cage.face_edges.len() != cage.faces.len() {
+        return Err(SceneError::invalid(
+            path,
+            "internal: a refined cage's edges do not match its faces",
+        ));
+    }
+    for (f, (face, ids)) in cage.faces.iter().zip(&cage.face_edges).enumerate() {
+        let wrong = || {
+            SceneError::invalid(
+                path,
+                format!(
+                    "internal: face {} of a refined cage names a wrong edge",
+                    f + 1
+                ),
+            )
+        };
+        if ids.len() != face.len() {
+            return Err(wrong());
+        }
+        for (k, (&id, (a, b))) in ids.iter().zip(face_edges_of(face)).enumerate() {
+            let e = edges
+                .get_mut(id)
+                .filter(|e| e.ends == (a, b) || e.ends == (b, a));
+            let Some(e) = e else {
+                return Err(wrong());
+            };
+            if let Some(&(g, m)) = e.uses.first() {
+                let other = &cage.faces[g];
+                let same_way = other[m] == a && a != b;
+                if e.uses.len() > 1 || g == f || same_way {
+                    e.non_manifold = true;
+                }
+            }
+            e.uses.push((f, k));
+        }
+    }
+    Ok((edges, cage.face_edges.clone()))
+}
+
 /// The directed edges (v_k, v_k+1) of a face, k = 0..len.
-pub fn face_edges(face: &[usize]) -> impl Iterator<Item = (usize, usize)> + '_ {
+pub fn face_edges_of(face: &[usize]) -> impl Iterator<Item = (usize, usize)> + '_ {
     (0..face.len()).map(move |k| (face[k], face[(k + 1) % face.len()]))
 }
 
@@ -406,8 +549,8 @@ mod tests {
             assert!(!fans[0].closed);
             assert_eq!((topo.valence(v), fans[0].corners.len()), (3, 2));
             // The fan starts at a boundary edge and ends at one.
-            let first = topo.incoming(&c, fans[0].corners[0]);
-            let last = topo.outgoing(&c, *fans[0].corners.last().unwrap());
+            let first = topo.incoming(fans[0].corners[0]);
+            let last = topo.outgoing(*fans[0].corners.last().unwrap());
             assert_eq!(topo.edges[first].uses.len(), 1);
             assert_eq!(topo.edges[last].uses.len(), 1);
         }
@@ -451,14 +594,11 @@ mod tests {
             assert!(e.contains(needle), "{e}");
         };
         let mut c = cube();
-        c.faces[2] = vec![0, 1, 5, 1];
-        check(&c, 12, "degenerate");
-        let mut c = cube();
         c.faces[3] = vec![2, 6];
         check(&c, 13, "at least 3");
         let mut c = cube();
-        c.faces[0].reverse();
-        check(&c, 12, "same direction");
+        c.faces[3] = vec![2, 6, 70];
+        check(&c, 13, "out of range");
         // Two cubes touching at one vertex: accepted, with two closed fans there.
         let mut c = cube();
         let shift = DVec3::splat(1.0);
@@ -473,5 +613,64 @@ mod tests {
         let topo = Topology::build(&c, path).unwrap();
         assert_eq!(topo.fans[7].len(), 2);
         assert!(topo.fans[7].iter().all(|f| f.closed));
+        assert!(topo.is_non_manifold_vertex(7) && !topo.is_non_manifold_vertex(6));
+    }
+
+    #[test]
+    fn a_flipped_face_makes_non_manifold_edges() {
+        // OpenSubdiv's rule: an edge whose two faces run it the same way is
+        // non-manifold (each face its own sheet there), not an error.
+        let mut c = cube();
+        c.faces[0].reverse();
+        let topo = Topology::build(&c, Path::new("flip")).unwrap();
+        assert_eq!((topo.misoriented_edges, topo.non_manifold_edges), (4, 4));
+        assert_eq!(topo.boundary_edges, 0);
+        for (a, b) in [(0, 1), (1, 3), (3, 2), (2, 0)] {
+            assert!(!topo.edge(a, b).is_manifold());
+            assert!(topo.is_non_manifold_vertex(a));
+        }
+        assert!(topo.edge(4, 5).is_manifold());
+    }
+
+    #[test]
+    fn a_repeated_vertex_makes_a_degenerate_edge_of_its_own() {
+        // A fan of four quads collapsed at the pole 4, each `a b 4 4`
+        // (catmark_nonman_quadpole's faces): four degenerate edges, the
+        // radial edges manifold, the pole non-manifold with one fan per face
+        // pair across each radial edge.
+        let mut positions: Vec<DVec3> = (0..4)
+            .map(|k| {
+                let t = k as f64 * std::f64::consts::FRAC_PI_2;
+                DVec3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        positions.push(DVec3::ZERO);
+        let faces: Vec<Vec<usize>> = (0..4).map(|k| vec![k, (k + 1) % 4, 4, 4]).collect();
+        let c = Cage {
+            positions,
+            face_lines: vec![None; 4],
+            faces,
+            ..Cage::default()
+        };
+        let topo = Topology::build(&c, Path::new("pole")).unwrap();
+        assert_eq!(topo.degenerate_edges, 4);
+        assert_eq!(topo.edges.len(), 4 + 4 + 4);
+        assert_eq!(topo.valence(4), 4 + 2 * 4);
+        assert!(topo.is_non_manifold_vertex(4));
+        assert_eq!(topo.fans[4].len(), 4);
+        assert!(topo.fans[4]
+            .iter()
+            .all(|f| f.corners.len() == 2 && !f.closed));
+        assert!(topo.edge(1, 4).is_manifold());
+        // A face that runs the same pair twice gets two edges.
+        let c = Cage {
+            positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z],
+            faces: vec![vec![0, 1, 0, 2]],
+            face_lines: vec![None],
+            ..Cage::default()
+        };
+        let topo = Topology::build(&c, Path::new("fold")).unwrap();
+        assert_eq!(topo.edges.len(), 4);
+        assert!(topo.edges.iter().all(|e| !e.is_manifold()));
     }
 }

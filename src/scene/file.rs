@@ -39,6 +39,10 @@
 //! two_sided = true            # open or thin models: never back-face culled
 //! boundary = "edge-only"      # cages without a `t interpolateboundary` tag:
 //!                             # none | edge-only | edge-and-corner (default)
+//! isolate = 2                 # cages: Catmull–Clark steps before conversion
+//!                             # where the patches would approximate the
+//!                             # limit surface (0..6, default 0; see
+//!                             # src/scene/isolate.rs)
 //! [[model.instance]]          # none given: one instance, identity
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
@@ -145,6 +149,8 @@ struct ModelToml {
     #[serde(default)]
     two_sided: bool,
     boundary: Option<BoundaryRule>,
+    #[serde(default)]
+    isolate: u32,
     #[serde(default)]
     surface: Surface,
     #[serde(default)]
@@ -289,6 +295,13 @@ impl Scene {
         let mut instances_so_far = 0u64;
         for (i, m) in raw.model.into_iter().enumerate() {
             let name = m.name.clone().unwrap_or_else(|| format!("model {}", i + 1));
+            if m.isolate > super::isolate::MAX_ISOLATE {
+                return Err(invalid(format!(
+                    "model '{name}': isolate = {} is more than {}: each step quarters every face of the refined parts",
+                    m.isolate,
+                    super::isolate::MAX_ISOLATE
+                )));
+            }
             // Count before building: a grid of 10^10 copies must be refused,
             // not allocated. Every instance has at least one patch.
             let count = instance_count(&m.instance)
@@ -313,6 +326,7 @@ impl Scene {
                 two_sided: m.two_sided,
                 options: CageOptions {
                     boundary: m.boundary,
+                    isolate: m.isolate,
                 },
                 surface: m.surface,
                 instances,

@@ -146,11 +146,18 @@ pub fn load_model_with(path: &Path, options: &CageOptions) -> Result<ImportedMod
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
     let patch_file_warnings = || -> Vec<String> {
-        options
+        let mut w: Vec<String> = options
             .boundary
             .map(|r| format!("boundary rule {r} ignored: a patch file holds patches, not a cage"))
             .into_iter()
-            .collect()
+            .collect();
+        if options.isolate > 0 {
+            w.push(format!(
+                "isolate {} ignored: a patch file holds patches, not a cage",
+                options.isolate
+            ));
+        }
+        w
     };
     match ext.as_deref() {
         Some("bpt") => Ok(ImportedModel {

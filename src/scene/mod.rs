@@ -7,9 +7,13 @@ pub mod cage;
 pub mod camera;
 pub mod error;
 pub mod file;
+pub mod fit;
 pub mod geometry;
+pub mod isolate;
+pub mod limit;
 pub mod obj;
 pub mod orbit;
+pub mod orient;
 pub mod pn;
 pub mod refine;
 pub mod shading;
@@ -29,15 +33,20 @@ use sharpness::BoundaryRule;
 pub struct PatchOrigin {
     /// Index of the cage face (0-based, file order) the patch came from.
     pub face: usize,
-    /// For a refined cage, which sub-quad of the face (its corner k); 0
-    /// otherwise.
+    /// For a refined cage, which sub-quad of the face (its corner k) the
+    /// first step made; 0 otherwise. For a face that is not a quad this is
+    /// OpenSubdiv's ptex sub-face.
     pub sub: usize,
     /// Face-parameter coordinates of the patch's parameter corners (0,0),
-    /// (1,0), (1,1), (0,1) in OpenSubdiv's quad-face convention; `None` for
-    /// patches of non-quad faces.
+    /// (1,0), (1,1), (0,1) in OpenSubdiv's quad-face convention: in the
+    /// quad face, or, for a face that is not a quad, in its sub-face `sub`;
+    /// `None` for a patch that is a whole sub-face.
     pub corners_uv: Option<[[f32; 2]; 4]>,
     /// The conversion rules at its corners and its feature edges.
     pub rule: PatchRule,
+    /// Catmull–Clark steps before conversion: 1 for a cage with non-quads,
+    /// the model's `isolate` where it refines, else 0.
+    pub level: u32,
 }
 
 /// How a cage's boundary rule was chosen.
@@ -72,6 +81,22 @@ pub struct CageInfo {
     pub non_manifold_vertices: usize,
     /// Faces without a patch under the `none` rule.
     pub holes: usize,
+    /// Faces `t hole` leaves out (after the `none` rule's, if any).
+    pub tagged_holes: usize,
+    /// Non-manifold edges that are degenerate (a face repeats a vertex).
+    pub degenerate_edges: usize,
+    /// Non-manifold edges whose two faces run them the same way.
+    pub misoriented_edges: usize,
+    /// Closed parts wound inside out, turned the right way out.
+    pub inside_out: usize,
+    /// Closed parts (every edge manifold).
+    pub closed_parts: usize,
+    /// Creasing method and triangle rule.
+    pub scheme: refine::Scheme,
+    /// The isolation asked for.
+    pub isolate: u32,
+    /// Patches per refinement level.
+    pub levels: Vec<isolate::LevelCount>,
 }
 
 /// The result of importing one model file.
@@ -106,6 +131,17 @@ pub fn read_text(path: &std::path::Path) -> Result<String, SceneError> {
             format!("not a text file: byte {at} is not UTF-8 (model files are plain text)"),
         )
     })
+}
+
+impl PatchOrigin {
+    /// The origin of the patch with u and v swapped (`orient::flip_patch`):
+    /// corners 1 and 3 trade places, and so do the rules.
+    pub fn flip(&mut self) {
+        if let Some(c) = &mut self.corners_uv {
+            c.swap(1, 3);
+        }
+        self.rule = self.rule.flipped();
+    }
 }
 
 impl ImportedModel {

@@ -110,10 +110,10 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::cage::{Cage, Topology};
-use super::refine::refine;
+use super::refine::Scheme;
 use super::sharpness::{self, BoundaryRule, INFINITE};
 use super::tags::Tags;
-use super::{acc, tangent, CageInfo, ImportedModel, PatchOrigin, RuleSource, SceneError};
+use super::{isolate, orient, CageInfo, ImportedModel, RuleSource, SceneError};
 
 /// Choices for cages that the file itself does not make.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -121,6 +121,9 @@ pub struct CageOptions {
     /// Boundary rule for a cage without a `t interpolateboundary` tag
     /// (`None`: [`sharpness::DEFAULT_BOUNDARY`]).
     pub boundary: Option<BoundaryRule>,
+    /// Catmull–Clark steps before conversion where the conversion is not
+    /// exact (`isolate.rs`); 0 converts the cage as it is.
+    pub isolate: u32,
 }
 
 /// Reads an OBJ control cage and converts it to Bézier patches.
@@ -181,6 +184,11 @@ pub fn parse_with(
     }
     let topo = Topology::build(&cage, path)?;
     let tagged = apply_tags(path, &mut cage, &topo, &scan)?;
+    let tagged_holes = apply_holes(path, &mut cage, &scan)?;
+    cage.scheme = Scheme {
+        chaikin: scan.tags.chaikin.is_some_and(|(_, c)| c),
+        smooth_triangles: scan.tags.smooth_triangles.is_some_and(|(_, s)| s),
+    };
 
     let (boundary, boundary_from) = match (scan.tags.boundary, options.boundary) {
         (Some((line, rule)), _) => (rule, RuleSource::Tag(line)),
@@ -191,61 +199,48 @@ pub fn parse_with(
     let non_manifold_vertices = (0..cage.positions.len())
         .filter(|&v| topo.is_non_manifold_vertex(v))
         .count();
-    if topo.non_manifold_edges > 0 || non_manifold_vertices > 0 {
-        warnings.push(format!(
-            "{} non-manifold edges and {non_manifold_vertices} non-manifold vertices: \
-             each fan of faces is its own sheet, sheets meet along shared crease curves",
-            topo.non_manifold_edges
-        ));
+    warnings.extend(non_manifold_warning(&topo, non_manifold_vertices));
+    let holes = (0..cage.faces.len()).filter(|&f| cage.is_hole(f)).count();
+    if holes == cage.faces.len() {
+        let why = if resolved.holes == holes {
+            "the boundary rule `none` leaves no face: every face touches the boundary"
+        } else {
+            "every face is a hole (`t hole`, or the boundary rule `none`)"
+        };
+        return Err(SceneError::invalid(path, why));
     }
-    if resolved.holes == cage.faces.len() {
-        return Err(SceneError::invalid(
-            path,
-            "the boundary rule `none` leaves no face: every face touches the boundary",
+    let orientation = orient::inside_out(&cage, &topo);
+    if orientation.inside_out > 0 {
+        warnings.push(format!(
+            "{} of {} closed parts wound inside out (clockwise seen from outside): their patches are turned (u and v swapped) so the outside faces out",
+            orientation.inside_out, orientation.closed
         ));
     }
 
-    let non_quads = cage.faces.iter().filter(|f| f.len() != 4).count();
-    let (conversion, shading, origins) = if non_quads == 0 {
-        let conv = acc::convert(&cage, &topo, path)?;
-        let shading = tangent::tangent_patches(&cage, &topo, &conv);
-        let origins = conv
-            .faces
-            .iter()
-            .zip(&conv.rules)
-            .map(|(&face, &rule)| PatchOrigin {
-                face,
-                sub: 0,
-                corners_uv: Some(QUAD_UV),
-                rule,
-            })
-            .collect();
-        (conv, shading, origins)
+    let mut conv = isolate::convert(&cage, &topo, options.isolate, path)?;
+    if options.isolate == 0 {
+        let non_quads = cage.faces.iter().filter(|f| f.len() != 4).count();
+        if non_quads > 0 {
+            warnings.push(format!(
+                "{non_quads} non-quad faces: one Catmull–Clark step applied to the whole cage, {} patches",
+                conv.patches.len()
+            ));
+        }
     } else {
-        let (fine, subs) = refine(&cage, &topo);
-        let fine_topo = Topology::build(&fine, path)?;
-        let conv = acc::convert(&fine, &fine_topo, path)?;
-        let shading = tangent::tangent_patches(&fine, &fine_topo, &conv);
-        let origins = conv
-            .faces
-            .iter()
-            .zip(&conv.rules)
-            .map(|(&f, &rule)| {
-                let s = subs[f];
-                PatchOrigin {
-                    face: s.face,
-                    sub: s.corner,
-                    corners_uv: (cage.faces[s.face].len() == 4).then(|| sub_quad_uv(s.corner)),
-                    rule,
-                }
-            })
-            .collect();
-        warnings.push(format!(
-            "{non_quads} non-quad faces: one Catmull–Clark step applied to the whole cage, {} patches",
-            conv.patches.len()
-        ));
-        (conv, shading, origins)
-    };
+        warnings.push(isolate_note(&conv, options.isolate));
+    }
+    for ((p, s), o) in conv
+        .patches
+        .iter_mut()
+        .zip(&mut conv.shading)
+        .zip(&mut conv.origins)
+    {
+        if orientation.flip[o.face] {
+            *p = orient::flip_patch(p);
+            *s = s.transposed();
+            o.flip();
+        }
+    }
 
     let info = CageInfo {
         boundary,
@@ -257,15 +252,104 @@ pub fn parse_with(
         non_manifold_edges: topo.non_manifold_edges,
         non_manifold_vertices,
         holes: resolved.holes,
+        tagged_holes,
+        degenerate_edges: topo.degenerate_edges,
+        misoriented_edges: topo.misoriented_edges,
+        inside_out: orientation.inside_out,
+        closed_parts: orientation.closed,
+        scheme: cage.scheme,
+        isolate: options.isolate,
+        levels: conv.levels.clone(),
     };
     Ok(ImportedModel {
-        patches: conversion.patches,
+        patches: conv.patches,
         weights: Vec::new(),
-        origins,
-        shading,
+        origins: conv.origins,
+        shading: conv.shading,
         cage: Some(info),
         warnings,
     })
+}
+
+/// One warning on what is non-manifold, if anything.
+fn non_manifold_warning(topo: &Topology, vertices: usize) -> Option<String> {
+    if topo.non_manifold_edges == 0 && vertices == 0 {
+        return None;
+    }
+    let mut why = Vec::new();
+    if topo.degenerate_edges > 0 {
+        why.push(format!(
+            "{} degenerate (a face repeats a vertex)",
+            topo.degenerate_edges
+        ));
+    }
+    if topo.misoriented_edges > 0 {
+        why.push(format!(
+            "{} whose two faces run them the same way (not consistently oriented)",
+            topo.misoriented_edges
+        ));
+    }
+    let why = if why.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", why.join(", "))
+    };
+    Some(format!(
+        "{} non-manifold edges{why} and {vertices} non-manifold vertices: \
+         each fan of faces is its own sheet, sheets meet along shared crease curves (OpenSubdiv's rule)",
+        topo.non_manifold_edges
+    ))
+}
+
+/// The note on what `isolate` did.
+fn isolate_note(conv: &isolate::Converted, n: u32) -> String {
+    let per_level: Vec<String> = conv
+        .levels
+        .iter()
+        .map(|l| {
+            format!(
+                "level {}: {} patches ({} exact)",
+                l.level,
+                super::geometry::thousands(l.patches as u64),
+                super::geometry::thousands(l.exact as u64)
+            )
+        })
+        .collect();
+    format!(
+        "isolate {n}: {} of {} connected parts refined {n} times; {}",
+        conv.isolated_parts,
+        conv.parts,
+        per_level.join(", ")
+    )
+}
+
+/// Marks the faces `t hole` names (0-based in `f` order) as holes; returns
+/// how many.
+fn apply_holes(path: &Path, cage: &mut Cage, scan: &Scan) -> Result<usize, SceneError> {
+    if scan.tags.holes.is_empty() {
+        return Ok(0);
+    }
+    if scan.faces.len() != cage.faces.len() {
+        return Err(SceneError::invalid(
+            path,
+            "internal: the OBJ reader's faces do not match the file's `f` lines; cannot place the holes",
+        ));
+    }
+    cage.holes.resize(cage.faces.len(), false);
+    for &(line, f) in &scan.tags.holes {
+        if f >= cage.faces.len() {
+            return Err(SceneError::at(
+                path,
+                line,
+                format!(
+                    "`t hole`: face {f} out of range: faces count from 0 and the file has {}",
+                    cage.faces.len()
+                ),
+            ));
+        }
+        cage.holes[f] = true;
+    }
+    Ok(cage.holes.iter().filter(|&&h| h).count())
 }
 
 /// What the tags put on the cage.
@@ -343,16 +427,6 @@ fn apply_tags(
         semi_sharp_edges: cage.edge_sharpness.len() - sharp_edges,
         corners: cage.vertex_sharpness.len(),
     })
-}
-
-/// Face-parameter coordinates of a quad's corners 0..4.
-const QUAD_UV: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-
-/// `corners_uv` of sub-quad `k` of a refined quad face.
-fn sub_quad_uv(k: usize) -> [[f32; 2]; 4] {
-    let c = |i: usize| QUAD_UV[i % 4];
-    let mid = |a: [f32; 2], b: [f32; 2]| [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5];
-    [c(k), mid(c(k), c(k + 1)), [0.5, 0.5], mid(c(k + 3), c(k))]
 }
 
 /// One cage from `tobj`'s models, and how many models had faces. Face

@@ -1,30 +1,54 @@
-//! One global Catmull–Clark step with OpenSubdiv's crease rules (uniform
-//! creasing), used to make every face of a cage a quad.
+//! One global Catmull–Clark step with OpenSubdiv's rules (`Sdc` with the
+//! cage's creasing method and triangle rule): used to make every face of a
+//! cage a quad, and repeated for isolation (`isolate.rs`).
 //!
-//! - Face point: the face's centroid.
+//! - Face point: the face's centroid (a repeated vertex counts twice).
 //! - Edge point: the midpoint for a sharp edge (sharpness ≥ 1, boundary or
 //!   non-manifold, all infinitely sharp by then); for a smooth manifold edge
-//!   the mean of its ends and the two face points; a sharpness s below 1
-//!   blends the two, s of the way to the midpoint.
+//!   the mean of its ends and the two face points, or, under `t
+//!   smoothtriangles 0/0/1 smooth`, next to a triangle OpenSubdiv's weights
+//!   (each triangle's face point 0.47 instead of 0.25, averaged over the two
+//!   faces, the rest on the two ends); a sharpness s below 1 blends the two,
+//!   s of the way to the midpoint.
 //! - Vertex point by the vertex rule (`sharpness.rs`): smooth and dart
 //!   (Q + 2R + (n−3)v)/n with Q the mean of the face points and R the mean
 //!   of the edge midpoints around v; crease (a + 6v + b)/8 from the two sharp
 //!   edges' far ends; corner v. When the rule of the refined vertex is
 //!   smoother than this one (a semi-sharp feature runs out), the two are
 //!   blended with OpenSubdiv's transition weight: the mean sharpness of the
-//!   features that run out (those of sharpness ≤ 1), at most 1.
-//! - Sharpness of each half of an edge and of a vertex's child: s − 1
-//!   (0 below 1), infinite stays infinite. Edges inside a face are smooth.
+//!   features that run out (vertex and edges whose children are smooth), at
+//!   most 1.
+//! - Sharpness of a vertex's child: s − 1 (0 below 1), infinite stays
+//!   infinite. Of each half of an edge: the same under uniform creasing;
+//!   under Chaikin's (`t creasemethod 0/0/1 chaikin`) the half at vertex v
+//!   gets ¾ s + ¼ (the mean of the other semi-sharp edges at v) − 1 where v
+//!   has two or more semi-sharp edges (OpenSubdiv's
+//!   `Crease::SubdivideEdgeSharpnessAtVertex`, in f32 as there). Edges inside
+//!   a face are smooth.
 //! - The sub-quads of a hole are holes.
 //!
 //! Sub-quad k of face F is (v_k', e(v_k, v_k+1), f_F, e(v_k−1, v_k)), so
 //! orientation is kept. New vertices: vertex points, then edge points (in
-//! edge order), then face points.
+//! edge order), then face points. The refined cage names its edges
+//! ([`Cage::face_edges`]): each edge's two halves (non-manifold if it was),
+//! then one edge per face corner from its edge point to the face point.
 
 use glam::DVec3;
 
-use super::cage::{Cage, Topology};
+use super::cage::{Cage, CageEdge, Topology};
 use super::sharpness::{Config, VertexRule, INFINITE};
+
+/// OpenSubdiv's scheme options that change how a cage refines (its
+/// `Sdc::Options` beyond the boundary rule).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Scheme {
+    /// `t creasemethod 0/0/1 chaikin`: Chaikin's rule for the sharpness of
+    /// semi-sharp crease halves (default uniform: one less).
+    pub chaikin: bool,
+    /// `t smoothtriangles 0/0/1 smooth`: OpenSubdiv's smoother edge weights
+    /// next to triangles (default: Catmull–Clark's).
+    pub smooth_triangles: bool,
+}
 
 /// Where each face of a refined cage came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,7 +59,8 @@ pub struct SubFace {
     pub corner: usize,
 }
 
-/// The sharpness of a child feature: one step less, infinite kept.
+/// The sharpness of a child feature under uniform creasing: one step
+/// less, infinite kept.
 fn child_sharpness(s: f64) -> f64 {
     if s >= INFINITE {
         INFINITE
@@ -46,90 +71,96 @@ fn child_sharpness(s: f64) -> f64 {
     }
 }
 
+/// The sharpness of the half of edge `e` at its vertex `v`.
+fn child_edge_sharpness(cage: &Cage, topo: &Topology, e: usize, v: usize) -> f64 {
+    let (a, b) = topo.edges[e].ends;
+    let s = cage.edge_sharpness(a, b);
+    let around = &topo.vertex_edges[v];
+    if !cage.scheme.chaikin || around.len() < 2 || s <= 0.0 || s >= INFINITE {
+        return child_sharpness(s);
+    }
+    // OpenSubdiv computes this in f32; so does this, to take the same
+    // branch where a half runs out exactly.
+    let semi: Vec<f32> = around
+        .iter()
+        .map(|&i| {
+            let (p, q) = topo.edges[i].ends;
+            cage.edge_sharpness(p, q) as f32
+        })
+        .filter(|&x| x > 0.0 && x < INFINITE as f32)
+        .collect();
+    let s = s as f32;
+    let mut t = s;
+    if semi.len() > 1 {
+        let sum: f32 = semi.iter().sum();
+        let others = (sum - s) / (semi.len() - 1) as f32;
+        t = 0.75 * s + 0.25 * others;
+    }
+    let t = t - 1.0;
+    if t > 0.0 {
+        f64::from(t)
+    } else {
+        0.0
+    }
+}
+
 /// The vertex rule of `v` and the far ends of its sharp edges (in edge
-/// order), with every feature of sharpness above 0 counted as sharp after
-/// `sharpness` maps it.
+/// order), with every feature of sharpness above 0 counted as sharp, edge
+/// sharpness given per edge id by `edge_sharp` and the vertex's own by
+/// `vertex_sharp`.
 fn rule_at(
-    cage: &Cage,
     topo: &Topology,
     v: usize,
-    sharpness: &dyn Fn(f64) -> f64,
+    edge_sharp: &dyn Fn(usize) -> f64,
+    vertex_sharp: f64,
 ) -> (VertexRule, Vec<usize>) {
     let ends: Vec<usize> = topo.vertex_edges[v]
         .iter()
-        .map(|&e| &topo.edges[e])
-        .filter(|e| Config::Sharp.sharp(sharpness(cage.edge_sharpness(e.ends.0, e.ends.1))))
-        .map(|e| e.other(v))
+        .filter(|&&e| Config::Sharp.sharp(edge_sharp(e)))
+        .map(|&e| topo.edges[e].other(v))
         .collect();
-    let corner = Config::Sharp.sharp(sharpness(cage.vertex_sharpness(v)));
+    let corner = Config::Sharp.sharp(vertex_sharp);
     (VertexRule::of(corner, ends.len()), ends)
 }
 
 /// One global Catmull–Clark step (see the module doc).
 pub fn refine(cage: &Cage, topo: &Topology) -> (Cage, Vec<SubFace>) {
     let nv = cage.positions.len();
-    let p = &cage.positions;
-
+    let ne = topo.edges.len();
     let face_points: Vec<DVec3> = cage
         .faces
         .iter()
-        .map(|face| face.iter().fold(DVec3::ZERO, |s, &v| s + p[v]) / face.len() as f64)
-        .collect();
-
-    let edge_points: Vec<DVec3> = topo
-        .edges
-        .iter()
-        .map(|e| {
-            let (a, b) = e.ends;
-            let mid = (p[a] + p[b]) * 0.5;
-            let s = cage.edge_sharpness(a, b);
-            if s >= 1.0 || !e.is_manifold() {
-                return mid;
-            }
-            let (f, g) = (e.uses[0].0, e.uses[1].0);
-            let smooth = (p[a] + p[b] + face_points[f] + face_points[g]) * 0.25;
-            if s > 0.0 {
-                smooth + (mid - smooth) * s
-            } else {
-                smooth
-            }
+        .map(|face| {
+            face.iter().fold(DVec3::ZERO, |s, &v| s + cage.positions[v]) / face.len() as f64
         })
         .collect();
-
+    let edge_points: Vec<DVec3> = (0..ne)
+        .map(|e| edge_point(cage, topo, e, &face_points))
+        .collect();
     let vertex_points: Vec<DVec3> = (0..nv)
-        .map(|v| {
-            let same = |s: f64| s;
-            let (rule, ends) = rule_at(cage, topo, v, &same);
-            let point = |rule: VertexRule, ends: &[usize]| match rule {
-                VertexRule::Corner => p[v],
-                VertexRule::Crease => (p[ends[0]] + p[v] * 6.0 + p[ends[1]]) * 0.125,
-                VertexRule::Smooth | VertexRule::Dart => smooth_vertex(cage, topo, v, &face_points),
-            };
-            let parent = point(rule, &ends);
-            let (child_rule, child_ends) = rule_at(cage, topo, v, &child_sharpness);
-            if child_rule == rule || topo.fans[v].is_empty() {
-                return parent;
-            }
-            let w = transition_weight(cage, topo, v);
-            let child = point(child_rule, &child_ends);
-            child + (parent - child) * w
-        })
+        .map(|v| vertex_point(cage, topo, v, &face_points))
         .collect();
 
-    let face_base = nv + edge_points.len();
+    let face_base = nv + ne;
     let mut out = Cage {
         positions: vertex_points,
+        scheme: cage.scheme,
         ..Cage::default()
     };
     out.positions.extend(edge_points);
     out.positions.extend(face_points);
-    for (&(a, b), &s) in &cage.edge_sharpness {
-        let child = child_sharpness(s);
-        if child > 0.0 {
-            let mid = nv + topo.edge_id(a, b).expect("tagged edges are cage edges");
-            for end in [a, b] {
-                out.edge_sharpness
-                    .insert((end.min(mid), end.max(mid)), child);
+    // The two halves of every edge: half j joins end j to the edge point.
+    for (e, edge) in topo.edges.iter().enumerate() {
+        let ends = [edge.ends.0, edge.ends.1];
+        for end in ends {
+            out.edge_list.push(CageEdge {
+                ends: (end, nv + e),
+                non_manifold: edge.non_manifold,
+            });
+            let child = child_edge_sharpness(cage, topo, e, end);
+            if child > 0.0 {
+                let key = (end.min(nv + e), end.max(nv + e));
+                out.edge_sharpness.insert(key, child);
             }
         }
     }
@@ -139,14 +170,30 @@ pub fn refine(cage: &Cage, topo: &Topology) -> (Cage, Vec<SubFace>) {
             out.vertex_sharpness.insert(v, child);
         }
     }
-    let edge = |a: usize, b: usize| nv + topo.edge_id(a, b).expect("face edge");
     let mut origin = Vec::new();
     for (f, face) in cage.faces.iter().enumerate() {
         let m = face.len();
-        for k in 0..m {
-            let (prev, v, next) = (face[(k + m - 1) % m], face[k], face[(k + 1) % m]);
+        // One edge per corner k, from the edge point of edge k inwards.
+        let inner = out.edge_list.len();
+        for &e in &topo.face_edges[f] {
+            out.edge_list.push(CageEdge {
+                ends: (nv + e, face_base + f),
+                non_manifold: false,
+            });
+        }
+        for (k, &v) in face.iter().enumerate() {
+            let prev = (k + m - 1) % m;
+            let (e_k, e_prev) = (topo.face_edges[f][k], topo.face_edges[f][prev]);
+            let start = topo.start_end(cage, (f, k));
+            let end_prev = 1 - topo.start_end(cage, (f, prev));
             out.faces
-                .push(vec![v, edge(v, next), face_base + f, edge(prev, v)]);
+                .push(vec![v, nv + e_k, face_base + f, nv + e_prev]);
+            out.face_edges.push(vec![
+                2 * e_k + start,
+                inner + k,
+                inner + prev,
+                2 * e_prev + end_prev,
+            ]);
             out.face_lines.push(cage.line_of(f));
             origin.push(SubFace { face: f, corner: k });
         }
@@ -155,6 +202,59 @@ pub fn refine(cage: &Cage, topo: &Topology) -> (Cage, Vec<SubFace>) {
         out.holes = origin.iter().map(|s| cage.is_hole(s.face)).collect();
     }
     (out, origin)
+}
+
+/// The edge point of edge `e` (see the module doc).
+fn edge_point(cage: &Cage, topo: &Topology, e: usize, face_points: &[DVec3]) -> DVec3 {
+    let p = &cage.positions;
+    let edge = &topo.edges[e];
+    let (a, b) = edge.ends;
+    let mid = (p[a] + p[b]) * 0.5;
+    let s = cage.edge_sharpness(a, b);
+    if s >= 1.0 || !edge.is_manifold() {
+        return mid;
+    }
+    let (f, g) = (edge.uses[0].0, edge.uses[1].0);
+    let tri = |f: usize| cage.faces[f].len() == 3;
+    let smooth = if cage.scheme.smooth_triangles && (tri(f) || tri(g)) {
+        // OpenSubdiv's `assignSmoothMaskForEdge` with TRI_SUB_SMOOTH.
+        let weight = |f: usize| if tri(f) { 0.470 } else { 0.25 };
+        let fw = 0.5 * (weight(f) + weight(g));
+        let vw = 0.5 * (1.0 - 2.0 * fw);
+        (p[a] + p[b]) * vw + (face_points[f] + face_points[g]) * fw
+    } else {
+        (p[a] + p[b] + face_points[f] + face_points[g]) * 0.25
+    };
+    if s > 0.0 {
+        smooth + (mid - smooth) * s
+    } else {
+        smooth
+    }
+}
+
+/// The vertex point of `v` (see the module doc).
+fn vertex_point(cage: &Cage, topo: &Topology, v: usize, face_points: &[DVec3]) -> DVec3 {
+    let p = &cage.positions;
+    let parent_sharp = |e: usize| {
+        let (a, b) = topo.edges[e].ends;
+        cage.edge_sharpness(a, b)
+    };
+    let (rule, ends) = rule_at(topo, v, &parent_sharp, cage.vertex_sharpness(v));
+    let point = |rule: VertexRule, ends: &[usize]| match rule {
+        VertexRule::Corner => p[v],
+        VertexRule::Crease => (p[ends[0]] + p[v] * 6.0 + p[ends[1]]) * 0.125,
+        VertexRule::Smooth | VertexRule::Dart => smooth_vertex(cage, topo, v, face_points),
+    };
+    let parent = point(rule, &ends);
+    let child_sharp = |e: usize| child_edge_sharpness(cage, topo, e, v);
+    let child_vertex = child_sharpness(cage.vertex_sharpness(v));
+    let (child_rule, child_ends) = rule_at(topo, v, &child_sharp, child_vertex);
+    if child_rule == rule || topo.fans[v].is_empty() {
+        return parent;
+    }
+    let w = transition_weight(cage, topo, v, &child_sharp);
+    let child = point(child_rule, &child_ends);
+    child + (parent - child) * w
 }
 
 /// The smooth vertex point (Q + 2R + (n−3)v)/n over the one closed fan a
@@ -176,9 +276,15 @@ fn smooth_vertex(cage: &Cage, topo: &Topology, v: usize, face_points: &[DVec3]) 
 }
 
 /// OpenSubdiv's weight of the sharper rule where a semi-sharp feature runs
-/// out: the mean of the sharpness of the vertex (if it runs out) and of the
-/// incident edges with sharpness in (0, 1], at most 1.
-fn transition_weight(cage: &Cage, topo: &Topology, v: usize) -> f64 {
+/// out (`Crease::ComputeFractionalWeightAtVertex`): the mean of the
+/// sharpness of the vertex (if it runs out) and of the incident edges whose
+/// halves at `v` are smooth, at most 1.
+fn transition_weight(
+    cage: &Cage,
+    topo: &Topology,
+    v: usize,
+    child_sharp: &dyn Fn(usize) -> f64,
+) -> f64 {
     let mut sum = 0.0;
     let mut n = 0usize;
     let own = cage.vertex_sharpness(v);
@@ -189,7 +295,7 @@ fn transition_weight(cage: &Cage, topo: &Topology, v: usize) -> f64 {
     for &e in &topo.vertex_edges[v] {
         let (a, b) = topo.edges[e].ends;
         let s = cage.edge_sharpness(a, b);
-        if s > 0.0 && s <= 1.0 {
+        if s > 0.0 && child_sharp(e) <= 0.0 {
             sum += s;
             n += 1;
         }

@@ -109,9 +109,18 @@ impl ShadingPatch {
         let t = |d: Vec3| m.transform_vector3(d.as_dvec3()).as_vec3() + Vec3::ZERO;
         let du = self.du.map(t);
         let dv = self.dv.map(t);
+        let out = ShadingPatch { du, dv };
         if m.determinant() >= 0.0 {
-            return ShadingPatch { du, dv };
+            out
+        } else {
+            out.transposed()
         }
+    }
+
+    /// The tangent patches of the patch with u and v swapped
+    /// (`BezierPatch::reoriented(true, …)`).
+    pub fn transposed(&self) -> Self {
+        let (du, dv) = (self.du, self.dv);
         // New ∂u (degree 2 in the new u = old v) is the old ∂v net transposed.
         ShadingPatch {
             du: std::array::from_fn(|n| {

@@ -130,7 +130,11 @@ pub fn resolve(cage: &mut Cage, topo: &Topology, rule: BoundaryRule) -> Resolved
         }
         out.holes = holes.iter().filter(|&&h| h).count();
         if out.holes > 0 {
-            cage.holes = holes;
+            // On top of the faces `t hole` left out.
+            cage.holes.resize(holes.len(), false);
+            for (h, new) in cage.holes.iter_mut().zip(holes) {
+                *h |= new;
+            }
         }
     }
     for e in &topo.edges {
@@ -142,22 +146,24 @@ pub fn resolve(cage: &mut Cage, topo: &Topology, rule: BoundaryRule) -> Resolved
     for v in 0..nv {
         let faces = topo.face_count(v);
         let edges = topo.valence(v);
-        if faces == 1 && edges == 2 {
-            if rule == BoundaryRule::EdgeAndCorner && cage.vertex_sharpness(v) < INFINITE {
+        if faces == 1 && edges == 2 && rule == BoundaryRule::EdgeAndCorner {
+            if cage.vertex_sharpness(v) < INFINITE {
                 cage.vertex_sharpness.insert(v, INFINITE);
                 out.sharpened_corners += 1;
             }
             continue;
         }
         if topo.is_non_manifold_vertex(v) {
-            let count = |pred: &dyn Fn(usize) -> bool| {
+            // OpenSubdiv's counts: a degenerate edge is listed twice and is
+            // both a boundary (one face) and non-manifold.
+            let count = |pred: &dyn Fn(&super::cage::Edge) -> bool| {
                 topo.vertex_edges[v]
                     .iter()
-                    .filter(|&&e| pred(topo.edges[e].uses.len()))
+                    .filter(|&&e| pred(&topo.edges[e]))
                     .count()
             };
-            let non_manifold = count(&|n| n > 2);
-            let boundary = count(&|n| n == 1);
+            let non_manifold = count(&|e| e.non_manifold);
+            let boundary = count(&|e| e.uses.len() == 1);
             let crease = non_manifold == 2 && boundary == 0 && faces > edges;
             if !crease && cage.vertex_sharpness(v) < INFINITE {
                 cage.vertex_sharpness.insert(v, INFINITE);
@@ -285,19 +291,10 @@ pub struct Sector {
 /// The sectors of `v`, cutting its fans at edges for which `sharp` holds.
 /// A closed fan with fewer than two such edges stays one cyclic sector: a
 /// dart's crease ends at the vertex, which is smooth.
-pub fn sectors(
-    cage: &Cage,
-    topo: &Topology,
-    v: usize,
-    sharp: &dyn Fn(usize) -> bool,
-) -> Vec<Sector> {
+pub fn sectors(topo: &Topology, v: usize, sharp: &dyn Fn(usize) -> bool) -> Vec<Sector> {
     let mut out = Vec::new();
     for fan in &topo.fans[v] {
-        let incoming: Vec<usize> = fan
-            .corners
-            .iter()
-            .map(|&c| topo.incoming(cage, c))
-            .collect();
+        let incoming: Vec<usize> = fan.corners.iter().map(|&c| topo.incoming(c)).collect();
         let cuts = incoming.iter().filter(|&&e| sharp(e)).count();
         if fan.closed && cuts < 2 {
             out.push(Sector {
@@ -331,7 +328,7 @@ pub fn sectors(
             }
             let s = current.as_mut().expect("a sector is open");
             s.corners.push(c);
-            s.edges.push(topo.outgoing(cage, c));
+            s.edges.push(topo.outgoing(c));
         }
         out.extend(current);
     }

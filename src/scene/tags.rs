@@ -4,6 +4,9 @@
 //! t crease 2/1/0 V0 V1 SHARPNESS          edge (V0, V1); more pairs may follow
 //! t corner 1/1/0 V SHARPNESS              vertex V; more vertices may follow
 //! t interpolateboundary 1/0/0 N           0 none, 1 edge-and-corner, 2 edge-only
+//! t hole 2/0/0 F0 F1                      faces F0, F1 give no surface
+//! t creasemethod 0/0/1 chaikin            or `normal` (uniform, the default)
+//! t smoothtriangles 0/0/1 smooth          or `catmark` (the default)
 //! ```
 //!
 //! `I/F/S` counts the integer, float and string arguments that follow, in
@@ -14,12 +17,20 @@
 //! likewise per vertex. Sharpness 10 or more is infinitely sharp (`inf` is
 //! accepted); a later tag on the same edge or vertex replaces an earlier one.
 //!
+//! Hole faces are 0-based positions in the file's `f` lines; the faces give
+//! no patch, and their neighbours are drawn as if they were there
+//! (OpenSubdiv keeps the hole's vertices and edges in the subdivision).
+//!
 //! Refused, with the line: counts that do not match the arguments, an index
-//! that is not a vertex, a NaN or negative sharpness, a crease pair that is
-//! not an edge of any face, an unknown `interpolateboundary` value, two
-//! `interpolateboundary` tags that disagree. Other tags (`creasemethod`,
-//! `smoothtriangles`, `hole`, the face-varying ones, …) are reported in one
-//! warning and ignored.
+//! that is not a vertex (or, for `hole`, a face), a NaN or negative
+//! sharpness, a crease pair that is not an edge of any face, an unknown
+//! `interpolateboundary`, `creasemethod` or `smoothtriangles` value, two
+//! such tags that disagree. Tags that change nothing OpenSubdiv 3 draws from
+//! a cage's positions are named in one warning and ignored: the face-varying
+//! ones (`facevaryinginterpolateboundary`, `facevaryingpropagatecorners`:
+//! no texture coordinates are read) and hierarchical edits (`vertexedit`,
+//! `edgeedit`, `faceedit`: OpenSubdiv 3's refiner has none either); so are
+//! unknown tags.
 
 use std::collections::BTreeMap;
 
@@ -34,6 +45,13 @@ pub struct Tags {
     pub corners: Vec<(usize, usize, f64)>,
     /// The boundary rule and its line.
     pub boundary: Option<(usize, BoundaryRule)>,
+    /// (line, face) per hole face, faces 0-based in `f` order.
+    pub holes: Vec<(usize, usize)>,
+    /// Chaikin creasing (`true`) or uniform, and its line.
+    pub chaikin: Option<(usize, bool)>,
+    /// OpenSubdiv's smooth triangle rule (`true`) or Catmull–Clark's, and
+    /// its line.
+    pub smooth_triangles: Option<(usize, bool)>,
     /// Ignored tag names → (count, first line).
     pub ignored: BTreeMap<String, (usize, usize)>,
 }
@@ -141,6 +159,59 @@ impl Tags {
                 }
                 self.boundary = Some((line, rule));
             }
+            "hole" => {
+                if ni < 1 || nf != 0 || ns != 0 {
+                    return Err("`t hole` takes one or more face indices (N/0/0)".into());
+                }
+                for &f in &ints {
+                    if f < 0 {
+                        return Err(format!(
+                            "`t hole`: face {f} out of range: faces count from 0"
+                        ));
+                    }
+                    self.holes.push((line, f as usize));
+                }
+            }
+            "creasemethod" | "smoothtriangles" => {
+                if (ni, nf, ns) != (0, 0, 1) {
+                    return Err(format!("`t {name}` takes one string (0/0/1)"));
+                }
+                let word = args[0];
+                let (value, choices) = if name == "creasemethod" {
+                    (
+                        match word {
+                            "normal" => Some(false),
+                            "chaikin" => Some(true),
+                            _ => None,
+                        },
+                        "normal or chaikin",
+                    )
+                } else {
+                    (
+                        match word {
+                            "catmark" => Some(false),
+                            "smooth" => Some(true),
+                            _ => None,
+                        },
+                        "catmark or smooth",
+                    )
+                };
+                let value =
+                    value.ok_or_else(|| format!("`t {name} {word}`: expected {choices}"))?;
+                let slot = if name == "creasemethod" {
+                    &mut self.chaikin
+                } else {
+                    &mut self.smooth_triangles
+                };
+                if let Some((first, other)) = *slot {
+                    if other != value {
+                        return Err(format!(
+                            "`t {name}` says {word} here but the opposite at line {first}"
+                        ));
+                    }
+                }
+                *slot = Some((line, value));
+            }
             _ => {
                 let entry = self.ignored.entry(name.to_string()).or_insert((0, line));
                 entry.0 += 1;
@@ -159,8 +230,18 @@ impl Tags {
             .iter()
             .map(|(name, (n, line))| format!("`{name}` ×{n} (first at line {line})"))
             .collect();
+        let why = |name: &str| match name {
+            n if n.starts_with("facevarying") => "no face-varying data is read",
+            "vertexedit" | "edgeedit" | "faceedit" => {
+                "hierarchical edits, which OpenSubdiv 3 ignores too"
+            }
+            _ => "unknown",
+        };
+        let mut reasons: Vec<&str> = self.ignored.keys().map(|n| why(n)).collect();
+        reasons.dedup();
         Some(format!(
-            "OpenSubdiv tags not supported, ignored: {}",
+            "OpenSubdiv tags ignored ({}): {}",
+            reasons.join("; "),
             list.join(", ")
         ))
     }
@@ -187,10 +268,16 @@ mod tests {
         let t = read("interpolateboundary 1/0/0 2").unwrap();
         assert_eq!(t.boundary, Some((7, BoundaryRule::EdgeOnly)));
         let t = read("creasemethod 0/0/1 chaikin").unwrap();
-        assert!(t
-            .ignored_warning()
-            .unwrap()
-            .contains("`creasemethod` ×1 (first at line 7)"));
+        assert_eq!(t.chaikin, Some((7, true)));
+        assert!(t.ignored_warning().is_none());
+        let t = read("smoothtriangles 0/0/1 smooth").unwrap();
+        assert_eq!(t.smooth_triangles, Some((7, true)));
+        let t = read("hole 2/0/0 3 0").unwrap();
+        assert_eq!(t.holes, vec![(7, 3), (7, 0)]);
+        let t = read("vertexedit 1/0/1 3 add").unwrap();
+        let w = t.ignored_warning().unwrap();
+        assert!(w.contains("`vertexedit` ×1 (first at line 7)"), "{w}");
+        assert!(w.contains("OpenSubdiv 3 ignores"), "{w}");
     }
 
     #[test]
@@ -208,6 +295,10 @@ mod tests {
             ("corner 1/0/0 3", "sharpness"),
             ("interpolateboundary 1/0/0 3", "expected 0 (none)"),
             ("interpolateboundary x/0/0 3", "INTS/FLOATS/STRINGS"),
+            ("hole 1/0/0 -1", "faces count from 0"),
+            ("hole 0/0/0", "one or more face"),
+            ("creasemethod 0/0/1 sharp", "normal or chaikin"),
+            ("smoothtriangles 1/0/0 1", "one string"),
             ("crease", "argument counts"),
         ] {
             let e = read(line).unwrap_err();

@@ -79,12 +79,18 @@ fn corner_tangents(
         let (a, b) = topo.edges[e].ends;
         is_feature_edge(cage, topo, a, b)
     };
-    for sector in sharpness::sectors(cage, topo, v, &feature) {
+    // A crease vertex (two feature edges, not a corner): its crease curve
+    // is smooth through it, whatever the two edge tangents' angle says (the
+    // exact limit corner of a semi-sharp crease, `limit.rs`, sits a little
+    // off the chord of the sharp rules' edge points).
+    let features = topo.vertex_edges[v].iter().filter(|&&e| feature(e)).count();
+    let crease = features == 2 && cage.vertex_sharpness(v) < 1.0;
+    for sector in sharpness::sectors(topo, v, &feature) {
         let geo: Vec<DVec3> = sector.edges.iter().map(|&e| g(e)).collect();
         let t = if sector.cyclic {
             fit_cyclic(&geo)
         } else {
-            fit_open(&geo)
+            fit_open(&geo, crease)
         }
         .unwrap_or_else(|| geo.clone());
         let n = sector.corners.len();
@@ -119,8 +125,9 @@ fn fit_cyclic(g: &[DVec3]) -> Option<Vec<DVec3>> {
 }
 
 /// Tangents across an open sector of `g.len() − 1` faces, keeping the two
-/// feature edges' own tangents (see the module doc).
-fn fit_open(g: &[DVec3]) -> Option<Vec<DVec3>> {
+/// feature edges' own tangents (see the module doc); at a `crease` vertex
+/// the two are made opposite.
+fn fit_open(g: &[DVec3], crease: bool) -> Option<Vec<DVec3>> {
     let m = g.len() - 1;
     if m < 2 {
         return None;
@@ -136,7 +143,7 @@ fn fit_open(g: &[DVec3]) -> Option<Vec<DVec3>> {
         phi += 2.0 * PI;
     }
     let mut t = vec![DVec3::ZERO; m + 1];
-    if (phi - PI).abs() < 0.02 {
+    if (phi - PI).abs() < 0.02 || (crease && (phi - PI).abs() < 0.5) {
         // A crease through the vertex: g_m = −g_0 up to rounding.
         let theta = PI / m as f64;
         let a = (g0 - gm) * 0.5;

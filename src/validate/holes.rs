@@ -52,6 +52,37 @@ pub struct HoleView {
     pub checked_pixels: u64,
 }
 
+/// The hole test's line for one model: passed when no view shows a hole
+/// *and* some pixel was checked. A test that looked at nothing (every view
+/// sees only back faces, as of a one-sided model wound inside out, or the
+/// model is too small to leave pixels after the erosion) must not pass.
+pub fn verdict(views: &[HoleView]) -> (bool, String) {
+    let holes: u64 = views.iter().map(|v| v.holes).sum();
+    let without: Option<u64> = views.iter().map(|v| v.holes_without_wedges).sum();
+    let checked: u64 = views.iter().map(|v| v.checked_pixels).sum();
+    let wedges = without.map_or(String::new(), |w| {
+        format!("; wedges off: {}", crate::scene::geometry::thousands(w))
+    });
+    if checked == 0 {
+        return (
+            false,
+            format!(
+                "nothing checked: no view of {} showed front surface away from its silhouettes \
+                 (a one-sided model seen only from behind, e.g. wound inside out? or too small at this --size){wedges}",
+                views.len()
+            ),
+        );
+    }
+    (
+        holes == 0,
+        format!(
+            "{holes} key pixels in {} views ({} px checked){wedges}",
+            views.len(),
+            crate::scene::geometry::thousands(checked),
+        ),
+    )
+}
+
 /// Grid cells per patch side of the reference: fine for small models,
 /// coarser for big ones to keep the reference quick on a CPU device.
 pub fn reference_grid(patches: usize) -> u32 {

@@ -2,11 +2,12 @@
 // control cage, as reference data for the project's cage converter.
 //
 // Usage: osd_limit CAGE.obj [--boundary none|edge-only|edge-and-corner]
-//                  [--samples grid|nine|four]
+//                  [--samples grid|nine|four|corners:M]
 //
-// Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner` and
-// `t interpolateboundary` tags (the same reading rules as the converter,
-// see src/scene/tags.rs); `--boundary` is used only when the file has no
+// Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner`,
+// `t interpolateboundary`, `t hole`, `t creasemethod` and
+// `t smoothtriangles` tags (the same reading rules as the converter, see
+// src/scene/tags.rs); `--boundary` is used only when the file has no
 // interpolateboundary tag. Prints one line per sample:
 //
 //     FACE SUB U V X Y Z
@@ -16,10 +17,16 @@
 // X Y Z the limit point in double precision, or the word `hole` for faces the
 // boundary rule removes.
 //
+// Sample sets: `grid` 5x5 per (sub-)face, edges included; `nine` 3x3;
+// `four` four points; `corners:M` the 5x5 grid and, at each corner whose
+// vertex is not regular, the 5x5 grids of the squares of side 2^-m there,
+// m = 1..M (where isolation's irregular rings lie, down to level M).
+//
 // The points are exact: the cage is refined uniformly until every semi-sharp
-// feature has run out (and to level 2 at least), each sample is a vertex of
-// that level (all sample parameters are multiples of 1/4), and OpenSubdiv's
-// limit masks put it on the limit surface. (A feature-adaptive patch table
+// feature has run out and every sample is a vertex of the last level (the
+// parameters are multiples of 1/4, or of 2^-(M+2) for corners:M; faces that
+// are not quads take one level more, their sub-faces being the first), and
+// OpenSubdiv's limit masks put each on the limit surface. (A feature-adaptive patch table
 // would be cheaper but is not exact: its end caps next to an irregular
 // crease vertex miss the limit by up to 5e-5 of the model at level 10.)
 
@@ -27,6 +34,7 @@
 #include <opensubdiv/far/topologyDescriptor.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -58,7 +66,10 @@ struct Cage {
     std::vector<float> creaseSharpness;
     std::vector<int> corners;
     std::vector<float> cornerSharpness;
+    std::vector<int> holes;
     int boundaryTag = -1; // OpenSubdiv's integer, -1 when absent
+    bool chaikin = false;
+    bool smoothTriangles = false;
 };
 
 [[noreturn]] void fail(std::string const &where, std::string const &msg) {
@@ -110,8 +121,10 @@ Cage readCage(char const *path) {
                 fail(where, "bad tag counts");
             std::vector<int> ints(ni);
             std::vector<float> floats(nf);
+            std::vector<std::string> strings(ns);
             for (int &i : ints) words >> i;
             for (float &f : floats) words >> f;
+            for (std::string &w : strings) words >> w;
             if (!words) fail(where, "tag arguments missing");
             if (name == "crease") {
                 if (ni % 2 || nf < 1) fail(where, "crease needs vertex pairs and a sharpness");
@@ -129,6 +142,12 @@ Cage readCage(char const *path) {
             } else if (name == "interpolateboundary") {
                 if (ni != 1) fail(where, "interpolateboundary needs one integer");
                 cage.boundaryTag = ints[0];
+            } else if (name == "hole") {
+                for (int f : ints) cage.holes.push_back(f);
+            } else if (name == "creasemethod" && ns == 1) {
+                cage.chaikin = strings[0] == "chaikin";
+            } else if (name == "smoothtriangles" && ns == 1) {
+                cage.smoothTriangles = strings[0] == "smooth";
             } else {
                 std::fprintf(stderr, "osd_limit: %s: tag '%s' ignored\n", where.c_str(),
                              name.c_str());
@@ -170,7 +189,7 @@ int sampleVertex(Far::TopologyRefiner const &refiner, int at, int face, double u
                 return vert;
             }
         }
-        if (at == level) fail("sample", "a parameter is not a multiple of 1/4");
+        if (at == level) fail("sample", "a parameter is finer than the refinement level");
         int j = u < 0.5 ? (v < 0.5 ? 0 : 3) : (v < 0.5 ? 1 : 2);
         face = here.GetFaceChildFaces(face)[j];
         u = 2 * u - cu[j];
@@ -179,9 +198,139 @@ int sampleVertex(Far::TopologyRefiner const &refiner, int at, int face, double u
     }
 }
 
+// A sample set: the (u, v) of the whole (sub-)face, and per corner c the
+// (u, v) of the rings at that corner (corners:M only), and the number of
+// halvings the finest parameter needs.
+struct SampleSet {
+    std::vector<std::pair<double, double>> face;
+    std::vector<std::pair<double, double>> ring[4];
+    int depth = 2;
+};
+
+SampleSet sampleSet(std::string const &samples) {
+    SampleSet set;
+    auto &uvs = set.face;
+    if (samples == "grid") {
+        for (double v : {0.0, 0.25, 0.5, 0.75, 1.0})
+            for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) uvs.push_back({u, v});
+    } else if (samples == "nine") {
+        for (double v : {0.0, 0.5, 1.0})
+            for (double u : {0.0, 0.5, 1.0}) uvs.push_back({u, v});
+    } else if (samples == "four") {
+        uvs = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.25, 0.75}};
+    } else if (samples.rfind("corners:", 0) == 0) {
+        int m = std::atoi(samples.c_str() + 8);
+        if (m < 0 || m > 8) fail("--samples", "corners:M needs 0 <= M <= 8");
+        set.depth = m + 2;
+        for (double v : {0.0, 0.25, 0.5, 0.75, 1.0})
+            for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) uvs.push_back({u, v});
+        // Corner c of the square at (0,0), (1,0), (1,1), (0,1).
+        for (int l = 1; l <= m; ++l) {
+            double side = std::ldexp(1.0, -l);
+            for (int j = 0; j <= 4; ++j)
+                for (int i = 0; i <= 4; ++i) {
+                    double a = side * i / 4, b = side * j / 4;
+                    std::pair<double, double> at[4] = {{a, b}, {1 - a, b}, {1 - a, 1 - b}, {a, 1 - b}};
+                    for (int c = 0; c < 4; ++c) {
+                        auto &r = set.ring[c];
+                        if (std::find(uvs.begin(), uvs.end(), at[c]) == uvs.end() &&
+                            std::find(r.begin(), r.end(), at[c]) == r.end())
+                            r.push_back(at[c]);
+                    }
+                }
+        }
+    } else {
+        fail("--samples", "expected grid, nine, four or corners:M");
+    }
+    return set;
+}
+
+// Whether the limit surface near vertex v of the base level is anything but
+// a regular interior B-spline patch's: the rings are sampled there.
+// (A regular boundary vertex, two faces and three edges with only the
+// boundary sharp, counts as regular.)
+bool irregular(Far::TopologyLevel const &base, int v) {
+    if (base.IsVertexNonManifold(v) || base.GetVertexSharpness(v) > 0) return true;
+    int edges = base.GetVertexEdges(v).size(), faces = base.GetVertexFaces(v).size();
+    bool boundary = base.IsVertexBoundary(v);
+    if (boundary ? (edges != 3 || faces != 2) : (edges != 4 || faces != 4)) return true;
+    for (int e : base.GetVertexEdges(v))
+        if (base.GetEdgeSharpness(e) > 0 && !base.IsEdgeBoundary(e)) return true;
+    return false;
+}
+
+// The limit of a dart, or of a smooth vertex of valence 2, of the last
+// level: OpenSubdiv's smooth limit mask is exact only where every edge is
+// smooth and the valence is 3 or more (at a dart on catmark_inf_crease0 it
+// misses by 8.6e-4 of the model at level 2, and still 3e-6 at level 8), so
+// the vertex's one-ring is subdivided with OpenSubdiv's rules until it has
+// shrunk to a point (the converter does the same, src/scene/acc.rs).
+bool iteratedLimit(Far::TopologyLevel const &lv, std::vector<Point> const &pos, int vert,
+                   Point &out) {
+    Far::ConstIndexArray faces = lv.GetVertexFaces(vert);
+    Far::ConstLocalIndexArray local = lv.GetVertexFaceLocalIndices(vert);
+    int n = faces.size();
+    if (n < 2 || lv.IsVertexBoundary(vert) || lv.IsVertexNonManifold(vert)) return false;
+    if (lv.GetVertexSharpness(vert) > 0) return false;
+    struct Corner { int a, d, b; };
+    std::vector<Corner> ring;
+    for (int i = 0; i < n; ++i) {
+        Far::ConstIndexArray fv = lv.GetFaceVertices(faces[i]);
+        if (fv.size() != 4) return false;
+        int k = local[i];
+        ring.push_back({fv[(k + 1) % 4], fv[(k + 2) % 4], fv[(k + 3) % 4]});
+    }
+    // Chain the faces: the next one across the edge to a.
+    std::vector<Corner> order = {ring[0]};
+    while ((int)order.size() < n) {
+        auto next = std::find_if(ring.begin(), ring.end(),
+                                 [&](Corner const &c) { return c.b == order.back().a; });
+        if (next == ring.end()) return false;
+        order.push_back(*next);
+    }
+    auto vec = [](Point const &p) { return std::array<double, 3>{p.x, p.y, p.z}; };
+    using V = std::array<double, 3>;
+    auto add = [](V a, V b) { return V{a[0] + b[0], a[1] + b[1], a[2] + b[2]}; };
+    auto mul = [](V a, double s) { return V{a[0] * s, a[1] * s, a[2] * s}; };
+    V v = vec(pos[vert]);
+    std::vector<V> e(n), d(n);
+    std::vector<double> sharp(n);
+    int sharpEdges = 0;
+    for (int i = 0; i < n; ++i) {
+        e[i] = vec(pos[order[i].a]);
+        d[i] = vec(pos[order[i].d]);
+        sharp[i] = lv.GetEdgeSharpness(lv.FindEdge(vert, order[i].a));
+        sharpEdges += sharp[i] > 0;
+    }
+    if (sharpEdges != 1 && !(sharpEdges == 0 && n == 2)) return false;
+    for (int step = 0; step < 60; ++step) {
+        std::vector<V> f(n);
+        V q{0, 0, 0}, r{0, 0, 0};
+        for (int i = 0; i < n; ++i) {
+            f[i] = mul(add(add(v, e[i]), add(d[i], e[(i + n - 1) % n])), 0.25);
+            q = add(q, mul(f[i], 1.0 / n));
+            r = add(r, mul(add(v, e[i]), 0.5 / n));
+        }
+        V nv = mul(add(add(q, mul(r, 2.0)), mul(v, n - 3.0)), 1.0 / n);
+        for (int i = 0; i < n; ++i) {
+            V mid = mul(add(v, e[i]), 0.5);
+            V smooth = mul(add(add(v, e[i]), add(f[i], f[(i + 1) % n])), 0.25);
+            double s = sharp[i];
+            e[i] = s >= 1 ? mid : add(smooth, mul(add(mid, mul(smooth, -1)), std::max(s, 0.0)));
+            sharp[i] = s >= 10 ? s : (s > 1 ? s - 1 : 0);
+        }
+        d = f;
+        v = nv;
+    }
+    out.x = v[0];
+    out.y = v[1];
+    out.z = v[2];
+    return true;
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four]\n");
+        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four|corners:M]\n");
         return 2;
     }
     std::string boundary = "edge-and-corner", samples = "grid";
@@ -195,7 +344,10 @@ int main(int argc, char **argv) {
 
     Sdc::Options sdc;
     sdc.SetVtxBoundaryInterpolation(boundaryRule(cage.boundaryTag, boundary));
-    sdc.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
+    sdc.SetCreasingMethod(cage.chaikin ? Sdc::Options::CREASE_CHAIKIN
+                                       : Sdc::Options::CREASE_UNIFORM);
+    sdc.SetTriangleSubdivision(cage.smoothTriangles ? Sdc::Options::TRI_SUB_SMOOTH
+                                                    : Sdc::Options::TRI_SUB_CATMARK);
 
     Far::TopologyDescriptor desc;
     desc.numVertices = (int)cage.points.size();
@@ -208,16 +360,24 @@ int main(int argc, char **argv) {
     desc.numCorners = (int)cage.cornerSharpness.size();
     desc.cornerVertexIndices = cage.corners.data();
     desc.cornerWeights = cage.cornerSharpness.data();
+    desc.numHoles = (int)cage.holes.size();
+    desc.holeIndices = cage.holes.data();
 
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     Far::TopologyRefiner *refiner =
         Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc));
     if (!refiner) fail(argv[1], "OpenSubdiv refused the topology");
-    // Deep enough that no semi-sharp feature is left (infinite ones stay).
+    SampleSet set = sampleSet(samples);
+    int depth = set.depth;
+    // Deep enough that no semi-sharp feature is left (infinite ones stay;
+    // Chaikin's rule never leaves more than the largest sharpness minus the
+    // steps taken) and every sample is a vertex.
     float semi = 0;
     for (float s : cage.creaseSharpness) if (s < 10) semi = std::max(semi, s);
     for (float s : cage.cornerSharpness) if (s < 10) semi = std::max(semi, s);
-    int level = std::max(2, (int)std::ceil(semi));
+    bool nonQuads = std::any_of(cage.faceSizes.begin(), cage.faceSizes.end(),
+                                [](int n) { return n != 4; });
+    int level = std::max(depth + (nonQuads ? 1 : 0), (int)std::ceil(semi));
     Far::TopologyRefiner::UniformOptions uniform(level);
     // The limit masks need each last-level vertex's edges and faces.
     uniform.fullTopologyInLastLevel = true;
@@ -236,28 +396,33 @@ int main(int argc, char **argv) {
     Point const *src = coarse.data();
     Point *dst = limit.data();
     primvar.Limit(src, dst);
-
-    std::vector<std::pair<double, double>> uvs;
-    // Sample sets: every set but `four` covers the face's corners and
-    // edges too, where creases and boundaries are.
-    if (samples == "grid") {
-        for (double v : {0.0, 0.25, 0.5, 0.75, 1.0})
-            for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) uvs.push_back({u, v});
-    } else if (samples == "nine") {
-        for (double v : {0.0, 0.5, 1.0})
-            for (double u : {0.0, 0.5, 1.0}) uvs.push_back({u, v});
-    } else if (samples == "four") {
-        uvs = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.25, 0.75}};
-    } else {
-        fail("--samples", "expected grid, nine or four");
+    Far::TopologyLevel const &last = refiner->GetLevel(level);
+    int iterated = 0;
+    for (int v = 0; v < last.GetNumVertices(); ++v) {
+        Sdc::Crease::Rule rule = last.GetVertexRule(v);
+        bool dart = rule == Sdc::Crease::RULE_DART;
+        bool val2 = rule == Sdc::Crease::RULE_SMOOTH && last.GetVertexFaces(v).size() == 2;
+        if ((dart || val2) && iteratedLimit(last, coarse, v, limit[v])) ++iterated;
     }
 
-    std::printf("# osd_limit %s boundary=%d level=%d samples=%s\n", argv[1],
-                (int)sdc.GetVtxBoundaryInterpolation(), level, samples.c_str());
+    std::printf("# osd_limit %s boundary=%d level=%d samples=%s iterated=%d\n", argv[1],
+                (int)sdc.GetVtxBoundaryInterpolation(), level, samples.c_str(), iterated);
     Far::TopologyLevel const &base = refiner->GetLevel(0);
     for (int f = 0; f < desc.numFaces; ++f) {
-        int subs = cage.faceSizes[f] == 4 ? 1 : cage.faceSizes[f];
+        int n = cage.faceSizes[f];
+        int subs = n == 4 ? 1 : n;
+        Far::ConstIndexArray fv = base.GetFaceVertices(f);
         for (int k = 0; k < subs; ++k) {
+            // Which corners of the (sub-)face are irregular: a quad's own
+            // vertices; a sub-face's corner 0 (the n-gon's vertex k) and
+            // corner 2 (its centre, of valence n).
+            bool at[4];
+            for (int c = 0; c < 4; ++c)
+                at[c] = subs == 1 ? irregular(base, fv[c])
+                                  : (c == 0 ? irregular(base, fv[k]) : c == 2);
+            std::vector<std::pair<double, double>> uvs = set.face;
+            for (int c = 0; c < 4; ++c)
+                if (at[c]) uvs.insert(uvs.end(), set.ring[c].begin(), set.ring[c].end());
             for (auto [u, v] : uvs) {
                 if (base.IsFaceHole(f)) {
                     std::printf("%d %d %g %g hole\n", f, k, u, v);
@@ -269,7 +434,7 @@ int main(int argc, char **argv) {
                                      : sampleVertex(*refiner, 1, base.GetFaceChildFaces(f)[k],
                                                     u, v, level);
                 Point const &p = limit[vert];
-                std::printf("%d %d %g %g %.9g %.9g %.9g\n", f, k, u, v, p.x, p.y, p.z);
+                std::printf("%d %d %.17g %.17g %.9g %.9g %.9g\n", f, k, u, v, p.x, p.y, p.z);
             }
         }
     }

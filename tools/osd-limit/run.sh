@@ -9,9 +9,16 @@
 #   BOUNDARY  none | edge-only | edge-and-corner | tag (the file's own tag,
 #             else the converter's default, edge-and-corner)
 #   CREASES   keep, or a number every `t crease` sharpness is replaced by
-#   SAMPLES   grid (5x5 per face, edges included), nine (3x3), four (see
-#             osd_limit.cpp)
+#   SAMPLES   grid (5x5 per face, edges included), nine (3x3), four,
+#             corners:M (the irregular rings of isolation down to level M;
+#             see osd_limit.cpp)
+#   ISOLATE   optional: the `isolate` levels the test imports the case at,
+#             e.g. 0/2/4 (default 0)
 # The case line is written as the file's first line; the test reads it back.
+#
+# Then every catmark_* regression shape of OpenSubdiv's (tests/data/osd-shapes,
+# extracted by tools/osd-shapes/extract.py) goes to tests/data/osd/shapes/,
+# at its own tags, with as many samples per face as keeps the file small.
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 tool=$(mktemp -d)
@@ -21,7 +28,7 @@ out="$root/tests/data/osd"
 mkdir -p "$out"
 
 run() {
-    name=$1 model=$2 boundary=$3 creases=$4 samples=$5
+    name=$1 model=$2 boundary=$3 creases=$4 samples=$5 isolate=${6:-0} dir=${7:-$out}
     src="$root/$model"
     if [ "$creases" != keep ]; then
         # Same rewrite as the test: the last word of each crease line.
@@ -31,11 +38,11 @@ run() {
     opt=
     if [ "$boundary" != tag ]; then opt="--boundary $boundary"; else opt="--boundary edge-and-corner"; fi
     {
-        echo "# case $name model=$model boundary=$boundary creases=$creases samples=$samples"
+        echo "# case $name model=$model boundary=$boundary creases=$creases samples=$samples isolate=$isolate"
         # shellcheck disable=SC2086
         "$tool/osd_limit" "$src" $opt --samples "$samples" | grep -v '^#'
-    } > "$out/$name.txt"
-    echo "$out/$name.txt: $(wc -l < "$out/$name.txt") lines"
+    } > "$dir/$name.txt"
+    echo "$dir/$name.txt: $(wc -l < "$dir/$name.txt") lines"
 }
 
 run torus            scenes/models/catmark_torus.obj          tag             keep grid
@@ -53,3 +60,22 @@ run grid_crease_none tests/data/cages/grid_crease.obj         none            ke
 run grid_semi        tests/data/cages/grid_semi.obj           tag             keep grid
 run book             tests/data/cages/book.obj                edge-and-corner keep grid
 run cubes_touching   tests/data/cages/cubes_touching.obj      edge-and-corner keep grid
+
+# Isolation: the irregular rings sampled down to level 4 or 5, imported at
+# isolate 0 to 4.
+run iso_xord_interior scenes/models/catmark_xord_interior.obj tag keep corners:4 0/1/2/3/4
+run iso_pole64        scenes/models/catmark_pole64.obj        tag keep corners:4 0/1/2/3/4
+run iso_cube          scenes/models/catmark_cube.obj          tag keep corners:5 0/1/2/3/4
+run iso_grid_semi     tests/data/cages/grid_semi.obj          tag keep corners:4 0/1/2/3/4
+
+shapes="$out/shapes"
+mkdir -p "$shapes"
+for obj in "$root"/tests/data/osd-shapes/catmark_*.obj; do
+    name=$(basename "$obj" .obj)
+    faces=$(grep -c '^f ' "$obj")
+    if [ "$faces" -le 60 ]; then samples=grid
+    elif [ "$faces" -le 300 ]; then samples=nine
+    else samples=four
+    fi
+    run "$name" "tests/data/osd-shapes/$name.obj" tag keep "$samples" 0 "$shapes"
+done

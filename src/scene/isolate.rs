@@ -1,0 +1,347 @@
+//! From a resolved cage to patches, with or without isolation.
+//!
+//! Without isolation (`isolate = 0`, the default) the cage is converted as
+//! it is, or, if any face is not a quad, after one Catmull–Clark step of the
+//! whole cage (`refine.rs`).
+//!
+//! With `isolate = N` every connected part of the cage (faces joined
+//! through shared vertices) whose conversion is not exact everywhere —
+//! an extraordinary vertex, a dart, a semi-sharp crease or corner, an
+//! irregular crease or corner, a face that is not a quad — is refined N
+//! times by OpenSubdiv's rules before it is converted. Each step quarters
+//! the faces; the patches that touch an irregular vertex (the irregular
+//! ring, a quarter as wide per step) keep approximating the limit surface,
+//! every other patch is exactly OpenSubdiv's bicubic B-spline patch, and a
+//! semi-sharp feature of sharpness s has run out after ⌈s⌉ steps. Parts
+//! that are exact already stay as they are.
+//!
+//! Why every face of such a part, not only those near its features (as
+//! OpenSubdiv's feature-adaptive refinement does): a patch drawn by this
+//! renderer meets its neighbours along whole edges with the same four
+//! control points, which is what keeps it crack-free. Next to a refined face
+//! a coarse one would meet two half edges with one curve (a T-junction),
+//! which no per-edge decision can draw without a crack; making the coarse
+//! face's neighbours conform spreads to every face of the part. Drawing
+//! T-junctions crack-free needs the subdivision kernel to take a coarse
+//! edge's halves from its finer neighbours, which it does not (see
+//! docs/GUIDE.md, "Isolation").
+//!
+//! Crack-freeness is the converter's as always: the refined cage is
+//! converted by `acc.rs`, which computes every boundary point once.
+
+use std::path::Path;
+
+use super::acc::{self, Conversion};
+use super::cage::{Cage, Topology};
+use super::refine::{refine, SubFace};
+use super::shading::ShadingPatch;
+use super::{fit, tangent, PatchOrigin, SceneError};
+
+/// The most refinement steps `isolate` may ask for: each step quarters
+/// every face, so 6 is already 4,096 patches per cage face.
+pub const MAX_ISOLATE: u32 = 6;
+
+/// Patches by the refinement level they were made at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LevelCount {
+    /// Refinement steps before conversion.
+    pub level: u32,
+    /// Patches made at that level.
+    pub patches: usize,
+    /// Of those, exactly OpenSubdiv's limit surface.
+    pub exact: usize,
+}
+
+/// The patches of a cage and where each came from.
+#[derive(Clone, Debug, Default)]
+pub struct Converted {
+    /// Patches, following the cage's face order.
+    pub patches: Vec<crate::patch::bezier::BezierPatch>,
+    /// Their shading patches.
+    pub shading: Vec<ShadingPatch>,
+    /// Their origins.
+    pub origins: Vec<PatchOrigin>,
+    /// Patches per level, lowest first.
+    pub levels: Vec<LevelCount>,
+    /// Connected parts refined by isolation.
+    pub isolated_parts: usize,
+    /// Connected parts in all.
+    pub parts: usize,
+}
+
+/// Converts `cage` (sharpness resolved, `topo` its adjacency) with `isolate`
+/// refinement steps where they help (see the module doc).
+pub fn convert(
+    cage: &Cage,
+    topo: &Topology,
+    isolate: u32,
+    path: &Path,
+) -> Result<Converted, SceneError> {
+    if isolate == 0 {
+        let levels = u32::from(cage.faces.iter().any(|f| f.len() != 4));
+        let mut out = convert_refined(cage, topo, levels, path)?;
+        out.parts = 1;
+        return Ok(out);
+    }
+    let parts = parts(cage);
+    let mut pieces: Vec<(Vec<usize>, Converted)> = Vec::with_capacity(parts.len());
+    let mut isolated = 0;
+    for faces in parts.iter() {
+        let (sub, _) = extract(cage, faces);
+        let sub_topo = Topology::build(&sub, path)?;
+        let base = u32::from(sub.faces.iter().any(|f| f.len() != 4));
+        let mut piece = convert_refined(&sub, &sub_topo, base, path)?;
+        if base > 0 || piece.origins.iter().any(|o| !o.rule.exact()) {
+            piece = convert_refined(&sub, &sub_topo, isolate.max(base), path)?;
+            isolated += 1;
+        }
+        pieces.push((faces.clone(), piece));
+    }
+    let mut out = merge(pieces);
+    out.parts = parts.len();
+    out.isolated_parts = isolated;
+    Ok(out)
+}
+
+/// Converts `cage` after `levels` global refinement steps; origins name
+/// the faces of `cage`.
+fn convert_refined(
+    cage: &Cage,
+    topo: &Topology,
+    levels: u32,
+    path: &Path,
+) -> Result<Converted, SceneError> {
+    // The step every non-quad cage takes anyway.
+    let base = u32::from(cage.faces.iter().any(|f| f.len() != 4));
+    let mut chain: Vec<Vec<SubFace>> = Vec::new();
+    let mut fine = cage.clone();
+    let mut fine_topo = topo.clone();
+    for _ in 0..levels {
+        let (next, subs) = refine(&fine, &fine_topo);
+        fine_topo = Topology::build(&next, path)?;
+        fine = next;
+        chain.push(subs);
+    }
+    let mut conv: Conversion = acc::convert(&fine, &fine_topo, path)?;
+    // Next to semi-sharp features and darts, fit the patches to a finer
+    // surface (`fit.rs`), within FIT_STEPS steps beyond the non-quad one.
+    let budget = fit::FIT_STEPS.saturating_sub(levels.saturating_sub(base));
+    let steps = fit::steps(&fine).min(budget);
+    if steps > 0 {
+        let want = fit::wanted(&fine, &fine_topo, &conv);
+        fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
+    }
+    let shading = tangent::tangent_patches(&fine, &fine_topo, &conv);
+    let origins: Vec<PatchOrigin> = conv
+        .faces
+        .iter()
+        .zip(&conv.rules)
+        .map(|(&f, &rule)| origin(cage, &chain, f, rule, levels))
+        .collect();
+    let exact = origins.iter().filter(|o| o.rule.exact()).count();
+    Ok(Converted {
+        levels: vec![LevelCount {
+            level: levels,
+            patches: conv.patches.len(),
+            exact,
+        }],
+        patches: conv.patches,
+        shading,
+        origins,
+        isolated_parts: 0,
+        parts: 1,
+    })
+}
+
+/// Where face `f` of the last level of `chain` lies in `cage`.
+fn origin(
+    cage: &Cage,
+    chain: &[Vec<SubFace>],
+    f: usize,
+    rule: acc::PatchRule,
+    level: u32,
+) -> PatchOrigin {
+    // Corners from the top: [k1, k2, …], k1 the sub-quad of the cage face.
+    let mut corners = Vec::with_capacity(chain.len());
+    let mut at = f;
+    for subs in chain.iter().rev() {
+        corners.push(subs[at].corner);
+        at = subs[at].face;
+    }
+    corners.reverse();
+    let quad = cage.faces[at].len() == 4;
+    // An n-gon's sub-face k1 is its own (ptex) parameter square.
+    let inner = if quad {
+        &corners[..]
+    } else {
+        &corners[1.min(corners.len())..]
+    };
+    let corners_uv = (quad || !inner.is_empty()).then(|| {
+        inner
+            .iter()
+            .fold(QUAD_UV, |c, &k| map_square(c, sub_quad_uv(k)))
+    });
+    PatchOrigin {
+        face: at,
+        sub: corners.first().copied().unwrap_or(0),
+        corners_uv,
+        rule,
+        level,
+    }
+}
+
+/// Face-parameter coordinates of a quad's corners 0..4.
+pub const QUAD_UV: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+
+/// `corners_uv` of sub-quad `k` of a quad face, in the face's parameters.
+pub fn sub_quad_uv(k: usize) -> [[f32; 2]; 4] {
+    let c = |i: usize| QUAD_UV[i % 4];
+    let mid = |a: [f32; 2], b: [f32; 2]| [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5];
+    [c(k), mid(c(k), c(k + 1)), [0.5, 0.5], mid(c(k + 3), c(k))]
+}
+
+/// The points `inner` (in the unit square) mapped into the square whose
+/// corners (0,0), (1,0), (1,1), (0,1) lie at `outer`. Dyadic values stay
+/// exact.
+fn map_square(outer: [[f32; 2]; 4], inner: [[f32; 2]; 4]) -> [[f32; 2]; 4] {
+    let [o, a, _, b] = outer;
+    inner.map(|[s, t]| {
+        [
+            o[0] + s * (a[0] - o[0]) + t * (b[0] - o[0]),
+            o[1] + s * (a[1] - o[1]) + t * (b[1] - o[1]),
+        ]
+    })
+}
+
+/// The faces of each connected part of `cage` (joined through shared
+/// vertices), in face order.
+fn parts(cage: &Cage) -> Vec<Vec<usize>> {
+    let nv = cage.positions.len();
+    let mut root: Vec<usize> = (0..nv).collect();
+    fn find(root: &mut [usize], mut v: usize) -> usize {
+        while root[v] != v {
+            root[v] = root[root[v]];
+            v = root[v];
+        }
+        v
+    }
+    for face in &cage.faces {
+        let a = find(&mut root, face[0]);
+        for &v in &face[1..] {
+            let b = find(&mut root, v);
+            root[b] = a;
+        }
+    }
+    let mut by_root: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+    let mut order: Vec<usize> = Vec::new();
+    for (f, face) in cage.faces.iter().enumerate() {
+        let r = find(&mut root, face[0]);
+        let list = by_root.entry(r).or_default();
+        if list.is_empty() {
+            order.push(r);
+        }
+        list.push(f);
+    }
+    order
+        .into_iter()
+        .map(|r| by_root.remove(&r).unwrap_or_default())
+        .collect()
+}
+
+/// The faces `faces` of `cage` as a cage of their own, vertices renumbered
+/// in order of use; also the new index of each old vertex used.
+pub(crate) fn extract(cage: &Cage, faces: &[usize]) -> (Cage, Vec<Option<usize>>) {
+    let mut map: Vec<Option<usize>> = vec![None; cage.positions.len()];
+    let mut out = Cage {
+        scheme: cage.scheme,
+        ..Cage::default()
+    };
+    for &f in faces {
+        let face = cage.faces[f]
+            .iter()
+            .map(|&v| {
+                *map[v].get_or_insert_with(|| {
+                    out.positions.push(cage.positions[v]);
+                    out.positions.len() - 1
+                })
+            })
+            .collect();
+        out.faces.push(face);
+        out.face_lines.push(cage.line_of(f));
+        out.holes.push(cage.is_hole(f));
+    }
+    for (&(a, b), &s) in &cage.edge_sharpness {
+        if let (Some(a), Some(b)) = (map[a], map[b]) {
+            out.edge_sharpness.insert((a.min(b), a.max(b)), s);
+        }
+    }
+    for (&v, &s) in &cage.vertex_sharpness {
+        if let Some(v) = map[v] {
+            out.vertex_sharpness.insert(v, s);
+        }
+    }
+    if !out.holes.iter().any(|&h| h) {
+        out.holes.clear();
+    }
+    (out, map)
+}
+
+/// Joins the parts' patches in the cage's face order (each part's own
+/// patches follow its faces, then the refinement's corners).
+fn merge(pieces: Vec<(Vec<usize>, Converted)>) -> Converted {
+    let mut all: Vec<(
+        usize,
+        usize,
+        crate::patch::bezier::BezierPatch,
+        ShadingPatch,
+        PatchOrigin,
+    )> = Vec::new();
+    let mut levels: Vec<LevelCount> = Vec::new();
+    for (faces, piece) in pieces {
+        for l in &piece.levels {
+            match levels.iter_mut().find(|m| m.level == l.level) {
+                Some(m) => {
+                    m.patches += l.patches;
+                    m.exact += l.exact;
+                }
+                None => levels.push(*l),
+            }
+        }
+        for (n, ((p, s), mut o)) in piece
+            .patches
+            .into_iter()
+            .zip(piece.shading)
+            .zip(piece.origins)
+            .enumerate()
+        {
+            o.face = faces[o.face];
+            all.push((o.face, n, p, s, o));
+        }
+    }
+    all.sort_by_key(|e| (e.0, e.1));
+    levels.sort_by_key(|l| l.level);
+    let mut out = Converted {
+        levels,
+        ..Converted::default()
+    };
+    for (_, _, p, s, o) in all {
+        out.patches.push(p);
+        out.shading.push(s);
+        out.origins.push(o);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sub_squares_compose() {
+        // Sub-quad 2 of sub-quad 1: in the quadrant at corner (1, 0), the
+        // quarter at that quadrant's corner 2, the face's centre.
+        let c = map_square(sub_quad_uv(1), sub_quad_uv(2));
+        assert_eq!(c, [[0.5, 0.5], [0.5, 0.25], [0.75, 0.25], [0.75, 0.5]]);
+        assert_eq!(map_square(QUAD_UV, sub_quad_uv(3)), sub_quad_uv(3));
+    }
+}

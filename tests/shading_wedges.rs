@@ -1,0 +1,144 @@
+//! Which side of the surface a wedge is lit from (issue 21, item 5).
+//!
+//! A wedge closes the crack between a node's edge and a coarser
+//! neighbour's; its winding says little about the side of the surface it
+//! shows, because where the fine polyline dips below the coarse chord it
+//! folds over. The fragment stage used to turn every wedge's shading normal
+//! towards the eye. At a silhouette the shading normal of the surface just
+//! in front of it faces slightly away, so the quads there were lit from
+//! behind (dark, the ambient 37,25,16 of the orange palette) and the wedges
+//! beside them from the front: single bright pixels along dark silhouettes,
+//! 126,87,53 on `catmark_lefthanded` (the report's 127,87,54), on the
+//! torus's inner rim, on fins seen from behind. Now a wedge of a one-sided
+//! model (closed, seen from outside) shows the outside
+//! (`glsl/common/shade.glsl`, `shading_normal`).
+//!
+//! The test renders the cages of the report at 640×360 (msaa 1, so no
+//! pixel is shaded outside its triangle), finds pixels much brighter than
+//! most of their neighbours, and counts those that `--shade wedges` shows
+//! as wedges. Measured on lavapipe before the fix: torus 8, torus
+//! two-sided 8, lefthanded 2; after it 0 on the one-sided torus and
+//! lefthanded, which the test requires. Two-sided models are still lit the
+//! old way (asking the geometry patch's normal fixed the two-sided torus,
+//! 0, but darkened 53 wedge pixels under MSAA in tests/shading_msaa.rs),
+//! so their count is printed, not required: open.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn temp_dir() -> PathBuf {
+    let d = std::env::temp_dir().join(format!("bezier-subdiv-wedges-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A scene of one cage, seen from outside its bounding box.
+fn scene(dir: &Path, name: &str, model: &Path, camera: [[f64; 3]; 2], two_sided: bool) -> PathBuf {
+    let [p, t] = camera;
+    let text = format!(
+        "name = \"{name}\"\n[camera]\nposition = [{}, {}, {}]\ntarget = [{}, {}, {}]\n\
+         near = 0.01\nfar = 100.0\n[[model]]\nname = \"{name}\"\nfile = {:?}\ntwo_sided = {two_sided}\n",
+        p[0],
+        p[1],
+        p[2],
+        t[0],
+        t[1],
+        t[2],
+        model.display().to_string()
+    );
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn render(scene: &Path, shade: &str, out: &Path) -> image::RgbImage {
+    let run = Command::new(env!("CARGO_BIN_EXE_bezier-subdiv"))
+        .arg("render")
+        .arg("--scene")
+        .arg(scene)
+        .args(["--size", "640x360", "--shade", shade, "--out"])
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    image::open(out).unwrap().to_rgb8()
+}
+
+/// Pixels brighter (sum of channels) than six of their eight neighbours by
+/// more than 120, that the wedge image shows magenta.
+fn bright_wedge_pixels(lit: &image::RgbImage, wedges: &image::RgbImage) -> Vec<(u32, u32)> {
+    let lum = |x: u32, y: u32| {
+        lit.get_pixel(x, y)
+            .0
+            .iter()
+            .map(|&c| i32::from(c))
+            .sum::<i32>()
+    };
+    let (w, h) = lit.dimensions();
+    let mut out = Vec::new();
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let mut around: Vec<i32> = (-1i32..=1)
+                .flat_map(|dy| (-1i32..=1).map(move |dx| (dx, dy)))
+                .filter(|&d| d != (0, 0))
+                .map(|(dx, dy)| lum((x as i32 + dx) as u32, (y as i32 + dy) as u32))
+                .collect();
+            around.sort_unstable();
+            let [r, g, b] = wedges.get_pixel(x, y).0;
+            if lum(x, y) - around[5] > 120 && r > 150 && b > 150 && g < 100 {
+                out.push((x, y));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn wedges_are_lit_from_the_side_their_neighbours_are() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = temp_dir();
+    let torus = root.join("scenes/models/catmark_torus.obj");
+    let lefthanded = root.join("tests/data/osd-shapes/catmark_lefthanded.obj");
+    let torus_cam = [[3.24629, -4.32839, 2.88559], [0.0, 0.0, 0.0]];
+    let left_cam = [
+        [0.71513, -0.959164, 0.634521],
+        [0.0033105, -0.010072, 0.001793],
+    ];
+    // (name, model, camera, two-sided); only one-sided models must show
+    // none (see the module doc).
+    let cases = [
+        ("torus", &torus, torus_cam, false),
+        ("torus-two-sided", &torus, torus_cam, true),
+        ("lefthanded", &lefthanded, left_cam, false),
+    ];
+    let mut failures = Vec::new();
+    for (name, model, cam, two_sided) in cases {
+        let s = scene(&dir, name, model, cam, two_sided);
+        let lit = render(&s, "normal", &dir.join(format!("{name}.png")));
+        let wedges = render(&s, "wedges", &dir.join(format!("{name}-wedges.png")));
+        let bright = bright_wedge_pixels(&lit, &wedges);
+        println!(
+            "{name}: {} bright wedge pixels {:?}",
+            bright.len(),
+            &bright[..bright.len().min(4)]
+        );
+        if !two_sided && !bright.is_empty() {
+            failures.push(format!(
+                "{name}: {} at {:?}",
+                bright.len(),
+                &bright[..bright.len().min(4)]
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{failures:?}; images in {}",
+        dir.display()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
