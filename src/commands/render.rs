@@ -143,22 +143,29 @@ pub fn stats_path(png: &Path) -> PathBuf {
 }
 
 /// The distance in pixels between the method's surface and the ground
-/// truth's in `view` (eval::geometry), and where `flip`'s error lies.
+/// truth's in `view` (eval::geometry), and where `flip`'s error lies. The
+/// reference is the ground truth's distance image only: one ground-truth
+/// frame more, not two (render reports no per-model shares, so it needs no
+/// patch ids).
 fn geometric_error(
     renderer: &mut Renderer,
     view: &View,
     camera: &crate::scene::camera::Camera,
-    geo: &crate::scene::file::SceneGeometry,
     flip: &FlipResult,
 ) -> anyhow::Result<crate::eval::geometry::Breakdown> {
     let far = camera.far as f32;
-    let model_of = |patch: u32| {
-        geo.flags
-            .get(patch as usize)
-            .map(|f| (f >> crate::constants::PATCH_MODEL_SHIFT) as usize)
+    let method = renderer.method().name();
+    renderer.set_method(crate::methods::ground_truth::INFO.name)?;
+    let truth = crate::eval::distance_image(renderer, view, far);
+    renderer.set_method(method)?;
+    let distance = truth?;
+    let size = renderer.target().size();
+    let reference = crate::eval::geometry::Reference {
+        size,
+        model: vec![None; distance.len()],
+        distance,
+        k: (2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan() / f64::from(size.1)) as f32,
     };
-    let reference =
-        crate::eval::ground_truth_reference(renderer, view, far, camera.fov_y_deg, model_of)?;
     let distance = crate::eval::distance_image(renderer, view, far)?;
     let wedges = if renderer.method().has_wedges() {
         Some(crate::eval::wedge_image(renderer, view)?)
@@ -228,7 +235,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         let reference = ground_truth_image(&mut renderer, &view)?;
         let result = flip(&reference, &rgba, w, h)
             .ok_or_else(|| anyhow!("FLIP: the reference and the image differ in size"))?;
-        let geometry = geometric_error(&mut renderer, &view, &camera, &geo, &result)?;
+        let geometry = geometric_error(&mut renderer, &view, &camera, &result)?;
         Some(FlipOutput {
             result,
             grid: renderer.options().grid,
