@@ -499,29 +499,39 @@ pub fn show(p: DVec3) -> String {
     format!("({}, {}, {})", p.x as f32, p.y as f32, p.z as f32)
 }
 
+/// The unit cube as a cage, its faces counter-clockwise seen from outside
+/// and without source lines: the fixture of the cage, orientation and
+/// refinement tests.
+#[cfg(test)]
+pub(crate) fn unit_cube() -> Cage {
+    let positions = (0..8)
+        .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
+        .collect();
+    let faces = vec![
+        vec![0, 2, 3, 1],
+        vec![4, 5, 7, 6],
+        vec![0, 1, 5, 4],
+        vec![2, 6, 7, 3],
+        vec![0, 4, 6, 2],
+        vec![1, 3, 7, 5],
+    ];
+    Cage {
+        positions,
+        face_lines: vec![None; faces.len()],
+        faces,
+        ..Cage::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// The unit cube with source lines 10.. (for the messages tests).
     pub(crate) fn cube() -> Cage {
-        let positions = (0..8)
-            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
-            .collect();
-        // Counter-clockwise seen from outside.
-        let faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
-        Cage {
-            positions,
-            face_lines: (0..faces.len()).map(|f| Some(f + 10)).collect(),
-            faces,
-            ..Cage::default()
-        }
+        let mut c = unit_cube();
+        c.face_lines = (0..c.faces.len()).map(|f| Some(f + 10)).collect();
+        c
     }
 
     #[test]

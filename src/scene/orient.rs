@@ -129,23 +129,7 @@ mod tests {
     use std::path::Path;
 
     fn cube() -> Cage {
-        let positions = (0..8)
-            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
-            .collect();
-        let faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
-        Cage {
-            positions,
-            face_lines: vec![None; 6],
-            faces,
-            ..Cage::default()
-        }
+        crate::scene::cage::unit_cube()
     }
 
     #[test]
