@@ -243,6 +243,12 @@ gpu_block!(
     [depth_row, planes, eye, eps_k, near, w_orth, w_par, l_max, flags, pad]
 );
 
+gpu_block!(
+    crate::scene::instances::Instance,
+    "Instance",
+    [rows, first, source, count, flags]
+);
+
 /// Every host block with its GLSL name and fields, for the reflection test.
 pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
     fn entry<T: GpuBlock>() -> (&'static str, u32, Vec<BlockField>) {
@@ -256,6 +262,7 @@ pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
         entry::<GridPush>(),
         entry::<CtPush>(),
         entry::<ViewParams>(),
+        entry::<crate::scene::instances::Instance>(),
     ]
 }
 
