@@ -9,7 +9,6 @@ use super::context::{Context, Core};
 use super::error::{VkError, VkResult, VkResultExt};
 use super::memory::Buffer;
 use ash::vk;
-use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 /// A descriptor set layout whose binding `i` is `types[i]` (one descriptor
@@ -269,7 +268,7 @@ impl DescriptorSet {
 
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
-        if self.core.hung.load(Ordering::SeqCst) {
+        if !self.core.may_free() {
             return;
         }
         unsafe { self.core.device.destroy_descriptor_pool(self.pool, None) };

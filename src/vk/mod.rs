@@ -19,8 +19,8 @@ pub use commands::{
     buffer_barrier, fill_buffer, host_read_barrier, image_barrier, memory_barrier, Access,
 };
 pub use context::{
-    default_fence_timeout, env_fence_timeout, parse_timeout, set_fence_timeout, Context,
-    ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT,
+    default_fence_timeout, device_leaked, env_fence_timeout, parse_timeout, set_fence_timeout,
+    Context, ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT,
 };
 pub use device::DeviceSelector;
 pub use error::{seconds_text, VkError, VkResult, TIMEOUT_ENV};
