@@ -223,6 +223,11 @@ enum Command {
         /// flip.csv with tools/bench/equal_error.py.
         #[arg(long, value_name = "MODE", value_enum)]
         split: Option<bezier_subdiv::patch::view::Split>,
+        /// Occlusion culling of subdiv and subdiv-indirect, on or off
+        /// (default off: the paper's comparison culls by frustum and back
+        /// faces alone, like the tessellators).
+        #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off")]
+        occlusion: bool,
     },
     /// List the Vulkan devices and what they support.
     Info {
@@ -342,6 +347,15 @@ struct FrameArgs {
     /// (the paper's option) instead of evaluating every one.
     #[arg(long)]
     forward_diff: bool,
+    /// subdiv and subdiv-indirect: occlusion culling, on or off. On, a
+    /// frame draws the instances the last frame saw first, builds a depth
+    /// pyramid from them, then tests every other instance, base patch and
+    /// node against it; the image is the same, hidden work is skipped.
+    /// Default: on for render and view, off for bench (the paper's
+    /// comparison has none); validate compares with the oracle without it
+    /// and checks that it changes no pixel.
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
+    occlusion: Option<bool>,
 }
 
 /// Image size of render, validate and stats when --size is not given.
@@ -373,6 +387,7 @@ impl FrameArgs {
             validation: self.vk_validation,
             forward_differencing: self.forward_diff,
             split: self.view.split,
+            occlusion: self.occlusion,
         }
     }
 }
@@ -545,6 +560,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             quick,
             vk_validation,
             split,
+            occlusion,
         } => {
             let args = BenchArgs {
                 methods,
@@ -559,6 +575,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 quick,
                 validation: vk_validation,
                 split,
+                occlusion,
                 ..BenchArgs::new(resolve_scene(Some(&scene)), out)
             };
             let done = commands::bench::run(&args)?;

@@ -26,7 +26,7 @@ pub use device::DeviceSelector;
 pub use error::{seconds_text, VkError, VkResult, TIMEOUT_ENV};
 pub use frames::{FrameRing, Progress, ProgressSink, MAX_FRAME_PARTS};
 pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, OptionalFeatures};
-pub use layout::{BufferBinding, DescriptorSet, PipelineLayout, SetLayout};
+pub use layout::{Binding, BufferBinding, DescriptorSet, PipelineLayout, Sampler, SetLayout};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{DepthState, GraphicsDesc, Pipeline, Specialization};
 pub use query::{GpuTimer, PrimitiveCounter, PrimitiveQuery};
