@@ -167,7 +167,7 @@ mod tests {
 
     #[test]
     fn layout_is_gpu_friendly() {
-        assert_eq!(std::mem::size_of::<ViewParams>(), 160);
+        assert_eq!(std::mem::size_of::<ViewParams>(), 224);
         assert_eq!(std::mem::size_of::<ViewParams>() % 16, 0);
     }
 
