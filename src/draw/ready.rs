@@ -71,11 +71,13 @@ impl ReadyCaps {
             ("position capture", self.capture_bytes()),
         ] {
             if bytes > limit {
-                return Err(VkError::Usage(format!(
-                    "the {what} for {} ready nodes needs {bytes} bytes, more than this device's \
-                     storage-buffer range of {limit} bytes (raise ε or lower the resolution)",
-                    self.ready
-                )));
+                return Err(VkError::OverDeviceLimit {
+                    what: format!("{what} for {} ready nodes", self.ready),
+                    bytes,
+                    limit,
+                    hint: "raise ε, lower the resolution, or take the mesh path (--draw mesh) \
+                           where the device has mesh shaders: it needs no vertex buffer",
+                });
             }
         }
         Ok(())

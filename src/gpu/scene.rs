@@ -217,10 +217,12 @@ impl SceneGpu {
             ("instances", table.instances.len() as u64 * INSTANCE_BYTES),
         ] {
             if bytes > limit {
-                return Err(VkError::Usage(format!(
-                    "the {what} of the scene need {bytes} bytes, more than this \
-                     device's storage-buffer range of {limit} bytes (draw fewer models or instances)"
-                )));
+                return Err(VkError::OverDeviceLimit {
+                    what: format!("scene's {what}"),
+                    bytes,
+                    limit,
+                    hint: "draw fewer models or instances",
+                });
             }
         }
         let floats: Vec<f32> = table

@@ -148,6 +148,24 @@ pub enum VkError {
         reason: String,
     },
 
+    /// A request needs a buffer larger than one storage-buffer binding of
+    /// this device may be: refused before anything is allocated, with what
+    /// the user can change.
+    #[error(
+        "the {what} needs {bytes} bytes, more than this device's storage-buffer range of \
+         {limit} bytes ({hint})"
+    )]
+    OverDeviceLimit {
+        /// What would not fit (e.g. "fallback vertex buffer for 2097152 ready nodes").
+        what: String,
+        /// What it needs.
+        bytes: u64,
+        /// `maxStorageBufferRange`.
+        limit: u64,
+        /// What to change.
+        hint: &'static str,
+    },
+
     /// The API was used in a way it does not support (a programming error
     /// reported as an error rather than a panic).
     #[error("invalid use of the Vulkan layer: {0}")]
