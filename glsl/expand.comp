@@ -35,7 +35,8 @@ void main() {
     vec3 pos[NODE_MESH_SLOTS];
     patch_node_positions(node_patch(q), mesh, pos);
     for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
-        if (slot_used(mesh, s) && pc.capture_enabled != 0u) {
+        if (slot_used(mesh, s) && pc.capture_enabled != 0u
+            && NODE_MESH_SLOTS * node + s < uint(capture.length())) {
             capture[NODE_MESH_SLOTS * node + s] = vec4(pos[s], 1.0);
         }
     }

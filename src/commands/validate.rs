@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 
 use super::{eps_lambda, keyframe, thousands, GpuRequest};
-use crate::constants::SHADE_NORMAL;
+use crate::constants::{NODE_MESH_SLOTS, SHADE_NORMAL};
 use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::View;
 use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
@@ -194,6 +194,18 @@ fn oracle_checks(
     let (compared, bad) = match stage.path() {
         DrawPath::Mesh => {
             let capture: Vec<[f32; 4]> = list.capture.read(&ctx)?;
+            let held = capture.len() / NODE_MESH_SLOTS as usize;
+            if held < gpu_ready.len() {
+                // One binding holds NODE_MESH_SLOTS vec4s per node up to the
+                // device's storage-buffer range; the shaders wrote no further.
+                anyhow::bail!(
+                    "the position capture holds {} of the frame's {} ready nodes (one storage \
+                     buffer of this device); validate a nearer view, a higher --eps or a \
+                     smaller --size",
+                    thousands(held as u64),
+                    thousands(gpu_ready.len() as u64)
+                );
+            }
             compare_capture(&surfaces, &gpu_ready, &capture, wedges)
         }
         DrawPath::Fallback => {

@@ -54,9 +54,13 @@ impl ReadyCaps {
         }
     }
 
-    fn capture_bytes(&self) -> u64 {
+    /// The capture holds the first this many ready nodes: all of them
+    /// where one binding allows, else as many as it can (the shaders write
+    /// no further, and `validate` refuses a frame with more).
+    fn capture_bytes(&self, limit: u64) -> u64 {
+        const NODE_BYTES: u64 = NODE_MESH_SLOTS as u64 * 16;
         if self.capture {
-            u64::from(self.ready) * u64::from(NODE_MESH_SLOTS) * 16
+            (u64::from(self.ready) * NODE_BYTES).min(limit / NODE_BYTES * NODE_BYTES)
         } else {
             16
         }
@@ -68,7 +72,6 @@ impl ReadyCaps {
         for (what, bytes) in [
             ("ready list", u64::from(self.ready) * 8),
             ("fallback vertex buffer", self.vertex_bytes()),
-            ("position capture", self.capture_bytes()),
         ] {
             if bytes > limit {
                 return Err(VkError::OverDeviceLimit {
@@ -129,7 +132,9 @@ impl ReadyList {
             gpu,
         )?;
         let vertices = Buffer::new(ctx, "fallback vertices", caps.vertex_bytes(), storage, gpu)?;
-        let capture = Buffer::new(ctx, "position capture", caps.capture_bytes(), storage, gpu)?;
+        let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
+        let capture_bytes = caps.capture_bytes(limit);
+        let capture = Buffer::new(ctx, "position capture", capture_bytes, storage, gpu)?;
         let sort_temp = Buffer::new(ctx, "sort temp", caps.sort_bytes(), storage, gpu)?;
         let mut bound = [BufferBinding::from(&ready); READY_BINDINGS as usize];
         bound[BIND_READY as usize] = (&ready).into();
