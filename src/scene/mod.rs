@@ -11,6 +11,7 @@ pub mod fit;
 pub mod geometry;
 pub mod isolate;
 pub mod limit;
+pub mod linear;
 pub mod obj;
 pub mod orbit;
 pub mod orient;
@@ -18,6 +19,7 @@ pub mod pn;
 pub mod refine;
 pub mod shading;
 pub mod sharpness;
+pub mod stencil;
 pub mod tags;
 pub mod tangent;
 
@@ -114,6 +116,9 @@ pub struct ImportedModel {
     pub shading: Vec<ShadingPatch>,
     /// For cages: the rules applied and what the cage holds.
     pub cage: Option<CageInfo>,
+    /// For cages: the patches and shading patches as functions of the
+    /// cage's vertices, for animation (`stencil.rs`).
+    pub stencils: Option<std::sync::Arc<stencil::CageModel>>,
     /// Things the user should know that did not stop the import.
     pub warnings: Vec<String>,
 }
