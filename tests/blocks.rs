@@ -227,6 +227,7 @@ fn every_block_matches_its_rust_twin() {
         let r = reflect(shader);
         let mut structs = r.push_blocks();
         structs.extend(r.struct_named("ViewParams"));
+        structs.extend(r.struct_named("AnimDeformer"));
         for t in structs {
             match compare(shader, &r, t) {
                 Ok(name) => *checked.entry(name).or_default() += 1,

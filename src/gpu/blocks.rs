@@ -77,6 +77,27 @@ gpu_block!(
     [view_proj, light_dir, shade, capacity, capture_enabled, grid]
 );
 
+/// Push constants of the animation update pass (`AnimPush` in
+/// `glsl/common/anim.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct AnimPush {
+    /// `ANIM_PASS_*`.
+    pub pass: u32,
+    /// Items of this step (vertices, rows, instance patches).
+    pub count: u32,
+    /// Animated instances (the instances step's binary search).
+    pub instances: u32,
+    /// Padding.
+    pub pad: u32,
+}
+gpu_block!(AnimPush, "AnimPush", [pass, count, instances, pad]);
+gpu_block!(
+    crate::anim::deform::GpuDeformer,
+    "AnimDeformer",
+    [kind, axis, other, pad, center, p]
+);
+
 /// Push constants of the queue kernel (`SubdivPush` in
 /// `glsl/common/queue.glsl`, `subdiv --kernel queue`).
 #[repr(C)]
@@ -255,6 +276,8 @@ pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
         entry::<ListPush>(),
         entry::<GridPush>(),
         entry::<CtPush>(),
+        entry::<AnimPush>(),
+        entry::<crate::anim::deform::GpuDeformer>(),
         entry::<ViewParams>(),
     ]
 }

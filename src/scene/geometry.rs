@@ -133,6 +133,9 @@ impl SceneShading {
     }
 }
 
+/// Imported models by file, cage options and surface.
+pub(crate) type ModelCache = HashMap<(PathBuf, CageOptions, Surface), ImportedModel>;
+
 /// Loads one model file by extension (`.bpt` or `.obj`).
 pub fn load_model(path: &Path) -> Result<ImportedModel, SceneError> {
     load_model_with(path, &CageOptions::default())
@@ -196,6 +199,15 @@ impl Scene {
     }
 
     fn build(&self, with_shading: bool) -> Result<(SceneGeometry, SceneShading), SceneError> {
+        self.build_with_models(with_shading).map(|(g, s, _)| (g, s))
+    }
+
+    /// [`Scene::geometry_and_shading`] and the imported models (for
+    /// animation), by model file, options and surface.
+    pub(crate) fn build_with_models(
+        &self,
+        with_shading: bool,
+    ) -> Result<(SceneGeometry, SceneShading, ModelCache), SceneError> {
         let model_error = |m: &ModelDesc, msg: String| SceneError::Model {
             scene: self.path.clone(),
             model: m.name.clone(),
@@ -343,7 +355,7 @@ impl Scene {
             ));
         }
         geo.pn.number_edges();
-        Ok((geo, shading))
+        Ok((geo, shading, cache))
     }
 }
 

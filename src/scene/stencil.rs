@@ -300,6 +300,61 @@ pub struct CageModel {
     pub file_vertices: usize,
 }
 
+impl CageModel {
+    /// A patch file's patches as a "cage" of their distinct control points
+    /// (shared boundary points, found by their bits, are one vertex): every
+    /// point row one vertex, the shading rows the patches' own derivative
+    /// nets (`ShadingPatch::from_geometry`, to the bit). So patch models
+    /// animate by moving their control points.
+    pub fn for_patches(patches: &[BezierPatch]) -> Self {
+        let mut index: HashMap<[u32; 3], u32> = HashMap::new();
+        let mut rest = Vec::new();
+        let mut stencils = CageStencils::default();
+        for p in patches {
+            let rows = p.pts.map(|q| {
+                *index
+                    .entry(q.to_array().map(f32::to_bits))
+                    .or_insert_with(|| {
+                        rest.push(q);
+                        stencils.points.push(rest.len() as u32 - 1, &[])
+                    })
+            });
+            stencils.patch_rows.push(rows);
+            let diff = |a: usize, b: usize| -> (u32, Vec<(u32, f32)>) {
+                let (ra, rb) = (rows[a], rows[b]);
+                if ra == rb {
+                    return (ra, Vec::new());
+                }
+                // The reference form's reference is the lower input of two
+                // equal weights: 3·(a − b) is −3·(b − a) to the bit.
+                if ra < rb {
+                    (ra, vec![(rb, -3.0)])
+                } else {
+                    (rb, vec![(ra, 3.0)])
+                }
+            };
+            for n in 0..12 {
+                let (i, j) = (n % 3, n / 3);
+                let (r, t) = diff(4 * j + i + 1, 4 * j + i);
+                stencils.shading.push(r, &t);
+            }
+            for n in 0..12 {
+                let (i, j) = (n % 4, n / 4);
+                let (r, t) = diff(4 * (j + 1) + i, 4 * j + i);
+                stencils.shading.push(r, &t);
+            }
+        }
+        stencils.vertices = rest.len();
+        CageModel {
+            stencils,
+            file_vertex: (0..rest.len()).collect(),
+            file_vertices: rest.len(),
+            rest,
+            file_faces: Vec::new(),
+        }
+    }
+}
+
 /// Where `acc.rs` puts a face's corner and edge points in its patch, face
 /// (v0, v1, v2, v3): (slot, the corner's vertex k) and (slot, the edge
 /// point's (near, far) corners). Only used to find most of the points the

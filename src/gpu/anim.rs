@@ -1,0 +1,384 @@
+//! The animation update pass: before any method records, the animated
+//! models' cages are deformed and converted by their stencil tables and the
+//! animated instances' patches and shading patches are written over set 0's
+//! (`glsl/anim_update.comp`, one pipeline, four dispatches: deform, points,
+//! vectors, instances; the CPU twin is `anim::Animation::pose`). A static
+//! scene has no [`AnimGpu`] and records nothing.
+//!
+//! Buffers: the tables, the rest vertices and the instance list are
+//! uploaded once; the deformed vertices, point rows and shading rows are
+//! scratch; each frame slot has its own host-visible deformers,
+//! transforms and sequence vertices, written when the slot's frame is
+//! recorded (its previous frame has finished by then).
+
+use ash::vk;
+
+use crate::anim::deform::GpuDeformer;
+use crate::anim::{Animation, Frame};
+use crate::constants::*;
+use crate::gpu::{AnimPush, SceneGpu, Shaders};
+use crate::scene::stencil::Table;
+use crate::vk::{
+    memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation,
+    Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
+};
+
+/// One frame slot's inputs.
+struct SlotBuffers {
+    deformers: Buffer,
+    transforms: Buffer,
+    inputs: Buffer,
+    set: DescriptorSet,
+}
+
+/// The update pass of one animation on one uploaded scene.
+pub struct AnimGpu {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+    statics: Vec<Buffer>,
+    scratch: Vec<Buffer>,
+    slots: Vec<SlotBuffers>,
+    vertices: u32,
+    point_rows: u32,
+    shading_rows: u32,
+    instance_patches: u32,
+    instances: u32,
+    /// Per model: its deformers' first index (the slot's deformer array).
+    deformer_first: Vec<usize>,
+    /// Per model with a sequence: its first vertex in the slot's inputs.
+    input_first: Vec<Option<usize>>,
+    deformer_count: usize,
+    input_floats: usize,
+    /// The scene's serial the set was made for.
+    pub scene_serial: u64,
+}
+
+/// The whole animation's tables, inputs renamed to global indices.
+struct Layout {
+    rest: Vec<f32>,
+    vertex_model: Vec<u32>,
+    models: Vec<[u32; 4]>,
+    point_rows: Vec<[u32; 2]>,
+    point_terms: Vec<[u32; 2]>,
+    shading_rows: Vec<[u32; 2]>,
+    shading_terms: Vec<[u32; 2]>,
+    patch_rows: Vec<u32>,
+    instances: Vec<[u32; 4]>,
+    deformer_first: Vec<usize>,
+    input_first: Vec<Option<usize>>,
+    deformer_count: usize,
+    input_floats: usize,
+}
+
+fn append(table: &Table, input_base: u32, rows: &mut Vec<[u32; 2]>, terms: &mut Vec<[u32; 2]>) {
+    for r in 0..table.rows() {
+        let (reference, t) = table.row(r);
+        rows.push([terms.len() as u32, reference + input_base]);
+        terms.extend(t.map(|(i, w)| [i + input_base, w.to_bits()]));
+    }
+}
+
+impl Layout {
+    fn new(anim: &Animation) -> Self {
+        let mut l = Layout {
+            rest: Vec::new(),
+            vertex_model: Vec::new(),
+            models: Vec::new(),
+            point_rows: Vec::new(),
+            point_terms: Vec::new(),
+            shading_rows: Vec::new(),
+            shading_terms: Vec::new(),
+            patch_rows: Vec::new(),
+            instances: Vec::new(),
+            deformer_first: Vec::new(),
+            input_first: Vec::new(),
+            deformer_count: 0,
+            input_floats: 0,
+        };
+        let mut patch_first = Vec::new();
+        for (m, model) in anim.models.iter().enumerate() {
+            let s = &model.cage.stencils;
+            let vertex_first = l.vertex_model.len() as u32;
+            let row_first = l.point_rows.len() as u32;
+            patch_first.push(l.patch_rows.len() as u32 / 16);
+            l.rest
+                .extend(model.cage.rest.iter().flat_map(|p| p.to_array()));
+            l.vertex_model
+                .extend(std::iter::repeat_n(m as u32, model.cage.rest.len()));
+            append(
+                &s.points,
+                vertex_first,
+                &mut l.point_rows,
+                &mut l.point_terms,
+            );
+            append(
+                &s.shading,
+                row_first,
+                &mut l.shading_rows,
+                &mut l.shading_terms,
+            );
+            l.patch_rows
+                .extend(s.patch_rows.iter().flat_map(|r| r.map(|x| x + row_first)));
+            let input = (!model.sequence.is_empty()).then_some(l.input_floats / 3);
+            if input.is_some() {
+                l.input_floats += 3 * model.cage.rest.len();
+            }
+            l.models.push([
+                l.deformer_count as u32,
+                model.deform.len() as u32,
+                input.map_or(ANIM_NO_SEQUENCE, |i| i as u32),
+                vertex_first,
+            ]);
+            l.deformer_first.push(l.deformer_count);
+            l.input_first.push(input);
+            l.deformer_count += model.deform.len();
+        }
+        l.point_rows.push([l.point_terms.len() as u32, 0]);
+        l.shading_rows.push([l.shading_terms.len() as u32, 0]);
+        let mut thread = 0u32;
+        for inst in &anim.instances {
+            let n = anim.models[inst.model].cage.stencils.patches() as u32;
+            l.instances.push([
+                thread,
+                inst.first_patch,
+                patch_first[inst.model],
+                if inst.mirror { ANIM_MIRROR } else { 0 },
+            ]);
+            thread += n;
+        }
+        l.instances.push([thread, 0, 0, 0]);
+        l
+    }
+}
+
+/// A storage buffer of `data`, or of one zero where it is empty (a binding
+/// needs a buffer).
+fn storage<T: bytemuck::Pod + bytemuck::Zeroable>(
+    ctx: &Context,
+    name: &str,
+    data: &[T],
+) -> VkResult<Buffer> {
+    let zero = [T::zeroed()];
+    let data = if data.is_empty() { &zero[..] } else { data };
+    Buffer::with_data(
+        ctx,
+        name,
+        data,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )
+}
+
+impl AnimGpu {
+    /// Uploads `anim`'s tables for `scene` (whose patches the animated
+    /// instances overwrite) with `slots` frame slots.
+    pub fn new(
+        ctx: &Context,
+        shaders: &mut Shaders,
+        anim: &Animation,
+        scene: &SceneGpu,
+        slots: usize,
+    ) -> VkResult<Self> {
+        for inst in &anim.instances {
+            let n = anim.models[inst.model].cage.stencils.patches() as u32;
+            if inst.first_patch + n > scene.count {
+                return Err(VkError::Usage(format!(
+                    "an animated instance's patches {}..{} lie beyond the scene's {}",
+                    inst.first_patch,
+                    inst.first_patch + n,
+                    scene.count
+                )));
+            }
+        }
+        let l = Layout::new(anim);
+        let set_layout = SetLayout::storage(
+            ctx,
+            "animation set",
+            ANIM_BINDINGS as usize,
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let layout = PipelineLayout::new(
+            ctx,
+            "animation layout",
+            &[&set_layout],
+            std::mem::size_of::<AnimPush>() as u32,
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let pipeline = shaders.compute(ctx, &layout, "animation update", "anim_update.comp")?;
+        let statics = vec![
+            storage(ctx, "animation rest vertices", &l.rest)?,
+            storage(ctx, "animation vertex models", &l.vertex_model)?,
+            storage(ctx, "animation models", &l.models)?,
+            storage(ctx, "animation point rows", &l.point_rows)?,
+            storage(ctx, "animation point terms", &l.point_terms)?,
+            storage(ctx, "animation shading rows", &l.shading_rows)?,
+            storage(ctx, "animation shading terms", &l.shading_terms)?,
+            storage(ctx, "animation patch rows", &l.patch_rows)?,
+            storage(ctx, "animation instances", &l.instances)?,
+        ];
+        let vertices = l.vertex_model.len() as u32;
+        let point_rows = l.point_rows.len() as u32 - 1;
+        let shading_rows = l.shading_rows.len() as u32 - 1;
+        let scratch_of = |name: &str, n: u32| {
+            Buffer::new(
+                ctx,
+                name,
+                u64::from(n.max(1)) * 12,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let scratch = vec![
+            scratch_of("animation deformed vertices", vertices)?,
+            scratch_of("animation points", point_rows)?,
+            scratch_of("animation vectors", shading_rows)?,
+        ];
+        let host = |name: String, bytes: usize| {
+            Buffer::new(
+                ctx,
+                &name,
+                bytes.max(16) as u64,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )
+        };
+        let instances = anim.instances.len() as u32;
+        let mut slot_buffers = Vec::with_capacity(slots);
+        for s in 0..slots.max(1) {
+            let deformers = host(
+                format!("animation deformers (slot {s})"),
+                l.deformer_count * std::mem::size_of::<GpuDeformer>(),
+            )?;
+            let transforms = host(
+                format!("animation transforms (slot {s})"),
+                anim.instances.len() * 48,
+            )?;
+            let inputs = host(format!("animation inputs (slot {s})"), l.input_floats * 4)?;
+            let mut bound = [BufferBinding::from(&statics[0]); ANIM_BINDINGS as usize];
+            for (k, b) in statics.iter().enumerate() {
+                bound[BIND_ANIM_REST as usize + k] = b.into();
+            }
+            bound[BIND_ANIM_VERTS as usize] = (&scratch[0]).into();
+            bound[BIND_ANIM_POINTS as usize] = (&scratch[1]).into();
+            bound[BIND_ANIM_VECTORS as usize] = (&scratch[2]).into();
+            bound[BIND_ANIM_DEFORMERS as usize] = (&deformers).into();
+            bound[BIND_ANIM_TRANSFORMS as usize] = (&transforms).into();
+            bound[BIND_ANIM_INPUTS as usize] = (&inputs).into();
+            bound[BIND_ANIM_PATCHES as usize] = (&scene.patches).into();
+            bound[BIND_ANIM_SHADING as usize] = (&scene.shading).into();
+            let set = DescriptorSet::new(
+                ctx,
+                &format!("animation set (slot {s})"),
+                &set_layout,
+                &bound,
+            )?;
+            slot_buffers.push(SlotBuffers {
+                deformers,
+                transforms,
+                inputs,
+                set,
+            });
+        }
+        let instance_patches = l.instances.last().map_or(0, |i| i[0]);
+        Ok(Self {
+            layout,
+            pipeline,
+            statics,
+            scratch,
+            slots: slot_buffers,
+            vertices,
+            point_rows,
+            shading_rows,
+            instance_patches,
+            instances,
+            deformer_first: l.deformer_first,
+            input_first: l.input_first,
+            deformer_count: l.deformer_count,
+            input_floats: l.input_floats,
+            scene_serial: scene.serial,
+        })
+    }
+
+    /// Bytes of its buffers: the tables and instance list, the scratch, and
+    /// every slot's inputs.
+    pub fn bytes(&self) -> u64 {
+        let slots: u64 = self
+            .slots
+            .iter()
+            .map(|s| s.deformers.size() + s.transforms.size() + s.inputs.size())
+            .sum();
+        self.statics.iter().map(Buffer::size).sum::<u64>()
+            + self.scratch.iter().map(Buffer::size).sum::<u64>()
+            + slots
+    }
+
+    /// Animated patches written per frame.
+    pub fn patches(&self) -> u32 {
+        self.instance_patches
+    }
+
+    /// Writes `frame`'s inputs into slot `slot` (its previous frame has
+    /// finished) and records the four steps into `cmd`, from a barrier
+    /// after every earlier command (the frame before may still read the
+    /// patches) to one before every later one.
+    pub fn record(
+        &mut self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        frame: &Frame,
+    ) -> VkResult<()> {
+        let slot = slot.min(self.slots.len() - 1);
+        let mut deformers = vec![GpuDeformer::default(); self.deformer_count.max(1)];
+        for (m, list) in frame.deformers.iter().enumerate() {
+            let first = self.deformer_first[m];
+            deformers[first..first + list.len()].copy_from_slice(list);
+        }
+        let transforms: Vec<f32> = frame.transforms.iter().flatten().copied().collect();
+        let mut inputs = vec![0.0f32; self.input_floats];
+        for (m, first) in self.input_first.iter().enumerate() {
+            if let Some(first) = first {
+                for (k, p) in frame.inputs[m].iter().enumerate() {
+                    inputs[3 * (first + k)..3 * (first + k) + 3].copy_from_slice(&p.to_array());
+                }
+            }
+        }
+        let s = &mut self.slots[slot];
+        s.deformers.write(ctx, 0, &deformers)?;
+        s.transforms.write(ctx, 0, &transforms)?;
+        s.inputs.write(ctx, 0, &inputs)?;
+        memory_barrier(ctx, cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
+        self.pipeline.bind(cmd);
+        s.set.bind(
+            ctx,
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &self.layout,
+            0,
+            &[],
+        );
+        let max = ctx.info().limits.max_compute_work_group_count[0].max(1);
+        let steps = [
+            (ANIM_PASS_DEFORM, self.vertices),
+            (ANIM_PASS_POINTS, self.point_rows),
+            (ANIM_PASS_VECTORS, self.shading_rows),
+            (ANIM_PASS_INSTANCES, self.instance_patches),
+        ];
+        for (k, (pass, count)) in steps.into_iter().enumerate() {
+            if k > 0 {
+                memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+            }
+            let push = AnimPush {
+                pass,
+                count,
+                instances: self.instances,
+                pad: 0,
+            };
+            self.layout.push_block(cmd, &push)?;
+            let groups = count.div_ceil(ANIM_GROUP_SIZE).clamp(1, max);
+            unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
+        }
+        memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::ALL);
+        Ok(())
+    }
+}
