@@ -1,7 +1,7 @@
 // The animation update pass (src/gpu/anim.rs), one step per dispatch
 // (AnimPush.pass): deform the cage vertices, evaluate the point rows, the
-// shading rows, and write every animated instance's patches and shading
-// patches over set 0's. Grid-stride loops: any count fits any launch.
+// shading rows, and write the moving models' patches and shading patches
+// and the keyed instances' records over set 0's. Grid-stride loops: any count fits any launch.
 #version 460
 
 #include "common/anim.glsl"
@@ -44,54 +44,45 @@ void shading_row(uint r) {
     anim_vectors[3u * r + 2u] = acc.z;
 }
 
-// Thread t of the instances step: patch (t - first thread) of the instance
-// whose thread range holds t.
-void instance_patch(uint t) {
+// Thread t of the write step below the model patches: patch (t - first
+// thread) of the deforming model whose thread range holds t, in model
+// space, points and shading vectors.
+void write_patch(uint t) {
     uint lo = 0u;
-    uint hi = anim.instances;
+    uint hi = anim.targets;
     while (hi - lo > 1u) {
         uint mid = (lo + hi) / 2u;
-        if (anim_instances[mid].x <= t) {
+        if (anim_targets[mid].x <= t) {
             lo = mid;
         } else {
             hi = mid;
         }
     }
-    uvec4 inst = anim_instances[lo];
-    uint k = t - inst.x;
-    uint dst = inst.y + k;
-    uint src = inst.z + k;
-    bool mirror = (inst.w & ANIM_MIRROR) != 0u;
+    uvec4 target = anim_targets[lo];
+    uint k = t - target.x;
+    uint dst = target.y + k;
+    uint src = target.z + k;
     for (uint s = 0u; s < 16u; ++s) {
         uint r = 3u * anim_patch_rows[16u * src + s];
-        vec3 q = anim_point(lo, vec3(anim_points[r], anim_points[r + 1u], anim_points[r + 2u]));
-        // A mirroring transform swaps u and v: slot (i, j) takes (j, i).
-        uint to = mirror ? 4u * (s % 4u) + s / 4u : s;
-        uint o = 48u * dst + 3u * to;
-        anim_patch_data[o] = q.x;
-        anim_patch_data[o + 1u] = q.y;
-        anim_patch_data[o + 2u] = q.z;
+        uint o = 48u * dst + 3u * s;
+        anim_patch_data[o] = anim_points[r];
+        anim_patch_data[o + 1u] = anim_points[r + 1u];
+        anim_patch_data[o + 2u] = anim_points[r + 2u];
     }
     for (uint n = 0u; n < 24u; ++n) {
         uint r = 3u * (24u * src + n);
-        vec3 d = anim_vector(lo, vec3(anim_vectors[r], anim_vectors[r + 1u], anim_vectors[r + 2u]));
-        // ShadingPatch::transposed: du[3j + i] <-> dv[4i + j].
-        uint to = n;
-        if (mirror) {
-            if (n < 12u) {
-                uint i = n % 3u;
-                uint j = n / 3u;
-                to = 12u + 4u * i + j;
-            } else {
-                uint i = (n - 12u) % 4u;
-                uint j = (n - 12u) / 4u;
-                to = 3u * i + j;
-            }
-        }
-        uint o = SHADING_FLOATS * dst + 3u * to;
-        anim_shading[o] = d.x;
-        anim_shading[o + 1u] = d.y;
-        anim_shading[o + 2u] = d.z;
+        uint o = SHADING_FLOATS * dst + 3u * n;
+        anim_shading[o] = anim_vectors[r];
+        anim_shading[o + 1u] = anim_vectors[r + 1u];
+        anim_shading[o + 2u] = anim_vectors[r + 2u];
+    }
+}
+
+// Record k of the frame's keyed instances over its instance.
+void write_record(uint k) {
+    uint dst = INSTANCE_WORDS * anim_keyed[k];
+    for (uint w = 0u; w < INSTANCE_WORDS; ++w) {
+        anim_instance_words[dst + w] = anim_records[INSTANCE_WORDS * k + w];
     }
 }
 
@@ -104,8 +95,10 @@ void main() {
             point_row(i);
         } else if (anim.pass == ANIM_PASS_VECTORS) {
             shading_row(i);
+        } else if (i < anim.patches) {
+            write_patch(i);
         } else {
-            instance_patch(i);
+            write_record(i - anim.patches);
         }
     }
 }

@@ -168,6 +168,7 @@ fn bindings_number_each_set_from_zero() {
                 BIND_PATCH_FLAGS,
                 BIND_SHADING,
                 BIND_WEIGHTS,
+                BIND_INSTANCES,
             ],
             SCENE_BINDINGS,
         ),

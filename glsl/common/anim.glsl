@@ -1,10 +1,10 @@
 // The animation update pass (src/gpu/anim.rs): cage vertices through the
-// model's deformers, the stencil tables' point and shading rows, and the
-// animated instances' patches written over set 0's base patches and shading
-// patches. Everything here feeds positions: every value is `precise`, sums
+// model's deformers, the stencil tables' point and shading rows, the moving
+// models' patches and shading patches written over their model patches in
+// set 0 (model space), and the keyed instances' records over theirs. Everything here feeds positions: every value is `precise`, sums
 // are written out in the order of the CPU twins (src/anim/deform.rs,
-// src/scene/stencil.rs Table::points/vectors, src/anim/mod.rs
-// transform_point/transform_vector), no fma, no mix, no built-in sin/cos.
+// src/scene/stencil.rs Table::points/vectors), no fma, no mix, no built-in
+// sin/cos.
 #ifndef ANIM_GLSL
 #define ANIM_GLSL
 
@@ -22,8 +22,8 @@ struct AnimDeformer {
 layout(push_constant) uniform AnimPush {
     uint pass;
     uint count;
-    uint instances;
-    uint pad;
+    uint targets;
+    uint patches;
 } anim;
 
 // Static: every animated vertex at rest (3 floats each), its model, and per
@@ -40,21 +40,25 @@ layout(std430, set = 0, binding = BIND_ANIM_SHADING_ROWS) readonly buffer AnimSh
 layout(std430, set = 0, binding = BIND_ANIM_SHADING_TERMS) readonly buffer AnimShadingTerms { uvec2 anim_shading_terms[]; };
 // The point row of each control point of each model patch (16 per patch).
 layout(std430, set = 0, binding = BIND_ANIM_PATCH_ROWS) readonly buffer AnimPatchRows { uint anim_patch_rows[]; };
-// Per animated instance (first thread, first scene patch, first model
-// patch, flags), and one more for the end.
-layout(std430, set = 0, binding = BIND_ANIM_INSTANCES) readonly buffer AnimInstances { uvec4 anim_instances[]; };
+// Per deforming model (first thread of the write step, its first model
+// patch in set 0, its first patch here, 0), and one more for the end.
+layout(std430, set = 0, binding = BIND_ANIM_TARGETS) readonly buffer AnimTargets { uvec4 anim_targets[]; };
+// Per keyed instance, its index in set 0's instances.
+layout(std430, set = 0, binding = BIND_ANIM_KEYED) readonly buffer AnimKeyed { uint anim_keyed[]; };
 // Scratch: deformed vertices, point rows, shading rows (3 floats each).
 layout(std430, set = 0, binding = BIND_ANIM_VERTS) buffer AnimVerts { float anim_verts[]; };
 layout(std430, set = 0, binding = BIND_ANIM_POINTS) buffer AnimPoints { float anim_points[]; };
 layout(std430, set = 0, binding = BIND_ANIM_VECTORS) buffer AnimVectors { float anim_vectors[]; };
-// The frame's: deformers, instance transforms (3 rows of a 3x4), the
-// sequences' vertices.
+// The frame's: deformers, keyed instances' records (INSTANCE_WORDS each,
+// made on the host), the sequences' vertices.
 layout(std430, set = 0, binding = BIND_ANIM_DEFORMERS) readonly buffer AnimDeformers { AnimDeformer anim_deformers[]; };
-layout(std430, set = 0, binding = BIND_ANIM_TRANSFORMS) readonly buffer AnimTransforms { vec4 anim_transforms[]; };
+layout(std430, set = 0, binding = BIND_ANIM_RECORDS) readonly buffer AnimRecords { uint anim_records[]; };
 layout(std430, set = 0, binding = BIND_ANIM_INPUTS) readonly buffer AnimInputs { float anim_inputs[]; };
-// Set 0's base patches and shading patches (scene.glsl, shading.glsl), written.
+// Set 0's model patches, shading patches and instances (scene.glsl,
+// shading.glsl), written.
 layout(std430, set = 0, binding = BIND_ANIM_PATCHES) writeonly buffer AnimScenePatches { float anim_patch_data[]; };
 layout(std430, set = 0, binding = BIND_ANIM_SHADING) writeonly buffer AnimSceneShading { float anim_shading[]; };
+layout(std430, set = 0, binding = BIND_ANIM_INSTANCES) writeonly buffer AnimSceneInstances { uint anim_instance_words[]; };
 
 // (sin x, cos x): anim::deform::sin_cos.
 vec2 anim_sin_cos(float x0) {
@@ -150,27 +154,5 @@ vec3 anim_deform(AnimDeformer d, vec3 p0) {
         }                                                                            \
         acc = vec3(ax, ay, az);                                                      \
     }
-
-// The instance transform's rows applied to a point or a vector
-// (anim::transform_point, anim::transform_vector).
-vec3 anim_point(uint inst, vec3 p) {
-    precise vec3 o;
-    for (uint i = 0u; i < 3u; ++i) {
-        vec4 m = anim_transforms[3u * inst + i];
-        precise float s = ((m.x * p.x + m.y * p.y) + m.z * p.z) + m.w;
-        o[i] = s;
-    }
-    return o;
-}
-
-vec3 anim_vector(uint inst, vec3 d) {
-    precise vec3 o;
-    for (uint i = 0u; i < 3u; ++i) {
-        vec4 m = anim_transforms[3u * inst + i];
-        precise float s = ((m.x * d.x + m.y * d.y) + m.z * d.z) + 0.0;
-        o[i] = s;
-    }
-    return o;
-}
 
 #endif

@@ -53,28 +53,28 @@ const uint BIND_ANIM_POINT_TERMS = 4;
 const uint BIND_ANIM_SHADING_ROWS = 5;
 const uint BIND_ANIM_SHADING_TERMS = 6;
 const uint BIND_ANIM_PATCH_ROWS = 7;
-const uint BIND_ANIM_INSTANCES = 8;
+const uint BIND_ANIM_TARGETS = 8;
 const uint BIND_ANIM_VERTS = 9;
 const uint BIND_ANIM_POINTS = 10;
 const uint BIND_ANIM_VECTORS = 11;
 const uint BIND_ANIM_DEFORMERS = 12;
-const uint BIND_ANIM_TRANSFORMS = 13;
+const uint BIND_ANIM_RECORDS = 13;
 const uint BIND_ANIM_INPUTS = 14;
 const uint BIND_ANIM_PATCHES = 15;
 const uint BIND_ANIM_SHADING = 16;
-const uint ANIM_BINDINGS = 17;
+const uint BIND_ANIM_KEYED = 17;
+const uint BIND_ANIM_INSTANCES = 18;
+const uint ANIM_BINDINGS = 19;
 
 // The update pass's steps (`AnimPush.pass`), in order, and its
 // workgroup size.
 const uint ANIM_PASS_DEFORM = 0;
 const uint ANIM_PASS_POINTS = 1;
 const uint ANIM_PASS_VECTORS = 2;
-const uint ANIM_PASS_INSTANCES = 3;
+const uint ANIM_PASS_WRITE = 3;
 const uint ANIM_GROUP_SIZE = 64;
 // AnimModel.seq_base of a model without a sequence.
 const uint ANIM_NO_SEQUENCE = 0xffffffffu;
-// AnimInstance.flags: the transform mirrors (u and v swapped).
-const uint ANIM_MIRROR = 1;
 
 // Deformer kinds (`anim::deform::Kind`).
 const uint DEFORM_TWIST = 0;
@@ -99,6 +99,19 @@ const uint PATCH_TWO_SIDED = 1;
 const uint PATCH_RATIONAL = 2;
 const uint PATCH_MODEL_SHIFT = 16;
 
+// An instance's flags word (set 0's BIND_INSTANCES): PATCH_TWO_SIDED and
+// the model index << PATCH_MODEL_SHIFT as in a patch's flags, and these.
+// The transform mirrors (negative determinant): the instance's
+// patches are the model's with u and v swapped, so ∂u × ∂v stays
+// outward.
+const uint INSTANCE_MIRRORED = 4;
+// The transform is the identity: control points are read unchanged.
+const uint INSTANCE_IDENTITY = 8;
+// u32 words per instance record: 3 rows of 4 floats (the affine
+// transform), first global patch id, first model patch, patch count,
+// flags.
+const uint INSTANCE_WORDS = 16;
+
 // Descriptor set numbers: every pipeline layout starts with the scene
 // set, then the set of its pass family, then a producer's own.
 const uint SET_SCENE = 0;
@@ -106,18 +119,24 @@ const uint SET_PASS = 1;
 const uint SET_PRODUCER = 2;
 
 // Set 0, the scene (every pass): the view (a dynamic uniform buffer,
-// one ViewParams per frame slot), the base patches, their flags, their
-// shading (tangent) patches.
+// one ViewParams per frame slot), the models' patches, their flags, their
+// shading (tangent) patches, their weights and the instances that place
+// them. A base patch's id is global (instance by instance); its control
+// points are its model patch's, transformed by its instance.
 const uint BIND_VIEW = 0;
+// 48 floats per model patch (each distinct model once).
 const uint BIND_PATCHES = 1;
+// One word per model patch: PATCH_RATIONAL.
 const uint BIND_PATCH_FLAGS = 2;
-// SHADING_FLOATS per base patch: the two tangent patches whose cross
-// product is the shading normal (src/scene/shading.rs).
+// SHADING_FLOATS per model patch: the two tangent patches whose cross
+// product is the shading normal (src/scene/shading.rs), in model space.
 const uint BIND_SHADING = 3;
-// 16 weights per base patch (u fastest, as the control points) for a
+// 16 weights per model patch (u fastest, as the control points) for a
 // scene with rational patches; 16 ones for any other scene.
 const uint BIND_WEIGHTS = 4;
-const uint SCENE_BINDINGS = 5;
+// INSTANCE_WORDS per instance, ordered by first global patch id.
+const uint BIND_INSTANCES = 5;
+const uint SCENE_BINDINGS = 6;
 
 // Floats per base patch in the shading buffer: the 12 control vectors of
 // the u tangent patch, then the 12 of the v tangent patch, x, y, z each.

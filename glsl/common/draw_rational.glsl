@@ -10,16 +10,17 @@
 #include "rational_subdiv.glsl"
 
 void patch_node_positions(uint id, NodeMesh mesh, out vec3 pos[NODE_MESH_SLOTS]) {
-    if (patch_is_rational(id)) {
+    Instance t = instances[instance_of(id)];
+    if ((patch_flags_in(t, id) & PATCH_RATIONAL) != 0u) {
         vec4 H[16];
-        load_homogeneous(id, H);
+        load_homogeneous_in(t, id, H);
         for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
             pos[s] = slot_used(mesh, s) ? eval_rational(H, mesh.uv[s].x, mesh.uv[s].y) : pos[0];
         }
         return;
     }
     vec3 P[16];
-    load_patch(id, P);
+    load_patch_in(t, id, P);
     node_positions(P, mesh, pos);
 }
 

@@ -48,11 +48,12 @@ void grow_box(inout vec3 lo, inout vec3 hi, vec3 p) {
 // The homogeneous sub-patch, the box of its Cartesian control points (and
 // the pivots) for the frustum, the criterion on projected points, and the
 // polynomial back-face bound on w (p - eye) (see src/patch/homogeneous.rs).
-uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
+// `t` is the patch's instance, `flags` its flags word.
+uint process_rational(uvec2 q, Instance t, uint flags, out uvec2 kids[4], out uint nkids) {
     kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
     nkids = 0u;
     vec4 H[16];
-    load_homogeneous(node_patch(q), H);
+    load_homogeneous_in(t, node_patch(q), H);
     vec4 dom = node_domain(q);
     vec4 S[16];
     reconstruct4(H, dom.x, dom.y, dom.z, dom.w, S);
@@ -90,7 +91,7 @@ uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
             return OUT_SPLIT;
         }
     }
-    bool one_sided = (patch_flags[node_patch(q)] & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (flags & PATCH_TWO_SIDED) == 0u;
     bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
     if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing4(S, view.eye.xyz)
         && wedges_face_away4(H, q, view.eye.xyz, with_wedges)) {
@@ -103,14 +104,17 @@ uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
 // OUT_SPLIT the children are kids[0..nkids), in the order (0,0), (1,0),
 // (0,1), (1,1) of those the split makes (4 for 1:4, 2 for 1:2).
 // Rational patches take process_rational; polynomial ones the code below.
+// The patch's instance is looked up once for the whole item.
 uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
-    if (patch_is_rational(node_patch(q))) {
-        return process_rational(q, kids, nkids);
+    Instance t = instances[instance_of(node_patch(q))];
+    uint flags = patch_flags_in(t, node_patch(q));
+    if ((flags & PATCH_RATIONAL) != 0u) {
+        return process_rational(q, t, flags, kids, nkids);
     }
     kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
     nkids = 0u;
     vec3 P[16];
-    load_patch(node_patch(q), P);
+    load_patch_in(t, node_patch(q), P);
     vec4 dom = node_domain(q);
     vec3 S[16];
     reconstruct(P, dom.x, dom.y, dom.z, dom.w, S);
@@ -154,7 +158,7 @@ uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
     }
     // A back-facing node goes only if its wedges face away too (see
     // cull::wedges_face_away).
-    bool one_sided = (patch_flags[node_patch(q)] & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (flags & PATCH_TWO_SIDED) == 0u;
     bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
     if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing(S, lo, hi, view.eye.xyz)
         && wedges_face_away(P, q, view.eye.xyz, with_wedges)) {

@@ -3,24 +3,26 @@
 //! (`scene/stencil.rs`) on the GPU (`gpu/anim.rs`, the update pass) and, for
 //! the oracle, on the CPU here, in the same f32 operations.
 //!
+//! The GPU holds each model's patches once, in model space, and an instance
+//! record per instance that places them (`scene/instances.rs`). A model
+//! whose cage moves has a copy of its own (`Scene::build_with_models`), and
+//! the animation rewrites it and its shading patches in place, in model
+//! space; a moving instance gets a new record every frame. Every method
+//! then reads the frame through set 0 as always.
+//!
 //! One frame, at time t:
-//! 1. the inputs: per animated model its cage vertices (the rest pose, or
+//! 1. the inputs: per deforming model its cage vertices (the rest pose, or
 //!    the sequence's frames interpolated) and its deformers' numbers at t;
-//!    per animated instance its transform at t, as f32 3×4 ([`Frame`],
-//!    computed on the CPU once and handed to both sides);
+//!    per keyed instance its record at t (`Instance::new` of its transform,
+//!    rounded to f32 once) ([`Frame`], computed on the CPU once and handed
+//!    to both sides);
 //! 2. *deform*: each vertex through its model's deformers in order
 //!    ([`deform::apply`]);
 //! 3. *points*: every point row of the model's table;
 //! 4. *vectors*: every shading row;
-//! 5. *instances*: every patch of every animated instance, its 16 points
-//!    and 24 vectors transformed (points x' = ((m₀x + m₁y) + m₂z) + m₃ per
-//!    row, vectors without m₃ and + 0), u and v swapped for a mirroring
-//!    transform, written over the scene's base patches and shading patches.
-//!
-//! Which instances: every instance of a model whose cage moves, and every
-//! instance with keys. The others keep the transform applied at load (f64,
-//! rounded once); an animated one is transformed in f32 in every frame,
-//! also at rest.
+//! 5. *write*: every patch of every deforming model, its 16 points and 24
+//!    vectors, over its model patches and shading patches; every keyed
+//!    instance's record over its record.
 
 pub mod deform;
 pub mod keys;
@@ -32,6 +34,7 @@ use glam::{DMat4, Vec3};
 
 use crate::patch::bezier::BezierPatch;
 use crate::scene::file::{Scene, SceneGeometry, SceneShading};
+use crate::scene::instances::Instance;
 use crate::scene::shading::ShadingPatch;
 use crate::scene::stencil::CageModel;
 use crate::scene::SceneError;
@@ -42,11 +45,13 @@ pub const DEFAULT_FPS: f64 = 24.0;
 /// Seconds of an animation whose curves give no end (steady waves).
 pub const DEFAULT_DURATION: f64 = 4.0;
 
-/// One animated model.
+/// One model whose cage moves.
 #[derive(Clone, Debug)]
 pub struct AnimModel {
     /// Its index among the scene's models.
     pub scene_model: usize,
+    /// Its first patch among the model patches (its own copy).
+    pub source: u32,
     /// Its stencils and rest pose.
     pub cage: Arc<CageModel>,
     /// Its deformers, in order.
@@ -55,26 +60,15 @@ pub struct AnimModel {
     pub sequence: Vec<Vec<Vec3>>,
 }
 
-/// Where an animated instance takes its transform from.
+/// One instance whose transform follows keys.
 #[derive(Clone, Debug)]
-pub enum Placement {
-    /// The same at every time.
-    Fixed(DMat4),
-    /// Keys.
-    Keyed(keys::InstanceKeys),
-}
-
-/// One animated instance.
-#[derive(Clone, Debug)]
-pub struct AnimInstance {
-    /// Its model, an index into [`Animation::models`].
-    pub model: usize,
-    /// Its first base patch in the scene.
-    pub first_patch: u32,
-    /// Its transform.
-    pub placement: Placement,
-    /// The transform mirrors: u and v are swapped.
-    pub mirror: bool,
+pub struct KeyedInstance {
+    /// Its index among the scene's instances.
+    pub index: usize,
+    /// Its record as loaded (first patch, source, count, flags).
+    pub base: Instance,
+    /// Its keys.
+    pub keys: keys::InstanceKeys,
 }
 
 /// What moves in a scene, and how.
@@ -86,10 +80,10 @@ pub struct Animation {
     pub fps: f64,
     /// Whether time wraps at the end.
     pub looping: bool,
-    /// The models whose cage or instances move.
+    /// The models whose cage moves.
     pub models: Vec<AnimModel>,
     /// The instances that move.
-    pub instances: Vec<AnimInstance>,
+    pub keyed: Vec<KeyedInstance>,
 }
 
 /// The inputs of one frame: everything that depends on time alone.
@@ -102,39 +96,13 @@ pub struct Frame {
     pub inputs: Vec<Vec<Vec3>>,
     /// Per model, its deformers at this time.
     pub deformers: Vec<Vec<GpuDeformer>>,
-    /// Per instance, its transform: rows of a 3×4 matrix.
-    pub transforms: Vec<[f32; 12]>,
-}
-
-/// The f32 rows of the affine part of `m`, -0 made +0.
-pub fn rows_of(m: &DMat4) -> [f32; 12] {
-    let r = m.transpose();
-    let mut out = [0.0f32; 12];
-    for (i, row) in [r.x_axis, r.y_axis, r.z_axis].iter().enumerate() {
-        for (j, v) in row.to_array().iter().enumerate() {
-            out[4 * i + j] = *v as f32 + 0.0;
-        }
-    }
-    out
-}
-
-/// `m` applied to the point `p` in f32, the twin of `anim_point`.
-pub fn transform_point(m: &[f32; 12], p: Vec3) -> Vec3 {
-    let row =
-        |i: usize| ((m[4 * i] * p.x + m[4 * i + 1] * p.y) + m[4 * i + 2] * p.z) + m[4 * i + 3];
-    Vec3::new(row(0), row(1), row(2))
-}
-
-/// `m`'s linear part applied to the vector `d` in f32, the twin of
-/// `anim_vector`.
-pub fn transform_vector(m: &[f32; 12], d: Vec3) -> Vec3 {
-    let row = |i: usize| ((m[4 * i] * d.x + m[4 * i + 1] * d.y) + m[4 * i + 2] * d.z) + 0.0;
-    Vec3::new(row(0), row(1), row(2))
+    /// Per keyed instance, its record at this time.
+    pub records: Vec<Instance>,
 }
 
 impl Animation {
-    /// What of `scene` moves, with the models as loaded in `models` (see
-    /// `Scene::load_animated`); `None` where nothing does.
+    /// What of `scene` moves, with the cages of its models as `cage_of`
+    /// gives them (see `Scene::load_animated`); `None` where nothing does.
     pub fn new(
         scene: &Scene,
         geo: &SceneGeometry,
@@ -143,16 +111,18 @@ impl Animation {
         if !scene.models.iter().any(|m| m.anim.moves()) {
             return Ok(None);
         }
+        let table = &geo.instances.instances;
         let mut models = Vec::new();
-        let mut instances = Vec::new();
-        let mut first = 0u32;
+        let mut keyed = Vec::new();
+        let mut next_instance = 0usize;
         let mut end = 0.0f64;
         for (index, m) in scene.models.iter().enumerate() {
-            let summary = &geo.models[index];
-            let per = summary.patches_per_instance as u32;
-            let base = first;
-            first += per * summary.instances as u32;
-            if !m.anim.moves() {
+            let placed = geo.models[index].patches_per_instance > 0 && !m.instances.is_empty();
+            let first_instance = next_instance;
+            if placed {
+                next_instance += m.instances.len();
+            }
+            if !m.anim.moves() || !placed {
                 continue;
             }
             let model_error = |msg: String| SceneError::Model {
@@ -160,8 +130,30 @@ impl Animation {
                 model: m.name.clone(),
                 msg,
             };
+            if table.len() < next_instance {
+                return Err(model_error(
+                    "internal: its instances are not in the scene's instance table".into(),
+                ));
+            }
+            for (k, keys) in m.anim.keys.iter().enumerate() {
+                if let Some(keys) = keys {
+                    end = end.max(keys.end());
+                    let base = table[first_instance + k];
+                    keyed.push(KeyedInstance {
+                        index: first_instance + k,
+                        base,
+                        keys: keys.clone(),
+                    });
+                }
+            }
+            if !m.anim.deforms() {
+                continue;
+            }
             let cage = cage_of(index).ok_or_else(|| {
-                model_error("cannot be animated: its cage's faces could not be matched to the file's `f` lines".into())
+                model_error(
+                    "cannot be animated: its cage's faces could not be matched to the file's `f` lines"
+                        .into(),
+                )
             })?;
             let mut sequence = Vec::new();
             if m.anim.sequence.len() > 1 {
@@ -174,32 +166,9 @@ impl Animation {
             for d in &m.anim.deform {
                 end = end.max(d.end());
             }
-            let model = models.len();
-            for (k, xf) in m.instances.iter().enumerate() {
-                let keyed = m.anim.keys.get(k).cloned().flatten();
-                if !m.anim.deforms() && keyed.is_none() {
-                    continue;
-                }
-                let placement = match keyed {
-                    Some(keys) => {
-                        end = end.max(keys.end());
-                        Placement::Keyed(keys)
-                    }
-                    None => Placement::Fixed(*xf),
-                };
-                let mirror = match &placement {
-                    Placement::Fixed(m) => m.determinant() < 0.0,
-                    Placement::Keyed(keys) => keys.at(0.0).determinant() < 0.0,
-                };
-                instances.push(AnimInstance {
-                    model,
-                    first_patch: base + per * k as u32,
-                    placement,
-                    mirror,
-                });
-            }
             models.push(AnimModel {
                 scene_model: index,
+                source: table[first_instance].source,
                 cage,
                 deform: m.anim.deform.clone(),
                 sequence,
@@ -215,22 +184,23 @@ impl Animation {
                 format!("[animation] duration must be > 0 (got {duration})"),
             ));
         }
-        let fps = scene_fps(scene);
         Ok(Some(Animation {
             duration,
-            fps,
+            fps: scene_fps(scene),
             looping: a.looping.unwrap_or(true),
             models,
-            instances,
+            keyed,
         }))
     }
 
-    /// Patches the update pass writes per frame.
+    /// Model patches the update pass rewrites per frame.
     pub fn patches(&self) -> usize {
-        self.instances
-            .iter()
-            .map(|i| self.models[i.model].cage.stencils.patches())
-            .sum()
+        self.models.iter().map(|m| m.cage.stencils.patches()).sum()
+    }
+
+    /// Cage vertices the update pass deforms per frame.
+    pub fn vertices(&self) -> usize {
+        self.models.iter().map(|m| m.cage.rest.len()).sum()
     }
 
     /// The time `t` falls on: wrapped into one pass, or held at the end.
@@ -255,19 +225,19 @@ impl Animation {
             .iter()
             .map(|m| m.deform.iter().map(|d| d.at(time)).collect())
             .collect();
-        let transforms = self
-            .instances
+        let records = self
+            .keyed
             .iter()
-            .map(|i| match &i.placement {
-                Placement::Fixed(m) => rows_of(m),
-                Placement::Keyed(k) => rows_of(&k.at(time)),
+            .map(|k| {
+                let b = &k.base;
+                Instance::new(&k.keys.at(time), b.first, b.source, b.count, b.flags)
             })
             .collect();
         Frame {
             time,
             inputs,
             deformers,
-            transforms,
+            records,
         }
     }
 
@@ -292,46 +262,67 @@ impl Animation {
         model.cage.stencils.evaluate(&verts)
     }
 
-    /// Writes frame `frame`'s animated instances over `geo` and `shading`
-    /// (the scene at rest): the oracle's scene at that time.
+    /// Writes frame `frame` over `geo` and `shading` (the scene as loaded):
+    /// the moving models' patches and the keyed instances' records, and
+    /// every world patch they place: the oracle's scene at that time.
     pub fn pose(&self, frame: &Frame, geo: &mut SceneGeometry, shading: &mut SceneShading) {
-        let poses: Vec<_> = (0..self.models.len())
-            .map(|m| self.model_pose(frame, m))
-            .collect();
-        for (inst, m) in self.instances.iter().zip(&frame.transforms) {
-            let (patches, vectors) = &poses[inst.model];
-            for (k, (p, s)) in patches.iter().zip(vectors).enumerate() {
-                let (p, s) = instance_patch(m, inst.mirror, p, s);
-                let at = inst.first_patch as usize + k;
-                geo.patches[at] = p;
-                if let Some(slot) = shading.patches.get_mut(at) {
+        let table = &mut geo.instances;
+        let mut moved = vec![false; table.patches.len()];
+        for (m, model) in self.models.iter().enumerate() {
+            let (patches, vectors) = self.model_pose(frame, m);
+            let first = model.source as usize;
+            for (k, (p, s)) in patches.into_iter().zip(vectors).enumerate() {
+                table.patches[first + k] = p;
+                if let Some(slot) = shading.model.get_mut(first + k) {
                     *slot = s;
+                }
+                moved[first + k] = true;
+            }
+        }
+        let mut keyed = vec![false; table.instances.len()];
+        for (k, record) in self.keyed.iter().zip(&frame.records) {
+            table.instances[k.index] = *record;
+            keyed[k.index] = true;
+        }
+        for (i, t) in table.instances.iter().enumerate() {
+            if !keyed[i] && !moved[t.source as usize] {
+                continue;
+            }
+            let m = instance_matrix(t);
+            for g in t.ids() {
+                let source = t.source as usize + (g - t.first as usize);
+                geo.patches[g] = t.patch(&table.patches[source]);
+                if let (Some(out), Some(s)) =
+                    (shading.patches.get_mut(g), shading.model.get(source))
+                {
+                    *out = s.transformed(&m);
                 }
             }
         }
     }
 }
 
-/// One patch and its shading patch placed by `m` (the twin of the
-/// instances pass).
-pub fn instance_patch(
-    m: &[f32; 12],
-    mirror: bool,
-    p: &BezierPatch,
-    s: &ShadingPatch,
-) -> (BezierPatch, ShadingPatch) {
-    let mut out = BezierPatch {
-        pts: p.pts.map(|q| transform_point(m, q)),
-    };
-    let mut sh = ShadingPatch {
-        du: s.du.map(|d| transform_vector(m, d)),
-        dv: s.dv.map(|d| transform_vector(m, d)),
-    };
-    if mirror {
-        out = out.reoriented(true, false, false);
-        sh = sh.transposed();
-    }
-    (out, sh)
+/// The affine transform of an instance record, as f64.
+fn instance_matrix(t: &Instance) -> DMat4 {
+    let r = t.rows;
+    DMat4::from_cols_array(&[
+        f64::from(r[0][0]),
+        f64::from(r[1][0]),
+        f64::from(r[2][0]),
+        0.0,
+        f64::from(r[0][1]),
+        f64::from(r[1][1]),
+        f64::from(r[2][1]),
+        0.0,
+        f64::from(r[0][2]),
+        f64::from(r[1][2]),
+        f64::from(r[2][2]),
+        0.0,
+        f64::from(r[0][3]),
+        f64::from(r[1][3]),
+        f64::from(r[2][3]),
+        1.0,
+    ])
 }
 
 /// The frames per second of `scene`'s animation.

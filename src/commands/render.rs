@@ -482,6 +482,8 @@ pub(crate) fn stats_json(
         "l_max": crate::constants::L_MAX,
         "commit": commit_id(),
         "patches": renderer.scene().count,
+        "model_patches": renderer.scene().model_patches,
+        "instances": renderer.scene().instance_count,
         "triangles": report.triangles(),
         "triangles_source": report.triangles_source(),
         "culled_patches": report.stats.culled_patches,
@@ -492,6 +494,7 @@ pub(crate) fn stats_json(
             "base_patches": GEOMETRY_BYTES_PER_PATCH,
             "shading_patches": SHADING_BYTES_PER_PATCH,
         },
+        "memory_per_instance_bytes": crate::scene::instances::INSTANCE_BYTES,
         "method_stats": own,
         "animation": renderer.animation().map(|a| json!({
             "time": renderer.time(),
@@ -499,7 +502,8 @@ pub(crate) fn stats_json(
             "duration": a.duration,
             "fps": a.fps,
             "models": a.models.len(),
-            "instances": a.instances.len(),
+            "keyed_instances": a.keyed.len(),
+            "vertices": a.vertices(),
             "patches": a.patches(),
         })),
     })

@@ -1,15 +1,16 @@
-//! The animation update pass: before any method records, the animated
-//! models' cages are deformed and converted by their stencil tables and the
-//! animated instances' patches and shading patches are written over set 0's
+//! The animation update pass: before any method records, the moving
+//! models' cages are deformed and converted by their stencil tables, their
+//! model patches and shading patches (model space, each model's own copy)
+//! are written over set 0's, and the keyed instances' records over theirs
 //! (`glsl/anim_update.comp`, one pipeline, four dispatches: deform, points,
-//! vectors, instances; the CPU twin is `anim::Animation::pose`). A static
-//! scene has no [`AnimGpu`] and records nothing.
+//! vectors, write; the CPU twin is `anim::Animation::pose`). A static scene
+//! has no [`AnimGpu`] and records nothing.
 //!
-//! Buffers: the tables, the rest vertices and the instance list are
-//! uploaded once; the deformed vertices, point rows and shading rows are
-//! scratch; each frame slot has its own host-visible deformers,
-//! transforms and sequence vertices, written when the slot's frame is
-//! recorded (its previous frame has finished by then).
+//! Buffers: the tables, the rest vertices and the targets are uploaded
+//! once; the deformed vertices, point rows and shading rows are scratch;
+//! each frame slot has its own host-visible deformers, instance records and
+//! sequence vertices, written when the slot's frame is recorded (its
+//! previous frame has finished by then).
 
 use ash::vk;
 
@@ -17,6 +18,7 @@ use crate::anim::deform::GpuDeformer;
 use crate::anim::{Animation, Frame};
 use crate::constants::*;
 use crate::gpu::{AnimPush, SceneGpu, Shaders};
+use crate::scene::instances::{Instance, INSTANCE_BYTES};
 use crate::scene::stencil::Table;
 use crate::vk::{
     memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation,
@@ -26,7 +28,7 @@ use crate::vk::{
 /// One frame slot's inputs.
 struct SlotBuffers {
     deformers: Buffer,
-    transforms: Buffer,
+    records: Buffer,
     inputs: Buffer,
     set: DescriptorSet,
 }
@@ -41,8 +43,9 @@ pub struct AnimGpu {
     vertices: u32,
     point_rows: u32,
     shading_rows: u32,
-    instance_patches: u32,
-    instances: u32,
+    patches: u32,
+    targets: u32,
+    keyed: u32,
     /// Per model: its deformers' first index (the slot's deformer array).
     deformer_first: Vec<usize>,
     /// Per model with a sequence: its first vertex in the slot's inputs.
@@ -63,7 +66,8 @@ struct Layout {
     shading_rows: Vec<[u32; 2]>,
     shading_terms: Vec<[u32; 2]>,
     patch_rows: Vec<u32>,
-    instances: Vec<[u32; 4]>,
+    targets: Vec<[u32; 4]>,
+    keyed: Vec<u32>,
     deformer_first: Vec<usize>,
     input_first: Vec<Option<usize>>,
     deformer_count: usize,
@@ -89,18 +93,23 @@ impl Layout {
             shading_rows: Vec::new(),
             shading_terms: Vec::new(),
             patch_rows: Vec::new(),
-            instances: Vec::new(),
+            targets: Vec::new(),
+            keyed: anim.keyed.iter().map(|k| k.index as u32).collect(),
             deformer_first: Vec::new(),
             input_first: Vec::new(),
             deformer_count: 0,
             input_floats: 0,
         };
-        let mut patch_first = Vec::new();
         for (m, model) in anim.models.iter().enumerate() {
             let s = &model.cage.stencils;
             let vertex_first = l.vertex_model.len() as u32;
             let row_first = l.point_rows.len() as u32;
-            patch_first.push(l.patch_rows.len() as u32 / 16);
+            l.targets.push([
+                l.patch_rows.len() as u32 / 16,
+                model.source,
+                l.patch_rows.len() as u32 / 16,
+                0,
+            ]);
             l.rest
                 .extend(model.cage.rest.iter().flat_map(|p| p.to_array()));
             l.vertex_model
@@ -135,18 +144,7 @@ impl Layout {
         }
         l.point_rows.push([l.point_terms.len() as u32, 0]);
         l.shading_rows.push([l.shading_terms.len() as u32, 0]);
-        let mut thread = 0u32;
-        for inst in &anim.instances {
-            let n = anim.models[inst.model].cage.stencils.patches() as u32;
-            l.instances.push([
-                thread,
-                inst.first_patch,
-                patch_first[inst.model],
-                if inst.mirror { ANIM_MIRROR } else { 0 },
-            ]);
-            thread += n;
-        }
-        l.instances.push([thread, 0, 0, 0]);
+        l.targets.push([l.patch_rows.len() as u32 / 16, 0, 0, 0]);
         l
     }
 }
@@ -179,16 +177,26 @@ impl AnimGpu {
         scene: &SceneGpu,
         slots: usize,
     ) -> VkResult<Self> {
-        for inst in &anim.instances {
-            let n = anim.models[inst.model].cage.stencils.patches() as u32;
-            if inst.first_patch + n > scene.count {
+        for m in &anim.models {
+            let n = m.cage.stencils.patches() as u32;
+            if m.source + n > scene.model_patches {
                 return Err(VkError::Usage(format!(
-                    "an animated instance's patches {}..{} lie beyond the scene's {}",
-                    inst.first_patch,
-                    inst.first_patch + n,
-                    scene.count
+                    "a moving model's patches {}..{} lie beyond the scene's {} model patches",
+                    m.source,
+                    m.source + n,
+                    scene.model_patches
                 )));
             }
+        }
+        if let Some(k) = anim
+            .keyed
+            .iter()
+            .find(|k| k.index as u32 >= scene.instance_count)
+        {
+            return Err(VkError::Usage(format!(
+                "a keyed instance ({}) beyond the scene's {} instances",
+                k.index, scene.instance_count
+            )));
         }
         let l = Layout::new(anim);
         let set_layout = SetLayout::storage(
@@ -214,7 +222,8 @@ impl AnimGpu {
             storage(ctx, "animation shading rows", &l.shading_rows)?,
             storage(ctx, "animation shading terms", &l.shading_terms)?,
             storage(ctx, "animation patch rows", &l.patch_rows)?,
-            storage(ctx, "animation instances", &l.instances)?,
+            storage(ctx, "animation targets", &l.targets)?,
+            storage(ctx, "animation keyed instances", &l.keyed)?,
         ];
         let vertices = l.vertex_model.len() as u32;
         let point_rows = l.point_rows.len() as u32 - 1;
@@ -242,27 +251,28 @@ impl AnimGpu {
                 MemoryLocation::CpuToGpu,
             )
         };
-        let instances = anim.instances.len() as u32;
         let mut slot_buffers = Vec::with_capacity(slots);
         for s in 0..slots.max(1) {
             let deformers = host(
                 format!("animation deformers (slot {s})"),
                 l.deformer_count * std::mem::size_of::<GpuDeformer>(),
             )?;
-            let transforms = host(
-                format!("animation transforms (slot {s})"),
-                anim.instances.len() * 48,
+            let records = host(
+                format!("animation instance records (slot {s})"),
+                anim.keyed.len() * INSTANCE_BYTES as usize,
             )?;
             let inputs = host(format!("animation inputs (slot {s})"), l.input_floats * 4)?;
             let mut bound = [BufferBinding::from(&statics[0]); ANIM_BINDINGS as usize];
-            for (k, b) in statics.iter().enumerate() {
+            for (k, b) in statics[..9].iter().enumerate() {
                 bound[BIND_ANIM_REST as usize + k] = b.into();
             }
+            bound[BIND_ANIM_KEYED as usize] = (&statics[9]).into();
+            bound[BIND_ANIM_INSTANCES as usize] = (&scene.instances).into();
             bound[BIND_ANIM_VERTS as usize] = (&scratch[0]).into();
             bound[BIND_ANIM_POINTS as usize] = (&scratch[1]).into();
             bound[BIND_ANIM_VECTORS as usize] = (&scratch[2]).into();
             bound[BIND_ANIM_DEFORMERS as usize] = (&deformers).into();
-            bound[BIND_ANIM_TRANSFORMS as usize] = (&transforms).into();
+            bound[BIND_ANIM_RECORDS as usize] = (&records).into();
             bound[BIND_ANIM_INPUTS as usize] = (&inputs).into();
             bound[BIND_ANIM_PATCHES as usize] = (&scene.patches).into();
             bound[BIND_ANIM_SHADING as usize] = (&scene.shading).into();
@@ -274,12 +284,12 @@ impl AnimGpu {
             )?;
             slot_buffers.push(SlotBuffers {
                 deformers,
-                transforms,
+                records,
                 inputs,
                 set,
             });
         }
-        let instance_patches = l.instances.last().map_or(0, |i| i[0]);
+        let patches = l.targets.last().map_or(0, |t| t[0]);
         Ok(Self {
             layout,
             pipeline,
@@ -289,8 +299,9 @@ impl AnimGpu {
             vertices,
             point_rows,
             shading_rows,
-            instance_patches,
-            instances,
+            patches,
+            targets: anim.models.len() as u32,
+            keyed: anim.keyed.len() as u32,
             deformer_first: l.deformer_first,
             input_first: l.input_first,
             deformer_count: l.deformer_count,
@@ -305,16 +316,16 @@ impl AnimGpu {
         let slots: u64 = self
             .slots
             .iter()
-            .map(|s| s.deformers.size() + s.transforms.size() + s.inputs.size())
+            .map(|s| s.deformers.size() + s.records.size() + s.inputs.size())
             .sum();
         self.statics.iter().map(Buffer::size).sum::<u64>()
             + self.scratch.iter().map(Buffer::size).sum::<u64>()
             + slots
     }
 
-    /// Animated patches written per frame.
+    /// Model patches written per frame.
     pub fn patches(&self) -> u32 {
-        self.instance_patches
+        self.patches
     }
 
     /// Writes `frame`'s inputs into slot `slot` (its previous frame has
@@ -334,7 +345,7 @@ impl AnimGpu {
             let first = self.deformer_first[m];
             deformers[first..first + list.len()].copy_from_slice(list);
         }
-        let transforms: Vec<f32> = frame.transforms.iter().flatten().copied().collect();
+        let records: &[Instance] = &frame.records;
         let mut inputs = vec![0.0f32; self.input_floats];
         for (m, first) in self.input_first.iter().enumerate() {
             if let Some(first) = first {
@@ -345,7 +356,7 @@ impl AnimGpu {
         }
         let s = &mut self.slots[slot];
         s.deformers.write(ctx, 0, &deformers)?;
-        s.transforms.write(ctx, 0, &transforms)?;
+        s.records.write(ctx, 0, records)?;
         s.inputs.write(ctx, 0, &inputs)?;
         memory_barrier(ctx, cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
         self.pipeline.bind(cmd);
@@ -362,7 +373,7 @@ impl AnimGpu {
             (ANIM_PASS_DEFORM, self.vertices),
             (ANIM_PASS_POINTS, self.point_rows),
             (ANIM_PASS_VECTORS, self.shading_rows),
-            (ANIM_PASS_INSTANCES, self.instance_patches),
+            (ANIM_PASS_WRITE, self.patches + self.keyed),
         ];
         for (k, (pass, count)) in steps.into_iter().enumerate() {
             if k > 0 {
@@ -371,8 +382,8 @@ impl AnimGpu {
             let push = AnimPush {
                 pass,
                 count,
-                instances: self.instances,
-                pad: 0,
+                targets: self.targets,
+                patches: self.patches,
             };
             self.layout.push_block(cmd, &push)?;
             let groups = count.div_ceil(ANIM_GROUP_SIZE).clamp(1, max);

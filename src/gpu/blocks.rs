@@ -84,14 +84,15 @@ gpu_block!(
 pub struct AnimPush {
     /// `ANIM_PASS_*`.
     pub pass: u32,
-    /// Items of this step (vertices, rows, instance patches).
+    /// Items of this step (vertices, rows; the write step: model patches,
+    /// then keyed instance records).
     pub count: u32,
-    /// Animated instances (the instances step's binary search).
-    pub instances: u32,
-    /// Padding.
-    pub pad: u32,
+    /// Deforming models (the write step's binary search).
+    pub targets: u32,
+    /// The write step: model patches (the items after them are records).
+    pub patches: u32,
 }
-gpu_block!(AnimPush, "AnimPush", [pass, count, instances, pad]);
+gpu_block!(AnimPush, "AnimPush", [pass, count, targets, patches]);
 gpu_block!(
     crate::anim::deform::GpuDeformer,
     "AnimDeformer",
@@ -264,6 +265,12 @@ gpu_block!(
     [depth_row, planes, eye, eps_k, near, w_orth, w_par, l_max, flags, pad]
 );
 
+gpu_block!(
+    crate::scene::instances::Instance,
+    "Instance",
+    [rows, first, source, count, flags]
+);
+
 /// Every host block with its GLSL name and fields, for the reflection test.
 pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
     fn entry<T: GpuBlock>() -> (&'static str, u32, Vec<BlockField>) {
@@ -279,6 +286,7 @@ pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
         entry::<AnimPush>(),
         entry::<crate::anim::deform::GpuDeformer>(),
         entry::<ViewParams>(),
+        entry::<crate::scene::instances::Instance>(),
     ]
 }
 
