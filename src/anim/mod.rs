@@ -162,7 +162,9 @@ impl Animation {
                     sequence.push(sequence::read_frame(frame, &cage)?);
                 }
             }
-            end = end.max((sequence.len().max(1) - 1) as f64 / scene_fps(scene));
+            // A sequence of N frames lasts N frames: the last one shows
+            // for a frame's time before the loop returns to the first.
+            end = end.max(sequence.len() as f64 / scene_fps(scene));
             for d in &m.anim.deform {
                 end = end.max(d.end());
             }
@@ -218,7 +220,7 @@ impl Animation {
         let inputs = self
             .models
             .iter()
-            .map(|m| sequence_at(&m.sequence, time * self.fps))
+            .map(|m| sequence_at(&m.sequence, time * self.fps, self.looping))
             .collect();
         let deformers = self
             .models
@@ -334,21 +336,29 @@ fn scene_fps(scene: &Scene) -> f64 {
         .unwrap_or(DEFAULT_FPS)
 }
 
-/// The cage vertices of `frames` at frame position `f` (linear between
-/// frames in f32, held at the last); empty without frames.
-fn sequence_at(frames: &[Vec<Vec3>], f: f64) -> Vec<Vec3> {
+/// The cage vertices of `frames` at frame position `f`: linear between
+/// frames in f32; after the last, towards the first where the animation
+/// loops, else held. Empty without frames.
+fn sequence_at(frames: &[Vec<Vec3>], f: f64, looping: bool) -> Vec<Vec3> {
     if frames.is_empty() {
         return Vec::new();
     }
-    let last = frames.len() - 1;
-    let i = (f.floor().max(0.0) as usize).min(last);
+    let n = frames.len();
+    let i = (f.floor().max(0.0) as usize).min(n - 1);
     let a = (f - i as f64).clamp(0.0, 1.0) as f32;
-    if i == last || a == 0.0 {
+    let next = if i + 1 < n {
+        i + 1
+    } else if looping {
+        0
+    } else {
+        i
+    };
+    if next == i || a == 0.0 {
         return frames[i].clone();
     }
     frames[i]
         .iter()
-        .zip(&frames[i + 1])
+        .zip(&frames[next])
         .map(|(p, q)| *p + (*q - *p) * a + Vec3::ZERO)
         .collect()
 }

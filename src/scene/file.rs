@@ -355,10 +355,8 @@ impl Scene {
             let instances = instance_transforms(&m.instance)
                 .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
             let anim = model_anim(&m, dir).map_err(|e| match e {
-                SceneError::Invalid { msg, .. } if !msg.contains(".obj") => {
-                    invalid(format!("model '{name}': {msg}"))
-                }
-                e => e,
+                Err(msg) => invalid(format!("model '{name}': {msg}")),
+                Ok(e) => e,
             })?;
             let file = anim
                 .sequence
@@ -423,12 +421,10 @@ impl Scene {
     }
 }
 
-/// The model's deformers, sequence and instance keys, checked.
-fn model_anim(m: &ModelToml, dir: &Path) -> Result<ModelAnim, SceneError> {
-    let here = |msg: String| SceneError::Invalid {
-        path: PathBuf::new(),
-        msg,
-    };
+/// The model's deformers, sequence and instance keys, checked; an error is
+/// a sentence about the model (`Err`) or one about a file (`Ok`).
+fn model_anim(m: &ModelToml, dir: &Path) -> Result<ModelAnim, Result<SceneError, String>> {
+    let here = Err;
     let mut anim = ModelAnim::default();
     for (k, d) in m.deform.iter().enumerate() {
         anim.deform.push(
@@ -437,7 +433,7 @@ fn model_anim(m: &ModelToml, dir: &Path) -> Result<ModelAnim, SceneError> {
         );
     }
     if m.file.contains('#') {
-        anim.sequence = crate::anim::sequence::frames(&dir.join(&m.file))?;
+        anim.sequence = crate::anim::sequence::frames(&dir.join(&m.file)).map_err(Ok)?;
     }
     for (k, inst) in m.instance.iter().enumerate() {
         let keys = if inst.key.is_empty() {
