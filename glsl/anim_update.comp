@@ -1,7 +1,8 @@
 // The animation update pass (src/gpu/anim.rs), one step per dispatch
-// (AnimPush.pass): deform the cage vertices, evaluate the point rows, the
-// shading rows, and write the moving models' patches and shading patches
-// and the keyed instances' records over set 0's. Grid-stride loops: any count fits any launch.
+// (AnimPush.pass): deform the cage vertices; evaluate the point rows; then
+// the shading rows, written straight into the moving models' shading
+// patches, the moving models' points gathered into their patches, and the
+// keyed instances' records, all in set 0. Grid-stride loops: any count fits any launch.
 #version 460
 
 #include "common/anim.glsl"
@@ -20,61 +21,66 @@ void deform_vertex(uint v) {
     for (uint k = 0u; k < model.y; ++k) {
         p = anim_deform(anim_deformers[model.x + k], p);
     }
-    anim_verts[3u * v] = p.x;
-    anim_verts[3u * v + 1u] = p.y;
-    anim_verts[3u * v + 2u] = p.z;
+    anim_verts[v] = vec4(p, 0.0);
 }
 
-void point_row(uint r) {
+void point_row(uint i) {
+    uvec4 row = anim_point_rows[i];
     vec3 base;
     vec3 acc;
-    ANIM_ROW_SUM(anim_point_rows, anim_point_terms, anim_verts, r, base, acc)
+    ANIM_ROW_SUM(anim_point_terms, anim_verts, row, base, acc)
     precise vec3 q = base + acc;
-    anim_points[3u * r] = q.x;
-    anim_points[3u * r + 1u] = q.y;
-    anim_points[3u * r + 2u] = q.z;
+    anim_points[row.w] = vec4(q, 0.0);
 }
 
-void shading_row(uint r) {
-    vec3 base;
-    vec3 acc;
-    ANIM_ROW_SUM(anim_shading_rows, anim_shading_terms, anim_points, r, base, acc)
-    anim_vectors[3u * r] = acc.x;
-    anim_vectors[3u * r + 1u] = acc.y;
-    anim_vectors[3u * r + 2u] = acc.z;
-}
-
-// Thread t of the write step below the model patches: patch (t - first
-// thread) of the deforming model whose thread range holds t, in model
-// space, points and shading vectors.
-void write_patch(uint t) {
+// The deforming model whose range of `key` (x: its first thread of the
+// write step, z: its first own patch) holds `t`.
+uvec4 target_of(uint t, bool by_patch) {
     uint lo = 0u;
     uint hi = anim.targets;
     while (hi - lo > 1u) {
         uint mid = (lo + hi) / 2u;
-        if (anim_targets[mid].x <= t) {
+        uint first = by_patch ? anim_targets[mid].z : anim_targets[mid].x;
+        if (first <= t) {
             lo = mid;
         } else {
             hi = mid;
         }
     }
-    uvec4 target = anim_targets[lo];
+    return anim_targets[lo];
+}
+
+// A shading row: vector r % 24 of own patch r / 24 (r its own index),
+// written straight into its model's shading patch in set 0.
+void shading_row(uint i) {
+    uvec4 row = anim_shading_rows[i];
+    vec3 base;
+    vec3 acc;
+    ANIM_ROW_SUM(anim_shading_terms, anim_points, row, base, acc)
+    uint r = row.w;
+    uint src = r / 24u;
+    uvec4 target = target_of(src, true);
+    uint dst = target.y + (src - target.z);
+    uint o = SHADING_FLOATS * dst + 3u * (r % 24u);
+    anim_shading[o] = acc.x;
+    anim_shading[o + 1u] = acc.y;
+    anim_shading[o + 2u] = acc.z;
+}
+
+// Thread t of the write step below the model patches: patch (t - first
+// thread) of the deforming model whose thread range holds t, its points in
+// model space.
+void write_patch(uint t) {
+    uvec4 target = target_of(t, false);
     uint k = t - target.x;
     uint dst = target.y + k;
     uint src = target.z + k;
     for (uint s = 0u; s < 16u; ++s) {
-        uint r = 3u * anim_patch_rows[16u * src + s];
+        vec3 q = anim_points[anim_patch_rows[16u * src + s]].xyz;
         uint o = 48u * dst + 3u * s;
-        anim_patch_data[o] = anim_points[r];
-        anim_patch_data[o + 1u] = anim_points[r + 1u];
-        anim_patch_data[o + 2u] = anim_points[r + 2u];
-    }
-    for (uint n = 0u; n < 24u; ++n) {
-        uint r = 3u * (24u * src + n);
-        uint o = SHADING_FLOATS * dst + 3u * n;
-        anim_shading[o] = anim_vectors[r];
-        anim_shading[o + 1u] = anim_vectors[r + 1u];
-        anim_shading[o + 2u] = anim_vectors[r + 2u];
+        anim_patch_data[o] = q.x;
+        anim_patch_data[o + 1u] = q.y;
+        anim_patch_data[o + 2u] = q.z;
     }
 }
 
@@ -93,12 +99,12 @@ void main() {
             deform_vertex(i);
         } else if (anim.pass == ANIM_PASS_POINTS) {
             point_row(i);
-        } else if (anim.pass == ANIM_PASS_VECTORS) {
+        } else if (i < anim.rows) {
             shading_row(i);
-        } else if (i < anim.patches) {
-            write_patch(i);
+        } else if (i - anim.rows < anim.patches) {
+            write_patch(i - anim.rows);
         } else {
-            write_record(i - anim.patches);
+            write_record(i - anim.rows - anim.patches);
         }
     }
 }

@@ -160,15 +160,14 @@ shared_constants! {
         BIND_ANIM_TARGETS = 8;
         BIND_ANIM_VERTS = 9;
         BIND_ANIM_POINTS = 10;
-        BIND_ANIM_VECTORS = 11;
-        BIND_ANIM_DEFORMERS = 12;
-        BIND_ANIM_RECORDS = 13;
-        BIND_ANIM_INPUTS = 14;
-        BIND_ANIM_PATCHES = 15;
-        BIND_ANIM_SHADING = 16;
-        BIND_ANIM_KEYED = 17;
-        BIND_ANIM_INSTANCES = 18;
-        ANIM_BINDINGS = 19;
+        BIND_ANIM_DEFORMERS = 11;
+        BIND_ANIM_RECORDS = 12;
+        BIND_ANIM_INPUTS = 13;
+        BIND_ANIM_PATCHES = 14;
+        BIND_ANIM_SHADING = 15;
+        BIND_ANIM_KEYED = 16;
+        BIND_ANIM_INSTANCES = 17;
+        ANIM_BINDINGS = 18;
     }
 
     /// The update pass's steps (`AnimPush.pass`), in order, and its
@@ -176,8 +175,8 @@ shared_constants! {
     group {
         ANIM_PASS_DEFORM = 0;
         ANIM_PASS_POINTS = 1;
-        ANIM_PASS_VECTORS = 2;
-        ANIM_PASS_WRITE = 3;
+        /// Shading rows, then patches' points, then instance records.
+        ANIM_PASS_WRITE = 2;
         ANIM_GROUP_SIZE = 64;
         /// AnimModel.seq_base of a model without a sequence.
         ANIM_NO_SEQUENCE = 0xffff_ffff;

@@ -23,7 +23,9 @@ layout(push_constant) uniform AnimPush {
     uint pass;
     uint count;
     uint targets;
+    uint rows;
     uint patches;
+    uint pad[3];
 } anim;
 
 // Static: every animated vertex at rest (3 floats each), its model, and per
@@ -32,11 +34,12 @@ layout(push_constant) uniform AnimPush {
 layout(std430, set = 0, binding = BIND_ANIM_REST) readonly buffer AnimRest { float anim_rest[]; };
 layout(std430, set = 0, binding = BIND_ANIM_VERTEX_MODEL) readonly buffer AnimVertexModel { uint anim_vertex_model[]; };
 layout(std430, set = 0, binding = BIND_ANIM_MODELS) readonly buffer AnimModels { uvec4 anim_models[]; };
-// The tables: per row (first term, reference) and one more row for the end;
-// per term (input, weight bits).
-layout(std430, set = 0, binding = BIND_ANIM_POINT_ROWS) readonly buffer AnimPointRows { uvec2 anim_point_rows[]; };
+// The tables: per row (first term, terms, reference, the row's own index),
+// ordered by their number of terms (src/gpu/anim.rs `by_terms`); per term
+// (input, weight bits).
+layout(std430, set = 0, binding = BIND_ANIM_POINT_ROWS) readonly buffer AnimPointRows { uvec4 anim_point_rows[]; };
 layout(std430, set = 0, binding = BIND_ANIM_POINT_TERMS) readonly buffer AnimPointTerms { uvec2 anim_point_terms[]; };
-layout(std430, set = 0, binding = BIND_ANIM_SHADING_ROWS) readonly buffer AnimShadingRows { uvec2 anim_shading_rows[]; };
+layout(std430, set = 0, binding = BIND_ANIM_SHADING_ROWS) readonly buffer AnimShadingRows { uvec4 anim_shading_rows[]; };
 layout(std430, set = 0, binding = BIND_ANIM_SHADING_TERMS) readonly buffer AnimShadingTerms { uvec2 anim_shading_terms[]; };
 // The point row of each control point of each model patch (16 per patch).
 layout(std430, set = 0, binding = BIND_ANIM_PATCH_ROWS) readonly buffer AnimPatchRows { uint anim_patch_rows[]; };
@@ -45,10 +48,10 @@ layout(std430, set = 0, binding = BIND_ANIM_PATCH_ROWS) readonly buffer AnimPatc
 layout(std430, set = 0, binding = BIND_ANIM_TARGETS) readonly buffer AnimTargets { uvec4 anim_targets[]; };
 // Per keyed instance, its index in set 0's instances.
 layout(std430, set = 0, binding = BIND_ANIM_KEYED) readonly buffer AnimKeyed { uint anim_keyed[]; };
-// Scratch: deformed vertices, point rows, shading rows (3 floats each).
-layout(std430, set = 0, binding = BIND_ANIM_VERTS) buffer AnimVerts { float anim_verts[]; };
-layout(std430, set = 0, binding = BIND_ANIM_POINTS) buffer AnimPoints { float anim_points[]; };
-layout(std430, set = 0, binding = BIND_ANIM_VECTORS) buffer AnimVectors { float anim_vectors[]; };
+// Scratch: deformed vertices and point rows (xyz of a vec4: one load per
+// term).
+layout(std430, set = 0, binding = BIND_ANIM_VERTS) buffer AnimVerts { vec4 anim_verts[]; };
+layout(std430, set = 0, binding = BIND_ANIM_POINTS) buffer AnimPoints { vec4 anim_points[]; };
 // The frame's: deformers, keyed instances' records (INSTANCE_WORDS each,
 // made on the host), the sequences' vertices.
 layout(std430, set = 0, binding = BIND_ANIM_DEFORMERS) readonly buffer AnimDeformers { AnimDeformer anim_deformers[]; };
@@ -133,24 +136,22 @@ vec3 anim_deform(AnimDeformer d, vec3 p0) {
     return p;
 }
 
-// Row r of a table over inputs `x` (3 floats each): the reference x_r and
-// sum_k w_k (x_k - x_r), in stored order (stencil::Table::sum).
-#define ANIM_ROW_SUM(ROWS, TERMS, X, r, base, acc)                                   \
+// A row of a table over inputs `x` (vec4s, xyz used): the reference x_r
+// and sum_k w_k (x_k - x_r), in stored order (stencil::Table::sum).
+#define ANIM_ROW_SUM(TERMS, X, row, base, acc)                                       \
     {                                                                                \
-        uvec2 row = ROWS[r];                                                         \
-        uint end = ROWS[r + 1u].x;                                                   \
-        uint b = 3u * row.y;                                                         \
-        base = vec3(X[b], X[b + 1u], X[b + 2u]);                                     \
+        uint end = row.x + row.y;                                                    \
+        base = X[row.z].xyz;                                                         \
         precise float ax = 0.0;                                                      \
         precise float ay = 0.0;                                                      \
         precise float az = 0.0;                                                      \
         for (uint k = row.x; k < end; ++k) {                                         \
             uvec2 term = TERMS[k];                                                   \
             float w = uintBitsToFloat(term.y);                                       \
-            uint i = 3u * term.x;                                                    \
-            ax = ax + (X[i] - base.x) * w;                                           \
-            ay = ay + (X[i + 1u] - base.y) * w;                                      \
-            az = az + (X[i + 2u] - base.z) * w;                                      \
+            vec3 x = X[term.x].xyz;                                                  \
+            ax = ax + (x.x - base.x) * w;                                            \
+            ay = ay + (x.y - base.y) * w;                                            \
+            az = az + (x.z - base.z) * w;                                            \
         }                                                                            \
         acc = vec3(ax, ay, az);                                                      \
     }

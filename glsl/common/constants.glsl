@@ -56,22 +56,21 @@ const uint BIND_ANIM_PATCH_ROWS = 7;
 const uint BIND_ANIM_TARGETS = 8;
 const uint BIND_ANIM_VERTS = 9;
 const uint BIND_ANIM_POINTS = 10;
-const uint BIND_ANIM_VECTORS = 11;
-const uint BIND_ANIM_DEFORMERS = 12;
-const uint BIND_ANIM_RECORDS = 13;
-const uint BIND_ANIM_INPUTS = 14;
-const uint BIND_ANIM_PATCHES = 15;
-const uint BIND_ANIM_SHADING = 16;
-const uint BIND_ANIM_KEYED = 17;
-const uint BIND_ANIM_INSTANCES = 18;
-const uint ANIM_BINDINGS = 19;
+const uint BIND_ANIM_DEFORMERS = 11;
+const uint BIND_ANIM_RECORDS = 12;
+const uint BIND_ANIM_INPUTS = 13;
+const uint BIND_ANIM_PATCHES = 14;
+const uint BIND_ANIM_SHADING = 15;
+const uint BIND_ANIM_KEYED = 16;
+const uint BIND_ANIM_INSTANCES = 17;
+const uint ANIM_BINDINGS = 18;
 
 // The update pass's steps (`AnimPush.pass`), in order, and its
 // workgroup size.
 const uint ANIM_PASS_DEFORM = 0;
 const uint ANIM_PASS_POINTS = 1;
-const uint ANIM_PASS_VECTORS = 2;
-const uint ANIM_PASS_WRITE = 3;
+// Shading rows, then patches' points, then instance records.
+const uint ANIM_PASS_WRITE = 2;
 const uint ANIM_GROUP_SIZE = 64;
 // AnimModel.seq_base of a model without a sequence.
 const uint ANIM_NO_SEQUENCE = 0xffffffffu;

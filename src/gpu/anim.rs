@@ -2,12 +2,15 @@
 //! models' cages are deformed and converted by their stencil tables, their
 //! model patches and shading patches (model space, each model's own copy)
 //! are written over set 0's, and the keyed instances' records over theirs
-//! (`glsl/anim_update.comp`, one pipeline, four dispatches: deform, points,
-//! vectors, write; the CPU twin is `anim::Animation::pose`). A static scene
-//! has no [`AnimGpu`] and records nothing.
+//! (`glsl/anim_update.comp`, one pipeline, three dispatches: deform the
+//! vertices, the point rows, then the shading rows written straight into
+//! the shading patches beside the patches' points gathered and the
+//! records; the CPU twin is `anim::Animation::pose`). A static scene has
+//! no [`AnimGpu`] and records nothing.
 //!
 //! Buffers: the tables, the rest vertices and the targets are uploaded
-//! once; the deformed vertices, point rows and shading rows are scratch;
+//! once; the deformed vertices and point rows are scratch (a vec4 each:
+//! one load per term);
 //! each frame slot has its own host-visible deformers, instance records and
 //! sequence vertices, written when the slot's frame is recorded (its
 //! previous frame has finished by then).
@@ -61,9 +64,9 @@ struct Layout {
     rest: Vec<f32>,
     vertex_model: Vec<u32>,
     models: Vec<[u32; 4]>,
-    point_rows: Vec<[u32; 2]>,
+    point_rows: Vec<[u32; 4]>,
     point_terms: Vec<[u32; 2]>,
-    shading_rows: Vec<[u32; 2]>,
+    shading_rows: Vec<[u32; 4]>,
     shading_terms: Vec<[u32; 2]>,
     patch_rows: Vec<u32>,
     targets: Vec<[u32; 4]>,
@@ -74,12 +77,30 @@ struct Layout {
     input_floats: usize,
 }
 
-fn append(table: &Table, input_base: u32, rows: &mut Vec<[u32; 2]>, terms: &mut Vec<[u32; 2]>) {
+/// Appends `table`'s rows as (first term, terms, reference, its own index)
+/// and its terms, inputs offset by `input_base`, rows by `row_base`.
+fn append(
+    table: &Table,
+    input_base: u32,
+    row_base: u32,
+    rows: &mut Vec<[u32; 4]>,
+    terms: &mut Vec<[u32; 2]>,
+) {
     for r in 0..table.rows() {
         let (reference, t) = table.row(r);
-        rows.push([terms.len() as u32, reference + input_base]);
+        let start = terms.len() as u32;
         terms.extend(t.map(|(i, w)| [i + input_base, w.to_bits()]));
+        let count = terms.len() as u32 - start;
+        rows.push([start, count, reference + input_base, row_base + r as u32]);
     }
+}
+
+/// Orders rows by their number of terms: the invocations a device runs in
+/// lockstep (a warp, llvmpipe's 8 SIMD lanes) then loop over as many terms
+/// each, instead of all waiting for the longest row among them. A row keeps
+/// its own index (its `.w`), so only the order of work changes, no value.
+fn by_terms(rows: &mut [[u32; 4]]) {
+    rows.sort_by_key(|r| (r[1], r[3]));
 }
 
 impl Layout {
@@ -117,12 +138,15 @@ impl Layout {
             append(
                 &s.points,
                 vertex_first,
+                row_first,
                 &mut l.point_rows,
                 &mut l.point_terms,
             );
+            let shading_first = l.shading_rows.len() as u32;
             append(
                 &s.shading,
                 row_first,
+                shading_first,
                 &mut l.shading_rows,
                 &mut l.shading_terms,
             );
@@ -142,8 +166,8 @@ impl Layout {
             l.input_first.push(input);
             l.deformer_count += model.deform.len();
         }
-        l.point_rows.push([l.point_terms.len() as u32, 0]);
-        l.shading_rows.push([l.shading_terms.len() as u32, 0]);
+        by_terms(&mut l.point_rows);
+        by_terms(&mut l.shading_rows);
         l.targets.push([l.patch_rows.len() as u32 / 16, 0, 0, 0]);
         l
     }
@@ -226,13 +250,13 @@ impl AnimGpu {
             storage(ctx, "animation keyed instances", &l.keyed)?,
         ];
         let vertices = l.vertex_model.len() as u32;
-        let point_rows = l.point_rows.len() as u32 - 1;
-        let shading_rows = l.shading_rows.len() as u32 - 1;
+        let point_rows = l.point_rows.len() as u32;
+        let shading_rows = l.shading_rows.len() as u32;
         let scratch_of = |name: &str, n: u32| {
             Buffer::new(
                 ctx,
                 name,
-                u64::from(n.max(1)) * 12,
+                u64::from(n.max(1)) * 16,
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::GpuOnly,
             )
@@ -240,7 +264,6 @@ impl AnimGpu {
         let scratch = vec![
             scratch_of("animation deformed vertices", vertices)?,
             scratch_of("animation points", point_rows)?,
-            scratch_of("animation vectors", shading_rows)?,
         ];
         let host = |name: String, bytes: usize| {
             Buffer::new(
@@ -270,7 +293,6 @@ impl AnimGpu {
             bound[BIND_ANIM_INSTANCES as usize] = (&scene.instances).into();
             bound[BIND_ANIM_VERTS as usize] = (&scratch[0]).into();
             bound[BIND_ANIM_POINTS as usize] = (&scratch[1]).into();
-            bound[BIND_ANIM_VECTORS as usize] = (&scratch[2]).into();
             bound[BIND_ANIM_DEFORMERS as usize] = (&deformers).into();
             bound[BIND_ANIM_RECORDS as usize] = (&records).into();
             bound[BIND_ANIM_INPUTS as usize] = (&inputs).into();
@@ -329,7 +351,7 @@ impl AnimGpu {
     }
 
     /// Writes `frame`'s inputs into slot `slot` (its previous frame has
-    /// finished) and records the four steps into `cmd`, from a barrier
+    /// finished) and records the three steps into `cmd`, from a barrier
     /// after every earlier command (the frame before may still read the
     /// patches) to one before every later one.
     pub fn record(
@@ -372,8 +394,10 @@ impl AnimGpu {
         let steps = [
             (ANIM_PASS_DEFORM, self.vertices),
             (ANIM_PASS_POINTS, self.point_rows),
-            (ANIM_PASS_VECTORS, self.shading_rows),
-            (ANIM_PASS_WRITE, self.patches + self.keyed),
+            (
+                ANIM_PASS_WRITE,
+                self.shading_rows + self.patches + self.keyed,
+            ),
         ];
         for (k, (pass, count)) in steps.into_iter().enumerate() {
             if k > 0 {
@@ -383,7 +407,9 @@ impl AnimGpu {
                 pass,
                 count,
                 targets: self.targets,
+                rows: self.shading_rows,
                 patches: self.patches,
+                pad: [0; 3],
             };
             self.layout.push_block(cmd, &push)?;
             let groups = count.div_ceil(ANIM_GROUP_SIZE).clamp(1, max);

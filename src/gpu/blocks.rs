@@ -84,15 +84,23 @@ gpu_block!(
 pub struct AnimPush {
     /// `ANIM_PASS_*`.
     pub pass: u32,
-    /// Items of this step (vertices, rows; the write step: model patches,
-    /// then keyed instance records).
+    /// Items of this step (vertices, point rows; the write step: shading
+    /// rows, model patches, keyed instance records).
     pub count: u32,
-    /// Deforming models (the write step's binary search).
+    /// Deforming models (the write step's binary searches).
     pub targets: u32,
-    /// The write step: model patches (the items after them are records).
+    /// The write step: shading rows (its first items).
+    pub rows: u32,
+    /// The write step: model patches (the items after the rows).
     pub patches: u32,
+    /// Padding.
+    pub pad: [u32; 3],
 }
-gpu_block!(AnimPush, "AnimPush", [pass, count, targets, patches]);
+gpu_block!(
+    AnimPush,
+    "AnimPush",
+    [pass, count, targets, rows, patches, pad]
+);
 gpu_block!(
     crate::anim::deform::GpuDeformer,
     "AnimDeformer",

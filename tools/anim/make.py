@@ -12,12 +12,20 @@ The scene shows every animation source the renderer has (docs/GUIDE.md,
   squares (kitchen_square), keyed translations;
 - the Utah teapot (a patch file) turning, a keyed rotation.
 
+It also writes scenes/kitchen-anim.toml: the evaluation kitchen with every
+base patch moving, for the update pass's cost (docs/BENCHMARKS.md,
+"Animation"): each of its models gets a small travelling wave of its own
+(so each moving model keeps its own copy of its patches on the GPU), and
+each instance bobs up and down on keys (its own transform at 0 and 4 s,
+lifted at 2 s).
+
 Edit this script, not the files it writes:
 
     python3 tools/anim/make.py
 """
 
 import os
+import tomllib
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 MODELS = os.path.join(ROOT, "scenes", "models")
@@ -145,11 +153,79 @@ def scene():
     return "\n".join(s) + "\n"
 
 
+def value(v):
+    """A TOML value."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(float(v)) if isinstance(v, float) else str(v)
+    if isinstance(v, str):
+        return '"' + v + '"'
+    if isinstance(v, list):
+        return "[" + ", ".join(value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + " }"
+    raise TypeError(v)
+
+
+def table(name, d, out, array=False):
+    out.append(f"[[{name}]]" if array else f"[{name}]")
+    for k, v in d.items():
+        if not isinstance(v, (dict, list)) or (isinstance(v, list) and not (v and isinstance(v[0], dict))):
+            out.append(f"{k} = {value(v)}")
+        elif isinstance(v, dict) and k == "grid":
+            out.append(f"{k} = {value(v)}")
+
+
+def kitchen_anim():
+    with open(os.path.join(ROOT, "scenes", "kitchen.toml"), "rb") as f:
+        k = tomllib.load(f)
+    out = [
+        "# The evaluation kitchen with every base patch moving: each model waves,",
+        "# each instance bobs (tools/anim/make.py writes this from kitchen.toml;",
+        "# edit the script, not this file). For the animation update pass's cost.",
+        f'name = "kitchen-anim"',
+        "",
+    ]
+    table("view", k["view"], out)
+    out.append("[animation]\nduration = 4.0\nfps = 24.0")
+    table("camera", k["camera"], out)
+    if "camera_path" in k:
+        table("camera_path", k["camera_path"], out)
+        for key in k["camera_path"].get("key", []):
+            table("camera_path.key", key, out, array=True)
+    if "camera_orbit" in k:
+        table("camera_orbit", k["camera_orbit"], out)
+    for m in k["model"]:
+        out.append("")
+        table("model", m, out, array=True)
+        if not m["file"].endswith(".rbpt"):
+            out.append("[[model.deform]]")
+            out.append('kind = "wave"\naxis = "z"\nalong = "x"\namplitude = 0.02')
+            out.append("wavelength = 2.0\nspeed = 0.5")
+        for inst in m.get("instance", [{}]):
+            out.append("[[model.instance]]")
+            if "grid" in inst:
+                out.append(f"grid = {value(inst['grid'])}")
+            t = inst.get("translate", [0.0, 0.0, 0.0])
+            for time, lift in [(0.0, 0.0), (2.0, 0.05), (4.0, 0.0)]:
+                out.append("[[model.instance.key]]")
+                out.append(f"time = {time}")
+                out.append(f"translate = {value([t[0], t[1], t[2] + lift])}")
+                if "rotate_deg" in inst:
+                    out.append(f"rotate_deg = {value(inst['rotate_deg'])}")
+                if "scale" in inst:
+                    out.append(f"scale = {value(inst['scale'])}")
+    return "\n".join(out) + "\n"
+
+
 def main():
     with open(os.path.join(MODELS, "flag.obj"), "w") as f:
         f.write(flag())
     with open(os.path.join(ROOT, "scenes", "anim.toml"), "w") as f:
         f.write(scene())
+    with open(os.path.join(ROOT, "scenes", "kitchen-anim.toml"), "w") as f:
+        f.write(kitchen_anim())
 
 
 if __name__ == "__main__":
