@@ -107,7 +107,7 @@ def scene():
     w("")
     w("[view]\neps = 1.0\nlambda = 0.5\n")
     w("[animation]\nduration = 4.0\nfps = 24.0\n")
-    w("[camera]\nposition = [1.0, -11.0, 5.5]\ntarget = [0.3, 0.0, 1.0]\nup = [0.0, 0.0, 1.0]")
+    w("[camera]\nposition = [0.4, -8.2, 4.0]\ntarget = [0.3, 0.2, 0.9]\nup = [0.0, 0.0, 1.0]")
     w("fov_y_deg = 45.0\nnear = 0.05\nfar = 200.0\n")
     w("[camera_orbit]\ncenter = [0.3, 0.0, 1.0]\ndistance = [7.0, 12.0]\nheight = [2.0, 5.0]")
     w("turns = 1.0\nwaves = 1.0\nframes = 96\n")
