@@ -14,6 +14,7 @@ use bezier_subdiv::commands::validate::{run, ValidateArgs};
 use bezier_subdiv::commands::{AnimTime, GpuRequest};
 use bezier_subdiv::draw::{DrawPath, DrawRequest};
 use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::levels;
 use bezier_subdiv::methods::subdiv::Kernel;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::{Renderer, RendererOptions};
@@ -222,4 +223,99 @@ fn time_on_a_static_scene_is_refused() {
     a.gpu.scene = scene_path("teapot.toml");
     let e = run(&a).unwrap_err().to_string();
     assert!(e.contains("does not move"), "{e}");
+}
+
+/// Instance culling by box follows the animation: a cube waved 6 units up
+/// out of its box at rest, and a keyed cube moved there, with the camera
+/// seeing only where they went (their boxes at rest lie below the
+/// frustum). A box kept from load would cull both whole: the oracle's
+/// roots (`levels::root_patches`) would be empty and the GPU would draw
+/// nothing.
+#[test]
+fn moved_instances_are_not_culled_by_their_box_at_rest() {
+    let gpu = common::gpu();
+    let dir = common::output_dir("anim-moved-box");
+    let cube = scene_path("models/catmark_cube.obj");
+    let toml = format!(
+        "[animation]\nduration = 4.0\n\
+         [camera]\nposition = [0.0, -30.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\n\
+         [[model]]\nname = \"waved\"\nfile = {cube:?}\n\
+         [[model.deform]]\nkind = \"wave\"\naxis = \"z\"\nalong = \"x\"\n\
+         amplitude = 6.0\nwavelength = 1000.0\nspeed = 0.75\n\
+         [[model]]\nname = \"keyed\"\nfile = {cube:?}\n[[model.instance]]\n\
+         [[model.instance.key]]\ntime = 0.0\n\
+         [[model.instance.key]]\ntime = 1.0\ntranslate = [4.0, 0.0, 6.0]\n"
+    );
+    let path = dir.join("moved.toml");
+    std::fs::write(&path, toml).unwrap();
+    let mut scene = Scene::load(&path).unwrap();
+    let loaded = scene.load_animated().unwrap();
+    let t = 1.0;
+    let (geo, _) = loaded.at(t);
+    // Both moved clear of where they were at load.
+    let pts = |g: &bezier_subdiv::scene::file::SceneGeometry| {
+        let mut lo = glam::Vec3::splat(f32::MAX);
+        let mut hi = glam::Vec3::splat(-f32::MAX);
+        for q in g.patches.iter().flat_map(|p| p.pts) {
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        (lo, hi)
+    };
+    let (rest_lo, rest_hi) = pts(&loaded.geometry);
+    let (lo, hi) = pts(&geo);
+    assert!(
+        rest_hi.z < 1.5 && lo.z > 4.0,
+        "rest {rest_lo}..{rest_hi}, at {t}: {lo}..{hi}"
+    );
+    // Look at the moved cubes from the front, the bottom plane above both
+    // boxes at rest.
+    let c = (lo + hi) * 0.5;
+    scene.camera.position = [f64::from(c.x), -12.0, f64::from(c.z)];
+    scene.camera.target = [f64::from(c.x), 0.0, f64::from(c.z)];
+    scene.camera.fov_y_deg = 30.0;
+    let v = view(&scene);
+    let mut r = Renderer::new(
+        gpu.arc(),
+        &loaded.geometry,
+        &loaded.shading,
+        "subdiv",
+        options(DrawPath::Mesh),
+    )
+    .unwrap();
+    r.set_animation(loaded.animation.clone()).unwrap();
+    let vp = r.effective_params(&v);
+    assert_ne!(vp.flags & bezier_subdiv::constants::FLAG_FRUSTUM_CULL, 0);
+    // With the boxes of the cubes at rest, as a static scene has them,
+    // both would be culled whole.
+    let mut stale = loaded.geometry.instances.instances.clone();
+    for b in &mut stale {
+        *b = b.bounded(&loaded.geometry.patches[b.ids()]);
+    }
+    assert!(
+        levels::root_patches(&stale, &vp).is_empty(),
+        "the camera sees the cubes at rest"
+    );
+    // At t the GPU draws them.
+    r.set_time(t);
+    r.render(&v).unwrap();
+    let image = r.read_image().unwrap();
+    let background = image[..4].to_vec();
+    let drawn = image
+        .chunks_exact(4)
+        .filter(|p| *p != &background[..])
+        .count();
+    println!("{drawn} pixels drawn at t = {t}");
+    assert!(
+        drawn > 1000,
+        "{drawn} pixels drawn: the moved cubes were culled"
+    );
+    // And the oracle's roots hold every patch of both cubes.
+    let roots = levels::root_patches(&geo.instances.instances, &vp);
+    assert_eq!(
+        roots.len(),
+        geo.patches.len(),
+        "the oracle culled a moved instance"
+    );
+    gpu.finish();
 }

@@ -10,6 +10,27 @@ const uint OUT_CULLED = 0u;
 const uint OUT_BACKFACE = 1u;
 const uint OUT_READY = 2u;
 const uint OUT_SPLIT = 3u;
+const uint OUT_OCCLUDED = 4u;
+
+#ifdef LEVEL_KERNEL
+#include "hiz.glsl"
+// The late phase of occlusion culling: nodes are also tested against the
+// early phase's depth pyramid (set by the level kernels' main from their
+// push block). A node is occluded when the box that the frustum test uses
+// (control points and wedge pivots: everything it and its descendants
+// draw) lies behind the pyramid.
+bool process_occludes = false;
+#endif
+
+// Whether the node's box lo..hi (control points and wedge pivots) is
+// hidden behind what the early phase drew.
+bool node_occluded(vec3 lo, vec3 hi) {
+#ifdef LEVEL_KERNEL
+    return process_occludes && box_occluded(lo, hi, HIZ_NODE_SPAN);
+#else
+    return false;
+#endif
+}
 
 // Which directions q may still halve (twin of oracle::verdict): iso both
 // or neither (at l_max), aniso each below l_max.
@@ -69,6 +90,9 @@ uint process_rational(uvec2 q, Instance t, uint flags, out uvec2 kids[4], out ui
         }
         if (outside_frustum(lo, hi, view)) {
             return OUT_CULLED;
+        }
+        if (node_occluded(lo, hi)) {
+            return OUT_OCCLUDED;
         }
     }
     bvec2 can = can_split(q);
@@ -133,6 +157,9 @@ uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
         }
         if (outside_frustum(clo, chi, view)) {
             return OUT_CULLED;
+        }
+        if (node_occluded(clo, chi)) {
+            return OUT_OCCLUDED;
         }
     }
     bvec2 can = can_split(q);

@@ -41,6 +41,19 @@ void load_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
     }
 }
 
+// The homogeneous control points (w p, w) of patch `id` of instance `t`
+// in model space (see load_model_patch_in).
+void load_model_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
+    vec3 P[16];
+    load_model_patch_in(t, id, P);
+    bool rational = (patch_flags_in(t, id) & PATCH_RATIONAL) != 0u;
+    for (uint i = 0u; i < 16u; ++i) {
+        float w = rational ? patch_weight_in(t, id, i) : 1.0;
+        precise vec4 h = vec4(P[i].x * w, P[i].y * w, P[i].z * w, w);
+        H[i] = h;
+    }
+}
+
 // The homogeneous control points of patch `id`.
 void load_homogeneous(uint id, out vec4 H[16]) {
     load_homogeneous_in(instances[instance_of(id)], id, H);

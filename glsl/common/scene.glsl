@@ -36,6 +36,8 @@ struct Instance {
     uint source; // its first model patch
     uint count;
     uint flags;  // PATCH_TWO_SIDED | model << PATCH_MODEL_SHIFT | INSTANCE_*
+    vec4 lo;     // box of its world control points (xyz), a little enlarged
+    vec4 hi;
 };
 
 layout(std430, set = SET_SCENE, binding = BIND_INSTANCES) readonly buffer Instances {
@@ -87,6 +89,26 @@ vec3 patch_point(uint id, uint k) {
         return p;
     }
     return place_point(t.rows[0], t.rows[1], t.rows[2], p);
+}
+
+// The point p placed by instance t (unchanged by an identity).
+vec3 place_in(Instance t, vec3 p) {
+    if ((t.flags & INSTANCE_IDENTITY) != 0u) {
+        return p;
+    }
+    return place_point(t.rows[0], t.rows[1], t.rows[2], p);
+}
+
+// The 16 control points of base patch `id` of instance `t` in model space,
+// in the base patch's order (u and v swapped where the instance mirrors):
+// for a caller that evaluates first and places the point after (the
+// ground truth's vertices; neighbours in one instance still share their
+// boundary's bits, model space and placement alike).
+void load_model_patch_in(Instance t, uint id, out vec3 P[16]) {
+    uint m = t.source + (id - t.first);
+    for (uint k = 0u; k < 16u; ++k) {
+        P[k] = model_point(m, model_point_index(k, t.flags));
+    }
 }
 
 // The 16 control points of base patch `id` of instance `t` in the world.

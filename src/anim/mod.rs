@@ -195,6 +195,27 @@ impl Animation {
         }))
     }
 
+    /// Gives every instance that moves (a deforming model's, a keyed one)
+    /// the box that holds everything, in `geo` as loaded: the box made at
+    /// load bounds the rest pose where it was placed, and culling the
+    /// instance whole by it (the level kernels' roots, `levels::root_patches`
+    /// for the oracle) would drop a frame's patches that moved out of it.
+    /// The update pass writes no box: a deforming model's instances keep
+    /// this one, a keyed instance's record is the CPU's (`frame`), also
+    /// unbounded. Such instances are culled patch by patch only.
+    pub fn unbound(&self, geo: &mut SceneGeometry) {
+        let deforming: Vec<u32> = self.models.iter().map(|m| m.source).collect();
+        let table = &mut geo.instances.instances;
+        for k in &self.keyed {
+            table[k.index] = table[k.index].unbounded();
+        }
+        for t in table.iter_mut() {
+            if deforming.contains(&t.source) {
+                *t = t.unbounded();
+            }
+        }
+    }
+
     /// Model patches the update pass rewrites per frame.
     pub fn patches(&self) -> usize {
         self.models.iter().map(|m| m.cage.stencils.patches()).sum()
@@ -232,7 +253,8 @@ impl Animation {
             .iter()
             .map(|k| {
                 let b = &k.base;
-                Instance::new(&k.keys.at(time), b.first, b.source, b.count, b.flags)
+                // Unbounded: see `unbound`.
+                Instance::new(&k.keys.at(time), b.first, b.source, b.count, b.flags).unbounded()
             })
             .collect();
         Frame {
@@ -401,7 +423,11 @@ impl Scene {
                 None => None,
             }
         };
+        let mut geometry = geometry;
         let animation = Animation::new(self, &geometry, &cage_of)?;
+        if let Some(a) = &animation {
+            a.unbound(&mut geometry);
+        }
         Ok(AnimatedScene {
             geometry,
             shading,

@@ -74,6 +74,9 @@ pub struct GpuRequest {
     pub split: Option<crate::patch::view::Split>,
     /// The animation's time (`None`: 0 where the scene moves).
     pub time: Option<AnimTime>,
+    /// `subdiv`, `subdiv-indirect`: occlusion culling (`None`: the
+    /// command's default, on for render and view, off for bench).
+    pub occlusion: Option<bool>,
 }
 
 /// When in a scene's animation a frame is drawn.
@@ -107,6 +110,7 @@ impl GpuRequest {
             forward_differencing: false,
             split: None,
             time: None,
+            occlusion: None,
         }
     }
 
@@ -187,6 +191,7 @@ impl GpuRequest {
             node_memory: self.node_memory,
             samples: self.msaa,
             forward_differencing: self.forward_differencing,
+            occlusion: self.occlusion.unwrap_or(true),
             ..crate::methods::MethodOptions::new(draw)
         };
         let options = RendererOptions {

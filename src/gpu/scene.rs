@@ -13,15 +13,15 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use ash::vk;
 
 use crate::constants::{
-    BIND_INSTANCES, BIND_PATCHES, BIND_PATCH_FLAGS, BIND_SHADING, BIND_VIEW, BIND_WEIGHTS,
-    PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
+    BIND_INSTANCES, BIND_PATCHES, BIND_PATCH_FLAGS, BIND_ROOTS, BIND_SHADING, BIND_VIEW,
+    BIND_VISIBILITY, BIND_WEIGHTS, PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
 };
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
 use crate::scene::file::{SceneGeometry, SceneShading};
-use crate::scene::instances::{InstanceTable, INSTANCE_BYTES};
+use crate::scene::instances::{Instance, InstanceTable, INSTANCE_BYTES};
 use crate::scene::pn::PnScene;
 use crate::scene::shading::ShadingPatch;
 use crate::vk::{
@@ -116,6 +116,13 @@ pub struct SceneGpu {
     pub weights: Buffer,
     /// `INSTANCE_WORDS` per instance.
     pub instances: Buffer,
+    /// The level kernels' depth 0 of a frame: 2 words per instance.
+    pub roots: Buffer,
+    /// Occlusion culling's verdict of the last frame: 1 word per instance.
+    pub visibility: Buffer,
+    /// The instance records as uploaded (the level schedule's CPU twin
+    /// culls by their boxes).
+    pub instance_records: Vec<Instance>,
     /// Patches with a weight other than 1.
     pub rational_patches: u32,
     /// Number of base patches (global ids 0..count, instance by instance).
@@ -263,6 +270,24 @@ impl SceneGpu {
         };
         let weights_buffer = Buffer::with_data(ctx, "patch weights", &weight_floats, storage, gpu)?;
         let instances = Buffer::with_data(ctx, "instances", table.records(), storage, gpu)?;
+        let roots = Buffer::new(
+            ctx,
+            "roots (instances at depth 0)",
+            8 * table.instances.len().max(1) as u64,
+            storage,
+            gpu,
+        )?;
+        // Everything counts as visible before the first frame: its early
+        // phase draws all that is in view and its late phase finds what
+        // that hides, so the second frame culls (with nothing visible, the
+        // first frame's pyramid would be empty and only the third would).
+        let visibility = Buffer::with_data(
+            ctx,
+            "instance visibility",
+            &vec![1u32; table.instances.len().max(1)],
+            storage,
+            gpu,
+        )?;
         let size = std::mem::size_of::<ViewParams>() as u64;
         let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
         let view_stride = size.div_ceil(align) * align;
@@ -286,6 +311,8 @@ impl SceneGpu {
             buffer: &instances,
             range: table.instances.len() as u64 * INSTANCE_BYTES,
         };
+        bound[BIND_ROOTS as usize] = BufferBinding::from(&roots);
+        bound[BIND_VISIBILITY as usize] = BufferBinding::from(&visibility);
         let set = DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)?;
         Ok(Self {
             count: table.base_patches() as u32,
@@ -296,6 +323,9 @@ impl SceneGpu {
             shading,
             weights: weights_buffer,
             instances,
+            roots,
+            visibility,
+            instance_records: table.instances.clone(),
             rational_patches,
             edges,
             serial: SCENE_SERIAL.fetch_add(1, Ordering::Relaxed),
@@ -403,9 +433,10 @@ impl SceneGpu {
         self.patches.size() + self.flags.size()
     }
 
-    /// Bytes of the instance records.
+    /// Bytes of the instance records, the per-frame roots and the
+    /// visibility kept from frame to frame.
     pub fn instance_bytes(&self) -> u64 {
-        u64::from(self.instance_count) * INSTANCE_BYTES
+        self.instances.size() + self.roots.size() + self.visibility.size()
     }
 
     /// Bytes of the shading patches.

@@ -130,6 +130,16 @@ impl SceneShading {
         }
     }
 
+    /// Shading with the patches' own derivatives for a whole geometry: the
+    /// world patches' and, for the GPU, its model patches' (so a geometry
+    /// with instances is uploaded as such).
+    pub fn own_derivatives(geo: &SceneGeometry) -> Self {
+        SceneShading {
+            model: Self::from_geometry(&geo.instances.patches).patches,
+            ..Self::from_geometry(&geo.patches)
+        }
+    }
+
     /// Unnormalised shading normal of base patch `patch` at (u, v).
     pub fn normal(&self, patch: usize, u: f32, v: f32) -> glam::Vec3 {
         self.patches[patch].normal(u, v)
@@ -338,7 +348,8 @@ impl Scene {
                         shading.patches.push(t.transformed(xf));
                     }
                 }
-                geo.instances.instances.push(instance);
+                let world = &geo.patches[first as usize..];
+                geo.instances.instances.push(instance.bounded(world));
             }
             if let Some(mesh) = meshes
                 .get(&m.file)

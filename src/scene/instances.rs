@@ -13,9 +13,9 @@
 //! bit for bit in model space, and the same arithmetic on the same bits
 //! gives the same world bits, so an instance is as watertight as its model.
 //!
-//! An instance costs [`INSTANCE_BYTES`] on the GPU whatever its model's
-//! size, where baking it cost 484 bytes per patch (control points, flags
-//! and shading patches).
+//! An instance costs [`GPU_BYTES_PER_INSTANCE`] on the GPU whatever its
+//! model's size, where baking it cost 484 bytes per patch (control points,
+//! flags and shading patches).
 
 use std::borrow::Cow;
 
@@ -28,6 +28,11 @@ use crate::patch::rational::{reoriented_weights, Weights, UNIT_WEIGHTS};
 
 /// Bytes of one instance record on the GPU.
 pub const INSTANCE_BYTES: u64 = INSTANCE_WORDS as u64 * 4;
+
+/// Bytes the GPU holds per instance beyond its model's patches: its record,
+/// its entry in the level kernels' roots (set 0's BIND_ROOTS) and its
+/// visibility word (BIND_VISIBILITY).
+pub const GPU_BYTES_PER_INSTANCE: u64 = INSTANCE_BYTES + 8 + 4;
 
 /// The flag bits that belong to an instance alone; the others (two-sided,
 /// the model index) are the flags of each of its patches.
@@ -51,6 +56,12 @@ pub struct Instance {
     /// `PATCH_TWO_SIDED`, the model index `<< PATCH_MODEL_SHIFT`,
     /// `INSTANCE_MIRRORED`, `INSTANCE_IDENTITY`.
     pub flags: u32,
+    /// Lower corner of the box of its world control points, a little
+    /// enlarged (w unused): culling the instance by it culls only patches
+    /// whose own boxes the kernels would cull (see [`Instance::bounded`]).
+    pub lo: [f32; 4],
+    /// Upper corner of that box.
+    pub hi: [f32; 4],
 }
 
 impl Instance {
@@ -79,7 +90,50 @@ impl Instance {
             source,
             count,
             flags,
+            lo: [0.0; 4],
+            hi: [0.0; 4],
         }
+        .unbounded()
+    }
+
+    /// The instance with the box that holds everything: never culled whole
+    /// (the kernels still cull its patches one by one, and no corner
+    /// product can make the frustum test's sum NaN: each term of a plane's
+    /// positive corner is ≥ 0). For an instance whose world patches change
+    /// every frame (a deforming model's, a keyed one), where the box made
+    /// at load would go stale (`anim::Animation::unbound`).
+    pub fn unbounded(mut self) -> Self {
+        self.lo = [-f32::MAX, -f32::MAX, -f32::MAX, 0.0];
+        self.hi = [f32::MAX, f32::MAX, f32::MAX, 0.0];
+        self
+    }
+
+    /// The instance with its box: that of `world`'s control points (its
+    /// patches in the world), enlarged by a relative 1e-5. A box test is
+    /// monotone in the box's corners, so a patch box inside this one is
+    /// culled by the frustum whenever this one is; the margin covers the
+    /// few ulps by which a rational patch's divided control points may
+    /// stray from the stored ones.
+    pub fn bounded(mut self, world: &[BezierPatch]) -> Self {
+        let mut lo = Vec3::splat(f32::MAX);
+        let mut hi = Vec3::splat(-f32::MAX);
+        for q in world.iter().flat_map(|p| p.pts) {
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        let pad = |v: Vec3| v.abs() * 1e-5 + Vec3::splat(1e-30);
+        let (lo, hi) = (lo - pad(lo), hi + pad(hi));
+        self.lo = [lo.x, lo.y, lo.z, 0.0];
+        self.hi = [hi.x, hi.y, hi.z, 0.0];
+        self
+    }
+
+    /// The box (lower and upper corner).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        (
+            Vec3::from_slice(&self.lo[..3]),
+            Vec3::from_slice(&self.hi[..3]),
+        )
     }
 
     /// One instance over `count` patches taken as they are (the layout of a
@@ -163,7 +217,7 @@ impl InstanceTable {
             patches: patches.to_vec(),
             flags: flags.to_vec(),
             weights: weights.to_vec(),
-            instances: vec![Instance::identity(patches.len() as u32)],
+            instances: vec![Instance::identity(patches.len() as u32).bounded(patches)],
         }
     }
 

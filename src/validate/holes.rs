@@ -327,7 +327,7 @@ pub fn run_model(
     let (eps, lambda, split) = view_setup;
     // The key colours come from the patches' own normals (which side of
     // the surface is seen), never from the shading patches.
-    renderer.set_geometry(geo, &SceneShading::from_geometry(&geo.patches))?;
+    renderer.set_geometry(geo, &SceneShading::own_derivatives(geo))?;
     let tested = renderer.method().name();
     let with_wedges_too = renderer.method().has_wedges();
     let (w, h) = renderer.target().size();
