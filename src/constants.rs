@@ -129,6 +129,66 @@ shared_constants! {
         TWO_THIRDS_BITS = 0x3f2a_aaab;
     }
 
+    /// The animation's sine and cosine (`anim::deform::sin_cos`, twin
+    /// `anim_sin_cos` in `glsl/common/anim.glsl`), as f32 bits: 2/π, π/2 in
+    /// two parts (the high part has 12 significant bits, so q·HI is exact
+    /// for |q| < 4096), and the Taylor coefficients of sin and cos on
+    /// [−π/4, π/4] (error below 4e-7).
+    group {
+        ANIM_TWO_OVER_PI_BITS = 0x3f22_f983;
+        ANIM_PIO2_HI_BITS = 0x3fc9_1000;
+        ANIM_PIO2_LO_BITS = 0xb695_777a;
+        ANIM_SIN_1_BITS = 0xbe2a_aaab;
+        ANIM_SIN_2_BITS = 0x3c08_8889;
+        ANIM_SIN_3_BITS = 0xb950_0d01;
+        ANIM_COS_1_BITS = 0xbf00_0000;
+        ANIM_COS_2_BITS = 0x3d2a_aaab;
+        ANIM_COS_3_BITS = 0xbab6_0b61;
+        ANIM_COS_4_BITS = 0x37d0_0d01;
+    }
+
+    /// The animation update pass's set (`gpu/anim.rs`, `glsl/common/anim.glsl`).
+    group {
+        BIND_ANIM_REST = 0;
+        BIND_ANIM_VERTEX_MODEL = 1;
+        BIND_ANIM_MODELS = 2;
+        BIND_ANIM_POINT_ROWS = 3;
+        BIND_ANIM_POINT_TERMS = 4;
+        BIND_ANIM_SHADING_ROWS = 5;
+        BIND_ANIM_SHADING_TERMS = 6;
+        BIND_ANIM_PATCH_ROWS = 7;
+        BIND_ANIM_TARGETS = 8;
+        BIND_ANIM_VERTS = 9;
+        BIND_ANIM_POINTS = 10;
+        BIND_ANIM_DEFORMERS = 11;
+        BIND_ANIM_RECORDS = 12;
+        BIND_ANIM_INPUTS = 13;
+        BIND_ANIM_PATCHES = 14;
+        BIND_ANIM_SHADING = 15;
+        BIND_ANIM_KEYED = 16;
+        BIND_ANIM_INSTANCES = 17;
+        ANIM_BINDINGS = 18;
+    }
+
+    /// The update pass's steps (`AnimPush.pass`), in order, and its
+    /// workgroup size.
+    group {
+        ANIM_PASS_DEFORM = 0;
+        ANIM_PASS_POINTS = 1;
+        /// Shading rows, then patches' points, then instance records.
+        ANIM_PASS_WRITE = 2;
+        ANIM_GROUP_SIZE = 64;
+        /// AnimModel.seq_base of a model without a sequence.
+        ANIM_NO_SEQUENCE = 0xffff_ffff;
+    }
+
+    /// Deformer kinds (`anim::deform::Kind`).
+    group {
+        DEFORM_TWIST = 0;
+        DEFORM_BEND = 1;
+        DEFORM_WAVE = 2;
+    }
+
     /// ViewParams.flags.
     group {
         FLAG_FRUSTUM_CULL = 1;

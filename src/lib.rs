@@ -2,6 +2,7 @@
 //! Bézier surfaces (Tabaei, Kuth et al. 2026) on Vulkan, with the CPU oracle
 //! every GPU path is checked against.
 
+pub mod anim;
 pub mod app;
 pub mod commands;
 pub mod constants;

@@ -294,6 +294,16 @@ struct ViewArgs {
 struct FrameArgs {
     #[command(flatten)]
     view: ViewArgs,
+    /// An animated scene at this time in seconds (default 0; the
+    /// animation wraps at its duration where it loops): deformed cages,
+    /// sequence frames and keyed instances at that time, converted again
+    /// on the GPU before the method runs (the "update" pass).
+    #[arg(long, value_name = "SECONDS", conflicts_with = "anim_frame")]
+    time: Option<f64>,
+    /// An animated scene at frame K of its animation (K / the scene's
+    /// [animation] fps, default 24).
+    #[arg(long, value_name = "K")]
+    anim_frame: Option<u64>,
     /// Camera keyframe: 0 is the scene camera, k ≥ 1 the path's key k
     /// (validate: every keyframe when not given).
     #[arg(long)]
@@ -387,6 +397,11 @@ impl FrameArgs {
             validation: self.vk_validation,
             forward_differencing: self.forward_diff,
             split: self.view.split,
+            time: match (self.time, self.anim_frame) {
+                (Some(t), _) => Some(commands::AnimTime::Seconds(t)),
+                (None, Some(k)) => Some(commands::AnimTime::Frame(k)),
+                (None, None) => None,
+            },
             occlusion: self.occlusion,
         }
     }

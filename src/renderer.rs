@@ -21,7 +21,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use crate::anim::Animation;
 use crate::frame::{FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
+use crate::gpu::anim::AnimGpu;
 use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, Shaders};
 use crate::methods::{
     self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
@@ -140,6 +142,9 @@ pub struct Renderer {
     serial: u64,
     /// Capture drawn positions for validation (ready-list methods).
     pub capture: bool,
+    /// What moves, its update pass, and the time frames are drawn at.
+    anim: Option<(Animation, AnimGpu)>,
+    time: f64,
     ctx: Arc<Context>,
 }
 
@@ -195,6 +200,8 @@ impl Renderer {
             last_submitted: None,
             serial: 0,
             capture: false,
+            anim: None,
+            time: 0.0,
             ctx,
         };
         r.set_method(method)?;
@@ -348,7 +355,50 @@ impl Renderer {
         methods::check_pn(methods::find(self.method().name())?, &scene)?;
         self.frames.wait_all()?;
         self.scene = scene;
+        // The animation wrote into the old scene's patches.
+        self.anim = None;
         Ok(())
+    }
+
+    /// Animates the uploaded scene (`None`: it stands still, and frames
+    /// record no update pass): every frame from now on first runs the
+    /// update pass at the time [`Renderer::set_time`] gave. The animation
+    /// must be the uploaded scene's (its instances' patches lie in it).
+    pub fn set_animation(&mut self, anim: Option<Animation>) -> Result<(), RenderError> {
+        let made = match anim {
+            Some(a) => {
+                let gpu = AnimGpu::new(
+                    &self.ctx,
+                    &mut self.shaders,
+                    &a,
+                    &self.scene,
+                    self.frames.len(),
+                )?;
+                Some((a, gpu))
+            }
+            None => None,
+        };
+        if let Some(old) = std::mem::replace(&mut self.anim, made) {
+            let mut retired = Retired::default();
+            retired.push(old.1);
+            self.defer(retired);
+        }
+        Ok(())
+    }
+
+    /// The animation, if the scene moves.
+    pub fn animation(&self) -> Option<&Animation> {
+        self.anim.as_ref().map(|a| &a.0)
+    }
+
+    /// The time (seconds) the next frames are drawn at.
+    pub fn set_time(&mut self, t: f64) {
+        self.time = t;
+    }
+
+    /// The time frames are drawn at.
+    pub fn time(&self) -> f64 {
+        self.time
     }
 
     /// How many shader modules are loaded (each once per renderer).
@@ -403,6 +453,9 @@ impl Renderer {
         ];
         if let Some(bytes) = self.scene.weight_bytes() {
             v.push(("patch_weights", bytes));
+        }
+        if let Some((_, gpu)) = &self.anim {
+            v.push(("animation", gpu.bytes()));
         }
         v.extend(self.method().memory());
         v
@@ -466,6 +519,13 @@ impl Renderer {
         // The whole frame is one scope, across its parts: timestamps,
         // unlike queries, may begin and end in different command buffers.
         data.timer.begin(cmd, "frame")?;
+        if let Some((anim, gpu)) = &mut self.anim {
+            // The scene at this frame's time, before any method reads it.
+            let frame = anim.frame(self.time);
+            data.timer.begin(cmd, "update")?;
+            gpu.record(&self.ctx, cmd, slot, &frame)?;
+            data.timer.end(cmd, "update")?;
+        }
         // The command buffer of the last part the method recorded, and
         // whether it recorded the frame.
         let (recorded, last) = {

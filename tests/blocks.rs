@@ -228,6 +228,7 @@ fn every_block_matches_its_rust_twin() {
         let r = reflect(shader);
         let mut structs = r.push_blocks();
         structs.extend(r.struct_named("ViewParams"));
+        structs.extend(r.struct_named("AnimDeformer"));
         structs.extend(r.struct_named("Instance"));
         for t in structs {
             match compare(shader, &r, t) {

@@ -170,21 +170,27 @@ fn creased_cages_stay_watertight_bit_for_bit() {
 }
 
 /// The conversion of a cage without tags is what it was before tags were
-/// read: FNV-1a hashes of the patches' bits, taken from the base commit's
-/// `import --out` output of each model with its `t` lines removed.
+/// read: FNV-1a hashes of the patches' bits of each model with its `t`
+/// lines removed. Taken again when the static import went through the
+/// stencil tables (issue 20: every control point the f32 evaluation of its
+/// combination of cage vertices, no longer the f64 rules rounded once;
+/// 76–99 % of the coordinates keep their bits, the rest move by at most
+/// 6e-7, `tests/osd_reference.rs` still holds).
 #[test]
 fn untagged_cages_convert_as_before() {
+    let mut got = Vec::new();
+    let mut wrong = false;
     for (rel, want) in [
-        ("scenes/models/catmark_torus.obj", 0x5558_6650_4b65_cae5u64),
-        ("scenes/models/catmark_cube.obj", 0xf012_05c9_f6a9_f865),
-        ("scenes/models/catmark_pawn.obj", 0xfdc5_f16a_2f8e_5ce9),
-        ("scenes/models/catmark_car.obj", 0x0f4b_c16b_3091_753d),
-        ("scenes/models/catmark_helmet.obj", 0x0861_815f_5dba_b6bd),
+        ("scenes/models/catmark_torus.obj", 0x2ca4_28bf_42b9_6c3du64),
+        ("scenes/models/catmark_cube.obj", 0x9c61_cdf4_5365_9df2),
+        ("scenes/models/catmark_pawn.obj", 0x203a_f5d2_2fb7_12d9),
+        ("scenes/models/catmark_car.obj", 0x42cb_3502_89a7_8ebd),
+        ("scenes/models/catmark_helmet.obj", 0xa0ad_84d2_aea2_b27b),
         (
             "scenes/models/catmark_xord_interior.obj",
-            0x5cb0_fc5e_def6_8cc0,
+            0x4bc8_ede3_466c_4576,
         ),
-        ("scenes/models/catmark_pole64.obj", 0x88b6_f6a8_a0c2_305d),
+        ("scenes/models/catmark_pole64.obj", 0x3633_bb54_4f19_8367),
     ] {
         let model = import(rel, &retag(&text(rel), None), None);
         let mut h = 0xcbf2_9ce4_8422_2325u64;
@@ -195,8 +201,10 @@ fn untagged_cages_convert_as_before() {
                 }
             }
         }
-        assert_eq!(h, want, "{rel}");
+        wrong |= h != want;
+        got.push(format!("{rel}: {h:#018x}"));
     }
+    assert!(!wrong, "hashes now: {got:#?}");
 }
 
 /// An infinitely sharp crease is a curve both sides share and neither

@@ -17,13 +17,27 @@ fn fields(source: &str, name: &str) -> Vec<String> {
         .unwrap_or_else(|| panic!("no struct {name}"));
     let body = &source[start..];
     let body = &body[body.find('{').unwrap() + 1..body.find("\n}").unwrap()];
-    body.lines()
-        .map(str::trim)
-        .filter(|l| !l.starts_with("//") && !l.starts_with('#'))
-        .filter_map(|l| l.strip_prefix("pub ").or(Some(l)))
-        .filter_map(|l| l.split_once(':').map(|(n, _)| n.trim().to_string()))
-        .filter(|n| !n.is_empty() && n.chars().all(|c| c.is_ascii_lowercase() || c == '_'))
-        .collect()
+    // A `#[serde(rename = "x")]` names the next field's key.
+    let mut renamed: Option<String> = None;
+    let mut out = Vec::new();
+    for l in body.lines().map(str::trim) {
+        if let Some(r) = l.strip_prefix("#[serde(rename = \"") {
+            renamed = r.split('"').next().map(str::to_string);
+            continue;
+        }
+        if l.starts_with("//") || l.starts_with('#') {
+            continue;
+        }
+        let l = l.strip_prefix("pub ").unwrap_or(l);
+        let Some((n, _)) = l.split_once(':') else {
+            continue;
+        };
+        let n = n.trim();
+        if !n.is_empty() && n.chars().all(|c| c.is_ascii_lowercase() || c == '_') {
+            out.push(renamed.take().unwrap_or_else(|| n.to_string()));
+        }
+    }
+    out
 }
 
 #[test]
@@ -38,6 +52,9 @@ fn the_guide_documents_every_scene_key() {
         ("src/scene/file.rs", "GridToml"),
         ("src/scene/camera.rs", "Camera"),
         ("src/scene/orbit.rs", "Orbit"),
+        ("src/anim/keys.rs", "DeformToml"),
+        ("src/anim/keys.rs", "KeyToml"),
+        ("src/anim/keys.rs", "AnimationToml"),
     ];
     let mut missing = Vec::new();
     for (file, name) in structs {

@@ -20,6 +20,8 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("cylinder.toml", 4, 3),
     ("pillow.toml", 4, 3),
     ("herd.toml", 1_008_406, 6),
+    ("anim.toml", 2_608, 1),
+    ("kitchen-anim.toml", 35_940, 8),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),

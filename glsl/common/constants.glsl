@@ -28,6 +28,58 @@ const uint NODE_EDGE_PENDING = 15;
 const uint THIRD_BITS = 0x3eaaaaab;
 const uint TWO_THIRDS_BITS = 0x3f2aaaab;
 
+// The animation's sine and cosine (`anim::deform::sin_cos`, twin
+// `anim_sin_cos` in `glsl/common/anim.glsl`), as f32 bits: 2/π, π/2 in
+// two parts (the high part has 12 significant bits, so q·HI is exact
+// for |q| < 4096), and the Taylor coefficients of sin and cos on
+// [−π/4, π/4] (error below 4e-7).
+const uint ANIM_TWO_OVER_PI_BITS = 0x3f22f983;
+const uint ANIM_PIO2_HI_BITS = 0x3fc91000;
+const uint ANIM_PIO2_LO_BITS = 0xb695777au;
+const uint ANIM_SIN_1_BITS = 0xbe2aaaabu;
+const uint ANIM_SIN_2_BITS = 0x3c088889;
+const uint ANIM_SIN_3_BITS = 0xb9500d01u;
+const uint ANIM_COS_1_BITS = 0xbf000000u;
+const uint ANIM_COS_2_BITS = 0x3d2aaaab;
+const uint ANIM_COS_3_BITS = 0xbab60b61u;
+const uint ANIM_COS_4_BITS = 0x37d00d01;
+
+// The animation update pass's set (`gpu/anim.rs`, `glsl/common/anim.glsl`).
+const uint BIND_ANIM_REST = 0;
+const uint BIND_ANIM_VERTEX_MODEL = 1;
+const uint BIND_ANIM_MODELS = 2;
+const uint BIND_ANIM_POINT_ROWS = 3;
+const uint BIND_ANIM_POINT_TERMS = 4;
+const uint BIND_ANIM_SHADING_ROWS = 5;
+const uint BIND_ANIM_SHADING_TERMS = 6;
+const uint BIND_ANIM_PATCH_ROWS = 7;
+const uint BIND_ANIM_TARGETS = 8;
+const uint BIND_ANIM_VERTS = 9;
+const uint BIND_ANIM_POINTS = 10;
+const uint BIND_ANIM_DEFORMERS = 11;
+const uint BIND_ANIM_RECORDS = 12;
+const uint BIND_ANIM_INPUTS = 13;
+const uint BIND_ANIM_PATCHES = 14;
+const uint BIND_ANIM_SHADING = 15;
+const uint BIND_ANIM_KEYED = 16;
+const uint BIND_ANIM_INSTANCES = 17;
+const uint ANIM_BINDINGS = 18;
+
+// The update pass's steps (`AnimPush.pass`), in order, and its
+// workgroup size.
+const uint ANIM_PASS_DEFORM = 0;
+const uint ANIM_PASS_POINTS = 1;
+// Shading rows, then patches' points, then instance records.
+const uint ANIM_PASS_WRITE = 2;
+const uint ANIM_GROUP_SIZE = 64;
+// AnimModel.seq_base of a model without a sequence.
+const uint ANIM_NO_SEQUENCE = 0xffffffffu;
+
+// Deformer kinds (`anim::deform::Kind`).
+const uint DEFORM_TWIST = 0;
+const uint DEFORM_BEND = 1;
+const uint DEFORM_WAVE = 2;
+
 // ViewParams.flags.
 const uint FLAG_FRUSTUM_CULL = 1;
 const uint FLAG_BACKFACE_CULL = 2;

@@ -41,7 +41,8 @@ const FLY_KEYS: [KeyCode; 6] = [
 
 /// The keys that act on the window and the camera rather than on a widget:
 /// R, P, F12, Tab, Escape and the fly keys.
-const WINDOW_KEYS: [KeyCode; 5] = [
+const WINDOW_KEYS: [KeyCode; 6] = [
+    KeyCode::Space,
     KeyCode::KeyR,
     KeyCode::KeyP,
     KeyCode::F12,
@@ -128,6 +129,7 @@ impl Input {
                 return match code {
                     KeyCode::KeyR => Some(Command::Action(Action::ResetCamera)),
                     KeyCode::KeyP => Some(Command::Action(Action::TogglePath)),
+                    KeyCode::Space => Some(Command::Action(Action::ToggleAnimation)),
                     KeyCode::F12 => Some(Command::Action(Action::Screenshot)),
                     KeyCode::Tab => Some(Command::ToggleOverlay),
                     KeyCode::Escape => Some(Command::Quit),

@@ -62,9 +62,10 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<String> {
     let scene = Scene::load(&args.gpu.scene)?;
     let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
     let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
-    let (geo, shading) = scene
-        .geometry_and_shading()
+    let loaded = scene
+        .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
+    let time = args.gpu.seconds(loaded.animation.as_ref())?;
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: {e} (is DISPLAY set? without a display, run under \
@@ -75,8 +76,10 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<String> {
         start: Some(session::Start {
             args: args.clone(),
             scene,
-            geo,
-            shading,
+            geo: loaded.geometry,
+            shading: loaded.shading,
+            animation: loaded.animation,
+            time,
             camera,
             eps,
             lambda,

@@ -19,6 +19,8 @@ pub enum Action {
     ResetCamera,
     /// Play or pause the camera path (P).
     TogglePath,
+    /// Play or pause the scene's animation (Space).
+    ToggleAnimation,
     /// Close the FLIP window.
     CloseFlip,
 }
@@ -52,6 +54,64 @@ pub struct Controls {
     pub msaa: u32,
     /// The ground truth's grid cells per side.
     pub grid: u32,
+    /// The scene's animation, where it moves.
+    pub anim: Option<AnimControls>,
+}
+
+/// Playing the scene's animation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnimControls {
+    /// Time runs.
+    pub playing: bool,
+    /// The time drawn, seconds.
+    pub time: f64,
+    /// Seconds of animation per second.
+    pub speed: f64,
+    /// Seconds of one pass.
+    pub duration: f64,
+    /// Frames per second (the frame number shown).
+    pub fps: f64,
+    /// Time wraps at the end.
+    pub looping: bool,
+}
+
+impl AnimControls {
+    /// Moves time on by `dt` seconds of wall clock where it plays.
+    pub fn advance(&mut self, dt: f64) {
+        if !self.playing {
+            return;
+        }
+        let t = self.time + dt * self.speed;
+        self.time = if self.looping {
+            t.rem_euclid(self.duration)
+        } else {
+            t.clamp(0.0, self.duration)
+        };
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            let label = if self.playing {
+                "Pause (Space)"
+            } else {
+                "Play (Space)"
+            };
+            if ui.button(label).clicked() {
+                self.playing = !self.playing;
+            }
+            ui.label(format!("frame {}", (self.time * self.fps).floor() as u64));
+        });
+        ui.add(
+            egui::Slider::new(&mut self.time, 0.0..=self.duration)
+                .text("time (s)")
+                .max_decimals(3),
+        );
+        ui.add(
+            egui::Slider::new(&mut self.speed, 0.0..=4.0)
+                .text("speed")
+                .max_decimals(2),
+        );
+    }
 }
 
 /// Figures of the finished frames, smoothed where they jitter.
@@ -185,6 +245,10 @@ impl Controls {
         self.view_ui(ui, &device.samples);
         legend_ui(ui, self.shade, &self.method);
         ui.separator();
+        if let Some(a) = &mut self.anim {
+            a.ui(ui);
+            ui.separator();
+        }
         ui.horizontal(|ui| {
             if ui.button("Screenshot (F12)").clicked() {
                 actions.push(Action::Screenshot);

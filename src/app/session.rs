@@ -24,7 +24,7 @@ use winit::window::Window;
 use super::camera::CameraRig;
 use super::input::{self, Command, Input};
 use super::overlay::Gui;
-use super::panel::{Action, Controls, DeviceOffer, FlipView, LiveStats};
+use super::panel::{Action, AnimControls, Controls, DeviceOffer, FlipView, LiveStats};
 use super::present::Presenter;
 use super::ViewArgs;
 use crate::commands::render::{stats_json, stats_path, write_outputs, RenderArgs};
@@ -46,6 +46,10 @@ pub struct Start {
     pub geo: SceneGeometry,
     /// Their shading normals.
     pub shading: SceneShading,
+    /// What moves, if anything.
+    pub animation: Option<crate::anim::Animation>,
+    /// The animation's time at start.
+    pub time: f64,
     /// Where the camera starts.
     pub camera: Camera,
     /// The scene's (or the command line's) ε.
@@ -101,6 +105,8 @@ impl Session {
             scene,
             geo,
             shading,
+            animation,
+            time,
             camera,
             eps,
             lambda,
@@ -127,7 +133,17 @@ impl Session {
         let size = window.inner_size();
         let mut request = args.gpu.clone();
         request.size = (size.width.max(1), size.height.max(1));
-        let renderer = request.renderer(&ctx, &geo, &shading)?;
+        let mut renderer = request.renderer(&ctx, &geo, &shading)?;
+        let anim = animation.as_ref().map(|a| AnimControls {
+            playing: true,
+            time,
+            speed: 1.0,
+            duration: a.duration,
+            fps: a.fps,
+            looping: a.looping,
+        });
+        renderer.set_animation(animation)?;
+        renderer.set_time(time);
         let pacing = if args.vsync {
             PresentPacing::Vsync
         } else {
@@ -149,6 +165,7 @@ impl Session {
             shade: args.shade,
             msaa: args.gpu.msaa,
             grid: args.gpu.grid,
+            anim,
         };
         let stats = LiveStats {
             device: ctx.info().name.clone(),
@@ -268,6 +285,10 @@ impl Session {
             .presenter
             .extent()
             .ok_or_else(|| anyhow!("no swapchain after preparing one"))?;
+        if let Some(a) = &mut self.controls.anim {
+            a.advance(dt);
+            self.renderer.set_time(a.time);
+        }
         let camera = match self.rig.advance_path(&self.scene, dt) {
             Some(c) => c,
             None => {
@@ -415,6 +436,11 @@ impl Session {
         match action {
             Action::ResetCamera => self.rig.reset(),
             Action::TogglePath => self.rig.toggle_path(),
+            Action::ToggleAnimation => {
+                if let Some(a) = &mut self.controls.anim {
+                    a.playing = !a.playing;
+                }
+            }
             Action::Screenshot => {
                 let path = match &self.args.screenshot {
                     Some(p) => p.clone(),

@@ -375,13 +375,14 @@ pub fn run_on(
     watch: &mut dyn FnMut(&Step<'_>),
 ) -> anyhow::Result<BenchOutcome> {
     let mut plan = check(args)?;
-    let (geo, shading) = plan
+    let loaded = plan
         .scene
-        .geometry_and_shading()
+        .load_animated()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
-    fit_methods_to_scene(&mut plan, &geo, args.methods.is_some())?;
+    let (geo, shading) = (&loaded.geometry, &loaded.shading);
+    fit_methods_to_scene(&mut plan, geo, args.methods.is_some())?;
     prepare_output(&args.out, plan.flip_frames)?;
-    let path = ScenePath::of(&plan.scene, &geo);
+    let path = ScenePath::of(&plan.scene, geo);
     if plan.frames == 0 {
         plan.frames = path.default_frames();
     }
@@ -396,7 +397,21 @@ pub fn run_on(
     request.grid = args.grid;
     request.size = args.size;
     request.method = plan.configs[0].method.clone();
-    let mut renderer = request.renderer(ctx, &geo, &shading)?;
+    let mut renderer = request.renderer(ctx, geo, shading)?;
+    // An animated scene runs along the path at its own pace: path frame i
+    // is at time i / fps.
+    renderer.set_animation(loaded.animation.clone())?;
+    let anim = loaded.animation.as_ref().map(|a| {
+        format!(
+            "; animation running: path frame i at {:.4} s × i ({} fps, {} s loop), \
+             {} model patches and {} instance records updated per frame",
+            1.0 / a.fps,
+            a.fps,
+            a.duration,
+            a.patches(),
+            a.keyed.len()
+        )
+    });
     let info = ctx.info();
     let flip_t: Vec<f64> = (0..plan.flip_frames)
         .map(|k| path.t(k, plan.flip_frames))
@@ -411,7 +426,7 @@ pub fn run_on(
         device_is_cpu: info.is_cpu,
         driver: format!("{} {}", info.driver_name, info.driver_info),
         size: args.size,
-        path: path.describe(),
+        path: format!("{}{}", path.describe(), anim.unwrap_or_default()),
         frames: plan.frames,
         warmup: plan.warmup,
         flip_t,
@@ -429,7 +444,7 @@ pub fn run_on(
     };
     let result = measure(
         &mut renderer,
-        &geo,
+        geo,
         args,
         &plan,
         &path,
@@ -486,6 +501,13 @@ fn measure(
     let total = plan.total_steps();
     let split = args.split.unwrap_or(plan.scene.view.split);
     // A method that ignores λ draws the same at any: it gets the first.
+    // Animation time of path position t (frame i of the path at i / fps).
+    let fps = renderer.animation().map(|a| a.fps);
+    let clock = |renderer: &mut Renderer, t: f64| {
+        if let Some(fps) = fps {
+            renderer.set_time(t * f64::from(plan.frames) / fps);
+        }
+    };
     let view = |t: f64, c: &Config| {
         let lambda = c.lambda.unwrap_or(args.lambda[0]);
         let mut v = View::new(&path.camera(t), args.size, c.eps, lambda, SHADE_NORMAL);
@@ -514,6 +536,7 @@ fn measure(
             .find(|c| c.method == name)
             .expect("a method has configurations");
         renderer.set_method(&name)?;
+        clock(renderer, 0.0);
         let report = renderer.render(&view(0.0, c))?;
         probes.push(flatten(&report, &renderer.memory()));
         step(m, &format!("{name}: first frame"));
@@ -534,6 +557,7 @@ fn measure(
             if cancel.load(Ordering::Relaxed) {
                 return Ok(());
             }
+            clock(renderer, 0.0);
             renderer.render(&view(0.0, &c))?;
             step(m, &label(&c, "warm-up"));
         }
@@ -549,6 +573,7 @@ fn measure(
             }
             let c = m.configs[ci].clone();
             renderer.set_method(&c.method)?;
+            clock(renderer, t);
             let report = renderer.render(&view(t, &c))?;
             m.configs[ci].draw_path = report.draw_path.to_string();
             let row = FrameRow {
@@ -577,6 +602,7 @@ fn measure(
             return Ok(());
         }
         // The reference does not depend on ε or λ: one per perspective.
+        clock(renderer, t);
         let cam = path.camera(t);
         let far = cam.far as f32;
         let truth = ground_truth_image(renderer, &view(t, &m.configs[0]))?;

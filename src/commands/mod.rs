@@ -72,9 +72,20 @@ pub struct GpuRequest {
     /// `subdiv`, `subdiv-indirect`: how a node splits (`None`: the
     /// scene's `[view] split`).
     pub split: Option<crate::patch::view::Split>,
+    /// The animation's time (`None`: 0 where the scene moves).
+    pub time: Option<AnimTime>,
     /// `subdiv`, `subdiv-indirect`: occlusion culling (`None`: the
     /// command's default, on for render and view, off for bench).
     pub occlusion: Option<bool>,
+}
+
+/// When in a scene's animation a frame is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AnimTime {
+    /// Seconds from the start.
+    Seconds(f64),
+    /// Frame K at the animation's frames per second.
+    Frame(u64),
 }
 
 impl GpuRequest {
@@ -98,8 +109,40 @@ impl GpuRequest {
             validation: false,
             forward_differencing: false,
             split: None,
+            time: None,
             occlusion: None,
         }
+    }
+
+    /// The time in seconds the request asks for in `anim` (0 by default),
+    /// or the sentence why it cannot (a time for a scene that does not
+    /// move, a negative or non-finite time).
+    pub fn seconds(&self, anim: Option<&crate::anim::Animation>) -> anyhow::Result<f64> {
+        match (self.time, anim) {
+            (None, _) => Ok(0.0),
+            (Some(_), None) => Err(anyhow!(
+                "--time/--anim-frame: {} does not move (no [[model.deform]], OBJ sequence or instance keys)",
+                self.scene.display()
+            )),
+            (Some(AnimTime::Seconds(t)), Some(_)) if !(t.is_finite() && t >= 0.0) => Err(anyhow!(
+                "--time must be a number of seconds ≥ 0 (got {t})"
+            )),
+            (Some(AnimTime::Seconds(t)), Some(_)) => Ok(t),
+            (Some(AnimTime::Frame(k)), Some(a)) => Ok(k as f64 / a.fps),
+        }
+    }
+
+    /// Hands `anim` (the scene's, as loaded) to `renderer` at the request's
+    /// time; returns the time.
+    pub fn animate(
+        &self,
+        renderer: &mut Renderer,
+        anim: Option<&crate::anim::Animation>,
+    ) -> anyhow::Result<f64> {
+        let t = self.seconds(anim)?;
+        renderer.set_animation(anim.cloned())?;
+        renderer.set_time(t);
+        Ok(t)
     }
 
     /// The split mode of this request's views: the flag, else the scene's.

@@ -216,12 +216,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     if let Some(p) = &heat_path {
         check_writable(p, false).map_err(|e| anyhow!(e))?;
     }
-    let (geo, shading) = scene
-        .geometry_and_shading()
+    let loaded = scene
+        .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
+    args.gpu.seconds(loaded.animation.as_ref())?;
 
     let ctx = args.gpu.context()?;
-    let mut renderer = args.gpu.renderer(&ctx, &geo, &shading)?;
+    let mut renderer = args.gpu.renderer(&ctx, &loaded.geometry, &loaded.shading)?;
+    args.gpu.animate(&mut renderer, loaded.animation.as_ref())?;
     renderer.set_progress(super::progress::parts_bar());
     let mut view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
     view.params.flags |= args.gpu.split_of(&scene).flag();
@@ -501,6 +503,16 @@ pub(crate) fn stats_json(
         },
         "memory_per_instance_bytes": crate::scene::instances::GPU_BYTES_PER_INSTANCE,
         "method_stats": own,
+        "animation": renderer.animation().map(|a| json!({
+            "time": renderer.time(),
+            "wrapped_time": a.wrap(renderer.time()),
+            "duration": a.duration,
+            "fps": a.fps,
+            "models": a.models.len(),
+            "keyed_instances": a.keyed.len(),
+            "vertices": a.vertices(),
+            "patches": a.patches(),
+        })),
     })
 }
 

@@ -81,9 +81,13 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     };
     let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
     let split = args.gpu.split_of(&scene);
-    let (geo, shading) = scene
-        .geometry_and_shading()
+    let loaded = scene
+        .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
+    // An animated scene is checked at one time: the GPU converts it in its
+    // update pass, the oracle's scene is the CPU twin's at that time.
+    let time = args.gpu.seconds(loaded.animation.as_ref())?;
+    let (geo, _) = loaded.at(time);
     let ctx = args.gpu.context()?;
     // Single-sampled: the hole test counts exact key colours. Without
     // occlusion culling: the oracle has no depth buffer (the occlusion
@@ -93,7 +97,8 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         occlusion: Some(false),
         ..args.gpu.clone()
     };
-    let mut renderer = request.renderer(&ctx, &geo, &shading)?;
+    let mut renderer = request.renderer(&ctx, &loaded.geometry, &loaded.shading)?;
+    request.animate(&mut renderer, loaded.animation.as_ref())?;
     // The hole test's ground truth of a large scene runs in parts.
     renderer.set_progress(super::progress::parts_bar());
 
@@ -157,7 +162,8 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             },
         ));
     }
-    let table = table(args, &renderer, (eps, lambda, split), &results);
+    let at = loaded.animation.as_ref().map(|a| (time, a.wrap(time)));
+    let table = table(args, &renderer, (eps, lambda, split), at, &results);
     Ok(ValidateReport { results, table })
 }
 
@@ -465,6 +471,7 @@ fn table(
     args: &ValidateArgs,
     renderer: &Renderer,
     (eps, lambda, split): (f64, f64, Split),
+    time: Option<(f64, f64)>,
     results: &[CheckResult],
 ) -> String {
     let info = renderer.context().info();
@@ -475,6 +482,11 @@ fn table(
     };
     let (w, h) = args.gpu.size;
     let method = renderer.method();
+    let split = match time {
+        Some((t, wrapped)) if t != wrapped => format!("{split}, time {t} s (= {wrapped} s)"),
+        Some((t, _)) => format!("{split}, time {t} s"),
+        None => split,
+    };
     let width = results
         .iter()
         .map(|r| r.check.chars().count())

@@ -77,6 +77,36 @@ gpu_block!(
     [view_proj, light_dir, shade, capacity, capture_enabled, grid]
 );
 
+/// Push constants of the animation update pass (`AnimPush` in
+/// `glsl/common/anim.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct AnimPush {
+    /// `ANIM_PASS_*`.
+    pub pass: u32,
+    /// Items of this step (vertices, point rows; the write step: shading
+    /// rows, model patches, keyed instance records).
+    pub count: u32,
+    /// Deforming models (the write step's binary searches).
+    pub targets: u32,
+    /// The write step: shading rows (its first items).
+    pub rows: u32,
+    /// The write step: model patches (the items after the rows).
+    pub patches: u32,
+    /// Padding.
+    pub pad: [u32; 3],
+}
+gpu_block!(
+    AnimPush,
+    "AnimPush",
+    [pass, count, targets, rows, patches, pad]
+);
+gpu_block!(
+    crate::anim::deform::GpuDeformer,
+    "AnimDeformer",
+    [kind, axis, other, pad, center, p]
+);
+
 /// Push constants of the queue kernel (`SubdivPush` in
 /// `glsl/common/queue.glsl`, `subdiv --kernel queue`).
 #[repr(C)]
@@ -293,6 +323,8 @@ pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
         entry::<ListPush>(),
         entry::<GridPush>(),
         entry::<CtPush>(),
+        entry::<AnimPush>(),
+        entry::<crate::anim::deform::GpuDeformer>(),
         entry::<HizPush>(),
         entry::<ViewParams>(),
         entry::<crate::scene::instances::Instance>(),

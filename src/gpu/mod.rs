@@ -3,6 +3,7 @@
 //! target, the host twins of the shaders' constant blocks, and the cache of
 //! loaded shader modules.
 
+pub mod anim;
 pub mod blocks;
 pub mod scene;
 pub mod target;
@@ -14,7 +15,9 @@ use ash::vk;
 
 use crate::vk::{Context, GraphicsDesc, Pipeline, PipelineLayout, ShaderModule, VkResult};
 
-pub use blocks::{CtPush, DrawPush, GpuBlock, GridPush, HizPush, LevelPush, ListPush, SubdivPush};
+pub use blocks::{
+    AnimPush, CtPush, DrawPush, GpuBlock, GridPush, HizPush, LevelPush, ListPush, SubdivPush,
+};
 pub use scene::{all_stages, SceneGpu, SceneLayout};
 pub use target::{sample_count, write_png, DrawTarget, ImageError, COLOR_FORMAT, DEPTH_FORMAT};
 

@@ -92,6 +92,7 @@ struct SceneToml {
     camera: Camera,
     camera_path: Option<PathToml>,
     camera_orbit: Option<Orbit>,
+    animation: Option<crate::anim::keys::AnimationToml>,
     #[serde(default)]
     model: Vec<ModelToml>,
 }
@@ -155,6 +156,8 @@ struct ModelToml {
     surface: Surface,
     #[serde(default)]
     instance: Vec<InstanceToml>,
+    #[serde(default)]
+    deform: Vec<crate::anim::keys::DeformToml>,
 }
 
 /// What a model file's faces are.
@@ -178,6 +181,8 @@ struct InstanceToml {
     #[serde(default)]
     scale: Scale,
     grid: Option<GridToml>,
+    #[serde(default)]
+    key: Vec<crate::anim::keys::KeyToml>,
 }
 
 #[derive(Deserialize)]
@@ -215,6 +220,33 @@ pub struct ModelDesc {
     pub surface: Surface,
     /// Object → world transforms.
     pub instances: Vec<DMat4>,
+    /// What moves: deformers, an OBJ sequence, keyed instances.
+    pub anim: ModelAnim,
+}
+
+/// What of a model moves (`src/anim/`).
+#[derive(Clone, Debug, Default)]
+pub struct ModelAnim {
+    /// Deformers of its cage, applied in order.
+    pub deform: Vec<crate::anim::keys::Deformer>,
+    /// The frame files of an OBJ sequence (`file` with a run of `#`); the
+    /// first is [`ModelDesc::file`].
+    pub sequence: Vec<PathBuf>,
+    /// Per instance (parallel to [`ModelDesc::instances`]): its keyed
+    /// transform, if it has keys.
+    pub keys: Vec<Option<crate::anim::keys::InstanceKeys>>,
+}
+
+impl ModelAnim {
+    /// Whether the model's cage moves (deformers or a sequence).
+    pub fn deforms(&self) -> bool {
+        !self.deform.is_empty() || self.sequence.len() > 1
+    }
+
+    /// Whether anything of the model moves.
+    pub fn moves(&self) -> bool {
+        self.deforms() || self.keys.iter().any(Option::is_some)
+    }
 }
 
 /// A parsed scene file.
@@ -236,6 +268,8 @@ pub struct Scene {
     pub orbit: Option<Orbit>,
     /// Models.
     pub models: Vec<ModelDesc>,
+    /// The `[animation]` table (defaults where absent).
+    pub animation: crate::anim::keys::AnimationToml,
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
@@ -320,9 +354,18 @@ impl Scene {
             }
             let instances = instance_transforms(&m.instance)
                 .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
+            let anim = model_anim(&m, dir).map_err(|e| match e {
+                Err(msg) => invalid(format!("model '{name}': {msg}")),
+                Ok(e) => e,
+            })?;
+            let file = anim
+                .sequence
+                .first()
+                .cloned()
+                .unwrap_or_else(|| dir.join(&m.file));
             models.push(ModelDesc {
                 name,
-                file: dir.join(&m.file),
+                file,
                 two_sided: m.two_sided,
                 options: CageOptions {
                     boundary: m.boundary,
@@ -330,6 +373,7 @@ impl Scene {
                 },
                 surface: m.surface,
                 instances,
+                anim,
             });
         }
         let name = raw.name.unwrap_or_else(|| {
@@ -345,6 +389,7 @@ impl Scene {
             path_frames,
             orbit: raw.camera_orbit,
             models,
+            animation: raw.animation.unwrap_or_default(),
         })
     }
 
@@ -374,6 +419,61 @@ impl Scene {
         let i = (x.floor() as usize).min(frames.len() - 2);
         frames[i].lerp(&frames[i + 1], x - i as f64)
     }
+}
+
+/// The model's deformers, sequence and instance keys, checked; an error is
+/// a sentence about the model (`Err`) or one about a file (`Ok`).
+fn model_anim(m: &ModelToml, dir: &Path) -> Result<ModelAnim, Result<SceneError, String>> {
+    let here = Err;
+    let mut anim = ModelAnim::default();
+    for (k, d) in m.deform.iter().enumerate() {
+        anim.deform.push(
+            d.check()
+                .map_err(|e| here(format!("deform {}: {e}", k + 1)))?,
+        );
+    }
+    if m.file.contains('#') {
+        anim.sequence = crate::anim::sequence::frames(&dir.join(&m.file)).map_err(Ok)?;
+    }
+    for (k, inst) in m.instance.iter().enumerate() {
+        let keys = if inst.key.is_empty() {
+            None
+        } else {
+            Some(
+                crate::anim::keys::InstanceKeys::new(&inst.key)
+                    .map_err(|e| here(format!("instance {}: {e}", k + 1)))?,
+            )
+        };
+        let count = match &inst.grid {
+            Some(g) => g.count.iter().map(|&c| c as usize).product(),
+            None => 1,
+        };
+        let step = inst
+            .grid
+            .as_ref()
+            .map_or(DVec3::ZERO, |g| DVec3::from_array(g.step));
+        let count3 = inst.grid.as_ref().map_or([1, 1, 1], |g| g.count);
+        let mut offsets = Vec::with_capacity(count);
+        for z in 0..count3[2] {
+            for y in 0..count3[1] {
+                for x in 0..count3[0] {
+                    offsets.push(step * DVec3::new(x as f64, y as f64, z as f64));
+                }
+            }
+        }
+        for off in offsets {
+            anim.keys.push(keys.as_ref().map(|k| k.offset(off)));
+        }
+    }
+    if m.instance.is_empty() {
+        anim.keys.push(None);
+    }
+    if anim.moves() && (m.surface == Surface::PnTriangles || m.file.ends_with(".rbpt")) {
+        return Err(here(
+            "only bicubic polynomial models (.obj cages, .bpt) can be animated: PN triangles and rational patches cannot".into(),
+        ));
+    }
+    Ok(anim)
 }
 
 /// Number of instances `list` makes, or what is wrong with it.

@@ -156,6 +156,12 @@ impl SceneShading {
     }
 }
 
+/// What names one import: the model file, its cage options and surface.
+pub(crate) type ModelKey = (PathBuf, CageOptions, Surface);
+
+/// Imported models by file, cage options and surface.
+pub(crate) type ModelCache = HashMap<ModelKey, ImportedModel>;
+
 /// Loads one model file by extension (`.bpt` or `.obj`).
 pub fn load_model(path: &Path) -> Result<ImportedModel, SceneError> {
     load_model_with(path, &CageOptions::default())
@@ -219,6 +225,15 @@ impl Scene {
     }
 
     fn build(&self, with_shading: bool) -> Result<(SceneGeometry, SceneShading), SceneError> {
+        self.build_with_models(with_shading).map(|(g, s, _)| (g, s))
+    }
+
+    /// [`Scene::geometry_and_shading`] and the imported models (for
+    /// animation), by model file, options and surface.
+    pub(crate) fn build_with_models(
+        &self,
+        with_shading: bool,
+    ) -> Result<(SceneGeometry, SceneShading, ModelCache), SceneError> {
         let model_error = |m: &ModelDesc, msg: String| SceneError::Model {
             scene: self.path.clone(),
             model: m.name.clone(),
@@ -284,7 +299,9 @@ impl Scene {
         });
         // Each distinct import's patches once, in model space: where its
         // first model with instances puts them.
-        let mut sources: HashMap<(PathBuf, CageOptions, Surface), u32> = HashMap::new();
+        // A model whose cage moves (src/anim/) has a copy of its own, which
+        // the animation rewrites every frame.
+        let mut sources: HashMap<(ModelKey, Option<usize>), u32> = HashMap::new();
         for (index, m) in self.models.iter().enumerate() {
             let key = (m.file.clone(), m.options, m.surface);
             let model = &cache[&key];
@@ -296,15 +313,21 @@ impl Scene {
             } else {
                 Vec::new()
             };
-            if placed && !sources.contains_key(&key) {
-                sources.insert(key.clone(), geo.instances.patches.len() as u32);
+            let source_key = (key.clone(), m.anim.deforms().then_some(index));
+            if placed && !sources.contains_key(&source_key) {
+                sources.insert(source_key.clone(), geo.instances.patches.len() as u32);
                 add_model_patches(&mut geo.instances, model, rational);
                 shading.model.extend_from_slice(&tangents);
             }
             for xf in m.instances.iter().filter(|_| placed) {
                 let first = geo.patches.len() as u32;
-                let instance =
-                    Instance::new(xf, first, sources[&key], model.patches.len() as u32, flags);
+                let instance = Instance::new(
+                    xf,
+                    first,
+                    sources[&source_key],
+                    model.patches.len() as u32,
+                    flags,
+                );
                 for k in 0..model.patches.len() {
                     let source = instance.source as usize + k;
                     let w = instance.patch(&geo.instances.patches[source]);
@@ -371,7 +394,7 @@ impl Scene {
             ));
         }
         geo.pn.number_edges();
-        Ok((geo, shading))
+        Ok((geo, shading, cache))
     }
 }
 

@@ -90,9 +90,22 @@ impl Instance {
             source,
             count,
             flags,
-            lo: [-f32::MAX, -f32::MAX, -f32::MAX, 0.0],
-            hi: [f32::MAX, f32::MAX, f32::MAX, 0.0],
+            lo: [0.0; 4],
+            hi: [0.0; 4],
         }
+        .unbounded()
+    }
+
+    /// The instance with the box that holds everything: never culled whole
+    /// (the kernels still cull its patches one by one, and no corner
+    /// product can make the frustum test's sum NaN: each term of a plane's
+    /// positive corner is ≥ 0). For an instance whose world patches change
+    /// every frame (a deforming model's, a keyed one), where the box made
+    /// at load would go stale (`anim::Animation::unbound`).
+    pub fn unbounded(mut self) -> Self {
+        self.lo = [-f32::MAX, -f32::MAX, -f32::MAX, 0.0];
+        self.hi = [f32::MAX, f32::MAX, f32::MAX, 0.0];
+        self
     }
 
     /// The instance with its box: that of `world`'s control points (its

@@ -35,7 +35,9 @@ use super::acc::{self, Conversion};
 use super::cage::{Cage, Topology};
 use super::refine::{refine, SubFace};
 use super::shading::ShadingPatch;
+use super::stencil::{self, CageStencils};
 use super::{fit, tangent, PatchOrigin, SceneError};
+use crate::patch::bezier::BezierPatch;
 
 /// The most refinement steps `isolate` may ask for: each step quarters
 /// every face, so 6 is already 4,096 patches per cage face.
@@ -67,6 +69,9 @@ pub struct Converted {
     pub isolated_parts: usize,
     /// Connected parts in all.
     pub parts: usize,
+    /// The patches and shading patches as functions of the cage's
+    /// vertices (`stencil.rs`).
+    pub stencils: CageStencils,
 }
 
 /// Converts `cage` (sharpness resolved, `topo` its adjacency) with `isolate`
@@ -84,10 +89,17 @@ pub fn convert(
         return Ok(out);
     }
     let parts = parts(cage);
-    let mut pieces: Vec<(Vec<usize>, Converted)> = Vec::with_capacity(parts.len());
+    let mut pieces: Vec<(Vec<usize>, Vec<usize>, Converted)> = Vec::with_capacity(parts.len());
     let mut isolated = 0;
     for faces in parts.iter() {
-        let (sub, _) = extract(cage, faces);
+        let (sub, map) = extract(cage, faces);
+        // The cage vertex of each vertex of the part.
+        let mut vertex = vec![0; sub.positions.len()];
+        for (old, new) in map.iter().enumerate() {
+            if let Some(n) = new {
+                vertex[*n] = old;
+            }
+        }
         let sub_topo = Topology::build(&sub, path)?;
         let base = u32::from(sub.faces.iter().any(|f| f.len() != 4));
         let mut piece = convert_refined(&sub, &sub_topo, base, path)?;
@@ -95,22 +107,28 @@ pub fn convert(
             piece = convert_refined(&sub, &sub_topo, isolate.max(base), path)?;
             isolated += 1;
         }
-        pieces.push((faces.clone(), piece));
+        pieces.push((faces.clone(), vertex, piece));
     }
-    let mut out = merge(pieces);
+    let mut out = merge(cage.positions.len(), pieces);
     out.parts = parts.len();
     out.isolated_parts = isolated;
     Ok(out)
 }
 
-/// Converts `cage` after `levels` global refinement steps; origins name
-/// the faces of `cage`.
-fn convert_refined(
+/// A refined cage, its topology, where each of its faces came from, and its
+/// conversion.
+type Linear = (Cage, Topology, Vec<Vec<SubFace>>, Conversion);
+
+/// The part of the conversion that is linear in the cage's vertices:
+/// `levels` refinement steps, the ACC conversion and the fits. Returns the
+/// refined cage, its topology, where each of its faces came from, and its
+/// conversion.
+fn linear_part(
     cage: &Cage,
     topo: &Topology,
     levels: u32,
     path: &Path,
-) -> Result<Converted, SceneError> {
+) -> Result<Linear, SceneError> {
     // The step every non-quad cage takes anyway.
     let base = u32::from(cage.faces.iter().any(|f| f.len() != 4));
     let mut chain: Vec<Vec<SubFace>> = Vec::new();
@@ -131,7 +149,51 @@ fn convert_refined(
         let want = fit::wanted(&fine, &fine_topo, &conv);
         fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
     }
-    let shading = tangent::tangent_patches(&fine, &fine_topo, &conv);
+    Ok((fine, fine_topo, chain, conv))
+}
+
+/// Converts `cage` after `levels` global refinement steps; origins name
+/// the faces of `cage`. The patches and shading patches are the stencils
+/// (`stencil.rs`) evaluated at the cage's vertices, so that any other pose
+/// of the cage converts in the same operations.
+fn convert_refined(
+    cage: &Cage,
+    topo: &Topology,
+    levels: u32,
+    path: &Path,
+) -> Result<Converted, SceneError> {
+    let (fine, fine_topo, chain, conv) = linear_part(cage, topo, levels, path)?;
+    let decisions = tangent::decide(&fine, &fine_topo, &conv);
+    // The coarse face of each fine face.
+    let mut coarse_face: Vec<usize> = (0..fine.faces.len()).collect();
+    for subs in chain.iter().rev() {
+        for f in coarse_face.iter_mut() {
+            *f = subs[*f].face;
+        }
+    }
+    let linear = |probe: &Cage| linear_part(probe, topo, levels, path).map(|r| r.3);
+    let stencils = stencil::probe(
+        cage,
+        topo,
+        &fine,
+        &fine_topo,
+        &coarse_face,
+        &conv,
+        &decisions,
+        &linear,
+        path,
+    )?;
+    let rest: Vec<glam::Vec3> = cage.positions.iter().map(|p| p.as_vec3()).collect();
+    let (patches, shading) = stencils.evaluate(&rest);
+    if let Some(p) = patches.iter().position(|p| !p.is_finite()) {
+        let msg = "the patch of this face has a non-finite control point (coordinates too large for f32?)";
+        let f = coarse_face[conv.faces[p]];
+        return Err(match cage.line_of(f) {
+            Some(line) => SceneError::at(path, line, msg),
+            None => SceneError::invalid(path, format!("face {}: {msg}", f + 1)),
+        });
+    }
+    let patches: Vec<BezierPatch> = patches.into_iter().map(|p| p.canonical_zeros()).collect();
     let origins: Vec<PatchOrigin> = conv
         .faces
         .iter()
@@ -145,9 +207,10 @@ fn convert_refined(
             patches: conv.patches.len(),
             exact,
         }],
-        patches: conv.patches,
+        patches,
         shading,
         origins,
+        stencils,
         isolated_parts: 0,
         parts: 1,
     })
@@ -288,16 +351,11 @@ pub(crate) fn extract(cage: &Cage, faces: &[usize]) -> (Cage, Vec<Option<usize>>
 
 /// Joins the parts' patches in the cage's face order (each part's own
 /// patches follow its faces, then the refinement's corners).
-fn merge(pieces: Vec<(Vec<usize>, Converted)>) -> Converted {
-    let mut all: Vec<(
-        usize,
-        usize,
-        crate::patch::bezier::BezierPatch,
-        ShadingPatch,
-        PatchOrigin,
-    )> = Vec::new();
+fn merge(vertices: usize, pieces: Vec<(Vec<usize>, Vec<usize>, Converted)>) -> Converted {
+    let mut all: Vec<(usize, usize, BezierPatch, ShadingPatch, PatchOrigin, usize)> = Vec::new();
     let mut levels: Vec<LevelCount> = Vec::new();
-    for (faces, piece) in pieces {
+    let mut parts: Vec<(CageStencils, Vec<usize>)> = Vec::new();
+    for (part, (faces, vertex, piece)) in pieces.into_iter().enumerate() {
         for l in &piece.levels {
             match levels.iter_mut().find(|m| m.level == l.level) {
                 Some(m) => {
@@ -315,8 +373,9 @@ fn merge(pieces: Vec<(Vec<usize>, Converted)>) -> Converted {
             .enumerate()
         {
             o.face = faces[o.face];
-            all.push((o.face, n, p, s, o));
+            all.push((o.face, n, p, s, o, part));
         }
+        parts.push((piece.stencils, vertex));
     }
     all.sort_by_key(|e| (e.0, e.1));
     levels.sort_by_key(|l| l.level);
@@ -324,11 +383,13 @@ fn merge(pieces: Vec<(Vec<usize>, Converted)>) -> Converted {
         levels,
         ..Converted::default()
     };
-    for (_, _, p, s, o) in all {
+    let order: Vec<(usize, usize)> = all.iter().map(|e| (e.5, e.1)).collect();
+    for (_, _, p, s, o, _) in all {
         out.patches.push(p);
         out.shading.push(s);
         out.origins.push(o);
     }
+    out.stencils = CageStencils::join(vertices, &parts, &order);
     out
 }
 

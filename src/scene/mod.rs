@@ -12,6 +12,7 @@ pub mod geometry;
 pub mod instances;
 pub mod isolate;
 pub mod limit;
+pub mod linear;
 pub mod obj;
 pub mod orbit;
 pub mod orient;
@@ -19,6 +20,7 @@ pub mod pn;
 pub mod refine;
 pub mod shading;
 pub mod sharpness;
+pub mod stencil;
 pub mod tags;
 pub mod tangent;
 
@@ -115,6 +117,9 @@ pub struct ImportedModel {
     pub shading: Vec<ShadingPatch>,
     /// For cages: the rules applied and what the cage holds.
     pub cage: Option<CageInfo>,
+    /// For cages: the patches and shading patches as functions of the
+    /// cage's vertices, for animation (`stencil.rs`).
+    pub stencils: Option<std::sync::Arc<stencil::CageModel>>,
     /// Things the user should know that did not stop the import.
     pub warnings: Vec<String>,
 }

@@ -241,6 +241,12 @@ pub fn parse_with(
             o.flip();
         }
     }
+    let turned: Vec<bool> = conv
+        .origins
+        .iter()
+        .map(|o| orientation.flip[o.face])
+        .collect();
+    conv.stencils.flip(&turned);
 
     let info = CageInfo {
         boundary,
@@ -267,8 +273,38 @@ pub fn parse_with(
         origins: conv.origins,
         shading: conv.shading,
         cage: Some(info),
+        stencils: file_vertices(&cage, &scan).map(|file_vertex| {
+            std::sync::Arc::new(super::stencil::CageModel {
+                stencils: conv.stencils,
+                rest: cage.positions.iter().map(|p| p.as_vec3()).collect(),
+                file_vertex,
+                file_faces: scan.faces.clone(),
+                file_vertices: scan.vertices,
+            })
+        }),
         warnings,
     })
+}
+
+/// The file vertex (0-based `v` line) of each cage vertex, through the
+/// faces that use it; `None` if the reader's faces do not match the file's
+/// `f` lines.
+fn file_vertices(cage: &Cage, scan: &Scan) -> Option<Vec<usize>> {
+    if scan.faces.len() != cage.faces.len() {
+        return None;
+    }
+    let mut out = vec![usize::MAX; cage.positions.len()];
+    for (file_face, cage_face) in scan.faces.iter().zip(&cage.faces) {
+        if file_face.len() != cage_face.len() {
+            return None;
+        }
+        for (&i, &v) in file_face.iter().zip(cage_face) {
+            if out[v] == usize::MAX {
+                out[v] = i;
+            }
+        }
+    }
+    (!out.contains(&usize::MAX)).then_some(out)
 }
 
 /// One warning on what is non-manifold, if anything.
@@ -503,6 +539,8 @@ fn face_count(mesh: &tobj::Mesh) -> usize {
 
 /// What the line scan found.
 struct Scan {
+    /// `v` statements.
+    vertices: usize,
     /// Line number of each `f` statement, in order.
     face_lines: Vec<usize>,
     /// The 0-based file vertex index of each corner of each `f` statement.
@@ -526,6 +564,7 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
 
     let mut seen = [0usize; 3];
     let mut out = Scan {
+        vertices: total[0],
         face_lines: Vec::new(),
         faces: Vec::new(),
         tags: Tags::default(),
