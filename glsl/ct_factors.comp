@@ -50,7 +50,7 @@ void process(uint id) {
     vec3 lo, hi;
     patch_bbox(P, lo, hi);
     bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
-    bool one_sided = (patch_flags[id] & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u;
     bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
         && faces_away(id, P, lo, hi);
     if (frustum || away) {
@@ -76,7 +76,7 @@ void process(uint id) {
     float r = 0.0;
     float w_min = 1.0;
     for (int i = 0; i < 16; ++i) {
-        float w = rational ? patch_weights[id * 16u + uint(i)] : 1.0;
+        float w = rational ? patch_weight(id, uint(i)) : 1.0;
         vec3 q = P[i] - c;
         G[i] = vec4(q * w, w);
         r = max(r, length(q));

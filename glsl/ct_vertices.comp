@@ -40,8 +40,7 @@ void write_vertex(uint at, vec3 p, vec2 uv, uint word) {
 // stored: exact, and the same for every patch that has the corner.
 vec3 corner_point(uint id, uint k) {
     const uint at[4] = uint[4](0u, 3u, 15u, 12u);
-    uint o = id * 48u + 3u * at[k];
-    return vec3(patch_data[o], patch_data[o + 1u], patch_data[o + 2u]);
+    return patch_point(id, at[k]);
 }
 
 // Vertex s (1 .. e - 1) of edge k.
@@ -179,10 +178,9 @@ void main() {
         if (live) {
             bool rational = patch_is_rational(id);
             for (uint k = lane; k < 16u; k += CT_VERTEX_THREADS) {
-                uint o = id * 48u + 3u * k;
-                float w = rational ? patch_weights[id * 16u + k] : 1.0;
-                precise vec4 h = vec4(patch_data[o] * w, patch_data[o + 1u] * w,
-                    patch_data[o + 2u] * w, w);
+                vec3 p = patch_point(id, k);
+                float w = rational ? patch_weight(id, k) : 1.0;
+                precise vec4 h = vec4(p.x * w, p.y * w, p.z * w, w);
                 points[slot * 16u + k] = h;
             }
         }

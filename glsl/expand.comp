@@ -24,7 +24,7 @@ void write_vertex(uint index, vec3 p, uint patch_id, uint attrs) {
 }
 
 void main() {
-    uint node = gl_GlobalInvocationID.x;
+    uint node = ready_first() + gl_GlobalInvocationID.x;
     if (node >= ready_count(pc.capacity)) {
         return;
     }

@@ -1,8 +1,9 @@
 // Ground truth, the draw: instance k is visible patch visible[k], vertex
 // j * (grid + 1) + i its sample at (i / grid, j / grid), evaluated by the
-// shared precise function. The grid is a power of two, so the parameters
-// are exact and neighbouring patches compute their shared edge's points
-// bit for bit. Shaded by draw_vert.frag like the fallback path; the depth
+// shared precise function on the model patch and placed by the patch's
+// instance (one point placed per vertex, not sixteen). The grid is a power
+// of two, so the parameters are exact and neighbouring patches compute
+// their shared edge's points bit for bit. Shaded by draw_vert.frag like the fallback path; the depth
 // heat map shows log2(grid), the level a uniform subdivision to the same
 // density would reach. A rational patch (PATCH_RATIONAL) is evaluated in
 // homogeneous coordinates (common/rational.glsl, Schwarz and Stamminger
@@ -27,15 +28,16 @@ void main() {
     uint j = uint(gl_VertexIndex) / row;
     float step = 1.0 / float(pc.grid);
     vec2 uv = vec2(float(i) * step, float(j) * step);
+    Instance t = instances[instance_of(id)];
     vec3 p;
-    if (patch_is_rational(id)) {
+    if ((patch_flags_in(t, id) & PATCH_RATIONAL) != 0u) {
         vec4 H[16];
-        load_homogeneous(id, H);
-        p = project(eval_patch4(H, uv.x, uv.y));
+        load_model_homogeneous_in(t, id, H);
+        p = place_in(t, project(eval_patch4(H, uv.x, uv.y)));
     } else {
         vec3 P[16];
-        load_patch(id, P);
-        p = eval_patch(P, uv.x, uv.y);
+        load_model_patch_in(t, id, P);
+        p = place_in(t, eval_patch(P, uv.x, uv.y));
     }
     gl_Position = clip_position(p);
     out_world = p;

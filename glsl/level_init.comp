@@ -1,21 +1,137 @@
-// The level kernels' first step of a frame (one invocation): the schedule
-// state zeroed, depth 0 holding the base patches, and the first round (the
-// first chunk of base patches) with its dispatch arguments.
+// The level kernels' first step of a pass (one workgroup): the schedule
+// state zeroed; depth 0, listed in BIND_ROOTS in instance order: the
+// patches of every instance whose box is not outside the frustum (a culled
+// instance's patches would each be culled by their own box, which lies
+// inside the instance's: only the work is saved); and the first round (the
+// first chunk of depth 0) with its dispatch arguments. The CPU twin is
+// levels::canonical_ready.
+//
+// With occlusion culling a frame runs twice (pc.phase): the early phase
+// takes the instances the last frame found visible (BIND_VISIBILITY); the
+// late phase tests every instance in view against the depth pyramid of
+// what the early phase drew, records the verdict for the next frame, and
+// takes the visible ones the early phase did not draw. The late phase
+// keeps the frame's totals (ready nodes so far: its list continues the
+// early one; rounds, nodes per depth) and its draw starts where the early
+// list ends (C_READY_FIRST).
 #version 460
 #pragma use_vulkan_memory_model
 
 #define USE_READY_WRITE
+#define LEVEL_KERNEL
 #include "common/ready.glsl"
 #include "common/process.glsl"
 #include "common/level.glsl"
 
-layout(local_size_x = 1) in;
+layout(local_size_x = LEVEL_GROUP_SIZE) in;
+
+// Per instance: 1 where the last occlusion test found it visible.
+layout(std430, set = SET_SCENE, binding = BIND_VISIBILITY) buffer Visibility {
+    uint visibility[];
+};
+
+shared uint s_incl[2][LEVEL_GROUP_SIZE];
+
+// Inclusive sums over the workgroup of (a, b), in s_incl[0] and s_incl[1].
+void inclusive_sums(uint t, uint a, uint b) {
+    s_incl[0][t] = a;
+    s_incl[1][t] = b;
+    barrier();
+    for (uint o = 1u; o < LEVEL_GROUP_SIZE; o <<= 1u) {
+        uint x = t >= o ? s_incl[0][t - o] : 0u;
+        uint y = t >= o ? s_incl[1][t - o] : 0u;
+        barrier();
+        s_incl[0][t] += x;
+        s_incl[1][t] += y;
+        barrier();
+    }
+}
+
+// The workgroup's sums of (a, b).
+uvec2 sums(uint t, uint a, uint b) {
+    inclusive_sums(t, a, b);
+    uvec2 total = uvec2(s_incl[0][LEVEL_GROUP_SIZE - 1u], s_incl[1][LEVEL_GROUP_SIZE - 1u]);
+    barrier();
+    return total;
+}
+
+// Whether state word i is the schedule's working state (zeroed by every
+// pass) rather than a total of the frame (zeroed by its first pass only).
+bool schedule_word(uint i) {
+    return i < S_READY || i == S_DONE || (i >= S_LEVEL_COUNT && i < S_DEPTH_NODES);
+}
+
+shared bool s_early_done;
 
 void main() {
-    for (uint i = 0u; i < LEVEL_STATE_WORDS; ++i) {
-        state[i] = 0u;
+    uint t = gl_LocalInvocationID.x;
+    bool early = pc.phase == PHASE_EARLY;
+    bool late = pc.phase == PHASE_LATE;
+    if (t == 0u) {
+        s_early_done = state[S_DONE] != 0u;
     }
-    state[S_LEVEL_COUNT] = pc.patch_count;
-    schedule(0u);
-    write_ready_args(0u);
+    group_sync();
+    for (uint i = t; i < LEVEL_STATE_WORDS; i += LEVEL_GROUP_SIZE) {
+        if (!late || schedule_word(i)) {
+            state[i] = 0u;
+        }
+    }
+    bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u;
+    uint n = uint(instances.length());
+    uint listed = 0u;   // instances of this pass's depth 0
+    uint dense = 0u;    // their patches
+    uvec2 culled = uvec2(0u);    // out of view: instances, patches
+    uvec2 occluded = uvec2(0u);  // hidden (late phase): instances, patches
+    for (uint first = 0u; first < n; first += LEVEL_GROUP_SIZE) {
+        uint i = first + t;
+        uint count = i < n ? instances[i].count : 0u;
+        bool out_of_view = count > 0u && frustum
+            && outside_frustum(instances[i].lo.xyz, instances[i].hi.xyz, view);
+        bool in_view = count > 0u && !out_of_view;
+        bool keep = in_view;
+        bool hidden = false;
+        if (early && i < n) {
+            keep = in_view && visibility[i] != 0u;
+        } else if (late && i < n) {
+            bool drawn = visibility[i] != 0u;
+            hidden = in_view
+                && box_occluded(instances[i].lo.xyz, instances[i].hi.xyz, HIZ_INSTANCE_SPAN);
+            visibility[i] = in_view && !hidden ? 1u : 0u;
+            keep = in_view && !hidden && !drawn;
+            hidden = hidden && !drawn;
+        }
+        inclusive_sums(t, keep ? 1u : 0u, keep ? count : 0u);
+        if (keep) {
+            roots[listed + s_incl[0][t] - 1u] = uvec2(i, dense + s_incl[1][t] - count);
+        }
+        uvec2 batch = uvec2(s_incl[0][LEVEL_GROUP_SIZE - 1u], s_incl[1][LEVEL_GROUP_SIZE - 1u]);
+        barrier();
+        listed += batch.x;
+        dense += batch.y;
+        bool counted_out = out_of_view && !late;  // counted once a frame
+        culled += sums(t, counted_out ? 1u : 0u, counted_out ? count : 0u);
+        occluded += sums(t, hidden ? 1u : 0u, hidden ? count : 0u);
+    }
+    group_sync();
+    if (t == 0u) {
+        state[S_ROOT_INSTANCES] = listed;
+        state[S_CULLED_INSTANCES] += culled.x;
+        state[S_CULLED_INSTANCE_PATCHES] += culled.y;
+        state[S_OCCLUDED_INSTANCES] += occluded.x;
+        state[S_OCCLUDED_INSTANCE_PATCHES] += occluded.y;
+        if (early) {
+            state[S_EARLY_INSTANCES] = listed;
+        }
+        if (late && !s_early_done) {
+            state[S_EARLY_UNFINISHED] = 1u;
+        }
+        state[S_LEVEL_COUNT] = dense;
+        // Culled and occluded patches are culled patches of the frame.
+        counters[C_CULLED] += culled.y + occluded.y;
+        counters[C_OCCLUDED] += occluded.y;
+        uint first_ready = late ? state[S_READY] : 0u;
+        counters[C_READY_FIRST] = first_ready;
+        schedule(0u);
+        write_ready_args(first_ready, first_ready);
+    }
 }

@@ -27,6 +27,7 @@
 #pragma use_vulkan_memory_model
 
 #define USE_READY_WRITE
+#define LEVEL_KERNEL
 #include "common/ready.glsl"
 #include "common/process.glsl"
 #include "common/level.glsl"
@@ -184,6 +185,7 @@ bool end_round(uint t) {
 }
 
 void main() {
+    process_occludes = pc.phase == PHASE_LATE;
     uint t = gl_LocalInvocationIndex;
     if (discover(t)) {
         for (;;) {

@@ -11,6 +11,7 @@
 #pragma use_vulkan_memory_model
 
 #define USE_READY_WRITE
+#define LEVEL_KERNEL
 #include "common/ready.glsl"
 #include "common/process.glsl"
 #include "common/level.glsl"
@@ -20,6 +21,7 @@ layout(local_size_x = LEVEL_GROUP_SIZE) in;
 shared bool s_last;
 
 void main() {
+    process_occludes = pc.phase == PHASE_LATE;
     uint t = gl_LocalInvocationIndex;
     load_round(t);
     uint work = max(round_blocks(), s_copy_blocks);

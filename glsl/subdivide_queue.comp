@@ -535,7 +535,7 @@ void main() {
             // In flight reached 0 after every ready append: the count is final.
             atomics += 1u;
             uint n = atomicLoad(counters[C_READY_COUNT], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsRelaxed);
-            write_ready_args(min(n, pc.ready_capacity));
+            write_ready_args(0u, min(n, pc.ready_capacity));
         }
         atomicAdd(counters[C_GLOBAL_ATOMICS], atomics);
     }

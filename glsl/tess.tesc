@@ -68,7 +68,7 @@ void main() {
     vec3 lo, hi;
     patch_bbox(P, lo, hi);
     bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
-    bool one_sided = (patch_flags[id] & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u;
     bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
         && back_facing(P, lo, hi, view.eye.xyz);
     if (frustum || away) {

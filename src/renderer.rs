@@ -399,6 +399,7 @@ impl Renderer {
         let mut v = vec![
             ("base_patches", self.scene.bytes()),
             ("shading_patches", self.scene.shading_bytes()),
+            ("instances", self.scene.instance_bytes()),
         ];
         if let Some(bytes) = self.scene.weight_bytes() {
             v.push(("patch_weights", bytes));

@@ -1,9 +1,10 @@
 //! The host's constant blocks against the shaders' own, by reflection of
 //! the compiled SPIR-V: every push-constant block a renderer shader
 //! declares has a Rust twin in `gpu::blocks` with the same members at the
-//! same offsets and sizes (padding members aside), and so does the
-//! criterion's `ViewParams` uniform struct. A member added, moved or
-//! retyped on one side only fails here instead of corrupting a frame.
+//! same offsets and sizes (padding members aside), and so do the
+//! criterion's `ViewParams` uniform struct and set 0's `Instance` record.
+//! A member added, moved or retyped on one side only fails here instead of
+//! corrupting a frame.
 
 use std::collections::HashMap;
 
@@ -227,6 +228,7 @@ fn every_block_matches_its_rust_twin() {
         let r = reflect(shader);
         let mut structs = r.push_blocks();
         structs.extend(r.struct_named("ViewParams"));
+        structs.extend(r.struct_named("Instance"));
         for t in structs {
             match compare(shader, &r, t) {
                 Ok(name) => *checked.entry(name).or_default() += 1,

@@ -162,7 +162,7 @@ fn flags_and_error_bits_are_distinct_single_bits() {
 
 #[test]
 fn bindings_number_each_set_from_zero() {
-    let sets: [(&str, Vec<u32>, u32); 6] = [
+    let sets: [(&str, Vec<u32>, u32); 7] = [
         (
             "scene",
             vec![
@@ -171,6 +171,9 @@ fn bindings_number_each_set_from_zero() {
                 BIND_PATCH_FLAGS,
                 BIND_SHADING,
                 BIND_WEIGHTS,
+                BIND_INSTANCES,
+                BIND_ROOTS,
+                BIND_VISIBILITY,
             ],
             SCENE_BINDINGS,
         ),
@@ -192,7 +195,12 @@ fn bindings_number_each_set_from_zero() {
         ),
         (
             "level",
-            vec![BIND_LEVEL_NODES, BIND_LEVEL_SCANS, BIND_LEVEL_STATE],
+            vec![
+                BIND_LEVEL_NODES,
+                BIND_LEVEL_SCANS,
+                BIND_LEVEL_STATE,
+                BIND_LEVEL_HIZ,
+            ],
             LEVEL_BINDINGS,
         ),
         (
@@ -216,6 +224,11 @@ fn bindings_number_each_set_from_zero() {
                 BIND_CT_PN_NETS,
             ],
             CT_BINDINGS,
+        ),
+        (
+            "depth pyramid",
+            vec![BIND_HIZ_DEPTH, BIND_HIZ_PYRAMID],
+            HIZ_BINDINGS,
         ),
     ];
     for (name, mut bindings, count) in sets {
@@ -259,6 +272,8 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
         C_WEDGES,
         C_ITERATIONS_MAX,
         C_QUEUE_RETRIES,
+        C_OCCLUDED,
+        C_READY_FIRST,
         C_CHECK_NODES,
         C_CHECK_FAILS,
     ];
@@ -298,6 +313,7 @@ fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
         (S_LEVEL_NEXT, depths),
         (S_LEVEL_BLOCKS, depths),
         (S_DEPTH_NODES, depths),
+        (S_EARLY_UNFINISHED, 1),
     ];
     slots.extend(
         [
@@ -311,6 +327,12 @@ fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
             S_DONE,
             S_SPLIT_ROUNDS,
             S_PEAK_NODES,
+            S_ROOT_INSTANCES,
+            S_CULLED_INSTANCES,
+            S_CULLED_INSTANCE_PATCHES,
+            S_OCCLUDED_INSTANCES,
+            S_OCCLUDED_INSTANCE_PATCHES,
+            S_EARLY_INSTANCES,
         ]
         .map(|w| (w, 1)),
     );

@@ -19,6 +19,7 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("rational.toml", 56, 3),
     ("cylinder.toml", 4, 3),
     ("pillow.toml", 4, 3),
+    ("herd.toml", 1_008_406, 6),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),
@@ -114,11 +115,12 @@ fn header_table(text: &str) -> Vec<TableRow> {
 #[test]
 fn the_kitchen_header_tables_match_the_geometry() {
     for name in ["kitchen.toml", "blobs.toml"] {
-        header_table_matches(name);
+        header_table_matches(name, "35,940");
     }
+    header_table_matches("herd.toml", "1,008,406");
 }
 
-fn header_table_matches(name: &str) {
+fn header_table_matches(name: &str, total: &str) {
     let text = std::fs::read_to_string(scenes_dir().join(name)).unwrap();
     let rows = header_table(&text);
     let (_, geo) = load(name);
@@ -137,9 +139,33 @@ fn header_table_matches(name: &str) {
         );
     }
     assert!(
-        text.contains("35,940\n"),
+        text.contains(&format!("{total}\n")),
         "{name}: the table's total line is stale"
     );
+}
+
+/// The herd is what `tools/herd/make.py` writes.
+#[test]
+fn the_herd_is_what_its_script_writes() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!("bezier-subdiv-herd-{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    let run = std::process::Command::new("python3")
+        .arg(root.join("tools/herd/make.py"))
+        .arg(&out)
+        .output()
+        .expect("python3 runs tools/herd/make.py");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        std::fs::read(out.join("herd.toml")).unwrap()
+            == std::fs::read(scenes_dir().join("herd.toml")).unwrap(),
+        "scenes/herd.toml is not what tools/herd/make.py writes: run it"
+    );
+    let _ = std::fs::remove_dir_all(&out);
 }
 
 /// The kitchen and its furniture cages are what `tools/kitchen/make.py`

@@ -88,9 +88,12 @@ fn check_against_oracle(r: &Renderer, geo: &SceneGeometry, v: &View, run: &Run) 
     assert!(got == want, "ready sets differ");
     let s = oracle.stats;
     let g = run.stats;
+    // The level kernels cull whole instances by their boxes before depth
+    // 0; the oracle processes (and culls) those patches one by one.
+    let whole = run.report.stats.get_u64("instance_culled_patches");
     assert_eq!(
         (
-            u64::from(g.nodes_processed),
+            u64::from(g.nodes_processed) + whole.unwrap_or(0),
             u64::from(g.culled_patches),
             u64::from(g.backface_culled)
         ),
@@ -117,7 +120,14 @@ fn check_canonical(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) 
         levels: LEVELS,
     };
     let vp = r.effective_params(v);
-    let twin = canonical_ready(&geo.patches, &geo.weights, &geo.flags, &vp, plan);
+    let twin = canonical_ready(
+        &geo.patches,
+        &geo.weights,
+        &geo.flags,
+        &r.scene().instance_records,
+        &vp,
+        plan,
+    );
     assert!(
         run.ready == twin.ready,
         "{what}: the ready list is not in the canonical order"
@@ -284,6 +294,40 @@ fn depths_too_large_for_one_chunk_are_taken_in_parts_at_any_depth() {
     let run = check_canonical(&mut r, &geo, &v, "max depth 6");
     assert_eq!(run.stats.max_depth, 6);
     assert!(run.stats.nodes_at_lmax > 0);
+    gpu.finish();
+}
+
+/// Whole instances outside the frustum are culled before depth 0 (kitchen
+/// keyframe 2, low in the aisle: most of the room is behind the camera),
+/// with depth 0 taken in many chunks (a small node memory): both level
+/// kernels still write the oracle's set in the CPU twin's order, which
+/// lists depth 0 from the same instance boxes, and the culled instances'
+/// patches count as culled, never processed.
+#[test]
+fn instances_outside_the_frustum_are_culled_whole() {
+    let gpu = gpu();
+    let (s, geo) = common::scene("kitchen.toml");
+    let size = (320, 180);
+    let v = view(&s.frame_camera(2).unwrap(), size, 1.0, 0.5);
+    for (method, budget) in [("subdiv-indirect", 200_000), ("subdiv", 300_001)] {
+        let o = options(|o| o.node_memory = budget);
+        let mut r = common::renderer(&gpu, &geo, method, size, o);
+        let run = check_canonical(&mut r, &geo, &v, method);
+        let (culled, patches) = (
+            run.own("instances_culled"),
+            run.own("instance_culled_patches"),
+        );
+        println!(
+            "{method}: {culled} instances ({patches} patches) culled whole, {} drawn; \
+             {} rounds ({} in parts of {} nodes)",
+            run.own("instances_drawn"),
+            run.own("rounds"),
+            run.own("rounds_split"),
+            run.own("chunk_nodes")
+        );
+        assert!(culled > 100 && patches > 10_000, "{culled} {patches}");
+        assert!(run.own("chunk_nodes") < 4_000, "depth 0 must span chunks");
+    }
     gpu.finish();
 }
 

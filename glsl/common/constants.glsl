@@ -46,6 +46,20 @@ const uint PATCH_TWO_SIDED = 1;
 const uint PATCH_RATIONAL = 2;
 const uint PATCH_MODEL_SHIFT = 16;
 
+// An instance's flags word (set 0's BIND_INSTANCES): PATCH_TWO_SIDED and
+// the model index << PATCH_MODEL_SHIFT as in a patch's flags, and these.
+// The transform mirrors (negative determinant): the instance's
+// patches are the model's with u and v swapped, so ∂u × ∂v stays
+// outward.
+const uint INSTANCE_MIRRORED = 4;
+// The transform is the identity: control points are read unchanged.
+const uint INSTANCE_IDENTITY = 8;
+// u32 words per instance record: 3 rows of 4 floats (the affine
+// transform), first global patch id, first model patch, patch count,
+// flags, and the box of its world control points (lo xyz, hi xyz,
+// each padded to 4 words).
+const uint INSTANCE_WORDS = 24;
+
 // Descriptor set numbers: every pipeline layout starts with the scene
 // set, then the set of its pass family, then a producer's own.
 const uint SET_SCENE = 0;
@@ -53,18 +67,32 @@ const uint SET_PASS = 1;
 const uint SET_PRODUCER = 2;
 
 // Set 0, the scene (every pass): the view (a dynamic uniform buffer,
-// one ViewParams per frame slot), the base patches, their flags, their
-// shading (tangent) patches.
+// one ViewParams per frame slot), the models' patches, their flags, their
+// shading (tangent) patches, their weights and the instances that place
+// them. A base patch's id is global (instance by instance); its control
+// points are its model patch's, transformed by its instance.
 const uint BIND_VIEW = 0;
+// 48 floats per model patch (each distinct model once).
 const uint BIND_PATCHES = 1;
+// One word per model patch: PATCH_RATIONAL.
 const uint BIND_PATCH_FLAGS = 2;
-// SHADING_FLOATS per base patch: the two tangent patches whose cross
-// product is the shading normal (src/scene/shading.rs).
+// SHADING_FLOATS per model patch: the two tangent patches whose cross
+// product is the shading normal (src/scene/shading.rs), in model space.
 const uint BIND_SHADING = 3;
-// 16 weights per base patch (u fastest, as the control points) for a
+// 16 weights per model patch (u fastest, as the control points) for a
 // scene with rational patches; 16 ones for any other scene.
 const uint BIND_WEIGHTS = 4;
-const uint SCENE_BINDINGS = 5;
+// INSTANCE_WORDS per instance, ordered by first global patch id.
+const uint BIND_INSTANCES = 5;
+// One word per instance, kept from frame to frame: 1 where the last
+// frame's occlusion test found it visible (the next frame draws it
+// in its early phase), 0 otherwise.
+const uint BIND_VISIBILITY = 7;
+// The level kernels' depth 0 (written each frame by level_init): per
+// instance that survived culling, its index and the dense index of
+// its first patch among the surviving patches (2 words each).
+const uint BIND_ROOTS = 6;
+const uint SCENE_BINDINGS = 8;
 
 // Floats per base patch in the shading buffer: the 12 control vectors of
 // the u tangent patch, then the 12 of the v tangent patch, x, y, z each.
@@ -96,11 +124,31 @@ const uint QUEUE_STATE_WORDS = 4;
 // Set 2 of the level kernels (subdiv's persistent kernel and
 // subdiv-indirect's per-depth rounds, glsl/common/level.glsl): the node
 // memory (a region of child slots per depth 1..levels, then two ready
-// scratch regions), the block scans of each region, the schedule state.
+// scratch regions), the block scans of each region, the schedule state,
+// and the depth pyramid occlusion culling tests against.
 const uint BIND_LEVEL_NODES = 0;
 const uint BIND_LEVEL_SCANS = 1;
 const uint BIND_LEVEL_STATE = 2;
-const uint LEVEL_BINDINGS = 3;
+const uint BIND_LEVEL_HIZ = 3;
+const uint LEVEL_BINDINGS = 4;
+
+// LevelPush.phase: one pass without occlusion culling, or the early
+// phase (instances visible last frame) and the late phase (the others,
+// tested against the early phase's depth pyramid) of occlusion culling.
+const uint PHASE_ALL = 0;
+const uint PHASE_EARLY = 1;
+const uint PHASE_LATE = 2;
+
+// The depth pyramid (glsl/hiz_*.comp, glsl/common/hiz.glsl): level 0 is
+// the depth of every pixel (the farthest of its samples), level k + 1
+// the farthest of 2 x 2 texels of level k (ceil sizes), down to 1 x 1,
+// all in one buffer of floats; its pass set: the depth image, the
+// pyramid.
+const uint BIND_HIZ_DEPTH = 0;
+const uint BIND_HIZ_PYRAMID = 1;
+const uint HIZ_BINDINGS = 2;
+// Invocations per side of a pyramid pass's 2D workgroup.
+const uint HIZ_GROUP = 8;
 
 // Most children one split makes (1:4 today; a 1:2 split would make 2):
 // each block of LEVEL_GROUP_SIZE nodes owns LEVEL_GROUP_SIZE *
@@ -108,8 +156,9 @@ const uint LEVEL_BINDINGS = 3;
 const uint SPLIT_MAX_CHILDREN = 4;
 
 // Per block of a round, beside its children and ready counts: culled,
-// back-facing, at l_max, triangles, wedges, deepest ready depth.
-const uint LEVEL_BLOCK_STATS = 6;
+// back-facing, at l_max, triangles, wedges, occluded, deepest ready
+// depth.
+const uint LEVEL_BLOCK_STATS = 7;
 
 // Words of the level kernels' state buffer. Words that workgroups
 // synchronise on sit on cache lines of their own (16 words apart).
@@ -146,6 +195,20 @@ const uint S_DONE = 71;
 const uint S_SPLIT_ROUNDS = 72;
 // Most nodes one depth held at once.
 const uint S_PEAK_NODES = 73;
+// Instances whose patches are depth 0 of this pass (the entries of
+// BIND_ROOTS), those culled whole in the frame (their box outside the
+// frustum), and the patches of those (counted as culled, never
+// processed).
+const uint S_ROOT_INSTANCES = 74;
+const uint S_CULLED_INSTANCES = 75;
+const uint S_CULLED_INSTANCE_PATCHES = 76;
+// Occlusion culling: instances the late phase found hidden behind
+// the early phase's depth, and their patches (never processed).
+const uint S_OCCLUDED_INSTANCES = 77;
+const uint S_OCCLUDED_INSTANCE_PATCHES = 78;
+// Occlusion culling: instances drawn in the early phase (0 for a
+// frame of one pass).
+const uint S_EARLY_INSTANCES = 79;
 // Per depth d (0..=L_MAX): nodes it holds, nodes already taken, and
 // the blocks of the chunk that filled it (the length of its scan).
 const uint S_LEVEL_COUNT = 80;
@@ -153,7 +216,11 @@ const uint S_LEVEL_NEXT = 96;
 const uint S_LEVEL_BLOCKS = 112;
 // Per depth d: nodes processed over the frame.
 const uint S_DEPTH_NODES = 128;
-const uint LEVEL_STATE_WORDS = 144;
+// Occlusion culling: 1 when the early phase ran out of recorded
+// rounds before its schedule was done (the frame is drawn again
+// with more).
+const uint S_EARLY_UNFINISHED = 144;
+const uint LEVEL_STATE_WORDS = 160;
 
 // S_JOIN: the window-closed bit above the count.
 const uint JOIN_CLOSED = 0x80000000u;
@@ -315,6 +382,12 @@ const uint C_WEDGES = 16;
 const uint C_ITERATIONS_MAX = 17;
 // Queue operations that lost a compare-and-swap and were retried.
 const uint C_QUEUE_RETRIES = 20;
+// Nodes the late phase of occlusion culling found hidden behind the
+// early phase's depth (counted among the culled too).
+const uint C_OCCLUDED = 21;
+// The first ready-list entry the next draw draws: 0, or for the late
+// phase of occlusion culling the end of the early phase's list.
+const uint C_READY_FIRST = 22;
 
 // Validation passes (reorder_check.comp): nodes checked, nodes failing.
 const uint C_CHECK_NODES = 18;

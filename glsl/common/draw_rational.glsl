@@ -10,21 +10,22 @@
 #include "rational_subdiv.glsl"
 
 void patch_node_positions(uint id, NodeMesh mesh, out vec3 pos[NODE_MESH_SLOTS]) {
-    if (patch_is_rational(id)) {
+    Instance t = instances[instance_of(id)];
+    if ((patch_flags_in(t, id) & PATCH_RATIONAL) != 0u) {
         vec4 H[16];
-        load_homogeneous(id, H);
+        load_homogeneous_in(t, id, H);
         for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
             pos[s] = slot_used(mesh, s) ? eval_rational(H, mesh.uv[s].x, mesh.uv[s].y) : pos[0];
         }
         return;
     }
     vec3 P[16];
-    load_patch(id, P);
+    load_patch_in(t, id, P);
     node_positions(P, mesh, pos);
 }
 
 // Base patch `id`'s drawn point at (u, v), rational patches divided.
-vec3 patch_point(uint id, vec2 uv) {
+vec3 patch_surface_point(uint id, vec2 uv) {
     if (patch_is_rational(id)) {
         vec4 H[16];
         load_homogeneous(id, H);
@@ -109,10 +110,11 @@ uint wedge_code(uvec2 q, NodeMesh mesh, vec3 pos[NODE_MESH_SLOTS], uint t, vec3 
     bool inside = across.x >= 0.0 && across.x <= 1.0 && across.y >= 0.0 && across.y <= 1.0;
     uint id = node_patch(q);
     uvec3 w = mesh.tris[t];
-    bool mirror = faces_eye(pos[w.x], pos[w.y], patch_point(id, across), eye);
+    bool mirror = faces_eye(pos[w.x], pos[w.y], patch_surface_point(id, across), eye);
     vec2 n[3];
     neighbour_triangle(q, e, mesh.uv[4u + e], n);
-    bool coarse = faces_eye(patch_point(id, n[0]), patch_point(id, n[1]), patch_point(id, n[2]), eye);
+    bool coarse = faces_eye(patch_surface_point(id, n[0]), patch_surface_point(id, n[1]),
+        patch_surface_point(id, n[2]), eye);
     return (inside && (mirror || coarse)) || (mirror && coarse) ? WEDGE_LIT_FRONT : WEDGE_LIT_BACK;
 }
 

@@ -44,6 +44,13 @@ layout(std430, set = SET_PRODUCER, binding = BIND_LEVEL_STATE) coherent buffer L
     uint state[];
 };
 
+// Depth 0 (set 0, written by level_init before the first round): per
+// instance that survived culling, its index and the dense index of its
+// first patch; state[S_ROOT_INSTANCES] entries.
+layout(std430, set = SET_SCENE, binding = BIND_ROOTS) buffer Roots {
+    uvec2 roots[];
+};
+
 // src/gpu/blocks.rs LevelPush.
 layout(push_constant) uniform LevelPush {
     uint patch_count;     // base patches: the nodes of depth 0
@@ -55,9 +62,9 @@ layout(push_constant) uniform LevelPush {
     uint launched;        // persistent: workgroups launched
     uint faults;          // FAULT_* (tests)
     uint group_blocks;    // per-depth rounds: blocks per workgroup
+    uint phase;           // PHASE_*: one pass, or a phase of occlusion culling
     uint pad0;
     uint pad1;
-    uint pad2;
 } pc;
 
 const uint BLOCK = LEVEL_GROUP_SIZE;
@@ -107,17 +114,34 @@ uint ready_scan(uint p) {
 }
 
 // This round's per-block statistics, LEVEL_BLOCK_STATS words per block
-// (culled, back-facing, at l_max, triangles, wedges, deepest): the last
+// (culled, back-facing, at l_max, triangles, wedges, occluded, deepest): the last
 // workgroup sums them, so the counters take no atomics.
 uint block_stats(uint b) {
     return (pc.levels + 3u) * scan_words() + b * LEVEL_BLOCK_STATS;
 }
 
-// Node j (dense index) of depth d: the base patch itself at depth 0, else
-// the slot its block's scan entry and rank within the block name.
+// Base patch j (dense index) of depth 0: the entry of the last surviving
+// instance whose first dense index is at most j, then the patch's place in
+// that instance.
+uint root_patch(uint j) {
+    uint lo = 0u;
+    uint hi = state[S_ROOT_INSTANCES];
+    while (hi - lo > 1u) {
+        uint mid = (lo + hi) / 2u;
+        if (roots[mid].y <= j) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return instances[roots[lo].x].first + (j - roots[lo].y);
+}
+
+// Node j (dense index) of depth d: a base patch at depth 0, else the slot
+// its block's scan entry and rank within the block name.
 uvec2 level_node(uint d, uint j) {
     if (d == 0u) {
-        return root_node(j);
+        return root_node(root_patch(j));
     }
     uint s = level_scan(d);
     // scan[0] = 0 <= j < scan[blocks] = the depth's count.
@@ -237,8 +261,9 @@ void node_values(bool have, uvec2 q, uint outcome, uint nkids, out uint v[VALUES
         return;
     }
     v[V_CHILDREN] = outcome == OUT_SPLIT ? nkids : 0u;
-    v[2u] = outcome == OUT_CULLED ? 1u : 0u;
+    v[2u] = outcome == OUT_CULLED || outcome == OUT_OCCLUDED ? 1u : 0u;
     v[3u] = outcome == OUT_BACKFACE ? 1u : 0u;
+    v[7u] = outcome == OUT_OCCLUDED ? 1u : 0u;
     if (outcome == OUT_READY) {
         uint l = node_depth(q);
         uvec2 tw = ready_triangles(q, (view.flags & FLAG_WEDGES) != 0u);
@@ -393,7 +418,8 @@ void add_block_stats(uint nb, uint t) {
         counters[C_AT_LMAX] += sum[2];
         counters[C_TRIANGLES] += sum[3];
         counters[C_WEDGES] += sum[4];
-        counters[C_MAX_DEPTH] = max(counters[C_MAX_DEPTH], sum[5]);
+        counters[C_OCCLUDED] += sum[5];
+        counters[C_MAX_DEPTH] = max(counters[C_MAX_DEPTH], sum[6]);
     }
     barrier();
 }
@@ -432,7 +458,7 @@ void finish_round(uint t) {
         if (total > pc.ready_capacity) {
             atomicOr(counters[C_ERROR], ERR_READY_FULL);
         }
-        write_ready_args(min(total, pc.ready_capacity));
+        write_ready_args(ready_first(), min(total, pc.ready_capacity));
     }
     barrier();
 }

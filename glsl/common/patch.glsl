@@ -24,8 +24,9 @@ struct ViewParams {
     float w_par;     // lambda
     uint l_max;
     uint flags;
-    uint pad0;
-    uint pad1;
+    uint width;      // viewport size in pixels
+    uint height;
+    vec4 clip[4];    // rows of the view-projection matrix (occlusion test only)
 };
 
 // ---------------------------------------------------------------- Bézier

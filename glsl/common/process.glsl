@@ -10,6 +10,27 @@ const uint OUT_CULLED = 0u;
 const uint OUT_BACKFACE = 1u;
 const uint OUT_READY = 2u;
 const uint OUT_SPLIT = 3u;
+const uint OUT_OCCLUDED = 4u;
+
+#ifdef LEVEL_KERNEL
+#include "hiz.glsl"
+// The late phase of occlusion culling: nodes are also tested against the
+// early phase's depth pyramid (set by the level kernels' main from their
+// push block). A node is occluded when the box that the frustum test uses
+// (control points and wedge pivots: everything it and its descendants
+// draw) lies behind the pyramid.
+bool process_occludes = false;
+#endif
+
+// Whether the node's box lo..hi (control points and wedge pivots) is
+// hidden behind what the early phase drew.
+bool node_occluded(vec3 lo, vec3 hi) {
+#ifdef LEVEL_KERNEL
+    return process_occludes && box_occluded(lo, hi, HIZ_NODE_SPAN);
+#else
+    return false;
+#endif
+}
 
 // Which directions q may still halve (twin of oracle::verdict): iso both
 // or neither (at l_max), aniso each below l_max.
@@ -48,11 +69,12 @@ void grow_box(inout vec3 lo, inout vec3 hi, vec3 p) {
 // The homogeneous sub-patch, the box of its Cartesian control points (and
 // the pivots) for the frustum, the criterion on projected points, and the
 // polynomial back-face bound on w (p - eye) (see src/patch/homogeneous.rs).
-uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
+// `t` is the patch's instance, `flags` its flags word.
+uint process_rational(uvec2 q, Instance t, uint flags, out uvec2 kids[4], out uint nkids) {
     kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
     nkids = 0u;
     vec4 H[16];
-    load_homogeneous(node_patch(q), H);
+    load_homogeneous_in(t, node_patch(q), H);
     vec4 dom = node_domain(q);
     vec4 S[16];
     reconstruct4(H, dom.x, dom.y, dom.z, dom.w, S);
@@ -68,6 +90,9 @@ uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
         }
         if (outside_frustum(lo, hi, view)) {
             return OUT_CULLED;
+        }
+        if (node_occluded(lo, hi)) {
+            return OUT_OCCLUDED;
         }
     }
     bvec2 can = can_split(q);
@@ -90,7 +115,7 @@ uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
             return OUT_SPLIT;
         }
     }
-    bool one_sided = (patch_flags[node_patch(q)] & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (flags & PATCH_TWO_SIDED) == 0u;
     bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
     if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing4(S, view.eye.xyz)
         && wedges_face_away4(H, q, view.eye.xyz, with_wedges)) {
@@ -103,14 +128,17 @@ uint process_rational(uvec2 q, out uvec2 kids[4], out uint nkids) {
 // OUT_SPLIT the children are kids[0..nkids), in the order (0,0), (1,0),
 // (0,1), (1,1) of those the split makes (4 for 1:4, 2 for 1:2).
 // Rational patches take process_rational; polynomial ones the code below.
+// The patch's instance is looked up once for the whole item.
 uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
-    if (patch_is_rational(node_patch(q))) {
-        return process_rational(q, kids, nkids);
+    Instance t = instances[instance_of(node_patch(q))];
+    uint flags = patch_flags_in(t, node_patch(q));
+    if ((flags & PATCH_RATIONAL) != 0u) {
+        return process_rational(q, t, flags, kids, nkids);
     }
     kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
     nkids = 0u;
     vec3 P[16];
-    load_patch(node_patch(q), P);
+    load_patch_in(t, node_patch(q), P);
     vec4 dom = node_domain(q);
     vec3 S[16];
     reconstruct(P, dom.x, dom.y, dom.z, dom.w, S);
@@ -129,6 +157,9 @@ uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
         }
         if (outside_frustum(clo, chi, view)) {
             return OUT_CULLED;
+        }
+        if (node_occluded(clo, chi)) {
+            return OUT_OCCLUDED;
         }
     }
     bvec2 can = can_split(q);
@@ -154,7 +185,7 @@ uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
     }
     // A back-facing node goes only if its wedges face away too (see
     // cull::wedges_face_away).
-    bool one_sided = (patch_flags[node_patch(q)] & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (flags & PATCH_TWO_SIDED) == 0u;
     bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
     if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing(S, lo, hi, view.eye.xyz)
         && wedges_face_away(P, q, view.eye.xyz, with_wedges)) {

@@ -8,26 +8,55 @@
 
 #include "scene.glsl"
 
-// 16 weights per base patch, stored like its control points.
+// 16 weights per model patch, stored like its control points.
 layout(std430, set = SET_SCENE, binding = BIND_WEIGHTS) readonly buffer PatchWeights {
     float patch_weights[];
 };
 
 bool patch_is_rational(uint id) {
-    return (patch_flags[id] & PATCH_RATIONAL) != 0u;
+    return (patch_flags_of(id) & PATCH_RATIONAL) != 0u;
 }
 
-// The homogeneous control points (w p, w) of patch `id`; weights 1 where
-// the patch is polynomial (then w p = p exactly).
-void load_homogeneous(uint id, out vec4 H[16]) {
+// Weight k of base patch `id` of instance `t` (as its control point k:
+// mirrored instances swap u and v).
+float patch_weight_in(Instance t, uint id, uint k) {
+    return patch_weights[(t.source + (id - t.first)) * 16u + model_point_index(k, t.flags)];
+}
+
+// Weight k of base patch `id`.
+float patch_weight(uint id, uint k) {
+    return patch_weight_in(instances[instance_of(id)], id, k);
+}
+
+// The homogeneous control points (w p, w) of patch `id` of instance `t`;
+// weights 1 where the patch is polynomial (then w p = p exactly).
+void load_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
     vec3 P[16];
-    load_patch(id, P);
-    bool rational = patch_is_rational(id);
-    for (int i = 0; i < 16; ++i) {
-        float w = rational ? patch_weights[id * 16u + uint(i)] : 1.0;
+    load_patch_in(t, id, P);
+    bool rational = (patch_flags_in(t, id) & PATCH_RATIONAL) != 0u;
+    for (uint i = 0u; i < 16u; ++i) {
+        float w = rational ? patch_weight_in(t, id, i) : 1.0;
         precise vec4 h = vec4(P[i].x * w, P[i].y * w, P[i].z * w, w);
         H[i] = h;
     }
+}
+
+// The homogeneous control points (w p, w) of patch `id` of instance `t`
+// in model space (see load_model_patch_in).
+void load_model_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
+    vec3 P[16];
+    load_model_patch_in(t, id, P);
+    bool rational = (patch_flags_in(t, id) & PATCH_RATIONAL) != 0u;
+    for (uint i = 0u; i < 16u; ++i) {
+        float w = rational ? patch_weight_in(t, id, i) : 1.0;
+        precise vec4 h = vec4(P[i].x * w, P[i].y * w, P[i].z * w, w);
+        H[i] = h;
+    }
+}
+
+// The homogeneous control points of patch `id`.
+void load_homogeneous(uint id, out vec4 H[16]) {
+    load_homogeneous_in(instances[instance_of(id)], id, H);
 }
 
 // Cubic curve of homogeneous points, the order of curve() in patch.glsl:

@@ -71,11 +71,19 @@ uint ready_count(uint capacity) {
     return n < capacity ? n : capacity;
 }
 
-// The indirect arguments of everything after a producer, for n ready
-// nodes: the mesh draw, the fallback's expansion and draw, and the sort's
-// block and merge passes (a merge pass not needed for n gets none).
-// src/draw/ready.rs `indirect_args` is the host's copy.
-void write_ready_args(uint n) {
+// The first ready node the next draw draws (0, or the end of the early
+// phase's list for the late phase of occlusion culling).
+uint ready_first() {
+    return counters[C_READY_FIRST];
+}
+
+// The indirect arguments of everything after a producer, for the ready
+// nodes first .. total: the mesh draw, the fallback's expansion and draw,
+// and the sort's block and merge passes (a merge pass not needed gets none;
+// only the queue kernel sorts, with first = 0). src/draw/ready.rs
+// `indirect_args` is the host's copy.
+void write_ready_args(uint first, uint total) {
+    uint n = total - min(first, total);
     counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
     counters[C_MESH_ARGS + 1u] = 1u;
     counters[C_MESH_ARGS + 2u] = 1u;
@@ -84,7 +92,7 @@ void write_ready_args(uint n) {
     counters[C_EXPAND_ARGS + 2u] = 1u;
     counters[C_DRAW_ARGS] = n * VERTICES_PER_NODE;
     counters[C_DRAW_ARGS + 1u] = 1u;
-    counters[C_DRAW_ARGS + 2u] = 0u;
+    counters[C_DRAW_ARGS + 2u] = first * VERTICES_PER_NODE;
     counters[C_DRAW_ARGS + 3u] = 0u;
     counters[C_SORT_BLOCK_ARGS] = (n + SORT_BLOCK - 1u) / SORT_BLOCK;
     counters[C_SORT_BLOCK_ARGS + 1u] = 1u;

@@ -32,7 +32,7 @@ uint shade_flags(uint patch_id) {
         return pn_flags(shade_pn_triangle(patch_id));
     }
 #endif
-    return patch_flags[patch_id];
+    return patch_flags_of(patch_id);
 }
 
 // Per-model tint (model index = patch_flags >> PATCH_MODEL_SHIFT), the twin

@@ -44,6 +44,8 @@ pub struct Controls {
     pub backface: bool,
     /// Crack-closing wedges on.
     pub wedges: bool,
+    /// Occlusion culling on (the level kernels' two phases).
+    pub occlusion: bool,
     /// How to shade.
     pub shade: Shade,
     /// Samples per pixel.
@@ -277,6 +279,15 @@ impl Controls {
             ui.add_enabled(
                 reads.wedges,
                 egui::Checkbox::new(&mut self.wedges, "wedges"),
+            )
+            .on_disabled_hover_text(&ignored);
+            ui.add_enabled(
+                reads.occlusion,
+                egui::Checkbox::new(&mut self.occlusion, "occlusion cull"),
+            )
+            .on_hover_text(
+                "draw what the last frame saw, build a depth pyramid, skip what it hides \
+                 (the same image)",
             )
             .on_disabled_hover_text(&ignored);
         });

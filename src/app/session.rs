@@ -145,6 +145,7 @@ impl Session {
             frustum: true,
             backface: true,
             wedges: true,
+            occlusion: renderer.options().occlusion,
             shade: args.shade,
             msaa: args.gpu.msaa,
             grid: args.gpu.grid,
@@ -313,6 +314,7 @@ impl Session {
             draw: c.draw,
             grid: c.grid,
             samples: c.msaa,
+            occlusion: c.occlusion,
             ..self.renderer.options().clone()
         };
         let resize = self.renderer.target().size() != size;
@@ -474,7 +476,11 @@ impl Session {
         stats["source"] = json!("view");
         stats["frame"] = serde_json::Value::Null;
         stats["l_max"] = json!(c.l_max);
-        stats["culling"] = json!({"frustum": c.frustum, "backface": c.backface});
+        stats["culling"] = json!({
+            "frustum": c.frustum,
+            "backface": c.backface,
+            "occlusion": c.occlusion,
+        });
         stats["wedges"] = json!(c.wedges);
         stats["split"] = json!(c.split.name());
         stats["present_mode"] = json!(self.presenter.present_mode());

@@ -78,6 +78,8 @@ pub struct BenchArgs {
     pub validation: bool,
     /// How `subdiv` and `subdiv-indirect` split (`None`: the scene's).
     pub split: Option<crate::patch::view::Split>,
+    /// Occlusion culling of `subdiv` and `subdiv-indirect`.
+    pub occlusion: bool,
 }
 
 impl BenchArgs {
@@ -98,6 +100,7 @@ impl BenchArgs {
             quick: false,
             validation: false,
             split: None,
+            occlusion: false,
         }
     }
 }
@@ -256,6 +259,9 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
             .collect(),
     };
     let mut request = GpuRequest::new(args.scene.clone());
+    // Off unless asked: the paper's comparison culls by frustum and back
+    // faces alone, like the tessellators.
+    request.occlusion = Some(args.occlusion);
     request.grid = args.grid;
     request.method_info()?;
     if args.frames == Some(0) {
@@ -353,6 +359,9 @@ fn command_line(args: &BenchArgs, plan: &Plan) -> String {
     if let Some(s) = args.split {
         c += &format!(" --split {}", s.name());
     }
+    if args.occlusion {
+        c += " --occlusion on";
+    }
     c
 }
 
@@ -381,6 +390,9 @@ pub fn run_on(
         let _ = std::fs::remove_file(args.out.join(f));
     }
     let mut request = GpuRequest::new(args.scene.clone());
+    // Off unless asked: the paper's comparison culls by frustum and back
+    // faces alone, like the tessellators.
+    request.occlusion = Some(args.occlusion);
     request.grid = args.grid;
     request.size = args.size;
     request.method = plan.configs[0].method.clone();

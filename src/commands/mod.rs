@@ -72,6 +72,9 @@ pub struct GpuRequest {
     /// `subdiv`, `subdiv-indirect`: how a node splits (`None`: the
     /// scene's `[view] split`).
     pub split: Option<crate::patch::view::Split>,
+    /// `subdiv`, `subdiv-indirect`: occlusion culling (`None`: the
+    /// command's default, on for render and view, off for bench).
+    pub occlusion: Option<bool>,
 }
 
 impl GpuRequest {
@@ -95,6 +98,7 @@ impl GpuRequest {
             validation: false,
             forward_differencing: false,
             split: None,
+            occlusion: None,
         }
     }
 
@@ -144,6 +148,7 @@ impl GpuRequest {
             node_memory: self.node_memory,
             samples: self.msaa,
             forward_differencing: self.forward_differencing,
+            occlusion: self.occlusion.unwrap_or(true),
             ..crate::methods::MethodOptions::new(draw)
         };
         let options = RendererOptions {

@@ -292,8 +292,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         .and_then(|t| t.scopes.iter().find(|s| s.0 == "frame").map(|s| s.1))
         .or_else(|| report.ms("frame"))
         .unwrap_or(0.0);
+    let occlusion = match report.stats.own.iter().find(|(k, _)| *k == "occlusion") {
+        Some((_, v)) if v == &serde_json::Value::Bool(true) => format!(
+            ", occlusion culling on ({} instances hidden)",
+            report.stats.get_u64("instances_occluded").unwrap_or(0)
+        ),
+        _ => String::new(),
+    };
     Ok(format!(
-        "{} ({}) on {}{}, {} path: {} triangles{}, {:.3} ms GPU{}{}\n{flip_line}wrote {} and {}\n",
+        "{} ({}) on {}{}, {} path{occlusion}: {} triangles{}, {:.3} ms GPU{}{}\n{flip_line}wrote {} and {}\n",
         args.gpu.scene.display(),
         method.name,
         info.name,
@@ -480,6 +487,8 @@ pub(crate) fn stats_json(
         "l_max": crate::constants::L_MAX,
         "commit": commit_id(),
         "patches": renderer.scene().count,
+        "model_patches": renderer.scene().model_patches,
+        "instances": renderer.scene().instance_count,
         "triangles": report.triangles(),
         "triangles_source": report.triangles_source(),
         "culled_patches": report.stats.culled_patches,
@@ -490,6 +499,7 @@ pub(crate) fn stats_json(
             "base_patches": GEOMETRY_BYTES_PER_PATCH,
             "shading_patches": SHADING_BYTES_PER_PATCH,
         },
+        "memory_per_instance_bytes": crate::scene::instances::GPU_BYTES_PER_INSTANCE,
         "method_stats": own,
     })
 }

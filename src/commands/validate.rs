@@ -85,9 +85,12 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         .geometry_and_shading()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     let ctx = args.gpu.context()?;
-    // Single-sampled: the hole test counts exact key colours.
+    // Single-sampled: the hole test counts exact key colours. Without
+    // occlusion culling: the oracle has no depth buffer (the occlusion
+    // check below holds the culled images against these).
     let request = GpuRequest {
         msaa: 1,
+        occlusion: Some(false),
         ..args.gpu.clone()
     };
     let mut renderer = request.renderer(&ctx, &geo, &shading)?;
@@ -111,6 +114,13 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             results.extend(oracle_checks(&mut renderer, &geo, view, *k)?);
         }
         renderer.capture = false;
+    }
+    let culls = matches!(renderer.method().name(), "subdiv" | "subdiv-indirect")
+        && args.gpu.kernel == crate::methods::subdiv::Kernel::Levels;
+    if culls && args.gpu.occlusion != Some(false) {
+        for (k, view) in &views {
+            results.push(occlusion_check(&mut renderer, view, *k)?);
+        }
     }
     if renderer.method().tess().is_some() {
         let shared = shared_edges(&geo.patches);
@@ -215,6 +225,49 @@ fn oracle_checks(
         ),
     ));
     Ok(out)
+}
+
+/// Occlusion culling changes no pixel: the keyframe drawn with it, on its
+/// first frame (everything counts as visible, so it culls what that
+/// frame's early phase hides) and on a second (the early phase takes what
+/// the first found visible), is identical to the keyframe drawn without it.
+/// The oracle has no depth buffer, so this, and not a ready-set
+/// comparison, is occlusion culling's check; the detail says what was culled.
+fn occlusion_check(renderer: &mut Renderer, view: &View, k: usize) -> anyhow::Result<CheckResult> {
+    let off = renderer.options().clone();
+    let unculled = renderer.render(view)?;
+    let reference = renderer.read_image()?;
+    renderer.set_options(crate::methods::MethodOptions {
+        occlusion: true,
+        ..off.clone()
+    })?;
+    let mut differ = 0;
+    let mut last = None;
+    for _ in 0..2 {
+        last = Some(renderer.render(view)?);
+        let image = renderer.read_image()?;
+        differ += image
+            .chunks_exact(4)
+            .zip(reference.chunks_exact(4))
+            .filter(|(a, b)| a != b)
+            .count();
+    }
+    renderer.set_options(off)?;
+    let last = last.context("no culled frame")?;
+    let own = |key| last.stats.get_u64(key).unwrap_or(0);
+    Ok(line(
+        "occlusion",
+        Some(k),
+        differ == 0,
+        format!(
+            "2 frames culled: {differ} px differ from the unculled image; {} instances \
+             and {} nodes hidden, {} of {} triangles drawn",
+            own("instances_occluded"),
+            thousands(own("occluded")),
+            thousands(last.triangles()),
+            thousands(unculled.triangles())
+        ),
+    ))
 }
 
 /// The shared-edge checks of a tessellation method for one keyframe.

@@ -23,6 +23,7 @@
 //! same command buffer) must make the writes available itself.
 
 pub mod fallback;
+pub mod hiz;
 pub mod mesh;
 pub mod ready;
 pub mod sort;
@@ -348,6 +349,21 @@ impl ReadyStage {
     /// clears and the indirect draw (scope "draw"), leaving the colour image
     /// in `DrawTarget::FINAL_LAYOUT`.
     pub fn record_draw(&self, f: &mut FrameRec<'_>, sort: bool) -> VkResult<()> {
+        self.record_draw_part(f, sort, true, true)
+    }
+
+    /// [`ReadyStage::record_draw`] as one of several draws into the frame's
+    /// target (occlusion culling's early and late phases): the `first`
+    /// clears the target, the others load what it holds; all but the
+    /// `last` keep the depth and samples for the next. Each draws the
+    /// entries from `counters[C_READY_FIRST]` on.
+    pub fn record_draw_part(
+        &self,
+        f: &mut FrameRec<'_>,
+        sort: bool,
+        first: bool,
+        last: bool,
+    ) -> VkResult<()> {
         let pc = f.view.draw_push(self.list.caps.ready, f.capture, 0);
         self.check(f.ctx, &pc)?;
         barrier_from_producers(f.ctx, f.cmd);
@@ -363,7 +379,7 @@ impl ReadyStage {
             f.scoped("expand", |f| fb.record_expand(f, self, &pc))?;
         }
         f.scoped("draw", |f| {
-            f.target.begin(f.ctx, f.cmd);
+            f.target.begin_part(f.ctx, f.cmd, first, last);
             let drawn = match &self.path {
                 PathPipelines::Mesh(m) => m.record_draw(f, self, &pc),
                 PathPipelines::Fallback(fb) => fb.record_draw(f, self, &pc),

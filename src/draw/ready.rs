@@ -200,6 +200,7 @@ pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
     let per_task = MESH_NODES * TASK_MESH_GROUPS;
     let mut args = vec![
         (C_READY_COUNT, ready),
+        (C_READY_FIRST, 0),
         (C_MESH_ARGS, ready.div_ceil(per_task)),
         (C_MESH_ARGS + 1, 1),
         (C_MESH_ARGS + 2, 1),

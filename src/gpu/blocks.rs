@@ -136,8 +136,10 @@ pub struct LevelPush {
     pub faults: u32,
     /// Per-depth rounds: blocks per workgroup.
     pub group_blocks: u32,
+    /// `PHASE_*`: one pass, or a phase of occlusion culling.
+    pub phase: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 gpu_block!(
     LevelPush,
@@ -152,6 +154,7 @@ gpu_block!(
         launched,
         faults,
         group_blocks,
+        phase,
         pad
     ]
 );
@@ -240,7 +243,42 @@ gpu_block!(
 gpu_block!(
     ViewParams,
     "ViewParams",
-    [depth_row, planes, eye, eps_k, near, w_orth, w_par, l_max, flags, pad]
+    [depth_row, planes, eye, eps_k, near, w_orth, w_par, l_max, flags, width, height, clip]
+);
+
+/// Push constants of the depth pyramid's passes (`HizPush` in
+/// `glsl/common/hiz_pass.glsl`): level `dst` from level `src` (or from the
+/// depth image for level 0).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct HizPush {
+    /// First float of the level read (unused for level 0).
+    pub src_offset: u32,
+    /// First float of the level written.
+    pub dst_offset: u32,
+    /// Size of the level read, in texels.
+    pub src_width: u32,
+    /// See `src_width`.
+    pub src_height: u32,
+    /// Size of the level written.
+    pub dst_width: u32,
+    /// See `dst_width`.
+    pub dst_height: u32,
+    /// Samples per pixel of the depth image (level 0).
+    pub samples: u32,
+    /// Padding to 16 bytes.
+    pub pad: u32,
+}
+gpu_block!(
+    HizPush,
+    "HizPush",
+    [src_offset, dst_offset, src_width, src_height, dst_width, dst_height, samples, pad]
+);
+
+gpu_block!(
+    crate::scene::instances::Instance,
+    "Instance",
+    [rows, first, source, count, flags, lo, hi]
 );
 
 /// Every host block with its GLSL name and fields, for the reflection test.
@@ -255,7 +293,9 @@ pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
         entry::<ListPush>(),
         entry::<GridPush>(),
         entry::<CtPush>(),
+        entry::<HizPush>(),
         entry::<ViewParams>(),
+        entry::<crate::scene::instances::Instance>(),
     ]
 }
 

@@ -14,7 +14,7 @@ use ash::vk;
 
 use crate::vk::{Context, GraphicsDesc, Pipeline, PipelineLayout, ShaderModule, VkResult};
 
-pub use blocks::{CtPush, DrawPush, GpuBlock, GridPush, LevelPush, ListPush, SubdivPush};
+pub use blocks::{CtPush, DrawPush, GpuBlock, GridPush, HizPush, LevelPush, ListPush, SubdivPush};
 pub use scene::{all_stages, SceneGpu, SceneLayout};
 pub use target::{sample_count, write_png, DrawTarget, ImageError, COLOR_FORMAT, DEPTH_FORMAT};
 

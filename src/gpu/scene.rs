@@ -1,6 +1,8 @@
-//! The scene on the GPU, shared by every method and pass: the base patches,
-//! their flags, their shading (tangent) patches and their weights, uploaded
-//! once, and one `ViewParams` per frame slot, all behind descriptor set 0
+//! The scene on the GPU, shared by every method and pass: the model
+//! patches, their flags, their shading (tangent) patches and their weights,
+//! each model once, and the instances that place them
+//! (`scene::instances`), uploaded once, and one `ViewParams` per frame
+//! slot, all behind descriptor set 0
 //! (`glsl/common/scene.glsl`; the shading normal is evaluated by
 //! `glsl/common/shading.glsl`, rational patches by
 //! `glsl/common/rational.glsl`). Beside it, on the host, the scene's edge
@@ -11,14 +13,15 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use ash::vk;
 
 use crate::constants::{
-    BIND_PATCHES, BIND_PATCH_FLAGS, BIND_SHADING, BIND_VIEW, BIND_WEIGHTS, PATCH_RATIONAL,
-    SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
+    BIND_INSTANCES, BIND_PATCHES, BIND_PATCH_FLAGS, BIND_ROOTS, BIND_SHADING, BIND_VIEW,
+    BIND_VISIBILITY, BIND_WEIGHTS, PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
 };
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
 use crate::scene::file::{SceneGeometry, SceneShading};
+use crate::scene::instances::{Instance, InstanceTable, INSTANCE_BYTES};
 use crate::scene::pn::PnScene;
 use crate::scene::shading::ShadingPatch;
 use crate::vk::{
@@ -99,21 +102,35 @@ impl SceneLayout {
 /// one (its copy of the edge table) sees when the scene was replaced.
 static SCENE_SERIAL: AtomicU64 = AtomicU64::new(1);
 
-/// The uploaded scene: patches, flags, shading patches, weights, the
-/// per-slot views and set 0.
+/// The uploaded scene: the model patches, their flags, shading patches and
+/// weights, the instances that place them, the per-slot views and set 0.
 pub struct SceneGpu {
-    /// 48 floats per patch.
+    /// 48 floats per model patch.
     pub patches: Buffer,
-    /// One flags word per patch.
+    /// One flags word per model patch.
     pub flags: Buffer,
-    /// `SHADING_FLOATS` per patch: the tangent patches of the shading normals.
+    /// `SHADING_FLOATS` per model patch: the tangent patches of the shading
+    /// normals, in model space.
     pub shading: Buffer,
-    /// 16 weights per patch for a scene with rational patches, else 16 ones.
+    /// 16 weights per model patch for a scene with rational patches, else 16 ones.
     pub weights: Buffer,
+    /// `INSTANCE_WORDS` per instance.
+    pub instances: Buffer,
+    /// The level kernels' depth 0 of a frame: 2 words per instance.
+    pub roots: Buffer,
+    /// Occlusion culling's verdict of the last frame: 1 word per instance.
+    pub visibility: Buffer,
+    /// The instance records as uploaded (the level schedule's CPU twin
+    /// culls by their boxes).
+    pub instance_records: Vec<Instance>,
     /// Patches with a weight other than 1.
     pub rational_patches: u32,
-    /// Number of base patches.
+    /// Number of base patches (global ids 0..count, instance by instance).
     pub count: u32,
+    /// Number of model patches (each distinct model once).
+    pub model_patches: u32,
+    /// Number of instances.
+    pub instance_count: u32,
     /// Which patch sides are one curve (computed on the host at upload).
     pub edges: EdgeTable,
     /// This upload's number (a new scene gets a new one).
@@ -129,7 +146,8 @@ pub struct SceneGpu {
 
 impl SceneGpu {
     /// Uploads `patches`, `flags` and `shading` (one tangent-patch pair per
-    /// patch, in the same order) and makes room for `slots` views.
+    /// patch, in the same order) as they are and makes room for `slots`
+    /// views.
     pub fn new(
         ctx: &Context,
         layout: &SceneLayout,
@@ -166,62 +184,110 @@ impl SceneGpu {
                 flags.len()
             )));
         }
-        if shading.len() != patches.len() {
+        let table = InstanceTable::identity(patches, flags, weights);
+        Self::upload(ctx, layout, &table, shading, patches, weights, slots)
+    }
+
+    /// Uploads `table` (model patches, flags, weights and instances) with
+    /// `shading` parallel to its model patches; `world` and `world_weights`
+    /// are the base patches it places (the host's edge table is theirs).
+    fn upload(
+        ctx: &Context,
+        layout: &SceneLayout,
+        table: &InstanceTable,
+        shading: &[ShadingPatch],
+        world: &[BezierPatch],
+        world_weights: &[Weights],
+        slots: usize,
+    ) -> VkResult<Self> {
+        let models = table.patches.len();
+        if shading.len() != models {
             return Err(VkError::Usage(format!(
-                "{} patches with {} shading patches",
-                patches.len(),
+                "{models} model patches with {} shading patches",
                 shading.len()
             )));
         }
         // Refused before anything is allocated: a binding beyond the range
         // is invalid usage, not an allocation failure.
         let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
-        let n = patches.len() as u64;
+        let n = models as u64;
         for (what, bytes) in [
-            ("base patches", n * 48 * 4),
+            ("model patches", n * 48 * 4),
             ("shading patches", n * u64::from(SHADING_FLOATS) * 4),
+            ("instances", table.instances.len() as u64 * INSTANCE_BYTES),
         ] {
             if bytes > limit {
                 return Err(VkError::Usage(format!(
-                    "the {what} of {n} base patches need {bytes} bytes, more than this \
-                     device's storage-buffer range of {limit} bytes (draw fewer instances)"
+                    "the {what} of the scene need {bytes} bytes, more than this \
+                     device's storage-buffer range of {limit} bytes (draw fewer models or instances)"
                 )));
             }
         }
-        let floats: Vec<f32> = patches
+        let floats: Vec<f32> = table
+            .patches
             .iter()
             .flat_map(|p| p.pts.iter().flat_map(|q| q.to_array()))
             .collect();
-        let rational_patches = weights.iter().filter(|w| !is_polynomial(w)).count() as u32;
-        let edges = edge_table(patches, if rational_patches > 0 { weights } else { &[] });
+        let rational_patches = world_weights.iter().filter(|w| !is_polynomial(w)).count() as u32;
+        let edges = edge_table(
+            world,
+            if rational_patches > 0 {
+                world_weights
+            } else {
+                &[]
+            },
+        );
         // The shaders read a patch's weights where its flags say
         // PATCH_RATIONAL: the flag follows the weights uploaded with it.
         let flags: Vec<u32> = if rational_patches > 0 {
-            flags
+            table
+                .flags
                 .iter()
-                .zip(weights)
-                .map(|(&f, w)| {
+                .enumerate()
+                .map(|(k, &f)| {
+                    let w = table.weights.get(k).unwrap_or(&UNIT_WEIGHTS);
                     let bit = if is_polynomial(w) { 0 } else { PATCH_RATIONAL };
                     (f & !PATCH_RATIONAL) | bit
                 })
                 .collect()
         } else {
-            flags.to_vec()
+            table.flags.clone()
         };
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let gpu = MemoryLocation::GpuOnly;
-        let patches = Buffer::with_data(ctx, "base patches", &floats, storage, gpu)?;
-        let flags = Buffer::with_data(ctx, "patch flags", &flags, storage, gpu)?;
+        let patches = Buffer::with_data(ctx, "model patches", &floats, storage, gpu)?;
+        let flags = Buffer::with_data(ctx, "model patch flags", &flags, storage, gpu)?;
         let shading_floats: Vec<f32> = shading.iter().flat_map(|s| s.to_floats()).collect();
         let shading = Buffer::with_data(ctx, "shading patches", &shading_floats, storage, gpu)?;
         // A polynomial scene binds 16 ones: no shader reads them (only
         // patches flagged PATCH_RATIONAL have weights to read).
         let weight_floats: Vec<f32> = if rational_patches > 0 {
-            weights.iter().flatten().copied().collect()
+            (0..models)
+                .flat_map(|k| *table.weights.get(k).unwrap_or(&UNIT_WEIGHTS))
+                .collect()
         } else {
             UNIT_WEIGHTS.to_vec()
         };
         let weights_buffer = Buffer::with_data(ctx, "patch weights", &weight_floats, storage, gpu)?;
+        let instances = Buffer::with_data(ctx, "instances", table.records(), storage, gpu)?;
+        let roots = Buffer::new(
+            ctx,
+            "roots (instances at depth 0)",
+            8 * table.instances.len().max(1) as u64,
+            storage,
+            gpu,
+        )?;
+        // Everything counts as visible before the first frame: its early
+        // phase draws all that is in view and its late phase finds what
+        // that hides, so the second frame culls (with nothing visible, the
+        // first frame's pyramid would be empty and only the third would).
+        let visibility = Buffer::with_data(
+            ctx,
+            "instance visibility",
+            &vec![1u32; table.instances.len().max(1)],
+            storage,
+            gpu,
+        )?;
         let size = std::mem::size_of::<ViewParams>() as u64;
         let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
         let view_stride = size.div_ceil(align) * align;
@@ -241,13 +307,25 @@ impl SceneGpu {
         bound[BIND_PATCH_FLAGS as usize] = BufferBinding::from(&flags);
         bound[BIND_SHADING as usize] = BufferBinding::from(&shading);
         bound[BIND_WEIGHTS as usize] = BufferBinding::from(&weights_buffer);
+        bound[BIND_INSTANCES as usize] = BufferBinding {
+            buffer: &instances,
+            range: table.instances.len() as u64 * INSTANCE_BYTES,
+        };
+        bound[BIND_ROOTS as usize] = BufferBinding::from(&roots);
+        bound[BIND_VISIBILITY as usize] = BufferBinding::from(&visibility);
         let set = DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)?;
         Ok(Self {
-            count: floats.len() as u32 / 48,
+            count: table.base_patches() as u32,
+            model_patches: models as u32,
+            instance_count: table.instances.len() as u32,
             patches,
             flags,
             shading,
             weights: weights_buffer,
+            instances,
+            roots,
+            visibility,
+            instance_records: table.instances.clone(),
             rational_patches,
             edges,
             serial: SCENE_SERIAL.fetch_add(1, Ordering::Relaxed),
@@ -259,8 +337,10 @@ impl SceneGpu {
         })
     }
 
-    /// The scene of `geo` with `shading`: [`SceneGpu::with_weights`], and the
-    /// PN triangles beside the patches. A scene of PN triangles alone binds
+    /// The scene of `geo` with `shading`: its instance table where it
+    /// places exactly the geometry's patches and `shading` has the model
+    /// patches' tangent patches, else the patches as they are; and the PN
+    /// triangles beside the patches. A scene of PN triangles alone binds
     /// one placeholder patch (buffers cannot be empty) and counts none.
     pub fn for_geometry(
         ctx: &Context,
@@ -279,15 +359,43 @@ impl SceneGpu {
             s.edges = EdgeTable::default();
             s
         } else {
-            Self::with_weights(
-                ctx,
-                layout,
-                &geo.patches,
-                &geo.flags,
-                &shading.patches,
-                &geo.weights,
-                slots,
-            )?
+            if geo.patches.len() != geo.flags.len() {
+                return Err(VkError::Usage(format!(
+                    "{} patches with {} flag words",
+                    geo.patches.len(),
+                    geo.flags.len()
+                )));
+            }
+            let instanced = shading.model.len() == geo.instances.patches.len()
+                && geo.instances.places(&geo.patches, &geo.flags, &geo.weights);
+            if instanced {
+                Self::upload(
+                    ctx,
+                    layout,
+                    &geo.instances,
+                    &shading.model,
+                    &geo.patches,
+                    &geo.weights,
+                    slots,
+                )?
+            } else {
+                if shading.patches.len() != geo.patches.len() {
+                    return Err(VkError::Usage(format!(
+                        "{} patches with {} shading patches",
+                        geo.patches.len(),
+                        shading.patches.len()
+                    )));
+                }
+                Self::with_weights(
+                    ctx,
+                    layout,
+                    &geo.patches,
+                    &geo.flags,
+                    &shading.patches,
+                    &geo.weights,
+                    slots,
+                )?
+            }
         };
         scene.pn = geo.pn.clone();
         Ok(scene)
@@ -320,9 +428,15 @@ impl SceneGpu {
             .bind(ctx, cmd, bind_point, layout, SET_SCENE, &[offset]);
     }
 
-    /// Bytes of the patches and their flags.
+    /// Bytes of the model patches and their flags.
     pub fn bytes(&self) -> u64 {
         self.patches.size() + self.flags.size()
+    }
+
+    /// Bytes of the instance records, the per-frame roots and the
+    /// visibility kept from frame to frame.
+    pub fn instance_bytes(&self) -> u64 {
+        self.instances.size() + self.roots.size() + self.visibility.size()
     }
 
     /// Bytes of the shading patches.

@@ -137,10 +137,11 @@ impl DrawTarget {
         } else {
             None
         };
+        // Sampled: occlusion culling builds its depth pyramid from it.
         let depth = image(
             "draw target depth",
             DEPTH_FORMAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
             flags,
         )?;
         Ok(Self {
@@ -176,6 +177,12 @@ impl DrawTarget {
     /// Size in pixels.
     pub fn extent(&self) -> vk::Extent2D {
         self.color.extent()
+    }
+
+    /// The depth image (multisampled with the colour), in
+    /// DEPTH_ATTACHMENT_OPTIMAL between parts.
+    pub fn depth(&self) -> &Image {
+        &self.depth
     }
 
     /// The (resolved) colour image, in FINAL_LAYOUT after a recorded `end`.

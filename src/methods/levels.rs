@@ -18,14 +18,17 @@ use serde_json::{json, Value};
 
 use super::RenderError;
 use crate::constants::*;
+use crate::draw::hiz::Hiz;
 use crate::draw::ReadyStage;
-use crate::frame::{CopyRange, FrameRec};
+use crate::frame::{CopyRange, FrameRec, Retired};
 use crate::gpu::{LevelPush, SceneLayout, Shaders};
 use crate::patch::bezier::BezierPatch;
+use crate::patch::cull::outside_frustum;
 use crate::patch::oracle::{process_any, Outcome};
 use crate::patch::quadnode::QuadNode;
 use crate::patch::rational::Weights;
 use crate::patch::view::ViewParams;
+use crate::scene::instances::Instance;
 use crate::vk::{
     memory_barrier, Access, Buffer, Context, DescriptorSet, MemoryLocation, Pipeline,
     PipelineLayout, SetLayout, VkResult,
@@ -160,11 +163,7 @@ impl LevelMemory {
             storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
             gpu,
         )?;
-        let mut bound = [(&nodes).into(); LEVEL_BINDINGS as usize];
-        bound[BIND_LEVEL_NODES as usize] = (&nodes).into();
-        bound[BIND_LEVEL_SCANS as usize] = (&scans).into();
-        bound[BIND_LEVEL_STATE as usize] = (&state).into();
-        let set = DescriptorSet::new(ctx, "level set", layout, &bound)?;
+        let set = Self::set(ctx, layout, [&nodes, &scans, &state], None)?;
         Ok(Self {
             nodes,
             scans,
@@ -172,6 +171,23 @@ impl LevelMemory {
             plan,
             set,
         })
+    }
+
+    /// Set 2: the node memory and the depth pyramid (before there is one,
+    /// the state stands in: only the late phase of occlusion culling reads
+    /// the pyramid).
+    fn set(
+        ctx: &Context,
+        layout: &SetLayout,
+        [nodes, scans, state]: [&Buffer; 3],
+        hiz: Option<&Buffer>,
+    ) -> VkResult<DescriptorSet> {
+        let mut bound = [nodes.into(); LEVEL_BINDINGS as usize];
+        bound[BIND_LEVEL_NODES as usize] = nodes.into();
+        bound[BIND_LEVEL_SCANS as usize] = scans.into();
+        bound[BIND_LEVEL_STATE as usize] = state.into();
+        bound[BIND_LEVEL_HIZ as usize] = hiz.unwrap_or(state).into();
+        DescriptorSet::new(ctx, "level set", layout, &bound)
     }
 
     fn bytes(&self) -> u64 {
@@ -201,7 +217,7 @@ pub struct Levels {
     round: Pipeline,
     persistent: Option<Pipeline>,
     group_blocks: u32,
-    _set_layout: SetLayout,
+    set_layout: SetLayout,
 }
 
 impl Levels {
@@ -252,7 +268,7 @@ impl Levels {
             round,
             persistent,
             group_blocks: group_blocks(ctx),
-            _set_layout: set_layout,
+            set_layout,
         })
     }
 
@@ -266,11 +282,26 @@ impl Levels {
         self.memory.bytes()
     }
 
+    /// Points set 2 at the depth pyramid `hiz` (a new one: the old set is
+    /// retired).
+    pub fn bind_hiz(&mut self, ctx: &Context, hiz: &Buffer, retired: &mut Retired) -> VkResult<()> {
+        let m = &self.memory;
+        let set = LevelMemory::set(
+            ctx,
+            &self.set_layout,
+            [&m.nodes, &m.scans, &m.state],
+            Some(hiz),
+        )?;
+        retired.push(std::mem::replace(&mut self.memory.set, set));
+        Ok(())
+    }
+
     fn push(
         &self,
         f: &FrameRec<'_>,
         stage: &ReadyStage,
         run: Option<PersistentRun>,
+        phase: u32,
     ) -> VkResult<()> {
         let run = run.unwrap_or(PersistentRun {
             groups: 0,
@@ -288,21 +319,25 @@ impl Levels {
             launched: run.groups,
             faults: run.faults,
             group_blocks: self.group_blocks,
-            pad: [0; 3],
+            phase,
+            pad: [0; 2],
         };
         self.layout.push_block(f.cmd, &pc)
     }
 
-    /// Records the counters' reset, binding sets 0-2 and the push block,
-    /// and (inside the caller's scope) the first step: the state for the
-    /// first round.
+    /// Records the counters' reset (not for the late phase, which adds to
+    /// the early one's), binding sets 0-2 and the push block, and (inside
+    /// the caller's scope) the first step: the state for the first round.
     fn record_start(
         &self,
         f: &FrameRec<'_>,
         stage: &ReadyStage,
         run: Option<PersistentRun>,
+        phase: u32,
     ) -> VkResult<()> {
-        stage.record_reset(f);
+        if phase != PHASE_LATE {
+            stage.record_reset(f);
+        }
         // The previous frame's rounds and copy-out are done with the memory.
         memory_barrier(f.ctx, f.cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
         let bind = vk::PipelineBindPoint::COMPUTE;
@@ -311,7 +346,7 @@ impl Levels {
             .set
             .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
         self.init.bind(f.cmd);
-        self.push(f, stage, run)
+        self.push(f, stage, run, phase)
     }
 
     fn init_dispatch(&self, f: &FrameRec<'_>) {
@@ -319,16 +354,18 @@ impl Levels {
         memory_barrier(f.ctx, f.cmd, Access::COMPUTE_WRITE, round_access());
     }
 
-    /// Records `rounds` per-depth rounds (scope "subdivide"): the first
-    /// step, then one indirect dispatch per round, each after a barrier
-    /// from the last. Rounds past the end of the schedule dispatch nothing.
+    /// Records `rounds` per-depth rounds of pass `phase` (`PHASE_*`; scope
+    /// "subdivide"): the first step, then one indirect dispatch per round,
+    /// each after a barrier from the last. Rounds past the end of the
+    /// schedule dispatch nothing.
     pub fn record_rounds(
         &self,
         f: &mut FrameRec<'_>,
         stage: &ReadyStage,
         rounds: u32,
+        phase: u32,
     ) -> VkResult<()> {
-        self.record_start(f, stage, None)?;
+        self.record_start(f, stage, None, phase)?;
         let state = self.memory.state.handle();
         f.scoped("subdivide", |f| {
             self.init_dispatch(f);
@@ -344,20 +381,22 @@ impl Levels {
         Ok(())
     }
 
-    /// Records the persistent kernel (scope "subdivide"): the first step
-    /// and one dispatch of `run.groups` workgroups.
+    /// Records the persistent kernel's pass `phase` (`PHASE_*`; scope
+    /// "subdivide"): the first step and one dispatch of `run.groups`
+    /// workgroups.
     pub fn record_persistent(
         &self,
         f: &mut FrameRec<'_>,
         stage: &ReadyStage,
         run: PersistentRun,
+        phase: u32,
     ) -> VkResult<()> {
         let Some(pipeline) = &self.persistent else {
             return Err(crate::vk::VkError::Usage(
                 "the persistent level kernel was not made for this method".into(),
             ));
         };
-        self.record_start(f, stage, Some(run))?;
+        self.record_start(f, stage, Some(run), phase)?;
         f.scoped("subdivide", |f| {
             self.init_dispatch(f);
             pipeline.bind(f.cmd);
@@ -372,6 +411,37 @@ impl Levels {
     pub fn copy_out_state(&self, f: &mut FrameRec<'_>) -> VkResult<CopyRange> {
         f.copy_out(&self.memory.state, LEVEL_STATE_WORDS)
     }
+}
+
+/// Records a level method's frame: its subdivision `subdivide` (one pass
+/// of the level schedule, `PHASE_*` given) and the draw of its ready list.
+/// Without `occlusion`, one pass and one draw. With it, occlusion culling
+/// in two phases: the instances the last frame found visible are
+/// subdivided and drawn, the depth pyramid is built from what they drew,
+/// and the late phase tests every other instance in view (and each of its
+/// nodes) against it, subdividing and drawing what is not hidden, into the
+/// same target after the early draw.
+pub fn record_phases(
+    f: &mut FrameRec<'_>,
+    stage: &ReadyStage,
+    levels: &mut Levels,
+    occlusion: Option<&mut Hiz>,
+    mut subdivide: impl FnMut(&mut FrameRec<'_>, &Levels, u32) -> VkResult<()>,
+) -> VkResult<()> {
+    let Some(hiz) = occlusion else {
+        subdivide(f, levels, PHASE_ALL)?;
+        return stage.record_draw(f, false);
+    };
+    if hiz.ensure(f.ctx, f.target, f.retired)? {
+        if let Some(pyramid) = hiz.buffer() {
+            levels.bind_hiz(f.ctx, pyramid, f.retired)?;
+        }
+    }
+    subdivide(f, levels, PHASE_EARLY)?;
+    stage.record_draw_part(f, false, true, false)?;
+    hiz.record_build(f)?;
+    subdivide(f, levels, PHASE_LATE)?;
+    stage.record_draw_part(f, false, false, true)
 }
 
 /// What a round reads after the previous one: its arguments and storage.
@@ -401,6 +471,20 @@ pub struct LevelState {
     pub peak_nodes: u32,
     /// Nodes processed per depth 0..=L_MAX.
     pub nodes_per_depth: Vec<u32>,
+    /// Instances whose patches were depth 0.
+    pub root_instances: u32,
+    /// Instances culled whole by their boxes, and their patches (counted
+    /// among the culled patches, never processed).
+    pub culled_instances: u32,
+    /// See `culled_instances`.
+    pub culled_instance_patches: u32,
+    /// Occlusion culling: instances drawn in the early phase, and those the
+    /// late phase found hidden (and their patches, never processed).
+    pub early_instances: u32,
+    /// See `early_instances`.
+    pub occluded_instances: u32,
+    /// See `early_instances`.
+    pub occluded_instance_patches: u32,
 }
 
 impl LevelState {
@@ -410,12 +494,18 @@ impl LevelState {
         let depths = (0..=L_MAX).map(|d| at(S_DEPTH_NODES + d)).collect();
         LevelState {
             rounds: at(S_ROUND),
-            done: at(S_DONE) != 0,
+            done: at(S_DONE) != 0 && at(S_EARLY_UNFINISHED) == 0,
             participants: at(S_PARTICIPANTS),
             aborted: at(S_ABORT) != 0,
             split_rounds: at(S_SPLIT_ROUNDS),
             peak_nodes: at(S_PEAK_NODES),
             nodes_per_depth: depths,
+            root_instances: at(S_ROOT_INSTANCES),
+            culled_instances: at(S_CULLED_INSTANCES),
+            culled_instance_patches: at(S_CULLED_INSTANCE_PATCHES),
+            early_instances: at(S_EARLY_INSTANCES),
+            occluded_instances: at(S_OCCLUDED_INSTANCES),
+            occluded_instance_patches: at(S_OCCLUDED_INSTANCE_PATCHES),
         }
     }
 
@@ -428,6 +518,21 @@ impl LevelState {
             ("peak_depth_nodes", json!(self.peak_nodes)),
             ("nodes_per_depth", json!(self.nodes_per_depth)),
             ("node_memory_bytes", json!(plan.bytes())),
+            (
+                "instances_drawn",
+                json!(self.early_instances + self.root_instances),
+            ),
+            ("instances_culled", json!(self.culled_instances)),
+            (
+                "instance_culled_patches",
+                json!(self.culled_instance_patches),
+            ),
+            ("instances_early", json!(self.early_instances)),
+            ("instances_occluded", json!(self.occluded_instances)),
+            (
+                "instance_occluded_patches",
+                json!(self.occluded_instance_patches),
+            ),
         ]
     }
 }
@@ -451,17 +556,23 @@ pub struct CanonicalRun {
 /// Runs the schedule of `glsl/common/level.glsl` (`schedule`,
 /// `finish_round`) with the oracle's `process` on the CPU: what the GPU's
 /// ready list must equal, entry for entry. `weights` is parallel to
-/// `patches` or empty.
+/// `patches` or empty; `instances` are the records the scene was uploaded
+/// with (`SceneGpu::instance_records`), whose boxes decide depth 0 as
+/// `level_init.comp` does.
 pub fn canonical_ready(
     patches: &[BezierPatch],
     weights: &[Weights],
     flags: &[u32],
+    instances: &[Instance],
     vp: &ViewParams,
     plan: LevelPlan,
 ) -> CanonicalRun {
     let depths = (L_MAX + 1) as usize;
     let mut held: Vec<Vec<QuadNode>> = vec![Vec::new(); depths];
-    held[0] = (0..patches.len() as u32).map(QuadNode::root).collect();
+    held[0] = root_patches(instances, vp)
+        .into_iter()
+        .map(QuadNode::root)
+        .collect();
     let mut next = vec![0usize; depths];
     let mut out = CanonicalRun {
         nodes_per_depth: vec![0; depths],
@@ -509,6 +620,21 @@ pub fn canonical_ready(
             0
         };
     }
+}
+
+/// Depth 0 of the level schedule, as `level_init.comp` lists it: the
+/// patches of every instance whose box is not outside the frustum (when
+/// the view culls by it), in instance order.
+pub fn root_patches(instances: &[Instance], vp: &ViewParams) -> Vec<u32> {
+    let frustum = vp.flags & FLAG_FRUSTUM_CULL != 0;
+    instances
+        .iter()
+        .filter(|t| {
+            let (lo, hi) = t.bounds();
+            !(frustum && outside_frustum(lo, hi, vp))
+        })
+        .flat_map(|t| t.first..t.first + t.count)
+        .collect()
 }
 
 #[cfg(test)]

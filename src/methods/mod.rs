@@ -110,6 +110,10 @@ pub struct MethodOptions {
     /// `cudatess`: the vertex and index buffers' first capacities instead
     /// of the defaults (small ones make the first frames grow them).
     pub cudatess_capacity: Option<(u32, u32)>,
+    /// `subdiv` (level kernels) and `subdiv-indirect`: occlusion culling in
+    /// two phases against a depth pyramid (off here, so the oracle
+    /// comparisons see every node; the command line turns it on).
+    pub occlusion: bool,
 }
 
 impl MethodOptions {
@@ -136,6 +140,7 @@ impl MethodOptions {
             plant_endless_loop: false,
             forward_differencing: false,
             cudatess_capacity: None,
+            occlusion: false,
         }
     }
 }
@@ -297,6 +302,8 @@ pub struct Reads {
     pub wedges: bool,
     /// Back-face culling on or off.
     pub backface: bool,
+    /// Occlusion culling on or off (the level kernels' two phases).
+    pub occlusion: bool,
     /// The ground truth's grid.
     pub grid: bool,
 }
@@ -311,6 +318,7 @@ pub fn reads(name: &str) -> Reads {
         split: true,
         wedges: true,
         backface: true,
+        occlusion: true,
         grid: false,
     };
     // The tessellators set their levels from ε alone and draw themselves.
@@ -320,6 +328,7 @@ pub fn reads(name: &str) -> Reads {
         l_max: false,
         split: false,
         wedges: false,
+        occlusion: false,
         ..subdivides
     };
     match name {

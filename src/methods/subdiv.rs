@@ -30,6 +30,7 @@ use super::levels::{self, LevelState, Levels, PersistentRun};
 use super::subdiv_indirect::{base_rounds, finish_rounds};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
 use crate::constants::*;
+use crate::draw::hiz::Hiz;
 use crate::draw::{ReadyCaps, ReadyStage};
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::SubdivPush;
@@ -353,6 +354,8 @@ impl QueueKernel {
 pub struct Subdiv {
     stage: ReadyStage,
     levels: Levels,
+    /// The depth pyramid, when occlusion culling is on (level kernels only).
+    occlusion: Option<Hiz>,
     queue: Option<QueueKernel>,
     kernel: Kernel,
     groups: u32,
@@ -396,9 +399,16 @@ impl Subdiv {
             Kernel::Queue => Some(QueueKernel::new(setup, &stage)?),
             Kernel::Levels => None,
         };
+        // The queue kernel has no phases: it draws everything it keeps.
+        let occlusion = if o.occlusion && o.kernel == Kernel::Levels {
+            Some(Hiz::new(ctx, setup.shaders, setup.scene_layout)?)
+        } else {
+            None
+        };
         Ok(Self {
             stage,
             levels,
+            occlusion,
             queue,
             kernel: o.kernel,
             groups,
@@ -522,17 +532,29 @@ impl Method for Subdiv {
 
     fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError> {
         self.stage.ensure_capture(f.ctx, f.capture, f.retired)?;
-        let mut sort = false;
+        let stage = &self.stage;
         if self.fallback.is_some() {
-            self.levels.record_rounds(f, &self.stage, self.rounds)?;
+            let rounds = self.rounds;
+            levels::record_phases(
+                f,
+                stage,
+                &mut self.levels,
+                self.occlusion.as_mut(),
+                |f, l, phase| l.record_rounds(f, stage, rounds, phase),
+            )?;
         } else if let Some(q) = &self.queue {
-            q.record(f, &self.stage, self.groups)?;
-            sort = self.sort;
+            q.record(f, stage, self.groups)?;
+            stage.record_draw(f, self.sort)?;
         } else {
-            self.levels
-                .record_persistent(f, &self.stage, self.persistent_run())?;
+            let run = self.persistent_run();
+            levels::record_phases(
+                f,
+                stage,
+                &mut self.levels,
+                self.occlusion.as_mut(),
+                |f, l, phase| l.record_persistent(f, stage, run, phase),
+            )?;
         }
-        self.stage.record_draw(f, sort)?;
         self.counters = Some(f.copy_out(&self.stage.list().counters, COUNTER_WORDS)?);
         self.state = Some(self.levels.copy_out_state(f)?);
         Ok(())
@@ -574,6 +596,7 @@ impl Method for Subdiv {
             }
         };
         if let Finished::Done(m) = &mut finished {
+            m.own.push(("occlusion", json!(self.occlusion.is_some())));
             let kernel = if self.fallback.is_some() {
                 "per-depth (fallback)"
             } else {
@@ -603,6 +626,7 @@ impl Method for Subdiv {
             || queue_changed
             || (o.kernel == Kernel::Queue && o.sort) != self.sort
             || o.ready_capacity > self.stage.list().caps.ready
+            || (o.occlusion && o.kernel == Kernel::Levels) != self.occlusion.is_some()
         {
             return Ok(false);
         }
@@ -621,6 +645,9 @@ impl Method for Subdiv {
 
     fn memory(&self) -> Vec<(&'static str, u64)> {
         let mut v = vec![("node_memory", self.levels.bytes())];
+        if let Some(h) = &self.occlusion {
+            v.push(("depth_pyramid", h.bytes()));
+        }
         if let Some(q) = &self.queue {
             v.push(("queue", q.queue.bytes()));
         }
@@ -648,6 +675,9 @@ pub struct GpuSubdivStats {
     pub culled_patches: u32,
     /// Ready nodes dropped as back-facing.
     pub backface_culled: u32,
+    /// Nodes (base patches of visible instances included) the late phase
+    /// of occlusion culling found hidden; among `culled_patches` too.
+    pub occluded: u32,
     /// Deepest ready node.
     pub max_depth: u32,
     /// Ready nodes at l_max.
@@ -686,6 +716,7 @@ impl GpuSubdivStats {
             nodes_processed: at(C_PROCESSED),
             culled_patches: at(C_CULLED),
             backface_culled: at(C_BACKFACE),
+            occluded: at(C_OCCLUDED),
             max_depth: at(C_MAX_DEPTH),
             nodes_at_lmax: at(C_AT_LMAX),
             triangles: at(C_TRIANGLES),
@@ -711,6 +742,7 @@ impl GpuSubdivStats {
                 ("ready_quads", json!(self.ready_quads)),
                 ("wedge_triangles", json!(self.wedge_triangles)),
                 ("backface_culled", json!(self.backface_culled)),
+                ("occluded", json!(self.occluded)),
                 ("max_depth", json!(self.max_depth)),
                 ("nodes_at_lmax", json!(self.nodes_at_lmax)),
                 ("nodes_processed", json!(self.nodes_processed)),

@@ -15,10 +15,11 @@
 
 use serde_json::json;
 
-use super::levels::{LevelState, Levels, DEFAULT_NODE_MEMORY};
+use super::levels::{self, LevelState, Levels, DEFAULT_NODE_MEMORY};
 use super::subdiv::GpuSubdivStats;
 use super::{Finished, Method, MethodInfo, MethodSetup, RenderError};
 use crate::constants::*;
+use crate::draw::hiz::Hiz;
 use crate::draw::{ReadyCaps, ReadyStage};
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::patch::view::ViewParams;
@@ -50,6 +51,8 @@ pub fn base_rounds(max_depth: u32) -> u32 {
 pub struct SubdivIndirect {
     stage: ReadyStage,
     levels: Levels,
+    /// The depth pyramid, when occlusion culling is on.
+    occlusion: Option<Hiz>,
     max_depth: u32,
     node_memory: u64,
     rounds: u32,
@@ -82,9 +85,15 @@ impl SubdivIndirect {
             o.node_memory,
             false,
         )?;
+        let occlusion = if o.occlusion {
+            Some(Hiz::new(ctx, setup.shaders, setup.scene_layout)?)
+        } else {
+            None
+        };
         Ok(Self {
             stage,
             levels,
+            occlusion,
             max_depth: o.max_depth,
             node_memory: o.node_memory,
             rounds: base_rounds(o.max_depth),
@@ -164,9 +173,15 @@ impl Method for SubdivIndirect {
 
     fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError> {
         self.stage.ensure_capture(f.ctx, f.capture, f.retired)?;
-        self.levels.record_rounds(f, &self.stage, self.rounds)?;
         // The list is in its canonical order already: no sort.
-        self.stage.record_draw(f, false)?;
+        let rounds = self.rounds;
+        levels::record_phases(
+            f,
+            &self.stage,
+            &mut self.levels,
+            self.occlusion.as_mut(),
+            |f, levels, phase| levels.record_rounds(f, &self.stage, rounds, phase),
+        )?;
         self.counters = Some(f.copy_out(&self.stage.list().counters, COUNTER_WORDS)?);
         self.state = Some(self.levels.copy_out_state(f)?);
         Ok(())
@@ -188,6 +203,7 @@ impl Method for SubdivIndirect {
         )?;
         if let Finished::Done(m) = &mut m {
             m.own.push(("max_depth_limit", json!(self.max_depth)));
+            m.own.push(("occlusion", json!(self.occlusion.is_some())));
         }
         Ok(m)
     }
@@ -202,6 +218,7 @@ impl Method for SubdivIndirect {
             || o.max_depth != self.max_depth
             || o.node_memory != self.node_memory
             || o.ready_capacity > self.stage.list().caps.ready
+            || o.occlusion != self.occlusion.is_some()
         {
             return Ok(false);
         }
@@ -210,6 +227,9 @@ impl Method for SubdivIndirect {
 
     fn memory(&self) -> Vec<(&'static str, u64)> {
         let mut v = vec![("node_memory", self.levels.bytes())];
+        if let Some(h) = &self.occlusion {
+            v.push(("depth_pyramid", h.bytes()));
+        }
         v.extend(self.stage.memory_bytes());
         v
     }

@@ -245,7 +245,9 @@ mod tests {
             w_par: lambda,
             l_max: 10,
             flags: FLAGS_DEFAULT,
-            pad: [0; 2],
+            width: 0,
+            height: 0,
+            clip: [Vec4::ZERO; 4],
         }
     }
 

@@ -265,7 +265,9 @@ mod tests {
                 w_par: 0.5,
                 l_max: 10,
                 flags: FLAGS_DEFAULT,
-                pad: [0; 2],
+                width: 0,
+                height: 0,
+                clip: [Vec4::ZERO; 4],
             };
             for e in 0..4 {
                 let c = h.edge(e);

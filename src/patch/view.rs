@@ -82,8 +82,14 @@ pub struct ViewParams {
     pub l_max: u32,
     /// `FLAG_*` bits.
     pub flags: u32,
-    /// Padding to a 16-byte multiple.
-    pub pad: [u32; 2],
+    /// Viewport size in pixels (the depth pyramid's level 0).
+    pub width: u32,
+    /// See `width`.
+    pub height: u32,
+    /// Rows of the view-projection matrix (world → Vulkan clip space, in
+    /// f32): clip coordinate i of p is `affine_row(clip[i], p)`. Only the
+    /// occlusion test reads it (no oracle decision depends on it).
+    pub clip: [Vec4; 4],
 }
 
 /// What a view is made of, in f64.
@@ -99,6 +105,8 @@ pub struct ViewInputs {
     pub fov_y: f64,
     /// Near-plane distance.
     pub near: f64,
+    /// Viewport width in pixels.
+    pub width: u32,
     /// Viewport height in pixels.
     pub height: u32,
     /// Pixel tolerance ε.
@@ -123,7 +131,9 @@ impl ViewParams {
             w_par: v.lambda as f32,
             l_max: L_MAX,
             flags: FLAGS_DEFAULT,
-            pad: [0; 2],
+            width: v.width,
+            height: v.height,
+            clip: std::array::from_fn(|i| v.view_proj.row(i).as_vec4()),
         }
     }
 

@@ -84,6 +84,7 @@ impl Camera {
             view_proj: self.view_proj(width, height),
             fov_y: self.fov_y_deg.to_radians(),
             near: self.near,
+            width,
             height,
             eps,
             lambda,

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::DMat4;
 
 use super::file::{ModelDesc, Scene, Surface, MAX_COORD, PATCH_MODEL_SHIFT};
+use super::instances::{Instance, InstanceTable};
 use super::obj::CageOptions;
 use super::pn::{self, PnMesh, PnScene};
 use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
@@ -14,7 +15,7 @@ use super::{bpt, obj, ImportedModel, SceneError};
 use crate::constants::PATCH_RATIONAL;
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::PATCH_TWO_SIDED;
-use crate::patch::rational::{is_polynomial, reoriented_weights, Weights, UNIT_WEIGHTS};
+use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 
 /// Most base patches a scene may have: the subdivision kernel counts the
 /// items in flight, base patches included, in 24 bits.
@@ -58,6 +59,11 @@ pub struct SceneGeometry {
     /// The PN-triangle models' triangles in world space (`surface =
     /// "pn-triangles"`), beside the patches; empty for most scenes.
     pub pn: PnScene,
+    /// What the GPU holds instead of `patches`: each model's patches once
+    /// and the instances that place them, which make exactly `patches`
+    /// (empty for a geometry made by hand: the GPU then reads `patches` as
+    /// they are).
+    pub instances: InstanceTable,
 }
 
 impl SceneGeometry {
@@ -90,6 +96,7 @@ impl SceneGeometry {
             models: vec![model],
             weights,
             pn: PnScene::default(),
+            instances: InstanceTable::default(),
         };
         if !geo.is_rational() {
             geo.weights.clear();
@@ -103,8 +110,13 @@ impl SceneGeometry {
 /// the layout a GPU buffer takes).
 #[derive(Clone, Debug, Default)]
 pub struct SceneShading {
-    /// Tangent patches, parallel to `SceneGeometry::patches`.
+    /// Tangent patches in world space, parallel to `SceneGeometry::patches`
+    /// (what the host's checks and previews read).
     pub patches: Vec<ShadingPatch>,
+    /// Tangent patches in model space, parallel to the model patches of
+    /// `SceneGeometry::instances` (what the GPU reads; the fragment shader
+    /// transforms them by the instance). Empty: the GPU reads `patches`.
+    pub model: Vec<ShadingPatch>,
 }
 
 impl SceneShading {
@@ -114,6 +126,17 @@ impl SceneShading {
     pub fn from_geometry(patches: &[BezierPatch]) -> Self {
         SceneShading {
             patches: patches.iter().map(ShadingPatch::from_geometry).collect(),
+            model: Vec::new(),
+        }
+    }
+
+    /// Shading with the patches' own derivatives for a whole geometry: the
+    /// world patches' and, for the GPU, its model patches' (so a geometry
+    /// with instances is uploaded as such).
+    pub fn own_derivatives(geo: &SceneGeometry) -> Self {
+        SceneShading {
+            model: Self::from_geometry(&geo.instances.patches).patches,
+            ..Self::from_geometry(&geo.patches)
         }
     }
 
@@ -259,18 +282,32 @@ impl Scene {
             let model = &cache[&(m.file.clone(), m.options, m.surface)];
             !m.instances.is_empty() && model.weights.iter().any(|w| !is_polynomial(w))
         });
+        // Each distinct import's patches once, in model space: where its
+        // first model with instances puts them.
+        let mut sources: HashMap<(PathBuf, CageOptions, Surface), u32> = HashMap::new();
         for (index, m) in self.models.iter().enumerate() {
-            let model = &cache[&(m.file.clone(), m.options, m.surface)];
+            let key = (m.file.clone(), m.options, m.surface);
+            let model = &cache[&key];
             let flags =
                 (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
-            let tangents = if with_shading {
+            let placed = !m.instances.is_empty() && !model.patches.is_empty();
+            let tangents = if with_shading && placed {
                 model.shading_patches()
             } else {
                 Vec::new()
             };
-            for xf in &m.instances {
-                for (k, p) in model.patches.iter().enumerate() {
-                    let w = transform_patch(p, xf);
+            if placed && !sources.contains_key(&key) {
+                sources.insert(key.clone(), geo.instances.patches.len() as u32);
+                add_model_patches(&mut geo.instances, model, rational);
+                shading.model.extend_from_slice(&tangents);
+            }
+            for xf in m.instances.iter().filter(|_| placed) {
+                let first = geo.patches.len() as u32;
+                let instance =
+                    Instance::new(xf, first, sources[&key], model.patches.len() as u32, flags);
+                for k in 0..model.patches.len() {
+                    let source = instance.source as usize + k;
+                    let w = instance.patch(&geo.instances.patches[source]);
                     if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
                         return Err(model_error(
                             m,
@@ -278,27 +315,18 @@ impl Scene {
                         ));
                     }
                     geo.patches.push(w);
+                    geo.flags
+                        .push(instance.patch_flags(geo.instances.flags[source]));
                     if rational {
-                        let weights = model.weights.get(k).copied().unwrap_or(UNIT_WEIGHTS);
-                        let weights = if xf.determinant() < 0.0 {
-                            reoriented_weights(&weights, true, false, false)
-                        } else {
-                            weights
-                        };
-                        let extra = if is_polynomial(&weights) {
-                            0
-                        } else {
-                            PATCH_RATIONAL
-                        };
-                        geo.flags.push(flags | extra);
-                        geo.weights.push(weights);
-                    } else {
-                        geo.flags.push(flags);
+                        geo.weights
+                            .push(instance.weights(&geo.instances.weights[source]));
                     }
                     if let Some(t) = tangents.get(k) {
                         shading.patches.push(t.transformed(xf));
                     }
                 }
+                let world = &geo.patches[first as usize..];
+                geo.instances.instances.push(instance.bounded(world));
             }
             if let Some(mesh) = meshes
                 .get(&m.file)
@@ -347,6 +375,25 @@ impl Scene {
     }
 }
 
+/// Appends `model`'s patches to the model patches of `table` (canonical
+/// zeros: an identity instance reads them unchanged), with their flags and
+/// their weights (when the scene has rational patches).
+fn add_model_patches(table: &mut InstanceTable, model: &ImportedModel, rational: bool) {
+    for (k, p) in model.patches.iter().enumerate() {
+        table.patches.push(p.canonical_zeros());
+        let weights = model.weights.get(k).copied().unwrap_or(UNIT_WEIGHTS);
+        let flag = if is_polynomial(&weights) {
+            0
+        } else {
+            PATCH_RATIONAL
+        };
+        table.flags.push(flag);
+        if rational {
+            table.weights.push(weights);
+        }
+    }
+}
+
 /// `n` with thousands separators.
 pub(crate) fn thousands(n: u64) -> String {
     crate::commands::thousands(n)
@@ -368,17 +415,9 @@ pub(crate) fn bytes_text(b: u64) -> String {
     }
 }
 
-/// Applies an affine transform to a patch's control points (f64, rounded
-/// once). Mirroring transforms swap u and v so ∂u × ∂v stays outward.
+/// Applies an affine transform to a patch's control points, as an
+/// instance does (`Instance::patch`: the f32 transform the GPU applies;
+/// mirroring transforms swap u and v so ∂u × ∂v stays outward).
 pub fn transform_patch(p: &BezierPatch, m: &DMat4) -> BezierPatch {
-    let mut out = *p;
-    for q in &mut out.pts {
-        *q = m.transform_point3(q.as_dvec3()).as_vec3();
-    }
-    let out = if m.determinant() < 0.0 {
-        out.reoriented(true, false, false)
-    } else {
-        out
-    };
-    out.canonical_zeros()
+    Instance::new(m, 0, 0, 1, 0).patch(&p.canonical_zeros())
 }

@@ -9,6 +9,7 @@ pub mod error;
 pub mod file;
 pub mod fit;
 pub mod geometry;
+pub mod instances;
 pub mod isolate;
 pub mod limit;
 pub mod obj;

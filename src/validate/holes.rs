@@ -333,7 +333,7 @@ pub fn run_model(
     let (eps, lambda, split) = view_setup;
     // The key colours come from the patches' own normals (which side of
     // the surface is seen), never from the shading patches.
-    renderer.set_geometry(geo, &SceneShading::from_geometry(&geo.patches))?;
+    renderer.set_geometry(geo, &SceneShading::own_derivatives(geo))?;
     let tested = renderer.method().name();
     let with_wedges_too = renderer.method().has_wedges();
     let (w, h) = renderer.target().size();
@@ -545,7 +545,7 @@ fn reference_shots(
 ) -> Result<Shots, RenderError> {
     let swap = !std::ptr::eq(reference, geo);
     if swap {
-        renderer.set_geometry(reference, &SceneShading::from_geometry(&reference.patches))?;
+        renderer.set_geometry(reference, &SceneShading::own_derivatives(reference))?;
     }
     let options = renderer.options().clone();
     renderer.set_options(MethodOptions {
@@ -557,7 +557,7 @@ fn reference_shots(
     renderer.set_options(options)?;
     renderer.set_method(tested)?;
     if swap {
-        renderer.set_geometry(geo, &SceneShading::from_geometry(&geo.patches))?;
+        renderer.set_geometry(geo, &SceneShading::own_derivatives(geo))?;
     }
     shot
 }

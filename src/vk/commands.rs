@@ -1,7 +1,7 @@
 //! One-shot command buffers with bounded fence waits, and synchronization2
 //! barrier helpers.
 
-use super::context::{duration_ns, Context, Pending, SubmitState};
+use super::context::{duration_ns, Context, Core, Pending, SubmitState};
 use super::error::{VkError, VkResult, VkResultExt};
 use super::memory::{Buffer, Image};
 use ash::vk;
@@ -200,7 +200,7 @@ impl Context {
         // submitting; the wait itself holds no lock.
         let (cmd, fence, out) = {
             let mut state = self.lock_submit();
-            reclaim_finished(device, &mut state);
+            reclaim_finished(&self.core, &mut state);
             let (cmd, fence) = begin_one_shot(self, &state, label)?;
             let recorded = f(cmd, &keep).and_then(|out| {
                 unsafe { device.end_command_buffer(cmd) }
@@ -236,6 +236,7 @@ impl Context {
             Err(vk::Result::TIMEOUT) => {
                 // Still executing: its command buffer, fence and resources
                 // must survive until it ends; later calls reclaim them.
+                self.note_unfinished(fence, timeout);
                 self.lock_submit().pending.push(Pending {
                     label: label.to_owned(),
                     fence,
@@ -258,6 +259,7 @@ impl Context {
             }
             Err(e) => {
                 // Unknown state: keep everything alive as if it still ran.
+                self.note_unfinished(fence, timeout);
                 self.lock_submit().pending.push(Pending {
                     label: label.to_owned(),
                     fence,
@@ -284,7 +286,7 @@ impl Context {
         }
         match unsafe { device.wait_for_fences(&fences, true, duration_ns(timeout)) } {
             Ok(()) => {
-                reclaim_finished(device, &mut state);
+                reclaim_finished(&self.core, &mut state);
                 Ok(())
             }
             Err(vk::Result::TIMEOUT) => Err(VkError::FenceTimeout {
@@ -310,6 +312,17 @@ impl Context {
         }
     }
 
+    /// Tells every resource that a timed-out submission may still use it
+    /// (see [`Core::may_free`]).
+    fn note_unfinished(&self, fence: vk::Fence, timeout: Duration) {
+        let mut unfinished = self
+            .core
+            .unfinished
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        unfinished.push((fence, timeout));
+    }
+
     /// Number of timed-out submissions not yet known to have finished.
     pub fn pending_count(&self) -> usize {
         self.lock_submit().pending.len()
@@ -317,11 +330,13 @@ impl Context {
 }
 
 /// Frees timed-out submissions that have since finished.
-fn reclaim_finished(device: &ash::Device, state: &mut SubmitState) {
+fn reclaim_finished(core: &Core, state: &mut SubmitState) {
+    let device = &core.device;
     let pool = state.pool;
     state.pending.retain(|p| {
         let done = unsafe { device.get_fence_status(p.fence) }.unwrap_or(false);
         if done {
+            core.forget_unfinished(p.fence);
             unsafe {
                 device.destroy_fence(p.fence, None);
                 device.free_command_buffers(pool, &[p.cmd]);

@@ -29,6 +29,17 @@ pub const DEFAULT_FENCE_TIMEOUT: Duration = Duration::from_secs(60);
 /// none set).
 static TIMEOUT_OVERRIDE_NS: AtomicU64 = AtomicU64::new(0);
 
+/// Set once any device was leaked because its work never finished.
+static DEVICE_LEAKED: AtomicBool = AtomicBool::new(false);
+
+/// Whether this process leaked a device whose work may still run. Its
+/// driver may then still execute on its own threads (lavapipe does), and
+/// the process's exit handlers unloading the driver under them crash it:
+/// such a process should end without running them (`_exit`).
+pub fn device_leaked() -> bool {
+    DEVICE_LEAKED.load(Ordering::SeqCst)
+}
+
 /// Sets the fence timeout every later [`ContextOptions::default`] takes
 /// (the command line's `--timeout`; it wins over [`TIMEOUT_ENV`]).
 pub fn set_fence_timeout(timeout: Duration) {
@@ -140,6 +151,11 @@ pub(crate) struct Core {
     /// Set when submitted work never finished: tearing down would block
     /// forever in vkDeviceWaitIdle or free memory the GPU still uses.
     pub(crate) hung: AtomicBool,
+    /// Fences of one-shot submissions whose wait timed out (with the
+    /// timeout they were given), until the context reclaims them. A
+    /// resource dropped meanwhile may be one they use (an upload's
+    /// destination), so [`Core::may_free`] waits for them first.
+    pub(crate) unfinished: Mutex<Vec<(vk::Fence, Duration)>>,
 }
 
 impl Core {
@@ -155,12 +171,47 @@ impl Core {
     }
 }
 
+impl Core {
+    /// Whether a resource may be destroyed now: not while the device is
+    /// hung, and not while a timed-out one-shot submission may still use it.
+    /// Those are waited for (each as long as its own timeout); one that
+    /// still does not finish marks the device hung, so nothing is freed
+    /// under the GPU (lavapipe writes into freed memory and crashes).
+    pub(crate) fn may_free(&self) -> bool {
+        if self.hung.load(Ordering::SeqCst) {
+            return false;
+        }
+        let unfinished = self.unfinished.lock().unwrap_or_else(|e| e.into_inner());
+        if unfinished.is_empty() {
+            return true;
+        }
+        let fences: Vec<vk::Fence> = unfinished.iter().map(|&(f, _)| f).collect();
+        let timeout = unfinished.iter().map(|&(_, t)| t).max().unwrap_or_default();
+        let done = unsafe {
+            self.device
+                .wait_for_fences(&fences, true, duration_ns(timeout))
+        };
+        if done.is_err() {
+            log::error!("timed-out Vulkan work still runs; leaking what it may use");
+            self.hung.store(true, Ordering::SeqCst);
+        }
+        done.is_ok()
+    }
+
+    /// Forgets a timed-out submission's fence before it is destroyed.
+    pub(crate) fn forget_unfinished(&self, fence: vk::Fence) {
+        let mut unfinished = self.unfinished.lock().unwrap_or_else(|e| e.into_inner());
+        unfinished.retain(|&(f, _)| f != fence);
+    }
+}
+
 impl Drop for Core {
     fn drop(&mut self) {
         if self.hung.load(Ordering::SeqCst) {
             // The GPU may still run our work and the driver may still call
             // the messenger: leak everything rather than hang or crash.
             log::error!("Vulkan work never finished; leaking the device instead of destroying it");
+            DEVICE_LEAKED.store(true, Ordering::SeqCst);
             return;
         }
         unsafe {
@@ -285,6 +336,7 @@ impl Context {
             surface,
             debug_state: ManuallyDrop::new(debug_state),
             hung: AtomicBool::new(false),
+            unfinished: Mutex::new(Vec::new()),
         });
         core.set_name(pool, "one-shot command pool");
         Ok(Self {
@@ -446,6 +498,7 @@ impl Drop for Context {
         for p in state.pending.drain(..) {
             let done = unsafe { device.wait_for_fences(&[p.fence], true, duration_ns(timeout)) };
             if done.is_ok() {
+                self.core.forget_unfinished(p.fence);
                 unsafe {
                     device.destroy_fence(p.fence, None);
                     device.free_command_buffers(state.pool, &[p.cmd]);

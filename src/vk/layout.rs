@@ -9,7 +9,6 @@ use super::context::{Context, Core};
 use super::error::{VkError, VkResult, VkResultExt};
 use super::memory::Buffer;
 use ash::vk;
-use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 /// A descriptor set layout whose binding `i` is `types[i]` (one descriptor
@@ -191,6 +190,78 @@ impl<'a> From<&'a Buffer> for BufferBinding<'a> {
     }
 }
 
+/// What one descriptor points at: a buffer, or an image read through a
+/// sampler (a `COMBINED_IMAGE_SAMPLER` binding, e.g. a depth image).
+#[derive(Clone, Copy)]
+pub enum Binding<'a> {
+    /// A storage or uniform buffer.
+    Buffer(BufferBinding<'a>),
+    /// An image view in `layout`, read through `sampler`.
+    Image {
+        /// The view.
+        view: vk::ImageView,
+        /// Its layout when the set is used.
+        layout: vk::ImageLayout,
+        /// The sampler.
+        sampler: &'a Sampler,
+    },
+}
+
+impl<'a> From<BufferBinding<'a>> for Binding<'a> {
+    fn from(b: BufferBinding<'a>) -> Self {
+        Binding::Buffer(b)
+    }
+}
+
+impl<'a> From<&'a Buffer> for Binding<'a> {
+    fn from(b: &'a Buffer) -> Self {
+        Binding::Buffer(b.into())
+    }
+}
+
+/// A nearest-texel, clamp-to-edge sampler (shaders read it with
+/// `texelFetch`, so filtering never applies).
+pub struct Sampler {
+    core: Arc<Core>,
+    handle: vk::Sampler,
+}
+
+impl Sampler {
+    /// Creates the sampler.
+    pub fn nearest(ctx: &Context, name: &str) -> VkResult<Self> {
+        let clamp = vk::SamplerAddressMode::CLAMP_TO_EDGE;
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(clamp)
+            .address_mode_v(clamp)
+            .address_mode_w(clamp)
+            .max_lod(0.0);
+        let handle = unsafe { ctx.device().create_sampler(&info, None) }
+            .ctx(&format!("vkCreateSampler({name})"))?;
+        ctx.set_name(handle, name);
+        Ok(Self {
+            core: ctx.core.clone(),
+            handle,
+        })
+    }
+
+    /// The Vulkan handle.
+    pub fn handle(&self) -> vk::Sampler {
+        self.handle
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        if !self.core.may_free() {
+            return;
+        }
+        unsafe { self.core.device.destroy_sampler(self.handle, None) };
+    }
+}
+
 /// One descriptor set with the pool it came from; freed with it. Each set
 /// has its own small pool: sets are few and long-lived here.
 pub struct DescriptorSet {
@@ -206,6 +277,18 @@ impl DescriptorSet {
         name: &str,
         layout: &SetLayout,
         buffers: &[BufferBinding<'_>],
+    ) -> VkResult<Self> {
+        let bindings: Vec<Binding<'_>> = buffers.iter().map(|&b| b.into()).collect();
+        Self::with_bindings(ctx, name, layout, &bindings)
+    }
+
+    /// Allocates a set of `layout` and points binding `i` at
+    /// `bindings[i]` (buffers and sampled images).
+    pub fn with_bindings(
+        ctx: &Context,
+        name: &str,
+        layout: &SetLayout,
+        buffers: &[Binding<'_>],
     ) -> VkResult<Self> {
         if buffers.len() != layout.types.len() {
             return Err(VkError::Usage(format!(
@@ -269,7 +352,7 @@ impl DescriptorSet {
 
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
-        if self.core.hung.load(Ordering::SeqCst) {
+        if !self.core.may_free() {
             return;
         }
         unsafe { self.core.device.destroy_descriptor_pool(self.pool, None) };
@@ -298,33 +381,51 @@ fn create_pool(
     Ok(pool)
 }
 
-/// Points binding `i` of `set` at `buffers[i]` with the layout's types.
+/// Points binding `i` of `set` at `bindings[i]` with the layout's types.
 fn write(
     ctx: &Context,
     set: vk::DescriptorSet,
     types: &[vk::DescriptorType],
-    buffers: &[BufferBinding<'_>],
+    bindings: &[Binding<'_>],
 ) {
-    // One info per write, built first: each write points into this vector.
-    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+    // One info per write, built first: each write points into these vectors.
+    let buffers: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
         .iter()
-        .map(|b| {
-            [vk::DescriptorBufferInfo::default()
+        .map(|b| match b {
+            Binding::Buffer(b) => [vk::DescriptorBufferInfo::default()
                 .buffer(b.buffer.handle())
                 .offset(0)
-                .range(b.range)]
+                .range(b.range)],
+            Binding::Image { .. } => [vk::DescriptorBufferInfo::default()],
         })
         .collect();
-    let writes: Vec<_> = infos
+    let images: Vec<[vk::DescriptorImageInfo; 1]> = bindings
+        .iter()
+        .map(|b| match b {
+            Binding::Image {
+                view,
+                layout,
+                sampler,
+            } => [vk::DescriptorImageInfo::default()
+                .image_view(*view)
+                .image_layout(*layout)
+                .sampler(sampler.handle())],
+            Binding::Buffer(_) => [vk::DescriptorImageInfo::default()],
+        })
+        .collect();
+    let writes: Vec<_> = bindings
         .iter()
         .zip(types)
         .enumerate()
-        .map(|(i, (info, &ty))| {
-            vk::WriteDescriptorSet::default()
+        .map(|(i, (b, &ty))| {
+            let w = vk::WriteDescriptorSet::default()
                 .dst_set(set)
                 .dst_binding(i as u32)
-                .descriptor_type(ty)
-                .buffer_info(info)
+                .descriptor_type(ty);
+            match b {
+                Binding::Buffer(_) => w.buffer_info(&buffers[i]),
+                Binding::Image { .. } => w.image_info(&images[i]),
+            }
         })
         .collect();
     unsafe { ctx.device().update_descriptor_sets(&writes, &[]) };

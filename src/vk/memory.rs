@@ -11,7 +11,6 @@ use super::error::{VkError, VkResult, VkResultExt};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 pub use gpu_allocator::MemoryLocation;
-use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 /// A buffer and its memory.
@@ -270,7 +269,7 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
-        if self.core.hung.load(Ordering::SeqCst) {
+        if !self.core.may_free() {
             return;
         }
         unsafe { self.core.device.destroy_buffer(self.handle, None) };
@@ -550,7 +549,7 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
-        if self.core.hung.load(Ordering::SeqCst) {
+        if !self.core.may_free() {
             return;
         }
         unsafe {

@@ -19,14 +19,14 @@ pub use commands::{
     buffer_barrier, fill_buffer, host_read_barrier, image_barrier, memory_barrier, Access,
 };
 pub use context::{
-    default_fence_timeout, env_fence_timeout, parse_timeout, set_fence_timeout, Context,
-    ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT,
+    default_fence_timeout, device_leaked, env_fence_timeout, parse_timeout, set_fence_timeout,
+    Context, ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT,
 };
 pub use device::DeviceSelector;
 pub use error::{seconds_text, VkError, VkResult, TIMEOUT_ENV};
 pub use frames::{FrameRing, Progress, ProgressSink, MAX_FRAME_PARTS};
 pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, OptionalFeatures};
-pub use layout::{BufferBinding, DescriptorSet, PipelineLayout, SetLayout};
+pub use layout::{Binding, BufferBinding, DescriptorSet, PipelineLayout, Sampler, SetLayout};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{DepthState, GraphicsDesc, Pipeline, Specialization};
 pub use query::{GpuTimer, PrimitiveCounter, PrimitiveQuery};

@@ -8,7 +8,6 @@ use super::error::{VkError, VkResult};
 use super::layout::PipelineLayout;
 use super::shader::ShaderModule;
 use ash::vk;
-use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 /// Specialization data: one 32-bit value per constant id.
@@ -385,7 +384,7 @@ impl Pipeline {
 
 impl Drop for Pipeline {
     fn drop(&mut self) {
-        if self.core.hung.load(Ordering::SeqCst) {
+        if !self.core.may_free() {
             return;
         }
         unsafe { self.core.device.destroy_pipeline(self.handle, None) };

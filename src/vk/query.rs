@@ -161,7 +161,7 @@ impl GpuTimer {
 
 impl Drop for GpuTimer {
     fn drop(&mut self) {
-        if self.core.hung.load(std::sync::atomic::Ordering::SeqCst) {
+        if !self.core.may_free() {
             return;
         }
         unsafe { self.core.device.destroy_query_pool(self.pool, None) };
@@ -406,7 +406,7 @@ impl PrimitiveCounter {
 
 impl Drop for PrimitiveCounter {
     fn drop(&mut self) {
-        if self.core.hung.load(std::sync::atomic::Ordering::SeqCst) {
+        if !self.core.may_free() {
             return;
         }
         for &(_, pool) in &self.pools {

@@ -156,7 +156,7 @@ pub fn renderer(
     bezier_subdiv::renderer::Renderer::new(
         gpu.arc(),
         geo,
-        &bezier_subdiv::scene::file::SceneShading::from_geometry(&geo.patches),
+        &bezier_subdiv::scene::file::SceneShading::own_derivatives(geo),
         method,
         bezier_subdiv::renderer::RendererOptions {
             size,
