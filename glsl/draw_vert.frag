@@ -17,5 +17,5 @@ layout(location = 4) flat in uint in_wedge;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    out_color = shade(in_world, in_uv, in_patch, in_depth, in_wedge != 0u, gl_FrontFacing);
+    out_color = shade(in_world, in_uv, in_patch, in_depth, in_wedge, gl_FrontFacing);
 }

@@ -48,7 +48,7 @@ void main() {
         if (!present) {
             tri = uvec3(0u);
         }
-        bool wedge = t >= 2u;
+        uint wedge = wedge_code(q, mesh, pos, t, view.eye.xyz);
         for (uint k = 0u; k < 3u; ++k) {
             uint s = tri[k];
             write_vertex(node * VERTICES_PER_NODE + 3u * t + k, pos[s], node_patch(q),

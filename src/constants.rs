@@ -683,12 +683,23 @@ shared_constants! {
     }
     /// Fallback vertex: vec3 position, uint patch id, uint packed (u*1024: 11
     /// bits | v*1024: 11 bits << 11 | depth along u: 4 bits << 22 | along v:
-    /// 4 bits << 26 | wedge: 1 bit << 30).
+    /// 4 bits << 26 | wedge code: 2 bits << 30).
     group {
         VERTEX_WORDS = 5;
         PACK_V_SHIFT = 11;
         PACK_DEPTH_SHIFT = 22;
         PACK_WEDGE_SHIFT = 30;
+    }
+
+    /// What a drawn triangle hands the fragment stage beside its depths
+    /// (the mesh path per primitive, the fallback in its packed word): 0 for
+    /// a quad triangle; a wedge is lit from the side its node's quad
+    /// triangle along the same edge shows (that triangle's winding seen from
+    /// the eye), as its own winding says little (issue 21).
+    group {
+        WEDGE_NONE = 0;
+        WEDGE_LIT_FRONT = 1;
+        WEDGE_LIT_BACK = 2;
     }
 
     /// Shading modes (push constant of the draw pipelines).

@@ -120,7 +120,8 @@ enum Command {
         /// Skip the hole test.
         #[arg(long)]
         no_holes: bool,
-        /// Write the images of views where the hole test found holes here.
+        /// Write the images of views where the hole test found holes, or checked
+        /// no pixel, here.
         #[arg(long, value_name = "DIR")]
         debug_dir: Option<PathBuf>,
     },

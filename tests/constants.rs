@@ -60,14 +60,17 @@ fn quad_node_words_hold_patch_codes_and_edge_states() {
 #[test]
 fn fallback_vertex_packing_fits() {
     // u*1024: 11 bits | v*1024: 11 bits << 11 | u depth 4, v depth 4 << 22
-    // | wedge: 1 bit << 30.
+    // | wedge code: 2 bits << 30.
     let fields = [
         ("u", 0, 11),
         ("v", PACK_V_SHIFT, 11),
         ("depths", PACK_DEPTH_SHIFT, 8),
-        ("wedge", PACK_WEDGE_SHIFT, 1),
+        ("wedge", PACK_WEDGE_SHIFT, 2),
     ];
-    assert_packed("packed vertex word", &fields, 31);
+    assert_packed("packed vertex word", &fields, 32);
+    let codes = [WEDGE_NONE, WEDGE_LIT_FRONT, WEDGE_LIT_BACK];
+    assert!(codes.iter().all(|&c| fits(c, 2)), "wedge codes in 2 bits");
+    assert!(codes[0] != codes[1] && codes[1] != codes[2] && codes[0] != codes[2]);
     // u*1024 is exact for depths up to L_MAX <= 10: the QuadNode test.
     assert_eq!(
         VERTICES_PER_NODE,

@@ -606,7 +606,8 @@ fn isolation_geometric() {
 /// A measurement helper, not a check (hence ignored): the parametric and
 /// geometric deviation of every OpenSubdiv regression shape, per class, at
 /// the isolation levels in `ISO` (comma-separated, default 0), for tables
-/// like docs/OPENSUBDIV.md's. Run it with
+/// like docs/OPENSUBDIV.md's; `SHAPE=name` keeps the shapes whose name holds
+/// it. Run it with
 ///
 /// ```text
 /// ISO=0,2 cargo test --release --test osd_reference shape_deviations -- --ignored --nocapture
@@ -617,7 +618,14 @@ fn shape_deviations() {
     let levels: Vec<u32> = std::env::var("ISO").map_or(vec![0], |s| {
         s.split(',').map(|n| n.parse().unwrap()).collect()
     });
+    let only = std::env::var("SHAPE").ok();
     for case in &cases_in("tests/data/osd/shapes") {
+        if only
+            .as_ref()
+            .is_some_and(|s| !case.name.contains(s.as_str()))
+        {
+            continue;
+        }
         let classes = import(case, false, 0);
         for &n in &levels {
             let model = import(case, false, n);

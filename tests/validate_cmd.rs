@@ -125,15 +125,101 @@ fn ground_truth_gets_the_hole_test() {
     );
 }
 
-/// The hole test must not pass when it checked nothing (issue 21, item 4).
-/// The report's case: a closed cage wound inside out, drawn one-sided, so
-/// every view of it sees only back faces and the eroded front region is
-/// empty; the test used to print `ok … (0 px checked)`. Import turns such
-/// cages now (`scene::orient`), so the torus's patches are turned back
-/// inside out here (u and v swapped, as `orient::flip_patch` does) and
-/// written as a .bpt, which nothing turns.
+/// The hole test must not pass when it checked nothing (issue 21, item 4):
+/// the torus at 32x18, where no view leaves a pixel of front surface after
+/// the silhouettes are eroded away, used to print `ok … (0 px checked)`.
 #[test]
 fn a_hole_test_that_checked_nothing_fails() {
+    let _gpu = common::gpu();
+    let dir = common::output_dir("tiny-torus");
+    let scene = dir.join("torus.toml");
+    let torus = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/models/catmark_torus.obj");
+    std::fs::write(
+        &scene,
+        format!(
+            "name = \"tiny\"\n[camera]\nposition = [3.25, -4.33, 2.89]\n\
+             target = [0.0, 0.0, 0.0]\nnear = 0.01\nfar = 100.0\n\
+             [[model]]\nname = \"torus\"\nfile = {torus:?}\n"
+        ),
+    )
+    .unwrap();
+    let mut a = args("teapot.toml", DrawRequest::Auto);
+    a.gpu.scene = scene;
+    a.gpu.size = (32, 18);
+    let report = run(&a).unwrap();
+    println!("{}", report.table);
+    let holes = report
+        .results
+        .iter()
+        .find(|r| r.check == "holes catmark_torus.obj")
+        .expect("no hole test line");
+    assert!(!holes.ok, "{}", report.table);
+    assert!(
+        holes.detail.starts_with("nothing checked"),
+        "{}",
+        report.table
+    );
+    assert!(!report.ok(), "{}", report.table);
+    for r in report.results.iter().filter(|r| r.check != holes.check) {
+        assert!(r.ok, "{}", report.table);
+    }
+}
+
+/// The hole test's pixels checked in `report` (its line says "N px checked").
+fn checked_pixels(report: &bezier_subdiv::commands::validate::ValidateReport, check: &str) -> u64 {
+    let line = report
+        .results
+        .iter()
+        .find(|r| r.check == check)
+        .unwrap_or_else(|| panic!("no line {check:?}:\n{}", report.table));
+    line.detail
+        .split_once(" px checked")
+        .and_then(|(head, _)| head.rsplit('(').next())
+        .map_or(0, |n| n.replace(',', "").parse().unwrap())
+}
+
+/// OpenSubdiv's `catmark_val2_back2back`: each of its four shapes is a
+/// face and the same face wound the other way, two sheets lying on each
+/// other (the limit surface is four small flat pieces, as OpenSubdiv draws
+/// them). Drawn one-sided, only the sheet facing the eye shows; the
+/// reference (ground truth, which culls nothing) drew the other sheet at
+/// the same depth too, and where it won the depth test the hole test saw
+/// "back surface" and checked nothing in any view (issue 21). The
+/// reference now leaves out what faces away everywhere on a one-sided
+/// model, so the front sheet is checked.
+#[test]
+fn coincident_sheets_wound_against_each_other_are_checked() {
+    let _gpu = common::gpu();
+    let dir = common::output_dir("back2back");
+    let scene = dir.join("back2back.toml");
+    let obj = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/osd-shapes/catmark_val2_back2back.obj");
+    std::fs::write(
+        &scene,
+        format!(
+            "name = \"back2back\"\n[camera]\nposition = [1.5, -2.0, 1.3]\n\
+             target = [0.0, 0.0, 0.0]\nnear = 0.02\nfar = 200.0\n\
+             [[model]]\nname = \"back2back\"\nfile = {obj:?}\n"
+        ),
+    )
+    .unwrap();
+    let mut a = args("teapot.toml", DrawRequest::Auto);
+    a.gpu.scene = scene;
+    let report = run(&a).unwrap();
+    println!("{}", report.table);
+    assert!(report.ok(), "{}", report.table);
+    let checked = checked_pixels(&report, "holes catmark_val2_back2back.obj");
+    assert!(checked > 0, "{}", report.table);
+}
+
+/// A closed cage wound inside out and drawn one-sided (the torus's patches
+/// turned back with u and v swapped, as `orient::flip_patch` does, written
+/// as a .bpt, which import never turns): the near half faces away and is
+/// culled, and what shows is the inside of the far half. The hole test
+/// checks that (it checked nothing when its reference drew the culled near
+/// half; issue 21's report).
+#[test]
+fn an_inside_out_cage_is_checked_where_its_inside_shows() {
     let _gpu = common::gpu();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = common::output_dir("inside-out-torus");
@@ -168,20 +254,10 @@ fn a_hole_test_that_checked_nothing_fails() {
     a.gpu.scene = scene;
     let report = run(&a).unwrap();
     println!("{}", report.table);
-    let holes = report
-        .results
-        .iter()
-        .find(|r| r.check == "holes torus-inside-out.bpt")
-        .expect("no hole test line");
-    assert!(!holes.ok, "{}", report.table);
+    assert!(report.ok(), "{}", report.table);
     assert!(
-        holes.detail.starts_with("nothing checked"),
+        checked_pixels(&report, "holes torus-inside-out.bpt") > 0,
         "{}",
         report.table
     );
-    assert!(!report.ok(), "{}", report.table);
-    // The oracle checks still pass: the surface is the same, only turned.
-    for r in report.results.iter().filter(|r| r.check != holes.check) {
-        assert!(r.ok, "{}", report.table);
-    }
 }

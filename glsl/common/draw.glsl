@@ -28,10 +28,11 @@ precise vec4 clip_position(vec3 p) {
 // Fallback vertex attributes in one word. Node parameters are dyadic with
 // at most L_MAX = 10 fraction bits, so u * 1024 and v * 1024 are exact
 // integers in 0..1024 (11 bits) and unpacking gives the same floats back.
-// `depths`: the node's depth along u (low 4 bits) and v (next 4).
-uint pack_attrs(vec2 uv, uint depths, bool wedge) {
+// `depths`: the node's depth along u (low 4 bits) and v (next 4); `wedge`
+// the triangle's WEDGE_* code (wedge_code).
+uint pack_attrs(vec2 uv, uint depths, uint wedge) {
     return uint(uv.x * 1024.0) | (uint(uv.y * 1024.0) << PACK_V_SHIFT)
-        | (depths << PACK_DEPTH_SHIFT) | ((wedge ? 1u : 0u) << PACK_WEDGE_SHIFT);
+        | (depths << PACK_DEPTH_SHIFT) | (wedge << PACK_WEDGE_SHIFT);
 }
 
 // A ready node's depths as shade() takes them: u in the low 4 bits, v above.
@@ -48,7 +49,7 @@ uint unpack_depth(uint w) {
 }
 
 uint unpack_wedge(uint w) {
-    return (w >> PACK_WEDGE_SHIFT) & 1u;
+    return (w >> PACK_WEDGE_SHIFT) & 3u;
 }
 
 // Triangle slot t (0, 1: the quad; 2 + e: the wedge on edge e) of a node

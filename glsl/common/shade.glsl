@@ -112,25 +112,9 @@ vec3 surface_normal(uint patch_id, vec2 uv, vec3 to_eye) {
 // The normal to light with at the base patch's (u, v): the shading
 // patches' (shading.glsl), not the flat triangle's nor the geometry
 // patch's own, which jump across patch edges next to extraordinary
-// vertices.
-//
-// Which side of the surface a fragment shows: a triangle's winding, except
-// on a wedge. Where the fine polyline dips below the coarse chord a wedge
-// folds over and faces the other way than its neighbours, so its winding
-// says little. On a one-sided model (closed, seen from outside) a wedge
-// shows the outside: turning its normal towards the eye lit single wedge
-// pixels where a silhouette is dark (the torus's inner rim,
-// catmark_lefthanded; tests/shading_wedges.rs). On a two-sided model a
-// wedge still takes the side of its shading normal that faces the eye:
-// asking the geometry patch's normal instead fixed the two-sided torus's
-// rim but darkened 53 wedge pixels of the open cages under MSAA
-// (tests/shading_msaa.rs); no rule that sees only the wedge satisfied both
-// (issue 21, item 5, open for two-sided models).
-vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge) {
-    if (wedge) {
-        bool one_sided = (shade_flags(patch_id) & PATCH_TWO_SIDED) == 0u;
-        front = one_sided || dot(shading_patch_normal(patch_id, uv.x, uv.y), to_eye) >= 0.0;
-    }
+// vertices. `front`: which side of the surface the fragment shows (see
+// shade()).
+vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front) {
 #ifdef SHADE_PN
     if (shade_is_pn(patch_id)) {
         return facing_normal(pn_normal(shade_pn_triangle(patch_id), uv), to_eye, front);
@@ -142,6 +126,24 @@ vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front, bool wedge)
     }
 #endif
     return facing_normal(shading_patch_normal(patch_id, uv.x, uv.y), to_eye, front);
+}
+
+// |n·v| of the shading normal beyond which a wedge of a two-sided model
+// takes the side the normal faces: away from silhouettes that side is
+// plain (and quads, lit by their winding, show it).
+const float WEDGE_PLAIN_COS = 0.3;
+
+// Which side a wedge fragment is lit from: a one-sided model (closed, seen
+// from outside) shows its outside; a two-sided one the side its shading
+// normal faces where that is plain (WEDGE_PLAIN_COS), else, near a
+// silhouette, the side the surface around the wedge's edge shows
+// (`wedge_side`, the draws' wedge_code).
+bool wedge_front(uint patch_id, vec2 uv, vec3 to_eye, uint wedge_side) {
+    if ((shade_flags(patch_id) & PATCH_TWO_SIDED) == 0u) {
+        return true;
+    }
+    float c = dot(shading_normal(patch_id, uv, to_eye, true), to_eye);
+    return abs(c) >= WEDGE_PLAIN_COS ? c >= 0.0 : wedge_side == WEDGE_LIT_FRONT;
 }
 
 // Lambert term for the push-constant light; a zero light_dir means "light
@@ -183,8 +185,21 @@ vec4 code_color(uint code) {
 }
 
 // `depth_code`: the cell's depths (cell_depths); the depth heat map shows
-// the deeper.
-vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, bool wedge, bool front) {
+// the deeper. `wedge_side`: WEDGE_NONE, or the side a wedge is lit from.
+// `front`: the rasterizer's facing (the triangle's winding).
+//
+// Which side of the surface a fragment is lit from: its triangle's
+// winding, except on a wedge. Where the fine polyline dips below the
+// coarse chord a wedge folds over and faces the other way than its
+// neighbours, so its own winding says little (wedge_front).
+// Rules that looked at the wedge alone each lit single wrong pixels:
+// turning it towards the eye lit wedge pixels on dark silhouettes (the
+// torus's inner rim, catmark_lefthanded), the side its shading normal
+// faces lit the two-sided torus's rim, the geometry patch's normal
+// darkened wedges of open cages under MSAA (tests/shading_wedges.rs,
+// tests/shading_msaa.rs; issue 21).
+vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, uint wedge_side, bool front) {
+    bool wedge = wedge_side != WEDGE_NONE;
     uvec2 depths = cell_depths(depth_code);
     uint depth = max(depths.x, depths.y);
     if (pc.shade == SHADE_FACING) {
@@ -219,7 +234,7 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, bool wedge, bool
         }
         return vec4(abs(c) < GRAZING_COS ? KEY_GRAZING : KEY_FRONT, 1.0);
     }
-    vec3 n = shading_normal(patch_id, uv, to_eye, front, wedge);
+    vec3 n = shading_normal(patch_id, uv, to_eye, wedge ? wedge_front(patch_id, uv, to_eye, wedge_side) : front);
     float d = diffuse(n, to_eye);
     if (pc.shade == SHADE_DEPTH) {
         return vec4(depth_color(depth) * (0.55 + 0.45 * d), 1.0);

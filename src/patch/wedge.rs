@@ -46,9 +46,11 @@
 //!   the triangulation stays consistently oriented (front faces stay front).
 
 use super::bezier::{EDGE_BOTTOM, EDGE_LEFT, EDGE_TOP};
-use super::ops::pow2_neg;
+use super::ops::{cross3, dot3, pow2_neg};
 pub use super::quadnode::EDGE_PENDING;
 use super::quadnode::{along_u, QuadNode};
+use crate::constants::{WEDGE_LIT_BACK, WEDGE_LIT_FRONT};
+use glam::Vec3;
 
 /// Which edges are still to be test at the node's depth.
 pub fn pending(node: QuadNode) -> [bool; 4] {
@@ -186,6 +188,85 @@ pub fn node_mesh(node: QuadNode, with_wedges: bool) -> NodeMesh {
         }
     }
     mesh
+}
+
+/// Whether the triangle `a b c`, as wound, faces the eye at `eye` (the
+/// negation of [`super::cull::wedges_face_away`]'s test).
+fn faces_eye(a: Vec3, b: Vec3, c: Vec3, eye: Vec3) -> bool {
+    let n = cross3(b - a, c - a);
+    // As the GPU's !(side > 0): a degenerate (NaN) triangle counts as facing.
+    let side = dot3(n, a - eye);
+    side <= 0.0 || side.is_nan()
+}
+
+/// The point across edge `e` of a node with domain (a, b, c, d), as far
+/// from the edge as the node is wide (the quad triangle's third corner
+/// mirrored in the edge). Exact: the parameters are dyadic.
+fn across_edge((a, b, c, d): (f32, f32, f32, f32), e: usize) -> (f32, f32) {
+    match e {
+        0 => (b, c + (c - d)),
+        1 => (b + (b - a), c),
+        2 => (a, d + (d - c)),
+        _ => (a + (a - b), d),
+    }
+}
+
+/// The coarse neighbour across edge `e` of `node`, whose crack the wedge
+/// on that edge closes, as a square node of the edge's flat depth with a
+/// corner at the wedge's `pivot`: its quad triangle along the edge, in the
+/// parameters of the node's base patch (beyond its domain at a patch
+/// border).
+fn neighbour_triangle(node: QuadNode, e: usize, pivot: (f32, f32)) -> [(f32, f32); 3] {
+    let s = pow2_neg(node.edge(e));
+    let (a, b, c, d) = node.domain();
+    let (pu, pv) = pivot;
+    match e {
+        0 => [(pu, c - s), (pu + s, c), (pu, c)],
+        1 => [(b, pv), (b + s, pv + s), (b, pv + s)],
+        2 => [(pu, d), (pu + s, d), (pu + s, d + s)],
+        _ => [(a - s, pv), (a, pv), (a, pv + s)],
+    }
+}
+
+/// The `WEDGE_*` code a draw hands the fragment stage for the wedge on edge
+/// `e` of `node` (present, its pivot at `pivot`), whose corners are drawn
+/// at `corners` (slots 0..4) and whose base patch is drawn by `eval`. A
+/// wedge's own winding says little (it folds over where the fine polyline
+/// dips below the coarse chord), so it is lit from the front when the
+/// surface on either side of its edge faces the eye: the node's quad
+/// triangle along the edge (0 1 2 for the bottom and right edges, 0 2 3 for
+/// the top and left), a triangle as large mirrored across the edge, or the
+/// coarse neighbour's quad triangle ([`neighbour_triangle`]). At a
+/// silhouette a node can lie wholly beyond it, facing away, while its
+/// wedge shows in front of the neighbour's front surface. At a patch
+/// border the last two lie on the patch's extension beyond its domain,
+/// which stands in for the next patch only where both agree. The twin of
+/// draw_rational.glsl's `wedge_code` (see there for what was measured).
+pub fn wedge_code(
+    node: QuadNode,
+    corners: [Vec3; 4],
+    e: usize,
+    pivot: (f32, f32),
+    eye: Vec3,
+    eval: impl Fn(f32, f32) -> Vec3,
+) -> u32 {
+    let [a, b, c] = [[0, 1, 2], [0, 2, 3]][e >> 1].map(|k| corners[k]);
+    if faces_eye(a, b, c, eye) {
+        return WEDGE_LIT_FRONT;
+    }
+    // The wedge's own corners run the edge backwards: with the point across
+    // the edge in the pivot's place they wind as the surface does.
+    let [w0, w1] = [0, 1].map(|k| corners[WEDGE_TRIS[e][k] as usize]);
+    let (u, v) = across_edge(node.domain(), e);
+    let inside = (0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v);
+    let mirror = faces_eye(w0, w1, eval(u, v), eye);
+    let [p, q, r] = neighbour_triangle(node, e, pivot).map(|(u, v)| eval(u, v));
+    let coarse = faces_eye(p, q, r, eye);
+    if (inside && (mirror || coarse)) || (mirror && coarse) {
+        WEDGE_LIT_FRONT
+    } else {
+        WEDGE_LIT_BACK
+    }
 }
 
 #[cfg(test)]

@@ -21,11 +21,16 @@
 //! reference surface can only be a crack (see [`run_model`]). Comparing against the
 //! reference's own front region keeps open models honest too: where the
 //! reference itself sees into the model, nothing is counted.
+//!
+//! The reference draws what a one-sided model can show: its patches that
+//! face away everywhere are left out ([`front_capable`]), so two sheets lying
+//! on each other, wound against each other, show the front one.
 
 use crate::constants::*;
 use crate::frame::View;
 use crate::methods::{ground_truth, MethodOptions, RenderError};
 use crate::patch::bezier::BezierPatch;
+use crate::patch::rational::RationalPatch;
 use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
 use crate::scene::camera::Camera;
@@ -53,9 +58,9 @@ pub struct HoleView {
 }
 
 /// The hole test's line for one model: passed when no view shows a hole
-/// *and* some pixel was checked. A test that looked at nothing (every view
-/// sees only back faces, as of a one-sided model wound inside out, or the
-/// model is too small to leave pixels after the erosion) must not pass.
+/// *and* some pixel was checked. A test that looked at nothing (the model
+/// is too small to leave pixels after the erosion, or what it shows is all
+/// silhouette) must not pass.
 pub fn verdict(views: &[HoleView]) -> (bool, String) {
     let holes: u64 = views.iter().map(|v| v.holes).sum();
     let without: Option<u64> = views.iter().map(|v| v.holes_without_wedges).sum();
@@ -68,7 +73,7 @@ pub fn verdict(views: &[HoleView]) -> (bool, String) {
             false,
             format!(
                 "nothing checked: no view of {} showed front surface away from its silhouettes \
-                 (a one-sided model seen only from behind, e.g. wound inside out? or too small at this --size){wedges}",
+                 (too small at this --size? or seen edge on from every camera){wedges}",
                 views.len()
             ),
         );
@@ -314,9 +319,10 @@ pub const SEE_THROUGH: f32 = 0.01;
 /// its back, at the same depth). Methods with wedges are also drawn with
 /// them off, which must show the cracks they close.
 ///
-/// When `debug_dir` is given, every view with holes leaves
-/// `<name>-cam<k>-{actual,nowedges,reference,holes}.png` there (holes in red
-/// over the actual image).
+/// When `debug_dir` is given, every view with holes, or that checked no
+/// pixel, leaves `<name>-cam<k>-{actual,nowedges,reference,holes,excluded}.png`
+/// there (holes in red over the actual image; the reference with its depth
+/// edges in red and its hidden contours in magenta, which the test leaves out).
 pub fn run_model(
     renderer: &mut Renderer,
     geo: &SceneGeometry,
@@ -351,10 +357,22 @@ pub fn run_model(
         } else {
             None
         };
-        let reference = reference_shots(renderer, &view, grid, tested)?;
+        let shown = front_capable(geo, &view, grid);
+        let ref_geo = shown.as_ref().unwrap_or(geo);
+        let reference = if ref_geo.patches.is_empty() {
+            // Every patch faces away (a flat floor seen from below): the
+            // reference is empty background.
+            let rgba = REFERENCE_BACKGROUND.map(|c| (c * 255.0) as u8);
+            Shots {
+                key: rgba.repeat((w * h) as usize),
+                distance: vec![f32::INFINITY; (w * h) as usize],
+            }
+        } else {
+            reference_shots(renderer, &view, grid, tested, (ref_geo, geo))?
+        };
 
         let edges = depth_edges(&reference.distance, w as usize, h as usize);
-        let folds = hidden_contours(&geo.patches, grid, cam, size, &reference.distance);
+        let folds = hidden_contours(&ref_geo.patches, grid, cam, size, &reference.distance);
         let good: Vec<bool> = pixels(&reference.key)
             .zip(edges.iter().zip(&folds))
             .map(|(p, (&e, &f))| p == WHITE && !e && !f)
@@ -374,12 +392,14 @@ pub fn run_model(
         let count = |m: &[bool]| m.iter().filter(|&&x| x).count() as u64;
         let holes = count(&mask_with);
         let holes_without = without.as_ref().map(|s| count(&holes_in(s)));
-        if let (Some(dir), true) = (debug_dir, holes > 0) {
+        let checked_pixels = count(&inside);
+        if let (Some(dir), true) = (debug_dir, holes > 0 || checked_pixels == 0) {
             let images = DebugImages {
                 with: &with,
                 without: without.as_ref(),
                 reference: &reference,
                 holes: &mask_with,
+                excluded: (&edges, &folds),
             };
             images.write(dir, name, k, size);
         }
@@ -387,7 +407,7 @@ pub fn run_model(
             camera: k,
             holes,
             holes_without_wedges: holes_without,
-            checked_pixels: count(&inside),
+            checked_pixels,
         });
     }
     Ok(views)
@@ -399,6 +419,8 @@ struct DebugImages<'a> {
     without: Option<&'a Shots>,
     reference: &'a Shots,
     holes: &'a [bool],
+    /// The reference's depth edges and hidden contours (left out).
+    excluded: (&'a [bool], &'a [bool]),
 }
 
 impl DebugImages<'_> {
@@ -409,11 +431,23 @@ impl DebugImages<'_> {
                 marked[4 * i..4 * i + 4].copy_from_slice(&[255, 0, 0, 255]);
             }
         }
+        // The reference with what the mask leaves out: depth edges red,
+        // hidden contours (folds) magenta.
+        let mut masked = self.reference.key.clone();
+        for (i, (&e, &f)) in self.excluded.0.iter().zip(self.excluded.1).enumerate() {
+            let c = match (e, f) {
+                (true, _) => [255, 0, 0, 255],
+                (false, true) => [255, 0, 255, 255],
+                _ => continue,
+            };
+            masked[4 * i..4 * i + 4].copy_from_slice(&c);
+        }
         let _ = std::fs::create_dir_all(dir);
         let mut images = vec![
             ("actual", &self.with.key),
             ("reference", &self.reference.key),
             ("holes", &marked),
+            ("excluded", &masked),
         ];
         if let Some(s) = self.without {
             images.push(("nowedges", &s.key));
@@ -443,13 +477,76 @@ fn shots(renderer: &mut Renderer, view: &View, background: [f32; 4]) -> Result<S
     Ok(Shots { key, distance })
 }
 
-/// The reference shots: `ground-truth` at `grid`, then back to `tested`.
+/// The patches of `geo` the reference draws in `view`: all but those of
+/// one-sided models that face away from the eye at every point of the
+/// reference's `grid` (by the patch's own normal, as SHADE_KEY tells the
+/// sides apart), when `view` culls back faces; `None` when that is every
+/// patch. Such a patch shows the eye nothing but its back, which a
+/// one-sided model never shows, and `ground-truth` (which culls nothing)
+/// would draw it at the very depth of a front sheet lying on it: two
+/// coincident sheets wound against each other (`catmark_val2_back2back`)
+/// tie in the depth test, and the back sheet's pixels hide the front one
+/// from the test. Elsewhere a left-out patch lies behind front surface and
+/// changes no pixel, or uncovers what lies behind it, as the methods that
+/// cull it show too. (The interval test the subdividing methods cull a
+/// base patch by is too cautious for this: it keeps the folded patches of
+/// those sheets.)
+fn front_capable(geo: &SceneGeometry, view: &View, grid: u32) -> Option<SceneGeometry> {
+    if view.params.flags & FLAG_BACKFACE_CULL == 0 {
+        return None;
+    }
+    let eye = view.params.eye.truncate();
+    let t = |k: u32| k as f32 / grid as f32;
+    let keep: Vec<usize> = (0..geo.patches.len())
+        .filter(|&k| {
+            if geo.flags[k] & PATCH_TWO_SIDED != 0 {
+                return true;
+            }
+            let p = RationalPatch::new(geo.patches[k], geo.weights_of(k));
+            let polynomial = p.is_polynomial();
+            (0..=grid).any(|j| {
+                (0..=grid).any(|i| {
+                    let (u, v) = (t(i), t(j));
+                    let (q, n) = if polynomial {
+                        (p.patch.eval(u, v), p.patch.normal(u, v))
+                    } else {
+                        (p.eval(u, v), p.normal(u, v))
+                    };
+                    n.dot(eye - q) >= 0.0
+                })
+            })
+        })
+        .collect();
+    if keep.len() == geo.patches.len() {
+        return None;
+    }
+    let weights = if geo.weights.is_empty() {
+        Vec::new()
+    } else {
+        keep.iter().map(|&k| geo.weights[k]).collect()
+    };
+    Some(SceneGeometry {
+        patches: keep.iter().map(|&k| geo.patches[k]).collect(),
+        flags: keep.iter().map(|&k| geo.flags[k]).collect(),
+        models: geo.models.clone(),
+        weights,
+        ..SceneGeometry::default()
+    })
+}
+
+/// The reference shots: `ground-truth` at `grid` on `reference`, then back
+/// to `tested` on `geo`.
 fn reference_shots(
     renderer: &mut Renderer,
     view: &View,
     grid: u32,
     tested: &str,
+    (reference, geo): (&SceneGeometry, &SceneGeometry),
 ) -> Result<Shots, RenderError> {
+    let swap = !std::ptr::eq(reference, geo);
+    if swap {
+        renderer.set_geometry(reference, &SceneShading::own_derivatives(reference))?;
+    }
     let options = renderer.options().clone();
     renderer.set_options(MethodOptions {
         grid,
@@ -459,6 +556,9 @@ fn reference_shots(
     let shot = shots(renderer, view, REFERENCE_BACKGROUND);
     renderer.set_options(options)?;
     renderer.set_method(tested)?;
+    if swap {
+        renderer.set_geometry(geo, &SceneShading::own_derivatives(geo))?;
+    }
     shot
 }
 

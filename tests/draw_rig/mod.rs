@@ -17,7 +17,7 @@ use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::patch::oracle::{node_positions, subdivide, triangulate};
 use bezier_subdiv::patch::quadnode::QuadNode;
 use bezier_subdiv::patch::view::ViewParams;
-use bezier_subdiv::patch::wedge::node_mesh;
+use bezier_subdiv::patch::wedge::{node_mesh, wedge_code, wedge_pivots};
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::file::{load_model, Scene};
 use bezier_subdiv::scene::shading::ShadingPatch;
@@ -339,7 +339,18 @@ pub fn check_vertices(case: &Case, words: &[u32]) -> Result<(), String> {
             // A wedge's third vertex is its edge's pivot slot, 4 + edge.
             slots[2 + mesh.tris[k][2] as usize - 4] = Some(*tri);
         }
+        // Corners 0, 1, 2 from the first quad triangle, 3 from the second.
+        let corners = [own[0].v[0], own[0].v[1], own[0].v[2], own[1].v[2]];
+        let eye = case.vp.eye.truncate();
+        let pivots = wedge_pivots(node);
+        let base = &case.patches[node.patch() as usize];
         for (t, slot) in slots.iter().enumerate() {
+            let code = match (t, slot, pivots.get(t.wrapping_sub(2))) {
+                (2.., Some(_), Some(&Some(pivot))) => {
+                    wedge_code(node, corners, t - 2, pivot, eye, |u, v| base.eval(u, v))
+                }
+                _ => WEDGE_NONE,
+            };
             for k in 0..3 {
                 let (pos, uv) = match slot {
                     Some(tri) => (tri.v[k], tri.uv[k]),
@@ -348,7 +359,7 @@ pub fn check_vertices(case: &Case, words: &[u32]) -> Result<(), String> {
                 let attrs = (uv.0 * 1024.0) as u32
                     | ((uv.1 * 1024.0) as u32) << PACK_V_SHIFT
                     | (node.du() | node.dv() << 4) << PACK_DEPTH_SHIFT
-                    | ((t >= 2) as u32) << PACK_WEDGE_SHIFT;
+                    | code << PACK_WEDGE_SHIFT;
                 let mut want = bits(pos).to_vec();
                 want.extend([node.patch(), attrs]);
                 let o = (i * VERTICES_PER_NODE as usize + 3 * t + k) * VERTEX_WORDS as usize;
