@@ -382,3 +382,30 @@ fn bad_tags_name_their_line() {
     let info = obj::parse(Path::new("tags.obj"), &t).unwrap().cage.unwrap();
     assert_eq!((info.sharp_edges, info.semi_sharp_edges), (1, 1));
 }
+
+/// A cage with `t hole` faces is open there, and one-sided drawing shows
+/// its inside through the hole as blocks (the renders of issue 21's
+/// catmark_hole_test1 looking into its hole): the import says so and names
+/// the fix; the same cage without its tags is closed and says nothing of it.
+#[test]
+fn holes_ask_for_two_sided_drawing() {
+    let rel = "tests/data/osd-shapes/catmark_hole_test1.obj";
+    let model = import(rel, &text(rel), None);
+    let holes = model.cage.as_ref().unwrap().tagged_holes;
+    assert!(holes > 0, "{rel} has hole faces");
+    assert!(
+        model
+            .warnings
+            .iter()
+            .any(|w| w.contains(&format!("{holes} faces tagged `t hole`"))
+                && w.contains("two_sided = true")),
+        "{:?}",
+        model.warnings
+    );
+    let closed = import(rel, &retag(&text(rel), None), None);
+    assert!(
+        !closed.warnings.iter().any(|w| w.contains("t hole")),
+        "{:?}",
+        closed.warnings
+    );
+}

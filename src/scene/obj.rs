@@ -209,6 +209,15 @@ pub fn parse_with(
         };
         return Err(SceneError::invalid(path, why));
     }
+    if tagged_holes > 0 {
+        // Only wholly back-facing nodes are culled and the rasterizer culls
+        // nothing, so a one-sided model seen through a hole shows part of
+        // its inside, lit as outside, in blocks.
+        warnings.push(format!(
+            "{tagged_holes} faces tagged `t hole`: the surface is open there; draw it with \
+             `two_sided = true`, else its inside shows through the hole in patches"
+        ));
+    }
     let orientation = orient::inside_out(&cage, &topo);
     if orientation.inside_out > 0 {
         warnings.push(format!(
