@@ -2,7 +2,7 @@
 
 mod common;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use bezier_subdiv::commands::validate::{run, ValidateArgs};
 use bezier_subdiv::commands::GpuRequest;
@@ -131,18 +131,12 @@ fn ground_truth_gets_the_hole_test() {
 #[test]
 fn a_hole_test_that_checked_nothing_fails() {
     let _gpu = common::gpu();
-    let dir = common::output_dir("tiny-torus");
-    let scene = dir.join("torus.toml");
-    let torus = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/models/catmark_torus.obj");
-    std::fs::write(
-        &scene,
-        format!(
-            "name = \"tiny\"\n[camera]\nposition = [3.25, -4.33, 2.89]\n\
-             target = [0.0, 0.0, 0.0]\nnear = 0.01\nfar = 100.0\n\
-             [[model]]\nname = \"torus\"\nfile = {torus:?}\n"
-        ),
-    )
-    .unwrap();
+    let scene = one_model_scene(
+        "tiny-torus",
+        "scenes/models/catmark_torus.obj",
+        "[3.25, -4.33, 2.89]",
+        (0.01, 100.0),
+    );
     let mut a = args("teapot.toml", DrawRequest::Auto);
     a.gpu.scene = scene;
     a.gpu.size = (32, 18);
@@ -163,6 +157,24 @@ fn a_hole_test_that_checked_nothing_fails() {
     for r in report.results.iter().filter(|r| r.check != holes.check) {
         assert!(r.ok, "{}", report.table);
     }
+}
+
+/// A scene of one model (`rel`, from the repository root) in a fresh
+/// output directory named `tag`, seen from `position` towards the origin
+/// with the clip planes `(near, far)`; returns the scene file.
+fn one_model_scene(tag: &str, rel: &str, position: &str, (near, far): (f64, f64)) -> PathBuf {
+    let scene = common::output_dir(tag).join(format!("{tag}.toml"));
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
+    std::fs::write(
+        &scene,
+        format!(
+            "name = \"{tag}\"\n[camera]\nposition = {position}\n\
+             target = [0.0, 0.0, 0.0]\nnear = {near:?}\nfar = {far:?}\n\
+             [[model]]\nname = \"{tag}\"\nfile = {file:?}\n"
+        ),
+    )
+    .unwrap();
+    scene
 }
 
 /// The hole test's pixels checked in `report` (its line says "N px checked").
@@ -190,19 +202,12 @@ fn checked_pixels(report: &bezier_subdiv::commands::validate::ValidateReport, ch
 #[test]
 fn coincident_sheets_wound_against_each_other_are_checked() {
     let _gpu = common::gpu();
-    let dir = common::output_dir("back2back");
-    let scene = dir.join("back2back.toml");
-    let obj = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/osd-shapes/catmark_val2_back2back.obj");
-    std::fs::write(
-        &scene,
-        format!(
-            "name = \"back2back\"\n[camera]\nposition = [1.5, -2.0, 1.3]\n\
-             target = [0.0, 0.0, 0.0]\nnear = 0.02\nfar = 200.0\n\
-             [[model]]\nname = \"back2back\"\nfile = {obj:?}\n"
-        ),
-    )
-    .unwrap();
+    let scene = one_model_scene(
+        "back2back",
+        "tests/data/osd-shapes/catmark_val2_back2back.obj",
+        "[1.5, -2.0, 1.3]",
+        (0.02, 200.0),
+    );
     let mut a = args("teapot.toml", DrawRequest::Auto);
     a.gpu.scene = scene;
     let report = run(&a).unwrap();
