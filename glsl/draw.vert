@@ -14,9 +14,10 @@ layout(location = 4) flat out uint out_wedge;
 
 void main() {
     uint index = uint(gl_VertexIndex);
-    // Draw arguments larger than the buffer (a producer bug) must not read
-    // past it: such vertices collapse to one point and draw nothing.
-    if (index >= pc.capacity * VERTICES_PER_NODE) {
+    // Draw arguments larger than the buffer (one chunk of the list; a
+    // producer bug) must not read past it: such vertices collapse to one
+    // point and draw nothing.
+    if (index >= min(pc.capacity, FALLBACK_CHUNK_NODES) * VERTICES_PER_NODE) {
         gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
         out_world = vec3(0.0);
         out_uv = vec2(0.0);

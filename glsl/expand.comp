@@ -1,9 +1,11 @@
-// Draw path B (fallback for devices without mesh shaders), expansion: one
-// invocation per ready QuadNode writes its NODE_MESH_TRIS triangle slots as
-// VERTICES_PER_NODE vertices of VERTEX_WORDS words each (slots as in
-// draw.mesh: quad, quad, the wedge on each edge). A missing wedge is written as a degenerate triangle,
-// three copies of corner 0, which the rasterizer drops; fixed slots let one
-// non-indexed indirect draw of ready * VERTICES_PER_NODE vertices follow.
+// Draw path B (fallback for devices without mesh shaders), expansion of
+// one chunk (pc.chunk) of the ready list: one invocation per ready QuadNode
+// writes its NODE_MESH_TRIS triangle slots as VERTICES_PER_NODE vertices of
+// VERTEX_WORDS words each (slots as in draw.mesh: quad, quad, the wedge on
+// each edge), from the start of the vertex buffer, which holds one chunk. A
+// missing wedge is written as a degenerate triangle, three copies of corner
+// 0, which the rasterizer drops; fixed slots let one non-indexed indirect
+// draw of the chunk's nodes * VERTICES_PER_NODE vertices follow.
 #version 460
 
 #define USE_VERTICES_WRITE
@@ -24,8 +26,9 @@ void write_vertex(uint index, vec3 p, uint patch_id, uint attrs) {
 }
 
 void main() {
-    uint node = ready_first() + gl_GlobalInvocationID.x;
-    if (node >= ready_count(pc.capacity)) {
+    uint slot = gl_GlobalInvocationID.x;
+    uint node = ready_first() + pc.chunk * FALLBACK_CHUNK_NODES + slot;
+    if (slot >= FALLBACK_CHUNK_NODES || node >= ready_count(pc.capacity)) {
         return;
     }
     uvec2 q = ready[node];
@@ -51,7 +54,7 @@ void main() {
         uint wedge = wedge_code(q, mesh, pos, t, view.eye.xyz);
         for (uint k = 0u; k < 3u; ++k) {
             uint s = tri[k];
-            write_vertex(node * VERTICES_PER_NODE + 3u * t + k, pos[s], node_patch(q),
+            write_vertex(slot * VERTICES_PER_NODE + 3u * t + k, pos[s], node_patch(q),
                 pack_attrs(mesh.uv[s], depths, wedge));
         }
     }

@@ -605,10 +605,6 @@ shared_constants! {
     group {
         /// vkCmdDrawMeshTasksIndirectEXT: x, y, z
         C_MESH_ARGS = 32;
-        /// vkCmdDispatchIndirect: x, y, z
-        C_EXPAND_ARGS = 36;
-        /// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
-        C_DRAW_ARGS = 40;
     }
     /// Sorting the ready list (sort.comp, the queue kernel only): dispatch
     /// arguments of the block pass (one workgroup per SORT_BLOCK entries)
@@ -619,9 +615,25 @@ shared_constants! {
         C_SORT_MERGE_ARGS = 64;
         SORT_MAX_MERGES = 15;
     }
-    /// Size of the counters buffer in uint words.
+    /// The counters the host reads back after a frame (statistics, state
+    /// and every indirect argument but the fallback's chunks), in uint words.
     group {
         COUNTER_WORDS = 128;
+    }
+    /// The fallback path draws its ready nodes in chunks of at most
+    /// FALLBACK_CHUNK_NODES (its vertex buffer holds one chunk, 94 MB,
+    /// under the 128 MiB every Vulkan device binds), at most
+    /// FALLBACK_MAX_CHUNKS of them. Chunk c's arguments are CHUNK_ARG_WORDS
+    /// words from C_CHUNK_ARGS + CHUNK_ARG_WORDS * c: vkCmdDispatchIndirect
+    /// of the expansion (x, y, z, unused), then vkCmdDrawIndirect (vertices,
+    /// instances, first vertex, first instance). The counters buffer holds
+    /// COUNTERS_BUFFER_WORDS words.
+    group {
+        FALLBACK_CHUNK_NODES = 262144;
+        FALLBACK_MAX_CHUNKS = 64;
+        C_CHUNK_ARGS = 128;
+        CHUNK_ARG_WORDS = 8;
+        COUNTERS_BUFFER_WORDS = 640;
     }
 
     /// Error bits in counters[C_ERROR].
@@ -749,3 +761,13 @@ shared_constants! {
         WEDGE_RGB = 0xff_00ff;
     }
 }
+
+// The fallback's chunk arguments follow the host-read counters and fill the
+// rest of the buffer; every ready list the device can bind (2^24 nodes at
+// the 128 MiB minimum of maxStorageBufferRange) fits in the chunks.
+const _: () = assert!(C_CHUNK_ARGS >= COUNTER_WORDS);
+const _: () =
+    assert!(COUNTERS_BUFFER_WORDS == C_CHUNK_ARGS + CHUNK_ARG_WORDS * FALLBACK_MAX_CHUNKS);
+const _: () =
+    assert!(FALLBACK_CHUNK_NODES as u64 * (VERTICES_PER_NODE * VERTEX_WORDS * 4) as u64 <= 1 << 27);
+const _: () = assert!(FALLBACK_CHUNK_NODES % EXPAND_GROUP_SIZE == 0);

@@ -54,6 +54,7 @@ impl View {
             capacity,
             capture_enabled: capture as u32,
             grid,
+            chunk: 0,
         }
     }
 }

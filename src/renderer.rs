@@ -22,6 +22,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::anim::Animation;
+use crate::constants::FALLBACK_MAX_CHUNKS;
 use crate::frame::{FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
 use crate::gpu::anim::AnimGpu;
 use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, Shaders};
@@ -47,8 +48,10 @@ pub const DEFAULT_FRAMES_IN_FLIGHT: usize = 2;
 pub const COLD_WAIT_FACTOR: u32 = 5;
 
 /// Timestamp scopes per frame: the frame, and a method's passes, some of
-/// them once per part of a frame recorded in parts.
-const MAX_SCOPES: u32 = 12 + 3 * MAX_FRAME_PARTS;
+/// them once per part of a frame recorded in parts, and the fallback's
+/// expansion and draw once per chunk in each of occlusion culling's two
+/// phases.
+const MAX_SCOPES: u32 = 12 + 3 * MAX_FRAME_PARTS + 2 * 2 * FALLBACK_MAX_CHUNKS;
 
 /// How a renderer is set up.
 #[derive(Clone, Debug)]

@@ -277,22 +277,26 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
         C_CHECK_NODES,
         C_CHECK_FAILS,
     ];
-    // Indirect arguments: x, y, z for dispatches and mesh tasks, four words
-    // for vkCmdDrawIndirect.
-    let ranges = [
-        (C_MESH_ARGS, 3),
-        (C_EXPAND_ARGS, 3),
-        (C_DRAW_ARGS, 4),
-        (C_SORT_BLOCK_ARGS, 3),
-    ];
+    // Indirect arguments: x, y, z for dispatches and mesh tasks; the
+    // fallback's chunks (after the words the host reads) a dispatch and a
+    // vkCmdDrawIndirect each.
+    let ranges = [(C_MESH_ARGS, 3), (C_SORT_BLOCK_ARGS, 3)];
     let merges = (0..SORT_MAX_MERGES).map(|i| (C_SORT_MERGE_ARGS + 4 * i, 3));
-    let mut owner = vec![None; COUNTER_WORDS as usize];
-    let slots = scalars.iter().map(|&c| (c, 1)).chain(ranges).chain(merges);
-    for (i, (start, len)) in slots.enumerate() {
+    let chunks =
+        (0..FALLBACK_MAX_CHUNKS).map(|c| (C_CHUNK_ARGS + CHUNK_ARG_WORDS * c, CHUNK_ARG_WORDS));
+    let mut owner = vec![None; COUNTERS_BUFFER_WORDS as usize];
+    let read = scalars.iter().map(|&c| (c, 1)).chain(ranges).chain(merges);
+    for (start, len) in read.clone() {
+        assert!(
+            start + len <= COUNTER_WORDS,
+            "word {start} is not read back"
+        );
+    }
+    for (i, (start, len)) in read.chain(chunks).enumerate() {
         for word in start..start + len {
             let slot = owner
                 .get_mut(word as usize)
-                .unwrap_or_else(|| panic!("word {word} is beyond COUNTER_WORDS"));
+                .unwrap_or_else(|| panic!("word {word} is beyond COUNTERS_BUFFER_WORDS"));
             assert_eq!(*slot, None, "word {word} is used twice");
             *slot = Some(i);
         }

@@ -12,7 +12,7 @@ use ash::vk;
 use glam::DVec3;
 
 use bezier_subdiv::constants::*;
-use bezier_subdiv::draw::{choose, choose_for, DrawPath, DrawRequest};
+use bezier_subdiv::draw::{choose, choose_for, indirect_args, DrawPath, DrawRequest};
 use bezier_subdiv::gpu::DrawTarget;
 use bezier_subdiv::patch::oracle::triangle_counts;
 use bezier_subdiv::patch::view::FLAG_BACKFACE_CULL;
@@ -63,6 +63,40 @@ fn choose_follows_the_device() {
     }
     assert!("tess".parse::<DrawRequest>().is_err());
     ctx.finish();
+}
+
+/// The fallback's chunks split any list the ready list can hold into
+/// consecutive runs of at most FALLBACK_CHUNK_NODES nodes, in order, and
+/// each chunk's expansion covers exactly the nodes its draw draws.
+#[test]
+fn fallback_chunks_cover_the_list_once() {
+    let max = FALLBACK_CHUNK_NODES * FALLBACK_MAX_CHUNKS;
+    for ready in [
+        0,
+        1,
+        63,
+        FALLBACK_CHUNK_NODES,
+        FALLBACK_CHUNK_NODES + 1,
+        1_008_402,
+        max,
+    ] {
+        let mut words = vec![0u32; COUNTERS_BUFFER_WORDS as usize];
+        for (word, value) in indirect_args(ready) {
+            words[word as usize] = value;
+        }
+        let mut left = ready;
+        for c in 0..FALLBACK_MAX_CHUNKS {
+            let a = (C_CHUNK_ARGS + CHUNK_ARG_WORDS * c) as usize;
+            let nodes = left.min(FALLBACK_CHUNK_NODES);
+            left -= nodes;
+            let expand = nodes.div_ceil(EXPAND_GROUP_SIZE);
+            assert_eq!(
+                words[a..a + 8],
+                [expand, 1, 1, 0, nodes * VERTICES_PER_NODE, 1, 0, 0]
+            );
+        }
+        assert_eq!(left, 0, "{ready} nodes: the chunks hold {}", ready - left);
+    }
 }
 
 /// Positions bit for bit against the oracle on both paths, and the two

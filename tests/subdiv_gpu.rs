@@ -10,7 +10,7 @@
 mod common;
 
 use bezier_subdiv::constants::*;
-use bezier_subdiv::draw::DrawPath;
+use bezier_subdiv::draw::{indirect_args, DrawPath};
 use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::levels::{canonical_ready, LevelPlan, LEVELS};
 use bezier_subdiv::methods::subdiv::{GpuSubdivStats, Kernel};
@@ -34,6 +34,8 @@ struct Run {
     /// The ready list in the GPU's order.
     ready: Vec<QuadNode>,
     stats: GpuSubdivStats,
+    /// The whole counters buffer, the fallback's chunk arguments included.
+    counters: Vec<u32>,
     report: FrameReport,
 }
 
@@ -67,11 +69,13 @@ fn run_gpu(r: &mut Renderer, v: &View) -> Result<Run, RenderError> {
     let report = r.render(v)?;
     let ctx = r.context().clone();
     let list = r.method().ready().expect("a ready-list method").list();
-    let stats = GpuSubdivStats::from_counters(&list.read_counters(&ctx)?);
+    let counters = list.read_counters(&ctx)?;
+    let stats = GpuSubdivStats::from_counters(&counters);
     let ready = list.read_ready(&ctx, stats.ready_quads)?;
     Ok(Run {
         ready,
         stats,
+        counters,
         report,
     })
 }
@@ -108,6 +112,11 @@ fn check_against_oracle(r: &Renderer, geo: &SceneGeometry, v: &View, run: &Run) 
         (u64::from(g.triangles), u64::from(g.wedge_triangles)),
         (tris, wedges)
     );
+    // The shaders' `write_ready_args` and the host's twin agree on every
+    // indirect argument, the fallback's chunks included.
+    for (word, value) in indirect_args(g.ready_quads) {
+        assert_eq!(run.counters[word as usize], value, "counters[{word}]");
+    }
 }
 
 /// A level kernel's frame: the oracle's set, and the CPU twin's list in

@@ -72,20 +72,21 @@ fn kitchen_validates() {
 /// cars hidden) with each kernel; keyframe 3 (among the cars) with the
 /// persistent one; keyframe 0 (from far above: every one of the million
 /// patches ready, 1,008,402 nodes, whose position capture fills 96 % of
-/// lavapipe's largest storage buffer) with the level kernel. The kitchen
-/// test above covers every keyframe of a scene with instances; the fallback
-/// path is refused the herd's far views (one vertex buffer cannot hold
-/// their lists on lavapipe).
+/// lavapipe's largest storage buffer) with the level kernel, and on the
+/// fallback path, which draws those nodes in 4 chunks (it once refused the
+/// view: one vertex buffer for the whole list passed lavapipe's 128 MiB).
+/// The kitchen test above covers every keyframe of a scene with instances.
 #[test]
 fn herd_validates_with_occlusion_culling() {
     let _gpu = common::gpu();
-    for (frame, method, holes) in [
-        (0, "subdiv-indirect", false),
-        (4, "subdiv", true),
-        (4, "subdiv-indirect", false),
-        (3, "subdiv", false),
+    for (frame, method, draw, holes) in [
+        (0, "subdiv-indirect", DrawRequest::Mesh, false),
+        (0, "subdiv", DrawRequest::Fallback, false),
+        (4, "subdiv", DrawRequest::Mesh, true),
+        (4, "subdiv-indirect", DrawRequest::Mesh, false),
+        (3, "subdiv", DrawRequest::Mesh, false),
     ] {
-        let mut a = args("herd.toml", DrawRequest::Mesh);
+        let mut a = args("herd.toml", draw);
         a.frame = Some(frame);
         a.gpu.method = method.into();
         a.skip_holes = !holes;
@@ -102,6 +103,11 @@ fn herd_validates_with_occlusion_culling() {
             "{}",
             occlusion.detail
         );
+        if draw == DrawRequest::Fallback {
+            let positions = report.results.iter().find(|r| r.check == "positions");
+            let detail = &positions.expect("the positions check ran").detail;
+            assert!(detail.contains("the last of 4 chunks"), "{detail}");
+        }
     }
 }
 

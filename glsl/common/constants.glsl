@@ -453,10 +453,6 @@ const uint IN_FLIGHT_TICK = 0x1000000;
 // Indirect arguments in the counters buffer, written by the subdivision pass.
 // vkCmdDrawMeshTasksIndirectEXT: x, y, z
 const uint C_MESH_ARGS = 32;
-// vkCmdDispatchIndirect: x, y, z
-const uint C_EXPAND_ARGS = 36;
-// vkCmdDrawIndirect: vertices, instances, first vertex, first instance
-const uint C_DRAW_ARGS = 40;
 
 // Sorting the ready list (sort.comp, the queue kernel only): dispatch
 // arguments of the block pass (one workgroup per SORT_BLOCK entries)
@@ -466,8 +462,23 @@ const uint C_SORT_BLOCK_ARGS = 48;
 const uint C_SORT_MERGE_ARGS = 64;
 const uint SORT_MAX_MERGES = 15;
 
-// Size of the counters buffer in uint words.
+// The counters the host reads back after a frame (statistics, state
+// and every indirect argument but the fallback's chunks), in uint words.
 const uint COUNTER_WORDS = 128;
+
+// The fallback path draws its ready nodes in chunks of at most
+// FALLBACK_CHUNK_NODES (its vertex buffer holds one chunk, 94 MB,
+// under the 128 MiB every Vulkan device binds), at most
+// FALLBACK_MAX_CHUNKS of them. Chunk c's arguments are CHUNK_ARG_WORDS
+// words from C_CHUNK_ARGS + CHUNK_ARG_WORDS * c: vkCmdDispatchIndirect
+// of the expansion (x, y, z, unused), then vkCmdDrawIndirect (vertices,
+// instances, first vertex, first instance). The counters buffer holds
+// COUNTERS_BUFFER_WORDS words.
+const uint FALLBACK_CHUNK_NODES = 262144;
+const uint FALLBACK_MAX_CHUNKS = 64;
+const uint C_CHUNK_ARGS = 128;
+const uint CHUNK_ARG_WORDS = 8;
+const uint COUNTERS_BUFFER_WORDS = 640;
 
 // Error bits in counters[C_ERROR].
 const uint ERR_ITERATION_CAP = 1;

@@ -78,7 +78,8 @@ uint ready_first() {
 }
 
 // The indirect arguments of everything after a producer, for the ready
-// nodes first .. total: the mesh draw, the fallback's expansion and draw,
+// nodes first .. total: the mesh draw, the fallback's expansions and draws
+// chunk by chunk,
 // and the sort's block and merge passes (a merge pass not needed gets none;
 // only the queue kernel sorts, with first = 0). src/draw/ready.rs
 // `indirect_args` is the host's copy.
@@ -87,13 +88,21 @@ void write_ready_args(uint first, uint total) {
     counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
     counters[C_MESH_ARGS + 1u] = 1u;
     counters[C_MESH_ARGS + 2u] = 1u;
-    counters[C_EXPAND_ARGS] = (n + EXPAND_GROUP_SIZE - 1u) / EXPAND_GROUP_SIZE;
-    counters[C_EXPAND_ARGS + 1u] = 1u;
-    counters[C_EXPAND_ARGS + 2u] = 1u;
-    counters[C_DRAW_ARGS] = n * VERTICES_PER_NODE;
-    counters[C_DRAW_ARGS + 1u] = 1u;
-    counters[C_DRAW_ARGS + 2u] = first * VERTICES_PER_NODE;
-    counters[C_DRAW_ARGS + 3u] = 0u;
+    for (uint c = 0u; c < FALLBACK_MAX_CHUNKS; ++c) {
+        // The fallback's chunk c: nodes first + c * FALLBACK_CHUNK_NODES on,
+        // expanded into the start of the vertex buffer and drawn from there.
+        uint start = c * FALLBACK_CHUNK_NODES;
+        uint m = n > start ? min(n - start, FALLBACK_CHUNK_NODES) : 0u;
+        uint a = C_CHUNK_ARGS + CHUNK_ARG_WORDS * c;
+        counters[a] = (m + EXPAND_GROUP_SIZE - 1u) / EXPAND_GROUP_SIZE;
+        counters[a + 1u] = 1u;
+        counters[a + 2u] = 1u;
+        counters[a + 3u] = 0u;
+        counters[a + 4u] = m * VERTICES_PER_NODE;
+        counters[a + 5u] = 1u;
+        counters[a + 6u] = 0u;
+        counters[a + 7u] = 0u;
+    }
     counters[C_SORT_BLOCK_ARGS] = (n + SORT_BLOCK - 1u) / SORT_BLOCK;
     counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
     counters[C_SORT_BLOCK_ARGS + 2u] = 1u;

@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 
 use super::{eps_lambda, keyframe, thousands, GpuRequest};
-use crate::constants::{NODE_MESH_SLOTS, SHADE_NORMAL};
-use crate::draw::{DrawPath, ReadyStage};
+use crate::constants::{FALLBACK_CHUNK_NODES, NODE_MESH_SLOTS, SHADE_NORMAL};
+use crate::draw::{DrawPath, ReadyList, ReadyStage};
 use crate::frame::View;
 use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
 use crate::patch::view::{Split, FLAG_WEDGES};
@@ -167,6 +167,28 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     Ok(ValidateReport { results, table })
 }
 
+/// The position capture of a frame's first `nodes` ready nodes; an error
+/// where one storage buffer of this device cannot hold them.
+fn read_capture(
+    ctx: &crate::vk::Context,
+    list: &ReadyList,
+    nodes: usize,
+) -> anyhow::Result<Vec<[f32; 4]>> {
+    let capture: Vec<[f32; 4]> = list.capture.read(ctx)?;
+    let held = capture.len() / NODE_MESH_SLOTS as usize;
+    if held < nodes {
+        // One binding holds NODE_MESH_SLOTS vec4s per node up to the
+        // device's storage-buffer range; the shaders wrote no further.
+        anyhow::bail!(
+            "the position capture holds {} of the frame's {} ready nodes (one storage buffer \
+             of this device); validate a nearer view, a higher --eps or a smaller --size",
+            thousands(held as u64),
+            thousands(nodes as u64)
+        );
+    }
+    Ok(capture)
+}
+
 /// The oracle comparisons of one keyframe: the ready set, the drawn
 /// positions, the §4.4 test.
 fn oracle_checks(
@@ -197,26 +219,33 @@ fn oracle_checks(
     let mut out = vec![line("ready set", Some(k), ok, detail)];
 
     let wedges = params.flags & FLAG_WEDGES != 0;
-    let (compared, bad) = match stage.path() {
+    let (compared, bad, source) = match stage.path() {
         DrawPath::Mesh => {
-            let capture: Vec<[f32; 4]> = list.capture.read(&ctx)?;
-            let held = capture.len() / NODE_MESH_SLOTS as usize;
-            if held < gpu_ready.len() {
-                // One binding holds NODE_MESH_SLOTS vec4s per node up to the
-                // device's storage-buffer range; the shaders wrote no further.
-                anyhow::bail!(
-                    "the position capture holds {} of the frame's {} ready nodes (one storage \
-                     buffer of this device); validate a nearer view, a higher --eps or a \
-                     smaller --size",
-                    thousands(held as u64),
-                    thousands(gpu_ready.len() as u64)
-                );
-            }
-            compare_capture(&surfaces, &gpu_ready, &capture, wedges)
+            let capture = read_capture(&ctx, list, gpu_ready.len())?;
+            let (compared, bad) = compare_capture(&surfaces, &gpu_ready, &capture, wedges);
+            (compared, bad, positions_source(DrawPath::Mesh).to_owned())
         }
         DrawPath::Fallback => {
+            // The vertex buffer holds the list's last chunk; the expansion
+            // of every chunk wrote the capture from the same positions.
+            let chunk = FALLBACK_CHUNK_NODES as usize;
+            let last = gpu_ready.len().saturating_sub(1) / chunk * chunk;
             let words: Vec<u32> = list.vertices.read(&ctx)?;
-            compare_vertices(&surfaces, &gpu_ready, &words, wedges)
+            let (mut compared, mut bad) =
+                compare_vertices(&surfaces, &gpu_ready[last..], &words, wedges);
+            let mut source = positions_source(DrawPath::Fallback).to_owned();
+            if last > 0 {
+                let capture = read_capture(&ctx, list, last)?;
+                let (c, b) = compare_capture(&surfaces, &gpu_ready[..last], &capture, wedges);
+                (compared, bad) = (compared + c, bad + b);
+                let chunks = gpu_ready.len().div_ceil(chunk);
+                source = format!(
+                    "{source}: the last of {chunks} chunks; the {} before it: the expansion's \
+                     capture",
+                    chunks - 1
+                );
+            }
+            (compared, bad, source)
         }
     };
     out.push(line(
@@ -224,10 +253,9 @@ fn oracle_checks(
         Some(k),
         bad == 0 && compared > 0,
         format!(
-            "{} of {} vertices bit-identical to the oracle ({})",
+            "{} of {} vertices bit-identical to the oracle ({source})",
             thousands(compared - bad),
             thousands(compared),
-            positions_source(stage.path())
         ),
     ));
 

@@ -5,6 +5,13 @@
 //! in `glsl/draw.vert` (no vertex input state) and shades with
 //! `glsl/draw_vert.frag`.
 //!
+//! The list is drawn in chunks of `FALLBACK_CHUNK_NODES` (an expansion, then
+//! its draw, per chunk): the vertex buffer holds one chunk, 94 MB, so any
+//! list the device can bind is drawn, where one buffer for the whole list
+//! (360 bytes a node) would pass the 128 MiB a binding may hold at 372,827
+//! nodes. The producer writes every chunk's arguments (`write_ready_args`);
+//! the chunks past the list's end dispatch and draw nothing.
+//!
 //! Fixed slots cost up to a third more vertices than a compacted buffer
 //! would, but need no prefix sum and keep the output order equal to the
 //! ready-list order, which the oracle comparison relies on.
@@ -12,13 +19,19 @@
 use ash::vk;
 
 use super::ReadyStage;
-use crate::constants::{C_DRAW_ARGS, C_EXPAND_ARGS};
+use crate::constants::{CHUNK_ARG_WORDS, C_CHUNK_ARGS};
 use crate::frame::FrameRec;
 use crate::gpu::{DrawPush, Shaders};
 use crate::vk::{buffer_barrier, Access, Context, Pipeline, PipelineLayout, VkResult};
 
 /// Bytes of one `VkDrawIndirectCommand`.
 const DRAW_ARGS_STRIDE: u32 = 16;
+
+/// Byte offset in the counters of chunk `pc.chunk`'s expansion arguments
+/// (its draw arguments follow 16 bytes later).
+fn chunk_args(pc: &DrawPush) -> u64 {
+    u64::from(C_CHUNK_ARGS + CHUNK_ARG_WORDS * pc.chunk) * 4
+}
 
 /// The expansion compute pipeline and the vertex-pulling graphics pipeline.
 pub(super) struct FallbackDraw {
@@ -46,8 +59,9 @@ impl FallbackDraw {
         Ok(Self { expand, draw })
     }
 
-    /// Records the indirect expansion dispatch (outside rendering) and the
-    /// barrier from its vertex writes to the vertex shader's reads.
+    /// Records the indirect expansion dispatch of chunk `pc.chunk` (outside
+    /// rendering) and the barrier from its vertex writes to the vertex
+    /// shader's reads.
     pub(super) fn record_expand(
         &self,
         f: &FrameRec<'_>,
@@ -58,11 +72,9 @@ impl FallbackDraw {
         stage.bind_draw(f, vk::PipelineBindPoint::COMPUTE, pc)?;
         let list = stage.list();
         unsafe {
-            f.ctx.device().cmd_dispatch_indirect(
-                f.cmd,
-                list.counters.handle(),
-                u64::from(C_EXPAND_ARGS) * 4,
-            )
+            f.ctx
+                .device()
+                .cmd_dispatch_indirect(f.cmd, list.counters.handle(), chunk_args(pc))
         };
         buffer_barrier(
             f.ctx,
@@ -77,7 +89,7 @@ impl FallbackDraw {
         Ok(())
     }
 
-    /// Records the indirect draw (inside rendering).
+    /// Records the indirect draw of chunk `pc.chunk` (inside rendering).
     pub(super) fn record_draw(
         &self,
         f: &FrameRec<'_>,
@@ -90,11 +102,27 @@ impl FallbackDraw {
             f.ctx.device().cmd_draw_indirect(
                 f.cmd,
                 stage.list().counters.handle(),
-                u64::from(C_DRAW_ARGS) * 4,
+                chunk_args(pc) + 16,
                 1,
                 DRAW_ARGS_STRIDE,
             )
         };
         Ok(())
+    }
+
+    /// Records, after chunk `pc.chunk`'s draw, that the next chunk's
+    /// expansion overwrites the vertices only once the vertex shader has
+    /// read them.
+    pub(super) fn record_next_chunk(&self, f: &FrameRec<'_>, stage: &ReadyStage) {
+        buffer_barrier(
+            f.ctx,
+            f.cmd,
+            &stage.list().vertices,
+            Access::new(
+                vk::PipelineStageFlags2::VERTEX_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+            Access::COMPUTE_WRITE,
+        );
     }
 }

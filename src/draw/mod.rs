@@ -12,8 +12,9 @@
 //! - [`DrawPath::Mesh`]: task + mesh shaders ([`mesh`]), one indirect
 //!   `vkCmdDrawMeshTasksIndirectEXT` from `counters[C_MESH_ARGS]`;
 //! - [`DrawPath::Fallback`], for devices without VK_EXT_mesh_shader
-//!   ([`fallback`]): a compute pass writes 18 vertices per node, then one
-//!   `vkCmdDrawIndirect` pulls them in a pass-through vertex shader.
+//!   ([`fallback`]): a compute pass writes 18 vertices per node, then a
+//!   `vkCmdDrawIndirect` pulls them in a pass-through vertex shader, both
+//!   once per chunk of the list.
 //!
 //! Barrier contract: [`ReadyStage::record_draw`] starts with a global
 //! barrier from compute-shader storage writes (the producer's ready list and
@@ -34,8 +35,8 @@ use std::str::FromStr;
 use ash::vk;
 
 use crate::constants::{
-    COUNTER_WORDS, C_ERROR, C_READY_COUNT, ERR_READY_FULL, EXPAND_GROUP_SIZE, MESH_NODES,
-    TASK_MESH_GROUPS,
+    COUNTERS_BUFFER_WORDS, C_ERROR, C_READY_COUNT, ERR_READY_FULL, EXPAND_GROUP_SIZE,
+    FALLBACK_CHUNK_NODES, MESH_NODES, TASK_MESH_GROUPS,
 };
 use crate::frame::{FrameRec, Retired};
 use crate::gpu::{DrawPush, ListPush, SceneLayout, Shaders};
@@ -307,7 +308,7 @@ impl ReadyStage {
                 retired,
             )?;
         }
-        let mut counters = vec![0u32; COUNTER_WORDS as usize];
+        let mut counters = vec![0u32; COUNTERS_BUFFER_WORDS as usize];
         for (word, value) in indirect_args(n) {
             counters[word as usize] = value;
         }
@@ -347,7 +348,8 @@ impl ReadyStage {
     /// from the producer (module docs), the sort (scope "sort") when asked,
     /// for the fallback the expansion (scope "expand"), then rendering with
     /// clears and the indirect draw (scope "draw"), leaving the colour image
-    /// in `DrawTarget::FINAL_LAYOUT`.
+    /// in `DrawTarget::FINAL_LAYOUT`. The fallback does the last two once
+    /// per chunk of the list (`fallback` module docs).
     pub fn record_draw(&self, f: &mut FrameRec<'_>, sort: bool) -> VkResult<()> {
         self.record_draw_part(f, sort, true, true)
     }
@@ -375,15 +377,37 @@ impl ReadyStage {
         if sort {
             f.scoped("sort", |f| self.sort.record(f, self))?;
         }
-        if let PathPipelines::Fallback(fb) = &self.path {
-            f.scoped("expand", |f| fb.record_expand(f, self, &pc))?;
+        match &self.path {
+            PathPipelines::Mesh(m) => {
+                Self::record_rendering(f, first, last, |f| m.record_draw(f, self, &pc))
+            }
+            PathPipelines::Fallback(fb) => {
+                let chunks = self.list.caps.chunks();
+                for chunk in 0..chunks {
+                    let pc = DrawPush { chunk, ..pc };
+                    if chunk > 0 {
+                        fb.record_next_chunk(f, self);
+                    }
+                    f.scoped("expand", |f| fb.record_expand(f, self, &pc))?;
+                    let (first, last) = (first && chunk == 0, last && chunk + 1 == chunks);
+                    Self::record_rendering(f, first, last, |f| fb.record_draw(f, self, &pc))?;
+                }
+                Ok(())
+            }
         }
+    }
+
+    /// Records `draw` inside rendering into the frame's target (scope
+    /// "draw"), as part `first`/`last` of the frame's draws.
+    fn record_rendering(
+        f: &mut FrameRec<'_>,
+        first: bool,
+        last: bool,
+        draw: impl FnOnce(&FrameRec<'_>) -> VkResult<()>,
+    ) -> VkResult<()> {
         f.scoped("draw", |f| {
             f.target.begin_part(f.ctx, f.cmd, first, last);
-            let drawn = match &self.path {
-                PathPipelines::Mesh(m) => m.record_draw(f, self, &pc),
-                PathPipelines::Fallback(fb) => fb.record_draw(f, self, &pc),
-            };
+            let drawn = draw(f);
             // Rendering is closed even on error so the command buffer stays
             // well formed until it is discarded.
             f.target.end(f.ctx, f.cmd);
@@ -409,7 +433,9 @@ impl ReadyStage {
                 "task",
             ),
             PathPipelines::Fallback(_) => (
-                caps.ready.div_ceil(EXPAND_GROUP_SIZE),
+                caps.ready
+                    .min(FALLBACK_CHUNK_NODES)
+                    .div_ceil(EXPAND_GROUP_SIZE),
                 ctx.info().limits.max_compute_work_group_count[0],
                 "expansion",
             ),

@@ -19,7 +19,7 @@ pub struct ReadyCaps {
     /// `SORT_BLOCK`, which the sort needs).
     pub ready: u32,
     /// Allocate the fallback path's vertex buffer (`VERTICES_PER_NODE`
-    /// vertices per ready entry).
+    /// vertices per ready entry of one chunk, `FALLBACK_CHUNK_NODES`).
     pub vertices: bool,
     /// Allocate the capture of world positions (`NODE_MESH_SLOTS` per ready
     /// entry).
@@ -38,9 +38,15 @@ impl ReadyCaps {
         }
     }
 
+    /// Chunks the fallback path records to draw a full list.
+    pub fn chunks(&self) -> u32 {
+        self.ready.div_ceil(FALLBACK_CHUNK_NODES)
+    }
+
     fn vertex_bytes(&self) -> u64 {
         if self.vertices {
-            u64::from(self.ready) * u64::from(VERTICES_PER_NODE * VERTEX_WORDS * 4)
+            u64::from(self.ready.min(FALLBACK_CHUNK_NODES))
+                * u64::from(VERTICES_PER_NODE * VERTEX_WORDS * 4)
         } else {
             16
         }
@@ -66,8 +72,17 @@ impl ReadyCaps {
         }
     }
 
-    /// Refuses sizes beyond one storage-buffer binding of this device.
+    /// Refuses sizes beyond one storage-buffer binding of this device, or
+    /// beyond the fallback's chunks.
     fn check(&self, ctx: &Context) -> VkResult<()> {
+        if self.vertices && self.chunks() > FALLBACK_MAX_CHUNKS {
+            return Err(VkError::Usage(format!(
+                "a ready list of {} nodes needs {} chunks of the fallback draw path; it \
+                 records at most {FALLBACK_MAX_CHUNKS} (raise ε or lower the resolution)",
+                self.ready,
+                self.chunks()
+            )));
+        }
         let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
         for (what, bytes) in [
             ("ready list", u64::from(self.ready) * 8),
@@ -101,9 +116,10 @@ pub fn ready_set_layout(ctx: &Context) -> VkResult<SetLayout> {
 pub struct ReadyList {
     /// Ready QuadNodes.
     pub ready: Buffer,
-    /// `COUNTER_WORDS` counters, including the indirect arguments.
+    /// `COUNTERS_BUFFER_WORDS` counters, including the indirect arguments
+    /// (the host reads the first `COUNTER_WORDS`).
     pub counters: Buffer,
-    /// Fallback vertices (or a 16-byte placeholder).
+    /// Fallback vertices of one chunk (or a 16-byte placeholder).
     pub vertices: Buffer,
     /// Capture of world positions (or a 16-byte placeholder).
     pub capture: Buffer,
@@ -127,7 +143,7 @@ impl ReadyList {
         let counters = Buffer::new(
             ctx,
             "counters",
-            u64::from(COUNTER_WORDS) * 4,
+            u64::from(COUNTERS_BUFFER_WORDS) * 4,
             storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
             gpu,
         )?;
@@ -211,13 +227,6 @@ pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
         (C_MESH_ARGS, ready.div_ceil(per_task)),
         (C_MESH_ARGS + 1, 1),
         (C_MESH_ARGS + 2, 1),
-        (C_EXPAND_ARGS, ready.div_ceil(EXPAND_GROUP_SIZE)),
-        (C_EXPAND_ARGS + 1, 1),
-        (C_EXPAND_ARGS + 2, 1),
-        (C_DRAW_ARGS, ready * VERTICES_PER_NODE),
-        (C_DRAW_ARGS + 1, 1),
-        (C_DRAW_ARGS + 2, 0),
-        (C_DRAW_ARGS + 3, 0),
         (C_SORT_BLOCK_ARGS, ready.div_ceil(SORT_BLOCK)),
         (C_SORT_BLOCK_ARGS + 1, 1),
         (C_SORT_BLOCK_ARGS + 2, 1),
@@ -230,6 +239,15 @@ pub fn indirect_args(ready: u32) -> Vec<(u32, u32)> {
             0
         };
         args.extend([(a, groups), (a + 1, 1), (a + 2, 1)]);
+    }
+    for c in 0..FALLBACK_MAX_CHUNKS {
+        let nodes = ready
+            .saturating_sub(c * FALLBACK_CHUNK_NODES)
+            .min(FALLBACK_CHUNK_NODES);
+        let a = C_CHUNK_ARGS + CHUNK_ARG_WORDS * c;
+        let expand = [nodes.div_ceil(EXPAND_GROUP_SIZE), 1, 1, 0];
+        let draw = [nodes * VERTICES_PER_NODE, 1, 0, 0];
+        args.extend((a..).zip(expand.into_iter().chain(draw)));
     }
     args
 }

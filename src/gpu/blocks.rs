@@ -70,11 +70,22 @@ pub struct DrawPush {
     pub capture_enabled: u32,
     /// Grid cells per patch side (grid draws; 0 otherwise).
     pub grid: u32,
+    /// The fallback path: which chunk of `FALLBACK_CHUNK_NODES` ready
+    /// entries (from the draw's first) is expanded and drawn (0 otherwise).
+    pub chunk: u32,
 }
 gpu_block!(
     DrawPush,
     "DrawPush",
-    [view_proj, light_dir, shade, capacity, capture_enabled, grid]
+    [
+        view_proj,
+        light_dir,
+        shade,
+        capacity,
+        capture_enabled,
+        grid,
+        chunk
+    ]
 );
 
 /// Push constants of the animation update pass (`AnimPush` in
