@@ -86,14 +86,23 @@ pub struct FrameReport {
 }
 
 impl FrameReport {
-    /// Triangles drawn: the query's count, else the method's own.
+    /// Triangles drawn: the query's count less the placeholders the method
+    /// drew (which cover nothing), else the method's own count.
     pub fn triangles(&self) -> u64 {
-        self.primitives.map_or(self.stats.triangles, |(_, n)| n)
+        self.primitives.map_or(self.stats.triangles, |(_, n)| {
+            n.saturating_sub(self.stats.placeholder_triangles)
+        })
     }
 
     /// Where [`FrameReport::triangles`] comes from, in words.
-    pub fn triangles_source(&self) -> &'static str {
-        self.primitives.map_or("method", |(q, _)| q.name())
+    pub fn triangles_source(&self) -> String {
+        match self.primitives {
+            None => "method".into(),
+            Some((q, _)) if self.stats.placeholder_triangles > 0 => {
+                format!("{}, less the fallback's placeholder slots", q.name())
+            }
+            Some((q, _)) => q.name().into(),
+        }
     }
 
     /// GPU milliseconds of scope `name`, if it was timed.

@@ -465,11 +465,16 @@ pub(crate) fn stats_json(
         .iter()
         .map(|(k, v)| (k.to_string(), v.clone()))
         .collect();
-    // The method's own count beside the query's, where it keeps one: the
-    // two differ by what the method hands the rasterizer beyond its
-    // triangles (the fallback path's degenerate wedge slots).
-    if report.primitives.is_some() && report.stats.triangles > 0 {
-        own.insert("method_triangles".into(), json!(report.stats.triangles));
+    // The method's own count beside the query's, where it keeps one, and
+    // the query's own figure where the method drew placeholders (the
+    // fallback path's degenerate wedge slots), which `triangles` leaves out.
+    if let Some((_, primitives)) = report.primitives {
+        if report.stats.triangles > 0 {
+            own.insert("method_triangles".into(), json!(report.stats.triangles));
+        }
+        if report.stats.placeholder_triangles > 0 {
+            own.insert("query_primitives".into(), json!(primitives));
+        }
     }
     json!({
         "scene": args.gpu.scene.display().to_string(),

@@ -500,6 +500,7 @@ mod tests {
             draw_path: "mesh",
             stats: MethodStats {
                 triangles: tris,
+                placeholder_triangles: 0,
                 culled_patches: 7,
                 own: vec![
                     ("wedge_triangles", json!(wedges)),

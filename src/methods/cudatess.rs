@@ -730,6 +730,7 @@ impl Method for CudaTess {
         let backface = u64::from(at(CT_BACKFACE));
         Ok(Finished::Done(MethodStats {
             triangles: u64::from(ni / 3),
+            placeholder_triangles: 0,
             culled_patches: culled,
             own: vec![
                 (

@@ -472,6 +472,7 @@ impl Method for GroundTruth {
         let per_patch = 2 * u64::from(self.grid) * u64::from(self.grid);
         Ok(Finished::Done(MethodStats {
             triangles: visible * per_patch + self.pn.triangles(),
+            placeholder_triangles: 0,
             culled_patches: culled,
             own: vec![
                 ("grid", json!(self.grid)),

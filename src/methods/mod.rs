@@ -162,6 +162,10 @@ pub struct MethodSetup<'a> {
 pub struct MethodStats {
     /// Triangles drawn (a wedge is a triangle).
     pub triangles: u64,
+    /// Triangles the draw emits that cover nothing but a primitive query
+    /// still counts: the fallback path's degenerate slots for missing
+    /// wedges (0 elsewhere).
+    pub placeholder_triangles: u64,
     /// Patches or sub-patches dropped by frustum culling.
     pub culled_patches: u64,
     /// The method's own figures, in a stable order (`method_stats` in the

@@ -31,7 +31,7 @@ use super::subdiv_indirect::{base_rounds, finish_rounds};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
-use crate::draw::{ReadyCaps, ReadyStage};
+use crate::draw::{DrawPath, ReadyCaps, ReadyStage};
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::SubdivPush;
 use crate::vk::{
@@ -478,7 +478,7 @@ impl Subdiv {
                 ),
             });
         }
-        let mut m = stats.method_stats(self.stage.list().caps.ready);
+        let mut m = stats.method_stats(&self.stage);
         m.own.retain(|(k, _)| {
             !k.starts_with("queue") && !["iterations_max", "idle_polls"].contains(k)
         });
@@ -513,7 +513,7 @@ impl Subdiv {
                 message,
             });
         }
-        let mut m = stats.method_stats(self.stage.list().caps.ready);
+        let mut m = stats.method_stats(&self.stage);
         m.own.push(("queue_capacity_items", json!(capacity)));
         m.own.push(("workgroups", json!(self.groups)));
         m.own.push(("dispatches", json!(1)));
@@ -733,10 +733,20 @@ impl GpuSubdivStats {
         }
     }
 
-    /// The common keys plus the method's own section.
-    pub fn method_stats(&self, ready_capacity: u32) -> MethodStats {
+    /// The common keys plus the method's own section, for a frame drawn
+    /// from `stage`'s list.
+    pub fn method_stats(&self, stage: &ReadyStage) -> MethodStats {
+        let ready_capacity = stage.list().caps.ready;
+        // The fallback draws every node's NODE_MESH_TRIS slots, a missing
+        // wedge as a degenerate triangle.
+        let placeholder_triangles = match stage.path() {
+            DrawPath::Mesh => 0,
+            DrawPath::Fallback => (u64::from(NODE_MESH_TRIS) * u64::from(self.ready_quads))
+                .saturating_sub(u64::from(self.triangles)),
+        };
         MethodStats {
             triangles: u64::from(self.triangles),
+            placeholder_triangles,
             culled_patches: u64::from(self.culled_patches),
             own: vec![
                 ("ready_quads", json!(self.ready_quads)),

@@ -147,7 +147,7 @@ pub(crate) fn finish_rounds(
         *rounds = (*rounds * 2).min(MAX_ROUNDS);
         return Ok(Finished::Redo { reason });
     }
-    let mut m = stats.method_stats(stage.list().caps.ready);
+    let mut m = stats.method_stats(stage);
     // The queue kernel's figures mean nothing here.
     m.own
         .retain(|(k, _)| !k.starts_with("queue") && !["iterations_max", "idle_polls"].contains(k));

@@ -373,6 +373,7 @@ impl Method for Tess {
         Ok(Finished::Done(MethodStats {
             // Counted by the renderer's primitive query.
             triangles: 0,
+            placeholder_triangles: 0,
             culled_patches: at(T_CULLED),
             own: vec![
                 ("tessellated_patches", json!(at(T_TESSELLATED))),
