@@ -526,8 +526,6 @@ impl Renderer {
         let data = &mut self.slots[slot];
         data.timer.reset(cmd);
         data.primitives.reset(cmd);
-        let mesh = self.methods[self.active].uses_mesh_shaders();
-        data.primitives.begin(cmd, mesh)?;
         // The whole frame is one scope, across its parts: timestamps,
         // unlike queries, may begin and end in different command buffers.
         data.timer.begin(cmd, "frame")?;
@@ -538,6 +536,10 @@ impl Renderer {
             gpu.record(&self.ctx, cmd, slot, &frame)?;
             data.timer.end(cmd, "update")?;
         }
+        // Begun after the update pass (which draws nothing), so an update
+        // that fails leaves no query open in the abandoned command buffer.
+        let mesh = self.methods[self.active].uses_mesh_shaders();
+        data.primitives.begin(cmd, mesh)?;
         // The command buffer of the last part the method recorded, and
         // whether it recorded the frame.
         let (recorded, last) = {

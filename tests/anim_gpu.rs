@@ -319,3 +319,75 @@ fn moved_instances_are_not_culled_by_their_box_at_rest() {
     );
     gpu.finish();
 }
+
+/// A keyed instance's record carries its model's box placed by the frame's
+/// transform, so an instance that moved out of view is culled whole, as a
+/// static one is (keyed records were once all unbounded, culled only patch
+/// by patch). The box holds every placed control point at every time,
+/// under rotation and non-uniform scale; the oracle's roots follow it.
+#[test]
+fn keyed_instances_that_moved_out_of_view_are_culled_whole() {
+    let gpu = common::gpu();
+    let dir = common::output_dir("anim-keyed-box");
+    let cube = scene_path("models/catmark_cube.obj");
+    let toml = format!(
+        "[animation]\nduration = 2.0\n\
+         [camera]\nposition = [0.0, -30.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 30.0\n\
+         [[model]]\nname = \"stays\"\nfile = {cube:?}\n[[model.instance]]\n\
+         [[model.instance.key]]\ntime = 0.0\n\
+         [[model.instance.key]]\ntime = 1.0\nrotate_deg = [0.0, 0.0, 90.0]\n\
+         [[model]]\nname = \"leaves\"\nfile = {cube:?}\n[[model.instance]]\n\
+         [[model.instance.key]]\ntime = 0.0\ntranslate = [2.0, 0.0, 0.0]\n\
+         [[model.instance.key]]\ntime = 1.0\ntranslate = [60.0, 0.0, 3.0]\n\
+         rotate_deg = [30.0, 45.0, 170.0]\nscale = [3.0, 0.5, 1.5]\n"
+    );
+    let path = dir.join("keyed.toml");
+    std::fs::write(&path, toml).unwrap();
+    let scene = Scene::load(&path).unwrap();
+    let loaded = scene.load_animated().unwrap();
+    for t in [0.0, 0.3, 0.5, 0.8, 1.0] {
+        let (geo, _) = loaded.at(t);
+        let table = &geo.instances;
+        for (i, record) in table.instances.iter().enumerate() {
+            let (lo, hi) = record.bounds();
+            assert!(hi.x - lo.x < 1e6, "instance {i} at {t} is unbounded");
+            let model = &table.patches[record.source as usize..][..record.count as usize];
+            for p in model.iter().flat_map(|p| p.pts) {
+                let q = record.point(p);
+                assert!(
+                    q.cmpge(lo).all() && q.cmple(hi).all(),
+                    "instance {i} at {t}: {q} outside {lo}..{hi}"
+                );
+            }
+        }
+    }
+    let v = view(&scene);
+    let mut r = Renderer::new(
+        gpu.arc(),
+        &loaded.geometry,
+        &loaded.shading,
+        "subdiv",
+        options(DrawPath::Mesh),
+    )
+    .unwrap();
+    r.set_animation(loaded.animation.clone()).unwrap();
+    let vp = r.effective_params(&v);
+    for (t, culled) in [(0.0, 0), (1.0, 1)] {
+        r.set_time(t);
+        let report = r.render(&v).unwrap();
+        let (geo, _) = loaded.at(t);
+        let roots = levels::root_patches(&geo.instances.instances, &vp);
+        let per_cube = geo.patches.len() / 2;
+        assert_eq!(
+            roots.len(),
+            per_cube * (2 - culled as usize),
+            "oracle roots at {t}"
+        );
+        assert_eq!(
+            report.stats.get_u64("instances_culled"),
+            Some(culled),
+            "at {t}"
+        );
+    }
+    gpu.finish();
+}

@@ -30,7 +30,7 @@ pub mod sequence;
 
 use std::sync::Arc;
 
-use glam::{DMat4, Vec3};
+use glam::{DMat4, DVec3, Vec3};
 
 use crate::patch::bezier::BezierPatch;
 use crate::scene::file::{Scene, SceneGeometry, SceneShading};
@@ -69,6 +69,10 @@ pub struct KeyedInstance {
     pub base: Instance,
     /// Its keys.
     pub keys: keys::InstanceKeys,
+    /// The model-space box of its patches' control points, each frame's
+    /// record gets it placed (`Instance::placed_box`); `None` where the
+    /// model's cage moves too, so the record holds everything.
+    pub model_box: Option<(DVec3, DVec3)>,
 }
 
 /// What moves in a scene, and how.
@@ -139,10 +143,14 @@ impl Animation {
                 if let Some(keys) = keys {
                     end = end.max(keys.end());
                     let base = table[first_instance + k];
+                    let model =
+                        &geo.instances.patches[base.source as usize..][..base.count as usize];
                     keyed.push(KeyedInstance {
                         index: first_instance + k,
                         base,
                         keys: keys.clone(),
+                        model_box: (!m.anim.deforms() && !model.is_empty())
+                            .then(|| control_box(model)),
                     });
                 }
             }
@@ -201,8 +209,9 @@ impl Animation {
     /// instance whole by it (the level kernels' roots, `levels::root_patches`
     /// for the oracle) would drop a frame's patches that moved out of it.
     /// The update pass writes no box: a deforming model's instances keep
-    /// this one, a keyed instance's record is the CPU's (`frame`), also
-    /// unbounded. Such instances are culled patch by patch only.
+    /// this one and are culled patch by patch only; a keyed instance's
+    /// record is the CPU's (`frame`), with its model's box placed by the
+    /// frame's transform where the model's cage does not move.
     pub fn unbound(&self, geo: &mut SceneGeometry) {
         let deforming: Vec<u32> = self.models.iter().map(|m| m.source).collect();
         let table = &mut geo.instances.instances;
@@ -253,8 +262,13 @@ impl Animation {
             .iter()
             .map(|k| {
                 let b = &k.base;
-                // Unbounded: see `unbound`.
-                Instance::new(&k.keys.at(time), b.first, b.source, b.count, b.flags).unbounded()
+                let m = k.keys.at(time);
+                let record = Instance::new(&m, b.first, b.source, b.count, b.flags);
+                match k.model_box {
+                    Some((lo, hi)) => record.placed_box(&m, lo, hi),
+                    // A deforming model's: see `unbound`.
+                    None => record.unbounded(),
+                }
             })
             .collect();
         Frame {
@@ -434,4 +448,15 @@ impl Scene {
             animation,
         })
     }
+}
+
+/// The box of `patches`' control points, in f64.
+fn control_box(patches: &[BezierPatch]) -> (DVec3, DVec3) {
+    let mut lo = DVec3::splat(f64::MAX);
+    let mut hi = DVec3::splat(-f64::MAX);
+    for q in patches.iter().flat_map(|p| p.pts) {
+        lo = lo.min(q.as_dvec3());
+        hi = hi.max(q.as_dvec3());
+    }
+    (lo, hi)
 }

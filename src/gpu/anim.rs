@@ -284,7 +284,7 @@ impl AnimGpu {
         for s in 0..slots.max(1) {
             let deformers = host(
                 format!("animation deformers (slot {s})"),
-                l.deformer_count * std::mem::size_of::<GpuDeformer>(),
+                l.deformer_count.max(1) * std::mem::size_of::<GpuDeformer>(),
             )?;
             let records = host(
                 format!("animation instance records (slot {s})"),

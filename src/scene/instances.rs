@@ -20,7 +20,7 @@
 use std::borrow::Cow;
 
 use bytemuck::{Pod, Zeroable};
-use glam::{DMat4, Vec3};
+use glam::{DMat4, DVec3, Vec3};
 
 use crate::constants::{INSTANCE_IDENTITY, INSTANCE_MIRRORED, INSTANCE_WORDS, PATCH_RATIONAL};
 use crate::patch::bezier::BezierPatch;
@@ -125,6 +125,41 @@ impl Instance {
         let (lo, hi) = (lo - pad(lo), hi + pad(hi));
         self.lo = [lo.x, lo.y, lo.z, 0.0];
         self.hi = [hi.x, hi.y, hi.z, 0.0];
+        self
+    }
+
+    /// The instance with the box of the model-space box `lo..hi` (its
+    /// patches' control points) placed by `m`, the transform this record
+    /// was made from: the box of the 8 placed corners, which holds every
+    /// placed point in exact arithmetic (an affine map keeps a point of the
+    /// box inside the hull of the corners' images), enlarged by a relative
+    /// 1e-5 of the largest magnitude the placement sums (`|m| |p| + |t|` per
+    /// axis), far more than the few f32 roundings of the record's rows and
+    /// of `point` move a point. For an instance whose transform changes
+    /// every frame (`anim::Animation::frame`) without walking its patches.
+    pub fn placed_box(mut self, m: &DMat4, lo: DVec3, hi: DVec3) -> Self {
+        let mut wlo = DVec3::splat(f64::MAX);
+        let mut whi = DVec3::splat(-f64::MAX);
+        for c in 0..8 {
+            let pick = |bit: usize, a: f64, b: f64| if c & bit != 0 { b } else { a };
+            let corner = DVec3::new(
+                pick(1, lo.x, hi.x),
+                pick(2, lo.y, hi.y),
+                pick(4, lo.z, hi.z),
+            );
+            let q = m.transform_point3(corner);
+            wlo = wlo.min(q);
+            whi = whi.max(q);
+        }
+        let reach = lo.abs().max(hi.abs());
+        let mut pad = DVec3::ZERO;
+        for i in 0..3 {
+            let row = DVec3::new(m.col(0)[i], m.col(1)[i], m.col(2)[i]);
+            pad[i] = (row.abs().dot(reach) + m.col(3)[i].abs()) * 1e-5 + 1e-30;
+        }
+        let (wlo, whi) = ((wlo - pad).as_vec3(), (whi + pad).as_vec3());
+        self.lo = [wlo.x, wlo.y, wlo.z, 0.0];
+        self.hi = [whi.x, whi.y, whi.z, 0.0];
         self
     }
 
