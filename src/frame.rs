@@ -55,6 +55,7 @@ impl View {
             capture_enabled: capture as u32,
             grid,
             chunk: 0,
+            pad: [0; 3],
         }
     }
 }

@@ -14,6 +14,7 @@ layout(push_constant) uniform DrawPush {
     uint capture_enabled;   // write world positions to `capture`
     uint grid;              // grid draws: cells per patch side
     uint chunk;             // fallback: the chunk of the list being expanded and drawn
+    uint pad[3];
 } pc;
 
 // World -> clip with the sums written out in a fixed order: the mesh shader

@@ -73,6 +73,8 @@ pub struct DrawPush {
     /// The fallback path: which chunk of `FALLBACK_CHUNK_NODES` ready
     /// entries (from the draw's first) is expanded and drawn (0 otherwise).
     pub chunk: u32,
+    /// Unused (the block is a whole number of 16-byte rows).
+    pub pad: [u32; 3],
 }
 gpu_block!(
     DrawPush,
@@ -84,7 +86,8 @@ gpu_block!(
         capacity,
         capture_enabled,
         grid,
-        chunk
+        chunk,
+        pad
     ]
 );
 
