@@ -12,7 +12,7 @@ use bezier_subdiv::commands::render::{RenderArgs, Shade};
 use bezier_subdiv::commands::validate::ValidateArgs;
 use bezier_subdiv::commands::{self, parse_size, resolve_scene, stats::StatsArgs, GpuRequest};
 use bezier_subdiv::draw::DrawRequest;
-use bezier_subdiv::raster::PreviewShade;
+use bezier_subdiv::validate::raster::PreviewShade;
 use bezier_subdiv::vk::DeviceSelector;
 
 /// View-adaptive, crack-free recursive subdivision of bicubic Bézier surfaces

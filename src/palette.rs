@@ -4,7 +4,7 @@
 //!
 //! The tint of each model, the same in every image: the GPU's lit shading
 //! (`model_tint` in `glsl/common/shade.glsl`, its twin) and the CPU preview
-//! (`raster`). Colours are display values (what the UNORM target holds).
+//! (`validate::raster`). Colours are display values (what the UNORM target holds).
 //!
 //! The first eight are hand-picked; from the ninth on, hues step by the
 //! golden ratio (so no hue comes back exactly, and consecutive models lie

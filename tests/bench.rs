@@ -189,7 +189,7 @@ fn a_short_bench_writes_every_report() {
     }
     // Table 2's cells are the summary's medians.
     let t0 = configs[0]["triangles"].as_f64().unwrap() as u64;
-    assert!(md.contains(&bezier_subdiv::commands::thousands(t0)), "{md}");
+    assert!(md.contains(&bezier_subdiv::figures::thousands(t0)), "{md}");
     let _ = std::fs::remove_dir_all(&out);
     gpu.finish();
 }

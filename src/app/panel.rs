@@ -457,19 +457,19 @@ fn stats_ui(ui: &mut egui::Ui, stats: &LiveStats) {
         "{} ({} path): {} triangles",
         r.method,
         r.draw_path,
-        crate::commands::thousands(r.triangles())
+        crate::figures::thousands(r.triangles())
     ));
     if let Some(w) = s.get_u64("wedge_triangles") {
         ui.label(format!(
             "wedges {:.1} %, ready quads {}",
             100.0 * w as f64 / s.triangles.max(1) as f64,
-            crate::commands::thousands(s.get_u64("ready_quads").unwrap_or(0))
+            crate::figures::thousands(s.get_u64("ready_quads").unwrap_or(0))
         ));
     }
     if let Some(peak) = s.get_u64("queue_peak_items") {
         ui.label(format!(
             "queue peak {}, spills {}",
-            crate::commands::thousands(peak),
+            crate::figures::thousands(peak),
             s.get_u64("queue_spills").unwrap_or(0)
         ));
     }

@@ -6,10 +6,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context as _};
 use serde_json::{json, Map, Value};
 
-use super::{eps_lambda, keyframe, thousands, GpuRequest};
+use super::{eps_lambda, keyframe, GpuRequest};
 use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_NORMALS, SHADE_WEDGES, SHADE_WIREFRAME};
 use crate::eval::flip::{flip, FlipResult};
 use crate::eval::ground_truth_image;
+use crate::figures::{thousands, Timing};
 use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
@@ -81,60 +82,6 @@ pub struct RenderArgs {
     /// Also compare with `ground-truth` of the same view: the mean FLIP
     /// goes into the stats, the heat map beside the image.
     pub flip: bool,
-}
-
-/// GPU time per scope over repeated frames: median, min, max (ms), in the
-/// order the scopes were first seen.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Timing {
-    /// (scope, median, min, max).
-    pub scopes: Vec<(String, f64, f64, f64)>,
-    /// Frames timed.
-    pub frames: usize,
-}
-
-impl Timing {
-    /// Summarises the per-frame scope times of `frames`.
-    pub fn of(frames: &[Vec<(String, f64)>]) -> Self {
-        let mut names: Vec<String> = Vec::new();
-        for f in frames {
-            for (n, _) in f {
-                if !names.contains(n) {
-                    names.push(n.clone());
-                }
-            }
-        }
-        let scopes = names
-            .into_iter()
-            .map(|n| {
-                let mut v: Vec<f64> = frames
-                    .iter()
-                    .filter_map(|f| f.iter().find(|(m, _)| *m == n).map(|(_, ms)| *ms))
-                    .collect();
-                v.sort_by(f64::total_cmp);
-                let (lo, hi) = (v[0], v[v.len() - 1]);
-                (n, median(&v), lo, hi)
-            })
-            .collect();
-        Timing {
-            scopes,
-            frames: frames.len(),
-        }
-    }
-}
-
-/// The median of sorted values (the mean of the middle two for an even
-/// count).
-pub fn median(sorted: &[f64]) -> f64 {
-    let n = sorted.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    if n % 2 == 1 {
-        sorted[n / 2]
-    } else {
-        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
-    }
 }
 
 /// The JSON stats path for an image path: same name, `.json`.
@@ -519,24 +466,4 @@ pub(crate) fn stats_json(
             "patches": a.patches(),
         })),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn medians_of_known_lists() {
-        assert_eq!(median(&[1.0, 2.0, 9.0]), 2.0);
-        assert_eq!(median(&[1.0, 2.0, 4.0, 9.0]), 3.0);
-        assert!(median(&[]).is_nan());
-        let t = Timing::of(&[
-            vec![("frame".into(), 3.0), ("draw".into(), 1.0)],
-            vec![("frame".into(), 1.0), ("draw".into(), 2.0)],
-            vec![("frame".into(), 2.0)],
-        ]);
-        assert_eq!(t.frames, 3);
-        assert_eq!(t.scopes[0], ("frame".to_string(), 2.0, 1.0, 3.0));
-        assert_eq!(t.scopes[1], ("draw".to_string(), 1.5, 1.0, 2.0));
-    }
 }

@@ -6,17 +6,18 @@ use std::time::Instant;
 use anyhow::{anyhow, Context as _};
 use serde::Serialize;
 
-use super::{eps_lambda, keyframe, thousands};
+use super::{eps_lambda, keyframe};
 use crate::constants::PATCH_MODEL_SHIFT;
+use crate::figures::thousands;
 use crate::patch::oracle::{
     explain, process_any, subdivide_parallel_weighted, triangle_counts, triangulate_surfaces,
     Outcome, SplitCause, WeightedPatches,
 };
 use crate::patch::quadnode::QuadNode;
 use crate::patch::view::{ViewParams, FLAGS_DEFAULT, FLAG_WEDGES};
-use crate::raster::{PreviewShade, Raster};
 use crate::scene::file::Scene;
 use crate::scene::file::SceneGeometry;
+use crate::validate::raster::{PreviewShade, Raster};
 
 /// Background of preview images.
 const PREVIEW_BACKGROUND: [u8; 4] = [38, 42, 50, 255];

@@ -13,9 +13,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 
-use super::{eps_lambda, keyframe, thousands, GpuRequest};
+use super::{eps_lambda, keyframe, GpuRequest};
 use crate::constants::{FALLBACK_CHUNK_NODES, NODE_MESH_SLOTS, SHADE_NORMAL};
 use crate::draw::{DrawPath, ReadyList, ReadyStage};
+use crate::figures::thousands;
 use crate::frame::View;
 use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
 use crate::patch::view::{Split, FLAG_WEDGES};

@@ -168,7 +168,7 @@ pub fn median(mut v: Vec<f64>) -> Option<f64> {
         return None;
     }
     v.sort_by(f64::total_cmp);
-    Some(crate::commands::render::median(&v))
+    Some(crate::figures::median(&v))
 }
 
 #[cfg(test)]

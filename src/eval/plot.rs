@@ -167,7 +167,7 @@ struct Figure<'a> {
 /// means are around 0.01).
 fn label(v: &f64, span: f64) -> String {
     if span >= 100.0 {
-        crate::commands::thousands(v.round().max(0.0) as u64)
+        crate::figures::thousands(v.round().max(0.0) as u64)
     } else if span >= 10.0 {
         format!("{v:.0}")
     } else if span >= 1.0 {
@@ -180,7 +180,7 @@ fn label(v: &f64, span: f64) -> String {
 /// Labels on a logarithmic axis: enough digits to tell neighbours apart.
 fn log_label(v: &f64) -> String {
     if *v >= 100.0 {
-        crate::commands::thousands(v.round() as u64)
+        crate::figures::thousands(v.round() as u64)
     } else if *v >= 1.0 {
         format!("{v:.1}")
     } else {

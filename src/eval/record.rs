@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Map, Value};
 
-use crate::commands::render::Timing;
+use crate::figures::Timing;
 use crate::renderer::FrameReport;
 
 /// One configuration: a method at one ε and λ.
@@ -399,7 +399,7 @@ impl ConfigSummary {
     pub fn flip_median(&self) -> Option<f64> {
         let mut v: Vec<f64> = self.flips.iter().map(|f| f.mean).collect();
         v.sort_by(f64::total_cmp);
-        (!v.is_empty()).then(|| crate::commands::render::median(&v))
+        (!v.is_empty()).then(|| crate::figures::median(&v))
     }
 
     /// The median over the perspectives of a figure of their breakdowns.
@@ -409,14 +409,14 @@ impl ConfigSummary {
     ) -> Option<f64> {
         let mut v: Vec<f64> = self.flips.iter().filter_map(|r| f(&r.breakdown)).collect();
         v.sort_by(f64::total_cmp);
-        (!v.is_empty()).then(|| crate::commands::render::median(&v))
+        (!v.is_empty()).then(|| crate::figures::median(&v))
     }
 
     /// The median triangle count of the FLIP images.
     pub fn flip_triangles_median(&self) -> Option<f64> {
         let mut v: Vec<f64> = self.flips.iter().map(|f| f.triangles as f64).collect();
         v.sort_by(f64::total_cmp);
-        (!v.is_empty()).then(|| crate::commands::render::median(&v))
+        (!v.is_empty()).then(|| crate::figures::median(&v))
     }
 
     /// The `summary.json` entry: the medians nested as in `render`'s stats

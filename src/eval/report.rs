@@ -8,7 +8,7 @@ use serde_json::{json, Value};
 
 use super::pareto::{self, against, median, Curve, REFERENCE};
 use super::record::{Config, ConfigSummary};
-use crate::commands::thousands;
+use crate::figures::thousands;
 
 /// What the run was: everything a reader needs to reproduce it.
 #[derive(Clone, Debug)]

@@ -65,11 +65,11 @@ use glam::{DMat4, DVec3, EulerRot};
 use serde::Deserialize;
 
 use super::camera::Camera;
-use super::geometry::{bytes_text, thousands};
 use super::obj::CageOptions;
 use super::orbit::Orbit;
 use super::sharpness::BoundaryRule;
 use super::SceneError;
+use crate::figures::{bytes_text, thousands};
 
 pub use super::geometry::{
     load_model, load_model_with, transform_patch, ModelSummary, SceneGeometry, SceneShading,

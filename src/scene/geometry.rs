@@ -13,6 +13,7 @@ use super::pn::{self, PnMesh, PnScene};
 use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
 use super::{bpt, obj, ImportedModel, SceneError};
 use crate::constants::PATCH_RATIONAL;
+use crate::figures::{bytes_text, thousands};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::PATCH_TWO_SIDED;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
@@ -414,27 +415,6 @@ fn add_model_patches(table: &mut InstanceTable, model: &ImportedModel, rational:
         if rational {
             table.weights.push(weights);
         }
-    }
-}
-
-/// `n` with thousands separators.
-pub(crate) fn thousands(n: u64) -> String {
-    crate::commands::thousands(n)
-}
-
-/// A byte count in the unit that reads best.
-pub(crate) fn bytes_text(b: u64) -> String {
-    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
-    let mut x = b as f64;
-    let mut u = 0;
-    while x >= 1024.0 && u + 1 < units.len() {
-        x /= 1024.0;
-        u += 1;
-    }
-    if u == 0 {
-        format!("{b} bytes")
-    } else {
-        format!("{x:.1} {}", units[u])
     }
 }
 

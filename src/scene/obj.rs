@@ -355,8 +355,8 @@ fn isolate_note(conv: &isolate::Converted, n: u32) -> String {
             format!(
                 "level {}: {} patches ({} exact)",
                 l.level,
-                super::geometry::thousands(l.patches as u64),
-                super::geometry::thousands(l.exact as u64)
+                crate::figures::thousands(l.patches as u64),
+                crate::figures::thousands(l.exact as u64)
             )
         })
         .collect();

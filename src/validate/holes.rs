@@ -66,7 +66,7 @@ pub fn verdict(views: &[HoleView]) -> (bool, String) {
     let without: Option<u64> = views.iter().map(|v| v.holes_without_wedges).sum();
     let checked: u64 = views.iter().map(|v| v.checked_pixels).sum();
     let wedges = without.map_or(String::new(), |w| {
-        format!("; wedges off: {}", crate::scene::geometry::thousands(w))
+        format!("; wedges off: {}", crate::figures::thousands(w))
     });
     if checked == 0 {
         return (
@@ -83,7 +83,7 @@ pub fn verdict(views: &[HoleView]) -> (bool, String) {
         format!(
             "{holes} key pixels in {} views ({} px checked){wedges}",
             views.len(),
-            crate::scene::geometry::thousands(checked),
+            crate::figures::thousands(checked),
         ),
     )
 }
@@ -279,7 +279,7 @@ pub fn hidden_contours(
                     }
                 };
                 for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
-                    crate::raster::cover_triangle(tri, &view_proj, w, h, &mut mark);
+                    super::raster::cover_triangle(tri, &view_proj, w, h, &mut mark);
                 }
                 // A cell seen edge on may cover no pixel centre: its corners'
                 // pixels count too.
@@ -613,7 +613,7 @@ mod tests {
                     let v = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]
                         .map(|(a, b)| p.eval(t(a), t(b)).as_dvec3());
                     for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
-                        crate::raster::cover_triangle(tri, &vp, w, h, |x, y, q| {
+                        crate::validate::raster::cover_triangle(tri, &vp, w, h, |x, y, q| {
                             let k = (y * w + x) as usize;
                             dist[k] = dist[k].min(q.distance(eye) as f32);
                         });

@@ -7,6 +7,7 @@
 pub mod cudatess;
 pub mod edges;
 pub mod holes;
+pub mod raster;
 
 use ash::vk;
 use glam::Vec3;
