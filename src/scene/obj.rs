@@ -346,25 +346,33 @@ fn non_manifold_warning(topo: &Topology, vertices: usize) -> Option<String> {
     ))
 }
 
-/// The note on what `isolate` did.
+/// The note on what `isolate` did: patches per level and what they hold
+/// on the GPU (control points, flags and shading patches, per patch as
+/// the scene buffers store them).
 fn isolate_note(conv: &isolate::Converted, n: u32) -> String {
+    use crate::figures::{bytes_text, thousands};
+    let per_patch =
+        super::geometry::GEOMETRY_BYTES_PER_PATCH + super::shading::SHADING_BYTES_PER_PATCH as u64;
     let per_level: Vec<String> = conv
         .levels
         .iter()
         .map(|l| {
             format!(
-                "level {}: {} patches ({} exact)",
+                "level {}: {} patches ({} exact), {}",
                 l.level,
-                crate::figures::thousands(l.patches as u64),
-                crate::figures::thousands(l.exact as u64)
+                thousands(l.patches as u64),
+                thousands(l.exact as u64),
+                bytes_text(l.patches as u64 * per_patch)
             )
         })
         .collect();
+    let total: usize = conv.levels.iter().map(|l| l.patches).sum();
     format!(
-        "isolate {n}: {} of {} connected parts refined {n} times; {}",
+        "isolate {n}: {} of {} connected parts refined {n} times; {}; {} in all",
         conv.isolated_parts,
         conv.parts,
-        per_level.join(", ")
+        per_level.join(", "),
+        bytes_text(total as u64 * per_patch)
     )
 }
 
@@ -714,4 +722,38 @@ fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<usiz
         }
     }
     Ok(vertex)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_isolate_note_gives_patches_and_memory_per_level() {
+        let conv = isolate::Converted {
+            levels: vec![
+                isolate::LevelCount {
+                    level: 0,
+                    patches: 1000,
+                    exact: 900,
+                },
+                isolate::LevelCount {
+                    level: 2,
+                    patches: 4096,
+                    exact: 4000,
+                },
+            ],
+            isolated_parts: 1,
+            parts: 3,
+            ..Default::default()
+        };
+        // 484 bytes a patch: 196 of control points and flags, 288 of
+        // shading patch.
+        assert_eq!(
+            isolate_note(&conv, 2),
+            "isolate 2: 1 of 3 connected parts refined 2 times; level 0: 1,000 patches \
+             (900 exact), 472.7 KiB, level 2: 4,096 patches (4,000 exact), 1.9 MiB; \
+             2.4 MiB in all"
+        );
+    }
 }
