@@ -33,14 +33,14 @@ void point_row(uint i) {
     anim_points[row.w] = vec4(q, 0.0);
 }
 
-// The deforming model whose range of `key` (x: its first thread of the
-// write step, z: its first own patch) holds `t`.
-uvec4 target_of(uint t, bool by_patch) {
+// The deforming model whose range of write-step threads (x: its first)
+// holds `t`.
+uvec4 target_of(uint t) {
     uint lo = 0u;
     uint hi = anim.targets;
     while (hi - lo > 1u) {
         uint mid = (lo + hi) / 2u;
-        uint first = by_patch ? anim_targets[mid].z : anim_targets[mid].x;
+        uint first = anim_targets[mid].x;
         if (first <= t) {
             lo = mid;
         } else {
@@ -50,18 +50,15 @@ uvec4 target_of(uint t, bool by_patch) {
     return anim_targets[lo];
 }
 
-// A shading row: vector r % 24 of own patch r / 24 (r its own index),
-// written straight into its model's shading patch in set 0.
+// A shading row, written straight into its model's shading patch in set
+// 0, at the float the host found for it (row.w; src/gpu/anim.rs
+// `shading_float`).
 void shading_row(uint i) {
     uvec4 row = anim_shading_rows[i];
     vec3 base;
     vec3 acc;
     ANIM_ROW_SUM(anim_shading_terms, anim_points, row, base, acc)
-    uint r = row.w;
-    uint src = r / 24u;
-    uvec4 target = target_of(src, true);
-    uint dst = target.y + (src - target.z);
-    uint o = SHADING_FLOATS * dst + 3u * (r % 24u);
+    uint o = row.w;
     anim_shading[o] = acc.x;
     anim_shading[o + 1u] = acc.y;
     anim_shading[o + 2u] = acc.z;
@@ -71,7 +68,7 @@ void shading_row(uint i) {
 // thread) of the deforming model whose thread range holds t, its points in
 // model space.
 void write_patch(uint t) {
-    uvec4 target = target_of(t, false);
+    uvec4 target = target_of(t);
     uint k = t - target.x;
     uint dst = target.y + k;
     uint src = target.z + k;

@@ -34,7 +34,8 @@ layout(push_constant) uniform AnimPush {
 layout(std430, set = 0, binding = BIND_ANIM_REST) readonly buffer AnimRest { float anim_rest[]; };
 layout(std430, set = 0, binding = BIND_ANIM_VERTEX_MODEL) readonly buffer AnimVertexModel { uint anim_vertex_model[]; };
 layout(std430, set = 0, binding = BIND_ANIM_MODELS) readonly buffer AnimModels { uvec4 anim_models[]; };
-// The tables: per row (first term, terms, reference, the row's own index),
+// The tables: per row (first term, terms, reference, the point row's own
+// index or the shading row's float in set 0's shading patches),
 // ordered by their number of terms (src/gpu/anim.rs `by_terms`); per term
 // (input, weight bits).
 layout(std430, set = 0, binding = BIND_ANIM_POINT_ROWS) readonly buffer AnimPointRows { uvec4 anim_point_rows[]; };

@@ -101,7 +101,8 @@ fn append(
 /// all waiting for the longest row among them, while a window's rows still
 /// read neighbouring terms and points (sorting the whole table scattered
 /// them: 16 cars took 5× one car's time per vertex). A row keeps its own
-/// index (its `.w`), so only the order of work changes, no value.
+/// index (its `.w`, until a shading row's becomes its destination), so
+/// only the order of work changes, no value.
 fn by_terms(rows: &mut [[u32; 4]]) {
     rows.sort_by_key(|r| (r[3] / SORT_WINDOW, r[1], r[3]));
 }
@@ -174,9 +175,26 @@ impl Layout {
         }
         by_terms(&mut l.point_rows);
         by_terms(&mut l.shading_rows);
+        // The write step stores a shading row at its float in set 0's
+        // shading patches: found here once (its model by its own index),
+        // not by a search per row in every frame.
+        for row in &mut l.shading_rows {
+            row[3] = shading_float(&l.targets, row[3]);
+        }
         l.targets.push([l.patch_rows.len() as u32 / 16, 0, 0, 0]);
         l
     }
+}
+
+/// Where shading row `r` (vector `r % 24` of own patch `r / 24`) goes in
+/// set 0's shading patches: its model's patch there (`targets`: per model,
+/// its first own patch in `.z` and its first model patch in set 0 in
+/// `.y`), then the vector's three floats.
+fn shading_float(targets: &[[u32; 4]], r: u32) -> u32 {
+    let own = r / 24;
+    let model = targets.partition_point(|t| t[2] <= own) - 1;
+    let dst = targets[model][1] + (own - targets[model][2]);
+    SHADING_FLOATS * dst + 3 * (r % 24)
 }
 
 /// A storage buffer of `data`, or of one zero where it is empty (a binding
