@@ -46,6 +46,20 @@ fn options(draw: DrawPath) -> RendererOptions {
     }
 }
 
+/// `subdiv` on the mesh path over `loaded`, its animation set.
+fn animated_subdiv(gpu: &common::Gpu, loaded: &AnimatedScene) -> Renderer {
+    let mut r = Renderer::new(
+        gpu.arc(),
+        &loaded.geometry,
+        &loaded.shading,
+        "subdiv",
+        options(DrawPath::Mesh),
+    )
+    .unwrap();
+    r.set_animation(loaded.animation.clone()).unwrap();
+    r
+}
+
 fn view(scene: &Scene) -> View {
     View::new(
         &scene.camera,
@@ -64,15 +78,7 @@ fn view(scene: &Scene) -> View {
 fn the_update_pass_writes_what_the_cpu_twin_makes() {
     let gpu = common::gpu();
     let (scene, loaded) = demo();
-    let mut r = Renderer::new(
-        gpu.arc(),
-        &loaded.geometry,
-        &loaded.shading,
-        "subdiv",
-        options(DrawPath::Mesh),
-    )
-    .unwrap();
-    r.set_animation(loaded.animation.clone()).unwrap();
+    let mut r = animated_subdiv(&gpu, &loaded);
     let v = view(&scene);
     for t in [0.0, 0.6, 2.0, 3.7] {
         r.set_time(t);
@@ -275,15 +281,7 @@ fn moved_instances_are_not_culled_by_their_box_at_rest() {
     scene.camera.target = [f64::from(c.x), 0.0, f64::from(c.z)];
     scene.camera.fov_y_deg = 30.0;
     let v = view(&scene);
-    let mut r = Renderer::new(
-        gpu.arc(),
-        &loaded.geometry,
-        &loaded.shading,
-        "subdiv",
-        options(DrawPath::Mesh),
-    )
-    .unwrap();
-    r.set_animation(loaded.animation.clone()).unwrap();
+    let mut r = animated_subdiv(&gpu, &loaded);
     let vp = r.effective_params(&v);
     assert_ne!(vp.flags & bezier_subdiv::constants::FLAG_FRUSTUM_CULL, 0);
     // With the boxes of the cubes at rest, as a static scene has them,
@@ -362,15 +360,7 @@ fn keyed_instances_that_moved_out_of_view_are_culled_whole() {
         }
     }
     let v = view(&scene);
-    let mut r = Renderer::new(
-        gpu.arc(),
-        &loaded.geometry,
-        &loaded.shading,
-        "subdiv",
-        options(DrawPath::Mesh),
-    )
-    .unwrap();
-    r.set_animation(loaded.animation.clone()).unwrap();
+    let mut r = animated_subdiv(&gpu, &loaded);
     let vp = r.effective_params(&v);
     for (t, culled) in [(0.0, 0), (1.0, 1)] {
         r.set_time(t);
