@@ -9,6 +9,7 @@
 use std::path::PathBuf;
 
 use bezier_subdiv::scene::file::{load_model, Scene};
+use bezier_subdiv::scene::obj::{read_with, CageOptions};
 use bezier_subdiv::scene::shading::{self, EdgePair, ShadingPatch, SHADING_BYTES_PER_PATCH};
 use bezier_subdiv::scene::ImportedModel;
 use glam::{DVec3, Vec3};
@@ -106,6 +107,52 @@ fn tangent_patches_keep_close_to_the_surface() {
         }
         println!("{rel:<42} shading vs surface normal inside patches: at most {worst:.2}°");
         assert!(worst < 30.0, "{rel}: {worst}°");
+    }
+}
+
+/// The largest angle between the shading normal and the patches' own
+/// normal over a 9 × 9 grid on each patch, boundaries included.
+fn widest_from_surface(m: &ImportedModel) -> f64 {
+    let tangents = m.shading_patches();
+    let mut worst: f64 = 0.0;
+    for (p, patch) in m.patches.iter().enumerate() {
+        for j in 0..=8 {
+            for i in 0..=8 {
+                let (u, v) = (i as f32 / 8.0, j as f32 / 8.0);
+                let a = tangents[p].normal(u, v).as_dvec3();
+                let b = patch.normal(u, v).as_dvec3();
+                worst = worst.max(a.cross(b).length().atan2(a.dot(b)).to_degrees());
+            }
+        }
+    }
+    worst
+}
+
+/// A crease whose sharpness has not run out after isolation (OpenSubdiv's
+/// `catmark_chaikin0`, sharpness up to 5, at `isolate = 3` and `4`): its
+/// corners are exact limit points sunk below the sharp rules' edge
+/// points, so the crease's two edge tangents lean outwards. The shading
+/// normals along it stood at 66–71° from the surface's (bright dots along
+/// the crease in `render --shade normals`); now within 33°, the lean of
+/// the surface's own corner tangents.
+#[test]
+fn shading_normals_follow_a_crease_whose_sharpness_remains() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/osd-shapes/catmark_chaikin0.obj");
+    for isolate in [0, 3, 4] {
+        let options = CageOptions {
+            boundary: None,
+            isolate,
+        };
+        let m = read_with(&path, &options).unwrap_or_else(|e| panic!("{e}"));
+        let worst = widest_from_surface(&m);
+        println!(
+            "catmark_chaikin0 isolate {isolate}: shading vs surface normal at most {worst:.2}°"
+        );
+        assert!(worst < 40.0, "isolate {isolate}: {worst}°");
+        let tangents = m.shading_patches();
+        let after = jump(&m, &|p, u, v| tangents[p].normal(u, v));
+        assert!(after <= LIMIT_DEGREES, "isolate {isolate}: jump {after}°");
     }
 }
 

@@ -178,7 +178,15 @@ fn harmonic<V: Vector>(g: &[V], theta: f64) -> [V; 2] {
 }
 
 /// The fit of an open sector's tangents `g` (`g.len() − 1` faces); at a
-/// `crease` vertex the two feature edges are made opposite.
+/// `crease` vertex the two feature edges are made opposite, whatever their
+/// angle: the crease curve is C¹ there. The angle says nothing at a crease
+/// whose sharpness has not run out (a refined cage's crease of sharpness
+/// s ≥ 1): its corner is the exact limit, sunk below the sharp rules' edge
+/// points by a share of the edge that grows with each refinement step, so
+/// both feature tangents lean outwards (219° apart on OpenSubdiv's
+/// `catmark_chaikin0` at `isolate = 4`). Fitted by that angle, the sector's
+/// plane held the crease and its outward diagonal, and the shading normal
+/// stood at right angles to the surface's along the whole crease.
 fn decide_open(g: &[DVec3], crease: bool) -> Fit {
     let m = g.len() - 1;
     if m < 2 {
@@ -194,7 +202,7 @@ fn decide_open(g: &[DVec3], crease: bool) -> Fit {
     if phi <= 0.0 {
         phi += 2.0 * PI;
     }
-    if (phi - PI).abs() < 0.02 || (crease && (phi - PI).abs() < 0.5) {
+    if crease || (phi - PI).abs() < 0.02 {
         let [a, b] = open_crease(g);
         if a.cross(b).length() <= 1e-9 * a.length() * b.length() {
             Fit::Own
