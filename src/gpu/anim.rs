@@ -215,6 +215,130 @@ fn storage<T: bytemuck::Pod + bytemuck::Zeroable>(
     )
 }
 
+/// Refuses an animation that writes beyond `scene`: a moving model's
+/// patches past its model patches, or a keyed instance past its instances.
+fn check_fits(anim: &Animation, scene: &SceneGpu) -> VkResult<()> {
+    for m in &anim.models {
+        let n = m.cage.stencils.patches() as u32;
+        if m.source + n > scene.model_patches {
+            return Err(VkError::Usage(format!(
+                "a moving model's patches {}..{} lie beyond the scene's {} model patches",
+                m.source,
+                m.source + n,
+                scene.model_patches
+            )));
+        }
+    }
+    if let Some(k) = anim
+        .keyed
+        .iter()
+        .find(|k| k.index as u32 >= scene.instance_count)
+    {
+        return Err(VkError::Usage(format!(
+            "a keyed instance ({}) beyond the scene's {} instances",
+            k.index, scene.instance_count
+        )));
+    }
+    Ok(())
+}
+
+/// Uploads the tables of `l`, in the order the set binds them from
+/// `BIND_ANIM_REST` on (the first nine), then the keyed instances.
+fn upload_tables(ctx: &Context, l: &Layout) -> VkResult<Vec<Buffer>> {
+    Ok(vec![
+        storage(ctx, "animation rest vertices", &l.rest)?,
+        storage(ctx, "animation vertex models", &l.vertex_model)?,
+        storage(ctx, "animation models", &l.models)?,
+        storage(ctx, "animation point rows", &l.point_rows)?,
+        storage(ctx, "animation point terms", &l.point_terms)?,
+        storage(ctx, "animation shading rows", &l.shading_rows)?,
+        storage(ctx, "animation shading terms", &l.shading_terms)?,
+        storage(ctx, "animation patch rows", &l.patch_rows)?,
+        storage(ctx, "animation targets", &l.targets)?,
+        storage(ctx, "animation keyed instances", &l.keyed)?,
+    ])
+}
+
+/// A device-local scratch buffer of `n` vec4s (at least one).
+fn scratch_buffer(ctx: &Context, name: &str, n: u32) -> VkResult<Buffer> {
+    Buffer::new(
+        ctx,
+        name,
+        u64::from(n.max(1)) * 16,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )
+}
+
+/// A host-visible storage buffer of `bytes` bytes (at least 16), written
+/// per frame.
+fn host_buffer(ctx: &Context, name: String, bytes: usize) -> VkResult<Buffer> {
+    Buffer::new(
+        ctx,
+        &name,
+        bytes.max(16) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::CpuToGpu,
+    )
+}
+
+/// What every slot's set binds beside the slot's own buffers: the tables,
+/// the scratch and the scene's instances, patches and shading patches.
+struct SharedBindings<'a> {
+    set_layout: &'a SetLayout,
+    statics: &'a [Buffer],
+    scratch: &'a [Buffer],
+    scene: &'a SceneGpu,
+}
+
+impl SharedBindings<'_> {
+    /// Slot `s`'s buffers (deformers, records of `keyed` instances, inputs,
+    /// sized by `l`) and its set over them and the shared buffers.
+    fn slot(&self, ctx: &Context, s: usize, l: &Layout, keyed: usize) -> VkResult<SlotBuffers> {
+        let deformers = host_buffer(
+            ctx,
+            format!("animation deformers (slot {s})"),
+            l.deformer_count.max(1) * std::mem::size_of::<GpuDeformer>(),
+        )?;
+        let records = host_buffer(
+            ctx,
+            format!("animation instance records (slot {s})"),
+            keyed * INSTANCE_BYTES as usize,
+        )?;
+        let inputs = host_buffer(
+            ctx,
+            format!("animation inputs (slot {s})"),
+            l.input_floats * 4,
+        )?;
+        let (statics, scratch, scene) = (self.statics, self.scratch, self.scene);
+        let mut bound = [BufferBinding::from(&statics[0]); ANIM_BINDINGS as usize];
+        for (k, b) in statics[..9].iter().enumerate() {
+            bound[BIND_ANIM_REST as usize + k] = b.into();
+        }
+        bound[BIND_ANIM_KEYED as usize] = (&statics[9]).into();
+        bound[BIND_ANIM_INSTANCES as usize] = (&scene.instances).into();
+        bound[BIND_ANIM_VERTS as usize] = (&scratch[0]).into();
+        bound[BIND_ANIM_POINTS as usize] = (&scratch[1]).into();
+        bound[BIND_ANIM_DEFORMERS as usize] = (&deformers).into();
+        bound[BIND_ANIM_RECORDS as usize] = (&records).into();
+        bound[BIND_ANIM_INPUTS as usize] = (&inputs).into();
+        bound[BIND_ANIM_PATCHES as usize] = (&scene.patches).into();
+        bound[BIND_ANIM_SHADING as usize] = (&scene.shading).into();
+        let set = DescriptorSet::new(
+            ctx,
+            &format!("animation set (slot {s})"),
+            self.set_layout,
+            &bound,
+        )?;
+        Ok(SlotBuffers {
+            deformers,
+            records,
+            inputs,
+            set,
+        })
+    }
+}
+
 impl AnimGpu {
     /// Uploads `anim`'s tables for `scene` (whose patches the animated
     /// instances overwrite) with `slots` frame slots.
@@ -225,27 +349,7 @@ impl AnimGpu {
         scene: &SceneGpu,
         slots: usize,
     ) -> VkResult<Self> {
-        for m in &anim.models {
-            let n = m.cage.stencils.patches() as u32;
-            if m.source + n > scene.model_patches {
-                return Err(VkError::Usage(format!(
-                    "a moving model's patches {}..{} lie beyond the scene's {} model patches",
-                    m.source,
-                    m.source + n,
-                    scene.model_patches
-                )));
-            }
-        }
-        if let Some(k) = anim
-            .keyed
-            .iter()
-            .find(|k| k.index as u32 >= scene.instance_count)
-        {
-            return Err(VkError::Usage(format!(
-                "a keyed instance ({}) beyond the scene's {} instances",
-                k.index, scene.instance_count
-            )));
-        }
+        check_fits(anim, scene)?;
         let l = Layout::new(anim);
         let set_layout = SetLayout::storage(
             ctx,
@@ -261,79 +365,23 @@ impl AnimGpu {
             vk::ShaderStageFlags::COMPUTE,
         )?;
         let pipeline = shaders.compute(ctx, &layout, "animation update", "anim_update.comp")?;
-        let statics = vec![
-            storage(ctx, "animation rest vertices", &l.rest)?,
-            storage(ctx, "animation vertex models", &l.vertex_model)?,
-            storage(ctx, "animation models", &l.models)?,
-            storage(ctx, "animation point rows", &l.point_rows)?,
-            storage(ctx, "animation point terms", &l.point_terms)?,
-            storage(ctx, "animation shading rows", &l.shading_rows)?,
-            storage(ctx, "animation shading terms", &l.shading_terms)?,
-            storage(ctx, "animation patch rows", &l.patch_rows)?,
-            storage(ctx, "animation targets", &l.targets)?,
-            storage(ctx, "animation keyed instances", &l.keyed)?,
-        ];
+        let statics = upload_tables(ctx, &l)?;
         let vertices = l.vertex_model.len() as u32;
         let point_rows = l.point_rows.len() as u32;
         let shading_rows = l.shading_rows.len() as u32;
-        let scratch_of = |name: &str, n: u32| {
-            Buffer::new(
-                ctx,
-                name,
-                u64::from(n.max(1)) * 16,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                MemoryLocation::GpuOnly,
-            )
-        };
         let scratch = vec![
-            scratch_of("animation deformed vertices", vertices)?,
-            scratch_of("animation points", point_rows)?,
+            scratch_buffer(ctx, "animation deformed vertices", vertices)?,
+            scratch_buffer(ctx, "animation points", point_rows)?,
         ];
-        let host = |name: String, bytes: usize| {
-            Buffer::new(
-                ctx,
-                &name,
-                bytes.max(16) as u64,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                MemoryLocation::CpuToGpu,
-            )
+        let shared = SharedBindings {
+            set_layout: &set_layout,
+            statics: &statics,
+            scratch: &scratch,
+            scene,
         };
         let mut slot_buffers = Vec::with_capacity(slots);
         for s in 0..slots.max(1) {
-            let deformers = host(
-                format!("animation deformers (slot {s})"),
-                l.deformer_count.max(1) * std::mem::size_of::<GpuDeformer>(),
-            )?;
-            let records = host(
-                format!("animation instance records (slot {s})"),
-                anim.keyed.len() * INSTANCE_BYTES as usize,
-            )?;
-            let inputs = host(format!("animation inputs (slot {s})"), l.input_floats * 4)?;
-            let mut bound = [BufferBinding::from(&statics[0]); ANIM_BINDINGS as usize];
-            for (k, b) in statics[..9].iter().enumerate() {
-                bound[BIND_ANIM_REST as usize + k] = b.into();
-            }
-            bound[BIND_ANIM_KEYED as usize] = (&statics[9]).into();
-            bound[BIND_ANIM_INSTANCES as usize] = (&scene.instances).into();
-            bound[BIND_ANIM_VERTS as usize] = (&scratch[0]).into();
-            bound[BIND_ANIM_POINTS as usize] = (&scratch[1]).into();
-            bound[BIND_ANIM_DEFORMERS as usize] = (&deformers).into();
-            bound[BIND_ANIM_RECORDS as usize] = (&records).into();
-            bound[BIND_ANIM_INPUTS as usize] = (&inputs).into();
-            bound[BIND_ANIM_PATCHES as usize] = (&scene.patches).into();
-            bound[BIND_ANIM_SHADING as usize] = (&scene.shading).into();
-            let set = DescriptorSet::new(
-                ctx,
-                &format!("animation set (slot {s})"),
-                &set_layout,
-                &bound,
-            )?;
-            slot_buffers.push(SlotBuffers {
-                deformers,
-                records,
-                inputs,
-                set,
-            });
+            slot_buffers.push(shared.slot(ctx, s, &l, anim.keyed.len())?);
         }
         let patches = l.targets.last().map_or(0, |t| t[0]);
         Ok(Self {

@@ -200,36 +200,7 @@ impl SceneGpu {
         world_weights: &[Weights],
         slots: usize,
     ) -> VkResult<Self> {
-        let models = table.patches.len();
-        if shading.len() != models {
-            return Err(VkError::Usage(format!(
-                "{models} model patches with {} shading patches",
-                shading.len()
-            )));
-        }
-        // Refused before anything is allocated: a binding beyond the range
-        // is invalid usage, not an allocation failure.
-        let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
-        let n = models as u64;
-        for (what, bytes) in [
-            ("model patches", n * 48 * 4),
-            ("shading patches", n * u64::from(SHADING_FLOATS) * 4),
-            ("instances", table.instances.len() as u64 * INSTANCE_BYTES),
-        ] {
-            if bytes > limit {
-                return Err(VkError::OverDeviceLimit {
-                    what: format!("scene's {what}"),
-                    bytes,
-                    limit,
-                    hint: "draw fewer models or instances",
-                });
-            }
-        }
-        let floats: Vec<f32> = table
-            .patches
-            .iter()
-            .flat_map(|p| p.pts.iter().flat_map(|q| q.to_array()))
-            .collect();
+        check_upload(ctx, table, shading)?;
         let rational_patches = world_weights.iter().filter(|w| !is_polynomial(w)).count() as u32;
         let edges = edge_table(
             world,
@@ -239,101 +210,26 @@ impl SceneGpu {
                 &[]
             },
         );
-        // The shaders read a patch's weights where its flags say
-        // PATCH_RATIONAL: the flag follows the weights uploaded with it.
-        let flags: Vec<u32> = if rational_patches > 0 {
-            table
-                .flags
-                .iter()
-                .enumerate()
-                .map(|(k, &f)| {
-                    let w = table.weights.get(k).unwrap_or(&UNIT_WEIGHTS);
-                    let bit = if is_polynomial(w) { 0 } else { PATCH_RATIONAL };
-                    (f & !PATCH_RATIONAL) | bit
-                })
-                .collect()
-        } else {
-            table.flags.clone()
-        };
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let gpu = MemoryLocation::GpuOnly;
-        let patches = Buffer::with_data(ctx, "model patches", &floats, storage, gpu)?;
-        let flags = Buffer::with_data(ctx, "model patch flags", &flags, storage, gpu)?;
-        let shading_floats: Vec<f32> = shading.iter().flat_map(|s| s.to_floats()).collect();
-        let shading = Buffer::with_data(ctx, "shading patches", &shading_floats, storage, gpu)?;
-        // A polynomial scene binds 16 ones: no shader reads them (only
-        // patches flagged PATCH_RATIONAL have weights to read).
-        let weight_floats: Vec<f32> = if rational_patches > 0 {
-            (0..models)
-                .flat_map(|k| *table.weights.get(k).unwrap_or(&UNIT_WEIGHTS))
-                .collect()
-        } else {
-            UNIT_WEIGHTS.to_vec()
-        };
-        let weights_buffer = Buffer::with_data(ctx, "patch weights", &weight_floats, storage, gpu)?;
-        let instances = Buffer::with_data(ctx, "instances", table.records(), storage, gpu)?;
-        let roots = Buffer::new(
-            ctx,
-            "roots (instances at depth 0)",
-            8 * table.instances.len().max(1) as u64,
-            storage,
-            gpu,
-        )?;
-        // Everything counts as visible before the first frame: its early
-        // phase draws all that is in view and its late phase finds what
-        // that hides, so the second frame culls (with nothing visible, the
-        // first frame's pyramid would be empty and only the third would).
-        let visibility = Buffer::with_data(
-            ctx,
-            "instance visibility",
-            &vec![1u32; table.instances.len().max(1)],
-            storage,
-            gpu,
-        )?;
-        let size = std::mem::size_of::<ViewParams>() as u64;
-        let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
-        let view_stride = size.div_ceil(align) * align;
-        let views = Buffer::new(
-            ctx,
-            "view params (per frame slot)",
-            view_stride * slots.max(1) as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let mut bound = [BufferBinding::from(&patches); SCENE_BINDINGS as usize];
-        bound[BIND_VIEW as usize] = BufferBinding {
-            buffer: &views,
-            range: size,
-        };
-        bound[BIND_PATCHES as usize] = BufferBinding::from(&patches);
-        bound[BIND_PATCH_FLAGS as usize] = BufferBinding::from(&flags);
-        bound[BIND_SHADING as usize] = BufferBinding::from(&shading);
-        bound[BIND_WEIGHTS as usize] = BufferBinding::from(&weights_buffer);
-        bound[BIND_INSTANCES as usize] = BufferBinding {
-            buffer: &instances,
-            range: table.instances.len() as u64 * INSTANCE_BYTES,
-        };
-        bound[BIND_ROOTS as usize] = BufferBinding::from(&roots);
-        bound[BIND_VISIBILITY as usize] = BufferBinding::from(&visibility);
-        let set = DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)?;
+        let b = SceneBuffers::new(ctx, table, shading, rational_patches, slots)?;
+        let set = b.bind(ctx, layout, table.instances.len())?;
         Ok(Self {
             count: table.base_patches() as u32,
-            model_patches: models as u32,
+            model_patches: table.patches.len() as u32,
             instance_count: table.instances.len() as u32,
-            patches,
-            flags,
-            shading,
-            weights: weights_buffer,
-            instances,
-            roots,
-            visibility,
+            patches: b.patches,
+            flags: b.flags,
+            shading: b.shading,
+            weights: b.weights,
+            instances: b.instances,
+            roots: b.roots,
+            visibility: b.visibility,
             instance_records: table.instances.clone(),
             rational_patches,
             edges,
             serial: SCENE_SERIAL.fetch_add(1, Ordering::Relaxed),
             pn: PnScene::default(),
-            views,
-            view_stride,
+            views: b.views,
+            view_stride: b.view_stride,
             slots: slots.max(1),
             set,
         })
@@ -452,3 +348,179 @@ impl SceneGpu {
         (self.rational_patches > 0).then(|| self.weights.size())
     }
 }
+
+/// Refuses an upload of `table` with `shading` before anything is
+/// allocated: shading patches that are not one per model patch, or a
+/// buffer beyond the device's storage-buffer range (a binding beyond the
+/// range is invalid usage, not an allocation failure).
+fn check_upload(ctx: &Context, table: &InstanceTable, shading: &[ShadingPatch]) -> VkResult<()> {
+    let models = table.patches.len();
+    if shading.len() != models {
+        return Err(VkError::Usage(format!(
+            "{models} model patches with {} shading patches",
+            shading.len()
+        )));
+    }
+    let limit = u64::from(ctx.info().limits.max_storage_buffer_range);
+    let n = models as u64;
+    for (what, bytes) in [
+        ("model patches", n * 48 * 4),
+        ("shading patches", n * u64::from(SHADING_FLOATS) * 4),
+        ("instances", table.instances.len() as u64 * INSTANCE_BYTES),
+    ] {
+        if bytes > limit {
+            return Err(VkError::OverDeviceLimit {
+                what: format!("scene's {what}"),
+                bytes,
+                limit,
+                hint: "draw fewer models or instances",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The model patches' flags as uploaded. The shaders read a patch's
+/// weights where its flags say PATCH_RATIONAL: the flag follows the
+/// weights uploaded with it (a scene without rational patches keeps its
+/// flags as they are).
+fn uploaded_flags(table: &InstanceTable, rational_patches: u32) -> Vec<u32> {
+    if rational_patches > 0 {
+        table
+            .flags
+            .iter()
+            .enumerate()
+            .map(|(k, &f)| {
+                let w = table.weights.get(k).unwrap_or(&UNIT_WEIGHTS);
+                let bit = if is_polynomial(w) { 0 } else { PATCH_RATIONAL };
+                (f & !PATCH_RATIONAL) | bit
+            })
+            .collect()
+    } else {
+        table.flags.clone()
+    }
+}
+
+/// The weights as uploaded: 16 per model patch where the scene has
+/// rational patches. A polynomial scene binds 16 ones: no shader reads
+/// them (only patches flagged PATCH_RATIONAL have weights to read).
+fn uploaded_weights(table: &InstanceTable, rational_patches: u32) -> Vec<f32> {
+    if rational_patches > 0 {
+        (0..table.patches.len())
+            .flat_map(|k| *table.weights.get(k).unwrap_or(&UNIT_WEIGHTS))
+            .collect()
+    } else {
+        UNIT_WEIGHTS.to_vec()
+    }
+}
+
+/// The buffers of an upload, before set 0 binds them.
+struct SceneBuffers {
+    patches: Buffer,
+    flags: Buffer,
+    shading: Buffer,
+    weights: Buffer,
+    instances: Buffer,
+    roots: Buffer,
+    visibility: Buffer,
+    views: Buffer,
+    view_stride: u64,
+}
+
+impl SceneBuffers {
+    /// Uploads `table`'s model patches, flags and weights (marked and
+    /// written as `rational_patches` says), `shading` and the instances,
+    /// and makes the per-frame roots, the visibility and room for `slots`
+    /// views.
+    fn new(
+        ctx: &Context,
+        table: &InstanceTable,
+        shading: &[ShadingPatch],
+        rational_patches: u32,
+        slots: usize,
+    ) -> VkResult<Self> {
+        let floats: Vec<f32> = table
+            .patches
+            .iter()
+            .flat_map(|p| p.pts.iter().flat_map(|q| q.to_array()))
+            .collect();
+        let flags = uploaded_flags(table, rational_patches);
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let gpu = MemoryLocation::GpuOnly;
+        let patches = Buffer::with_data(ctx, "model patches", &floats, storage, gpu)?;
+        let flags = Buffer::with_data(ctx, "model patch flags", &flags, storage, gpu)?;
+        let shading_floats: Vec<f32> = shading.iter().flat_map(|s| s.to_floats()).collect();
+        let shading = Buffer::with_data(ctx, "shading patches", &shading_floats, storage, gpu)?;
+        let weight_floats = uploaded_weights(table, rational_patches);
+        let weights = Buffer::with_data(ctx, "patch weights", &weight_floats, storage, gpu)?;
+        let instances = Buffer::with_data(ctx, "instances", table.records(), storage, gpu)?;
+        let roots = Buffer::new(
+            ctx,
+            "roots (instances at depth 0)",
+            8 * table.instances.len().max(1) as u64,
+            storage,
+            gpu,
+        )?;
+        // Everything counts as visible before the first frame: its early
+        // phase draws all that is in view and its late phase finds what
+        // that hides, so the second frame culls (with nothing visible, the
+        // first frame's pyramid would be empty and only the third would).
+        let visibility = Buffer::with_data(
+            ctx,
+            "instance visibility",
+            &vec![1u32; table.instances.len().max(1)],
+            storage,
+            gpu,
+        )?;
+        let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
+        let view_stride = VIEW_BYTES.div_ceil(align) * align;
+        let views = Buffer::new(
+            ctx,
+            "view params (per frame slot)",
+            view_stride * slots.max(1) as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        Ok(Self {
+            patches,
+            flags,
+            shading,
+            weights,
+            instances,
+            roots,
+            visibility,
+            views,
+            view_stride,
+        })
+    }
+
+    /// Set 0 over these buffers: one view (`ViewParams`, at a dynamic
+    /// offset per slot) and the first `instances` instance records.
+    fn bind(
+        &self,
+        ctx: &Context,
+        layout: &SceneLayout,
+        instances: usize,
+    ) -> VkResult<DescriptorSet> {
+        let mut bound = [BufferBinding::from(&self.patches); SCENE_BINDINGS as usize];
+        bound[BIND_VIEW as usize] = BufferBinding {
+            buffer: &self.views,
+            range: VIEW_BYTES,
+        };
+        bound[BIND_PATCHES as usize] = BufferBinding::from(&self.patches);
+        bound[BIND_PATCH_FLAGS as usize] = BufferBinding::from(&self.flags);
+        bound[BIND_SHADING as usize] = BufferBinding::from(&self.shading);
+        bound[BIND_WEIGHTS as usize] = BufferBinding::from(&self.weights);
+        bound[BIND_INSTANCES as usize] = BufferBinding {
+            buffer: &self.instances,
+            range: instances as u64 * INSTANCE_BYTES,
+        };
+        bound[BIND_ROOTS as usize] = BufferBinding::from(&self.roots);
+        bound[BIND_VISIBILITY as usize] = BufferBinding::from(&self.visibility);
+        DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)
+    }
+}
+
+/// Bytes of one slot's `ViewParams` (the view binding's range; slots lie
+/// `view_stride` apart).
+const VIEW_BYTES: u64 = std::mem::size_of::<ViewParams>() as u64;

@@ -76,6 +76,10 @@ pub struct DrawTarget {
 impl DrawTarget {
     /// Layout the colour image is left in by [`DrawTarget::end`].
     pub const FINAL_LAYOUT: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+    /// Layout of the colour images while a part draws.
+    const COLOR_LAYOUT: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+    /// Layout of the depth image while a part draws (and between parts).
+    const DEPTH_LAYOUT: vk::ImageLayout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
 
     /// Creates a single-sampled `width`×`height` target cleared to `clear`.
     pub fn new(ctx: &Context, width: u32, height: u32, clear: [f32; 4]) -> VkResult<Self> {
@@ -203,12 +207,59 @@ impl DrawTarget {
     /// the earlier parts drew (colour samples and depth); every part but
     /// the `last` stores them for the next, and every part resolves.
     pub fn begin_part(&self, ctx: &Context, cmd: vk::CommandBuffer, first: bool, last: bool) {
+        self.to_attachment_layouts(ctx, cmd, first);
+        let load = if first {
+            vk::AttachmentLoadOp::CLEAR
+        } else {
+            vk::AttachmentLoadOp::LOAD
+        };
+        // Samples and depth are only needed until they are resolved, or
+        // until the last part has drawn.
+        let keep = if last {
+            vk::AttachmentStoreOp::DONT_CARE
+        } else {
+            vk::AttachmentStoreOp::STORE
+        };
+        let extent = self.extent();
+        let colors = [self.color_attachment(load, keep)];
+        let depth = self.depth_attachment(load, keep);
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent,
+        };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colors)
+            .depth_attachment(&depth);
+        // The projection already flips y (Camera::projection), so the
+        // viewport is the plain one.
+        let viewport = [vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        }];
+        let dev = ctx.device();
+        unsafe {
+            dev.cmd_begin_rendering(cmd, &info);
+            dev.cmd_set_viewport(cmd, 0, &viewport);
+            dev.cmd_set_scissor(cmd, 0, &[area]);
+        }
+    }
+
+    /// Records the barriers that bring the images into their attachment
+    /// layouts for a part: the colour image, the multisampled one if any,
+    /// then the depth image.
+    fn to_attachment_layouts(&self, ctx: &Context, cmd: vk::CommandBuffer, first: bool) {
         let attach = Access::new(
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
             vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         );
-        let color_layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-        let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+        let color_layout = Self::COLOR_LAYOUT;
+        let depth_layout = Self::DEPTH_LAYOUT;
         // The first part comes from UNDEFINED: the old contents are cleared
         // anyway. A later part keeps them: the resolved colour image was
         // left in FINAL_LAYOUT, the others in their attachment layouts. The
@@ -241,42 +292,47 @@ impl DrawTarget {
             Access::ALL,
             Access::DEPTH_ATTACHMENT,
         );
-        let load = if first {
-            vk::AttachmentLoadOp::CLEAR
-        } else {
-            vk::AttachmentLoadOp::LOAD
-        };
-        // Samples and depth are only needed until they are resolved, or
-        // until the last part has drawn.
-        let keep = if last {
-            vk::AttachmentStoreOp::DONT_CARE
-        } else {
-            vk::AttachmentStoreOp::STORE
-        };
-        let extent = self.extent();
+    }
+
+    /// The colour attachment of a part: cleared to `clear` or loaded, and,
+    /// when multisampled, rendered into the multisampled image (its samples
+    /// stored as `keep` says) and resolved into the result.
+    fn color_attachment(
+        &self,
+        load: vk::AttachmentLoadOp,
+        keep: vk::AttachmentStoreOp,
+    ) -> vk::RenderingAttachmentInfo<'static> {
         let clear = vk::ClearValue {
             color: vk::ClearColorValue {
                 float32: self.clear,
             },
         };
-        let mut color = vk::RenderingAttachmentInfo::default()
-            .image_layout(color_layout)
+        let color = vk::RenderingAttachmentInfo::default()
+            .image_layout(Self::COLOR_LAYOUT)
             .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(clear);
-        color = match &self.msaa {
+        match &self.msaa {
             Some(ms) => color
                 .image_view(ms.view())
                 .store_op(keep)
                 .resolve_mode(vk::ResolveModeFlags::AVERAGE)
                 .resolve_image_view(self.color.view())
-                .resolve_image_layout(color_layout),
+                .resolve_image_layout(Self::COLOR_LAYOUT),
             None => color.image_view(self.color.view()),
-        };
-        let colors = [color];
-        let depth = vk::RenderingAttachmentInfo::default()
+        }
+    }
+
+    /// The depth attachment of a part: cleared to 1 or loaded, stored as
+    /// `keep` says.
+    fn depth_attachment(
+        &self,
+        load: vk::AttachmentLoadOp,
+        keep: vk::AttachmentStoreOp,
+    ) -> vk::RenderingAttachmentInfo<'static> {
+        vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view())
-            .image_layout(depth_layout)
+            .image_layout(Self::DEPTH_LAYOUT)
             .load_op(load)
             .store_op(keep)
             .clear_value(vk::ClearValue {
@@ -284,32 +340,7 @@ impl DrawTarget {
                     depth: 1.0,
                     stencil: 0,
                 },
-            });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent,
-        };
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colors)
-            .depth_attachment(&depth);
-        // The projection already flips y (Camera::projection), so the
-        // viewport is the plain one.
-        let viewport = [vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        }];
-        let dev = ctx.device();
-        unsafe {
-            dev.cmd_begin_rendering(cmd, &info);
-            dev.cmd_set_viewport(cmd, 0, &viewport);
-            dev.cmd_set_scissor(cmd, 0, &[area]);
-        }
+            })
     }
 
     /// Records `vkCmdEndRendering` and moves the (resolved) colour image to

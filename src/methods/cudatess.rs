@@ -434,7 +434,32 @@ impl CudaTess {
         // Also orders the scene uploads (earlier submissions) before the
         // passes, and the last frame's draw before this frame's writes.
         memory_barrier(ctx, cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
-        let push = CtPush {
+        let passes = ComputePasses {
+            method: self,
+            set,
+            push: self.frame_push(s),
+            tris: s.tris,
+        };
+        passes.record(f, s)?;
+        memory_barrier(
+            ctx,
+            cmd,
+            Access::COMPUTE_WRITE,
+            Access::new(
+                vk::PipelineStageFlags2::DRAW_INDIRECT
+                    | vk::PipelineStageFlags2::INDEX_INPUT
+                    | vk::PipelineStageFlags2::VERTEX_SHADER,
+                vk::AccessFlags2::INDIRECT_COMMAND_READ
+                    | vk::AccessFlags2::INDEX_READ
+                    | vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+        );
+        self.record_draw(f, set)
+    }
+
+    /// The push block every compute pass of a frame over `s` gets.
+    fn frame_push(&self, s: &SceneBuffers) -> CtPush {
+        CtPush {
             patch_count: s.patches,
             vertex_capacity: self.outputs.vertex_capacity,
             index_capacity: self.outputs.index_capacity,
@@ -449,74 +474,12 @@ impl CudaTess {
             pass: 0,
             tri_count: s.tris,
             pad: [0; 3],
-        };
-        let per_patch = Self::groups(ctx, s.patches, CT_GROUP_SIZE);
-        let per_tri = Self::groups(ctx, s.tris, CT_GROUP_SIZE);
-        // The PN pass `pipeline` after a patch pass, where there are
-        // triangles (a scene without them records exactly what it did).
-        let pn_pass = |f: &mut FrameRec<'_>, pipeline: &Pipeline, groups: u32| -> VkResult<()> {
-            if s.tris > 0 {
-                self.bind_compute(f, pipeline, set)?;
-                self.compute_layout.push_block(f.cmd, &push)?;
-                unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
-            }
-            Ok(())
-        };
-        let between =
-            || memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-        f.scoped("factors", |f| {
-            self.bind_compute(f, &self.factors, set)?;
-            self.compute_layout.push_block(f.cmd, &push)?;
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
-            pn_pass(f, &self.pn.factors, per_tri)
-        })?;
-        between();
-        f.scoped("scan", |f| {
-            self.bind_compute(f, &self.counts, set)?;
-            self.compute_layout.push_block(f.cmd, &push)?;
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
-            pn_pass(f, &self.pn.counts, per_tri)?;
-            self.bind_compute(f, &self.scan, set)?;
-            s.plan.record(f.ctx, f.cmd, &self.compute_layout, push)?;
-            memory_barrier(
-                f.ctx,
-                f.cmd,
-                Access::COMPUTE_WRITE,
-                Access::COMPUTE_READ_WRITE,
-            );
-            self.bind_compute(f, &self.args, set)?;
-            self.compute_layout.push_block(f.cmd, &push)?;
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, 1, 1, 1) };
-            Ok(())
-        })?;
-        between();
-        let vertex_groups = Self::groups(ctx, s.patches, CT_GROUP_SIZE / CT_VERTEX_THREADS);
-        let tri_vertex_groups = Self::groups(ctx, s.tris, CT_GROUP_SIZE / CT_VERTEX_THREADS);
-        f.scoped("vertices", |f| {
-            self.bind_compute(f, &self.vertices, set)?;
-            self.compute_layout.push_block(f.cmd, &push)?;
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, vertex_groups, 1, 1) };
-            pn_pass(f, &self.pn.vertices, tri_vertex_groups)
-        })?;
-        f.scoped("indices", |f| {
-            self.bind_compute(f, &self.indices, set)?;
-            self.compute_layout.push_block(f.cmd, &push)?;
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, per_patch, 1, 1) };
-            pn_pass(f, &self.pn.indices, per_tri)
-        })?;
-        memory_barrier(
-            ctx,
-            cmd,
-            Access::COMPUTE_WRITE,
-            Access::new(
-                vk::PipelineStageFlags2::DRAW_INDIRECT
-                    | vk::PipelineStageFlags2::INDEX_INPUT
-                    | vk::PipelineStageFlags2::VERTEX_SHADER,
-                vk::AccessFlags2::INDIRECT_COMMAND_READ
-                    | vk::AccessFlags2::INDEX_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
-        );
+        }
+    }
+
+    /// Records the draw scope: the one indexed indirect draw of what the
+    /// compute passes wrote, between the target's begin and end.
+    fn record_draw(&self, f: &mut FrameRec<'_>, set: &DescriptorSet) -> VkResult<()> {
         let pc = f.view.draw_push(0, false, 0);
         f.scoped("draw", |f| {
             let (ctx, cmd) = (f.ctx, f.cmd);
@@ -616,6 +579,88 @@ impl CudaTess {
     /// The output buffers' capacities (vertices, indices).
     pub fn capacities(&self) -> (u32, u32) {
         (self.outputs.vertex_capacity, self.outputs.index_capacity)
+    }
+}
+
+/// What every compute pass of one frame records with: the method (its
+/// pipelines and layout), set 1 and the frame's push block.
+struct ComputePasses<'a> {
+    method: &'a CudaTess,
+    set: &'a DescriptorSet,
+    push: CtPush,
+    /// PN triangles: their passes are recorded only where there are some.
+    tris: u32,
+}
+
+impl ComputePasses<'_> {
+    /// Records the four compute stages over `s` (factors, scan, vertices,
+    /// indices), each in its timing scope, with a barrier after the first
+    /// two.
+    fn record(&self, f: &mut FrameRec<'_>, s: &SceneBuffers) -> VkResult<()> {
+        let (ctx, cmd) = (f.ctx, f.cmd);
+        let m = self.method;
+        let per_patch = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE);
+        let per_tri = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE);
+        let between =
+            || memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+        f.scoped("factors", |f| {
+            self.dispatch(f, &m.factors, per_patch)?;
+            self.pn_pass(f, &m.pn.factors, per_tri)
+        })?;
+        between();
+        f.scoped("scan", |f| self.record_scan(f, s, per_patch, per_tri))?;
+        between();
+        let vertex_groups = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE / CT_VERTEX_THREADS);
+        let tri_vertex_groups = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE / CT_VERTEX_THREADS);
+        f.scoped("vertices", |f| {
+            self.dispatch(f, &m.vertices, vertex_groups)?;
+            self.pn_pass(f, &m.pn.vertices, tri_vertex_groups)
+        })?;
+        f.scoped("indices", |f| {
+            self.dispatch(f, &m.indices, per_patch)?;
+            self.pn_pass(f, &m.pn.indices, per_tri)
+        })
+    }
+
+    /// The scan stage: the counts (patches, then PN triangles), the
+    /// multi-level scan of `s.plan`, then the draw's arguments.
+    fn record_scan(
+        &self,
+        f: &mut FrameRec<'_>,
+        s: &SceneBuffers,
+        per_patch: u32,
+        per_tri: u32,
+    ) -> VkResult<()> {
+        let m = self.method;
+        self.dispatch(f, &m.counts, per_patch)?;
+        self.pn_pass(f, &m.pn.counts, per_tri)?;
+        m.bind_compute(f, &m.scan, self.set)?;
+        s.plan.record(f.ctx, f.cmd, &m.compute_layout, self.push)?;
+        memory_barrier(
+            f.ctx,
+            f.cmd,
+            Access::COMPUTE_WRITE,
+            Access::COMPUTE_READ_WRITE,
+        );
+        self.dispatch(f, &m.args, 1)
+    }
+
+    /// Binds `pipeline` with sets 0 and 1, pushes the frame's block and
+    /// dispatches `groups` workgroups.
+    fn dispatch(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
+        self.method.bind_compute(f, pipeline, self.set)?;
+        self.method.compute_layout.push_block(f.cmd, &self.push)?;
+        unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
+        Ok(())
+    }
+
+    /// The PN pass `pipeline` after a patch pass, where there are
+    /// triangles (a scene without them records exactly what it did).
+    fn pn_pass(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
+        if self.tris > 0 {
+            self.dispatch(f, pipeline, groups)?;
+        }
+        Ok(())
     }
 }
 
