@@ -473,6 +473,8 @@ fn set_timeout(flag: Option<std::time::Duration>) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Runs one command: its arguments to the library's request, the run, what
+/// it prints.
 fn run(command: Command) -> anyhow::Result<()> {
     match command {
         Command::Stats {
@@ -482,28 +484,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             preview,
             preview_shade,
             by_model,
-        } => {
-            let mut args = StatsArgs::new(resolve_scene(Some(&view.scene)));
-            args.frame = frame;
-            args.eps = view.eps;
-            args.lambda = view.lambda;
-            args.size = view.size.unwrap_or(IMAGE_SIZE);
-            args.preview = preview;
-            args.preview_shade = preview_shade;
-            args.by_model = by_model;
-            args.split = view.split;
-            let report = commands::stats::run(&args)?;
-            if json {
-                emit(&(serde_json::to_string_pretty(&report)? + "\n"))
-            } else {
-                let mut text = report.to_text();
-                if let Some(p) = &report.preview {
-                    text += &format!("preview         {p} ({preview_shade})\n");
-                }
-                text += "note: these are the CPU reference's figures; `render` runs the GPU.\n";
-                emit(&text)
-            }
-        }
+        } => run_stats(view, frame, json, preview, preview_shade, by_model),
         Command::Render {
             frame,
             shade,
@@ -511,37 +492,12 @@ fn run(command: Command) -> anyhow::Result<()> {
             warmup,
             repeat,
             flip,
-        } => {
-            let args = RenderArgs {
-                frame: frame.frame.unwrap_or(0),
-                gpu: frame.request(IMAGE_SIZE, 1),
-                shade,
-                out,
-                warmup,
-                repeat,
-                flip,
-            };
-            emit(&commands::render::run(&args)?)
-        }
+        } => run_render(frame, shade, out, warmup, repeat, flip),
         Command::Validate {
             frame,
             no_holes,
             debug_dir,
-        } => {
-            let args = ValidateArgs {
-                frame: frame.frame,
-                gpu: frame.request(IMAGE_SIZE, 1),
-                skip_holes: no_holes,
-                debug_dir,
-            };
-            let report = commands::validate::run(&args)?;
-            emit(&report.table)?;
-            if report.ok() {
-                Ok(())
-            } else {
-                Err(anyhow::anyhow!("validation failed"))
-            }
-        }
+        } => run_validate(frame, no_holes, debug_dir),
         Command::View {
             frame,
             shade,
@@ -549,18 +505,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             frames,
             screenshot,
             resize,
-        } => {
-            let args = bezier_subdiv::app::ViewArgs {
-                frame: frame.frame.unwrap_or(0),
-                gpu: frame.request(WINDOW_SIZE, 4),
-                shade,
-                vsync,
-                frames,
-                screenshot,
-                resize,
-            };
-            emit(&bezier_subdiv::app::run(&args)?)
-        }
+        } => run_view(frame, shade, vsync, frames, screenshot, resize),
         Command::Bench {
             scene,
             methods,
@@ -577,37 +522,22 @@ fn run(command: Command) -> anyhow::Result<()> {
             vk_validation,
             split,
             occlusion,
-        } => {
-            let args = BenchArgs {
-                methods,
-                eps,
-                lambda,
-                frames,
-                size,
-                warmup,
-                flip_frames,
-                grid,
-                device,
-                quick,
-                validation: vk_validation,
-                split,
-                occlusion,
-                ..BenchArgs::new(resolve_scene(Some(&scene)), out)
-            };
-            let done = commands::bench::run(&args)?;
-            emit(&format!(
-                "wrote {}: frames.csv ({} frames), flip.csv ({} images), summary.json, report.md, plots\n",
-                done.out.display(),
-                done.rows,
-                done.flips
-            ))?;
-            match done.stopped {
-                None => Ok(()),
-                Some(why) => Err(anyhow::anyhow!(
-                    "the run stopped early ({why}); the reports cover what was measured"
-                )),
-            }
-        }
+        } => run_bench(&BenchArgs {
+            methods,
+            eps,
+            lambda,
+            frames,
+            size,
+            warmup,
+            flip_frames,
+            grid,
+            device,
+            quick,
+            validation: vk_validation,
+            split,
+            occlusion,
+            ..BenchArgs::new(resolve_scene(Some(&scene)), out)
+        }),
         Command::Info { vk_validation } => emit(&commands::info::run(vk_validation)?),
         Command::Import {
             file,
@@ -618,5 +548,117 @@ fn run(command: Command) -> anyhow::Result<()> {
             let options = bezier_subdiv::scene::obj::CageOptions { boundary, isolate };
             emit(&commands::import::run(&file, out.as_deref(), &options)?)
         }
+    }
+}
+
+/// `stats`: the CPU reference's figures, as a table or JSON.
+fn run_stats(
+    view: ViewArgs,
+    frame: usize,
+    json: bool,
+    preview: Option<PathBuf>,
+    preview_shade: PreviewShade,
+    by_model: bool,
+) -> anyhow::Result<()> {
+    let mut args = StatsArgs::new(resolve_scene(Some(&view.scene)));
+    args.frame = frame;
+    args.eps = view.eps;
+    args.lambda = view.lambda;
+    args.size = view.size.unwrap_or(IMAGE_SIZE);
+    args.preview = preview;
+    args.preview_shade = preview_shade;
+    args.by_model = by_model;
+    args.split = view.split;
+    let report = commands::stats::run(&args)?;
+    if json {
+        emit(&(serde_json::to_string_pretty(&report)? + "\n"))
+    } else {
+        let mut text = report.to_text();
+        if let Some(p) = &report.preview {
+            text += &format!("preview         {p} ({preview_shade})\n");
+        }
+        text += "note: these are the CPU reference's figures; `render` runs the GPU.\n";
+        emit(&text)
+    }
+}
+
+/// `render`: one frame to a PNG; prints its summary.
+fn run_render(
+    frame: FrameArgs,
+    shade: Shade,
+    out: Option<PathBuf>,
+    warmup: Option<u32>,
+    repeat: u32,
+    flip: bool,
+) -> anyhow::Result<()> {
+    let args = RenderArgs {
+        frame: frame.frame.unwrap_or(0),
+        gpu: frame.request(IMAGE_SIZE, 1),
+        shade,
+        out,
+        warmup,
+        repeat,
+        flip,
+    };
+    emit(&commands::render::run(&args)?)
+}
+
+/// `validate`: prints the table; fails when a check did.
+fn run_validate(
+    frame: FrameArgs,
+    no_holes: bool,
+    debug_dir: Option<PathBuf>,
+) -> anyhow::Result<()> {
+    let args = ValidateArgs {
+        frame: frame.frame,
+        gpu: frame.request(IMAGE_SIZE, 1),
+        skip_holes: no_holes,
+        debug_dir,
+    };
+    let report = commands::validate::run(&args)?;
+    emit(&report.table)?;
+    if report.ok() {
+        Ok(())
+    } else {
+        Err(anyhow::anyhow!("validation failed"))
+    }
+}
+
+/// `view`: the interactive window; prints what it says when it closes.
+fn run_view(
+    frame: FrameArgs,
+    shade: Shade,
+    vsync: bool,
+    frames: Option<u64>,
+    screenshot: Option<PathBuf>,
+    resize: Option<(u32, u32)>,
+) -> anyhow::Result<()> {
+    let args = bezier_subdiv::app::ViewArgs {
+        frame: frame.frame.unwrap_or(0),
+        gpu: frame.request(WINDOW_SIZE, 4),
+        shade,
+        vsync,
+        frames,
+        screenshot,
+        resize,
+    };
+    emit(&bezier_subdiv::app::run(&args)?)
+}
+
+/// `bench`: prints what was written; fails when the run stopped early
+/// (the reports are written either way).
+fn run_bench(args: &BenchArgs) -> anyhow::Result<()> {
+    let done = commands::bench::run(args)?;
+    emit(&format!(
+        "wrote {}: frames.csv ({} frames), flip.csv ({} images), summary.json, report.md, plots\n",
+        done.out.display(),
+        done.rows,
+        done.flips
+    ))?;
+    match done.stopped {
+        None => Ok(()),
+        Some(why) => Err(anyhow::anyhow!(
+            "the run stopped early ({why}); the reports cover what was measured"
+        )),
     }
 }

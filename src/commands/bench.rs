@@ -9,6 +9,7 @@
 //! writes every report from what was measured; `frames.csv` is written
 //! row by row as the run goes.
 
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -17,7 +18,9 @@ use anyhow::{anyhow, Context as _};
 
 use super::render::commit_id;
 use super::GpuRequest;
+use crate::anim::AnimatedScene;
 use crate::constants::{PATCH_MODEL_SHIFT, SHADE_NORMAL};
+use crate::eval::geometry::Reference;
 use crate::eval::record::{
     breakdown_rows, figure_keys, flatten, flip_cells, frame_cells, Config, ConfigSummary, CsvLog,
     FlipRow, FrameRow, BREAKDOWN_COLUMNS, FLIP_COLUMNS, FRAME_COLUMNS,
@@ -31,6 +34,7 @@ use crate::files::{check_writable, write_atomic};
 use crate::frame::View;
 use crate::gpu::write_png;
 use crate::methods::{self, ground_truth};
+use crate::patch::view::Split;
 use crate::renderer::Renderer;
 use crate::scene::file::{Scene, SceneGeometry};
 use crate::scene::orbit::ScenePath;
@@ -379,7 +383,7 @@ pub fn run_on(
         .scene
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
-    let (geo, shading) = (&loaded.geometry, &loaded.shading);
+    let geo = &loaded.geometry;
     fit_methods_to_scene(&mut plan, geo, args.methods.is_some())?;
     prepare_output(&args.out, plan.flip_frames)?;
     let path = ScenePath::of(&plan.scene, geo);
@@ -390,52 +394,8 @@ pub fn run_on(
     for f in ["frames.csv", "flip.csv", "breakdown.csv"] {
         let _ = std::fs::remove_file(args.out.join(f));
     }
-    let mut request = GpuRequest::new(args.scene.clone());
-    // Off unless asked: the paper's comparison culls by frustum and back
-    // faces alone, like the tessellators.
-    request.occlusion = Some(args.occlusion);
-    request.grid = args.grid;
-    request.size = args.size;
-    request.method = plan.configs[0].method.clone();
-    let mut renderer = request.renderer(ctx, geo, shading)?;
-    // An animated scene runs along the path at its own pace: path frame i
-    // is at time i / fps.
-    renderer.set_animation(loaded.animation.clone())?;
-    let anim = loaded.animation.as_ref().map(|a| {
-        format!(
-            "; animation running: path frame i at {:.4} s × i ({} fps, {} s loop), \
-             {} model patches and {} instance records updated per frame",
-            1.0 / a.fps,
-            a.fps,
-            a.duration,
-            a.patches(),
-            a.keyed.len()
-        )
-    });
-    let info = ctx.info();
-    let flip_t: Vec<f64> = (0..plan.flip_frames)
-        .map(|k| path.t(k, plan.flip_frames))
-        .collect();
-    let split = args.split.unwrap_or(plan.scene.view.split);
-    let mut setup = Setup {
-        command: command_line(args, &plan),
-        scene: args.scene.display().to_string(),
-        scene_name: plan.scene.name.clone(),
-        patches: geo.patches.len(),
-        device: info.name.clone(),
-        device_is_cpu: info.is_cpu,
-        driver: format!("{} {}", info.driver_name, info.driver_info),
-        size: args.size,
-        path: format!("{}{}", path.describe(), anim.unwrap_or_default()),
-        frames: plan.frames,
-        warmup: plan.warmup,
-        flip_t,
-        grid: args.grid,
-        commit: commit_id().to_string(),
-        models: geo.models.iter().map(|m| m.name.clone()).collect(),
-        split: split.name(),
-        stopped: None,
-    };
+    let mut renderer = bench_renderer(ctx, args, &plan, &loaded)?;
+    let mut setup = describe_setup(ctx, args, &plan, &loaded, &path);
     let mut m = Measured {
         configs: plan.configs.clone(),
         rows: Vec::new(),
@@ -474,6 +434,75 @@ pub fn run_on(
     })
 }
 
+/// The renderer the run measures, on the first configuration's method,
+/// with the scene's animation (if any) set.
+fn bench_renderer(
+    ctx: &Arc<Context>,
+    args: &BenchArgs,
+    plan: &Plan,
+    loaded: &AnimatedScene,
+) -> anyhow::Result<Renderer> {
+    let mut request = GpuRequest::new(args.scene.clone());
+    // Off unless asked: the paper's comparison culls by frustum and back
+    // faces alone, like the tessellators.
+    request.occlusion = Some(args.occlusion);
+    request.grid = args.grid;
+    request.size = args.size;
+    request.method = plan.configs[0].method.clone();
+    let mut renderer = request.renderer(ctx, &loaded.geometry, &loaded.shading)?;
+    // An animated scene runs along the path at its own pace: path frame i
+    // is at time i / fps.
+    renderer.set_animation(loaded.animation.clone())?;
+    Ok(renderer)
+}
+
+/// What the reports say about the run's setup: the command, the scene,
+/// the device, the path (and animation), the FLIP perspectives.
+fn describe_setup(
+    ctx: &Arc<Context>,
+    args: &BenchArgs,
+    plan: &Plan,
+    loaded: &AnimatedScene,
+    path: &ScenePath,
+) -> Setup {
+    let geo = &loaded.geometry;
+    let anim = loaded.animation.as_ref().map(|a| {
+        format!(
+            "; animation running: path frame i at {:.4} s × i ({} fps, {} s loop), \
+             {} model patches and {} instance records updated per frame",
+            1.0 / a.fps,
+            a.fps,
+            a.duration,
+            a.patches(),
+            a.keyed.len()
+        )
+    });
+    let info = ctx.info();
+    let flip_t: Vec<f64> = (0..plan.flip_frames)
+        .map(|k| path.t(k, plan.flip_frames))
+        .collect();
+    let split = args.split.unwrap_or(plan.scene.view.split);
+    Setup {
+        command: command_line(args, plan),
+        scene: args.scene.display().to_string(),
+        scene_name: plan.scene.name.clone(),
+        patches: geo.patches.len(),
+        device: info.name.clone(),
+        device_is_cpu: info.is_cpu,
+        driver: format!("{} {}", info.driver_name, info.driver_info),
+        size: args.size,
+        path: format!("{}{}", path.describe(), anim.unwrap_or_default()),
+        frames: plan.frames,
+        warmup: plan.warmup,
+        flip_t,
+        grid: args.grid,
+        commit: commit_id().to_string(),
+        models: geo.models.iter().map(|m| m.name.clone()).collect(),
+        split: split.name(),
+        stopped: None,
+    }
+}
+
 /// What has been measured so far.
 struct Measured {
     configs: Vec<Config>,
@@ -498,169 +527,308 @@ fn measure(
     watch: &mut dyn FnMut(&Step<'_>),
     m: &mut Measured,
 ) -> anyhow::Result<()> {
-    let total = plan.total_steps();
-    let split = args.split.unwrap_or(plan.scene.view.split);
-    // A method that ignores λ draws the same at any: it gets the first.
-    // Animation time of path position t (frame i of the path at i / fps).
-    let fps = renderer.animation().map(|a| a.fps);
-    let clock = |renderer: &mut Renderer, t: f64| {
-        if let Some(fps) = fps {
-            renderer.set_time(t * f64::from(plan.frames) / fps);
-        }
+    let mut run = Measuring {
+        total: plan.total_steps(),
+        split: args.split.unwrap_or(plan.scene.view.split),
+        // Animation time of path position t (frame i of the path at i / fps).
+        fps: renderer.animation().map(|a| a.fps),
+        renderer,
+        args,
+        plan,
+        path,
+        cancel,
+        watch,
+        m,
     };
-    let view = |t: f64, c: &Config| {
-        let lambda = c.lambda.unwrap_or(args.lambda[0]);
-        let mut v = View::new(&path.camera(t), args.size, c.eps, lambda, SHADE_NORMAL);
-        v.params.flags |= split.flag();
-        v
+    let ControlFlow::Continue(keys) = run.probe_methods()? else {
+        return Ok(());
     };
-    let mut step = |m: &mut Measured, what: &str| {
-        m.steps += 1;
-        watch(&Step {
-            done: m.steps,
-            total,
-            what,
-            rows: m.rows.len(),
-        });
-    };
-    // Probe every method once: its scopes, memory and figures name the
-    // CSV's columns, which must be known before the first row.
-    let mut probes = Vec::new();
-    for name in plan.methods() {
-        if cancel.load(Ordering::Relaxed) {
-            return Ok(());
-        }
-        let c = m
-            .configs
-            .iter()
-            .find(|c| c.method == name)
-            .expect("a method has configurations");
-        renderer.set_method(&name)?;
-        clock(renderer, 0.0);
-        let report = renderer.render(&view(0.0, c))?;
-        probes.push(flatten(&report, &renderer.memory()));
-        step(m, &format!("{name}: first frame"));
-    }
-    let keys = figure_keys(probes.iter().map(Vec::as_slice));
+    // Created once the columns are known, before any timed frame: a run
+    // stopped from here on leaves them with every column.
     let mut columns: Vec<String> = FRAME_COLUMNS.iter().map(|s| s.to_string()).collect();
     columns.extend(keys.iter().cloned());
     let mut frames_csv = CsvLog::create(&args.out.join("frames.csv"), &columns)?;
     let flip_columns: Vec<String> = FLIP_COLUMNS.iter().map(|s| s.to_string()).collect();
-    let mut flip_csv = CsvLog::create(&args.out.join("flip.csv"), &flip_columns)?;
-    let (w, h) = args.size;
-    let n = m.configs.len();
-    let label = |c: &Config, what: &str| format!("{} ({what})", c.label());
-    for ci in 0..n {
-        let c = m.configs[ci].clone();
-        renderer.set_method(&c.method)?;
-        for _ in 0..plan.warmup {
-            if cancel.load(Ordering::Relaxed) {
-                return Ok(());
-            }
-            clock(renderer, 0.0);
-            renderer.render(&view(0.0, &c))?;
-            step(m, &label(&c, "warm-up"));
+    let flip_csv = CsvLog::create(&args.out.join("flip.csv"), &flip_columns)?;
+    if run.warm_up()?.is_break() || run.time_frames(&keys, &mut frames_csv)?.is_break() {
+        return Ok(());
+    }
+    run.compare_perspectives(geo, setup, flip_csv)
+}
+
+/// The measuring loop's state: the renderer, what the run was asked for,
+/// what has been measured and who hears of every frame.
+struct Measuring<'a> {
+    renderer: &'a mut Renderer,
+    args: &'a BenchArgs,
+    plan: &'a Plan,
+    path: &'a ScenePath,
+    cancel: &'a AtomicBool,
+    watch: &'a mut dyn FnMut(&Step<'_>),
+    m: &'a mut Measured,
+    /// Frames the run renders, for the progress reports.
+    total: u64,
+    /// How `subdiv` and `subdiv-indirect` split.
+    split: Split,
+    /// The animation's frame rate (`None`: a still scene).
+    fps: Option<f64>,
+}
+
+/// The CSV files of the FLIP perspectives, and the model names the
+/// breakdown's rows carry.
+struct FlipLogs {
+    flip: CsvLog,
+    breakdown: CsvLog,
+    model_names: Vec<String>,
+}
+
+/// One FLIP perspective's ground truth: what every configuration is
+/// compared with there.
+struct Perspective {
+    /// 1-based, as the files and rows name it.
+    number: usize,
+    t: f64,
+    far: f32,
+    truth: Vec<u8>,
+    reference: Reference,
+}
+
+impl Measuring<'_> {
+    /// Whether the run was asked to stop.
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+
+    /// Sets the animation clock to path position `t`.
+    fn clock(&mut self, t: f64) {
+        if let Some(fps) = self.fps {
+            self.renderer
+                .set_time(t * f64::from(self.plan.frames) / fps);
         }
     }
-    // Frame by frame, every configuration in turn: whatever else slows the
-    // device down (other processes on a CPU device, clocks on a GPU) then
-    // falls on every configuration alike.
-    for i in 0..plan.frames {
-        let t = path.t(i, plan.frames);
-        for ci in 0..n {
-            if cancel.load(Ordering::Relaxed) {
+
+    /// The view of `c` at path position `t`. A method that ignores λ draws
+    /// the same at any: it gets the first.
+    fn view(&self, t: f64, c: &Config) -> View {
+        let lambda = c.lambda.unwrap_or(self.args.lambda[0]);
+        let mut v = View::new(
+            &self.path.camera(t),
+            self.args.size,
+            c.eps,
+            lambda,
+            SHADE_NORMAL,
+        );
+        v.params.flags |= self.split.flag();
+        v
+    }
+
+    /// Counts a rendered frame and tells the watcher.
+    fn step(&mut self, what: &str) {
+        self.m.steps += 1;
+        (self.watch)(&Step {
+            done: self.m.steps,
+            total: self.total,
+            what,
+            rows: self.m.rows.len(),
+        });
+    }
+
+    /// Probes every method once: its scopes, memory and figures name the
+    /// CSV's columns, which must be known before the first row. Returns
+    /// the figures' keys.
+    fn probe_methods(&mut self) -> anyhow::Result<ControlFlow<(), Vec<String>>> {
+        let mut probes = Vec::new();
+        for name in self.plan.methods() {
+            if self.cancelled() {
+                return Ok(ControlFlow::Break(()));
+            }
+            let c = self
+                .m
+                .configs
+                .iter()
+                .find(|c| c.method == name)
+                .expect("a method has configurations")
+                .clone();
+            self.renderer.set_method(&name)?;
+            self.clock(0.0);
+            let report = self.renderer.render(&self.view(0.0, &c))?;
+            probes.push(flatten(&report, &self.renderer.memory()));
+            self.step(&format!("{name}: first frame"));
+        }
+        Ok(ControlFlow::Continue(figure_keys(
+            probes.iter().map(Vec::as_slice),
+        )))
+    }
+
+    /// Every configuration's untimed warm-up frames.
+    fn warm_up(&mut self) -> anyhow::Result<ControlFlow<()>> {
+        for ci in 0..self.m.configs.len() {
+            let c = self.m.configs[ci].clone();
+            self.renderer.set_method(&c.method)?;
+            for _ in 0..self.plan.warmup {
+                if self.cancelled() {
+                    return Ok(ControlFlow::Break(()));
+                }
+                self.clock(0.0);
+                self.renderer.render(&self.view(0.0, &c))?;
+                self.step(&label(&c, "warm-up"));
+            }
+        }
+        Ok(ControlFlow::Continue(()))
+    }
+
+    /// The timed frames, a row of `frames.csv` each. Frame by frame, every
+    /// configuration in turn: whatever else slows the device down (other
+    /// processes on a CPU device, clocks on a GPU) then falls on every
+    /// configuration alike.
+    fn time_frames(
+        &mut self,
+        keys: &[String],
+        frames_csv: &mut CsvLog,
+    ) -> anyhow::Result<ControlFlow<()>> {
+        let frames = self.plan.frames;
+        for i in 0..frames {
+            let t = self.path.t(i, frames);
+            for ci in 0..self.m.configs.len() {
+                if self.cancelled() {
+                    return Ok(ControlFlow::Break(()));
+                }
+                let c = self.m.configs[ci].clone();
+                self.renderer.set_method(&c.method)?;
+                self.clock(t);
+                let report = self.renderer.render(&self.view(t, &c))?;
+                self.m.configs[ci].draw_path = report.draw_path.to_string();
+                let row = FrameRow {
+                    config: ci,
+                    frame: i,
+                    t,
+                    values: flatten(&report, &self.renderer.memory()),
+                };
+                frames_csv.append(&frame_cells(&self.m.configs[ci], &row, keys))?;
+                self.m.rows.push(row);
+                self.step(&label(&c, &format!("frame {}/{}", i + 1, frames)));
+            }
+        }
+        Ok(ControlFlow::Continue(()))
+    }
+
+    /// Per FLIP perspective, the ground truth and then every configuration
+    /// compared with it: `flip.csv`, `breakdown.csv` and the images.
+    fn compare_perspectives(
+        &mut self,
+        geo: &SceneGeometry,
+        setup: &Setup,
+        flip_csv: CsvLog,
+    ) -> anyhow::Result<()> {
+        let mut logs = FlipLogs {
+            flip: flip_csv,
+            breakdown: CsvLog::create(
+                &self.args.out.join("breakdown.csv"),
+                &BREAKDOWN_COLUMNS.map(String::from),
+            )?,
+            model_names: geo.models.iter().map(|m| m.name.clone()).collect(),
+        };
+        for (k, &t) in setup.flip_t.iter().enumerate() {
+            if self.cancelled() {
                 return Ok(());
             }
-            let c = m.configs[ci].clone();
-            renderer.set_method(&c.method)?;
-            clock(renderer, t);
-            let report = renderer.render(&view(t, &c))?;
-            m.configs[ci].draw_path = report.draw_path.to_string();
-            let row = FrameRow {
-                config: ci,
-                frame: i,
-                t,
-                values: flatten(&report, &renderer.memory()),
-            };
-            frames_csv.append(&frame_cells(&m.configs[ci], &row, &keys))?;
-            m.rows.push(row);
-            step(m, &label(&c, &format!("frame {}/{}", i + 1, plan.frames)));
+            let p = self.ground_truth(geo, k + 1, t)?;
+            for ci in 0..self.m.configs.len() {
+                if self.cancelled() {
+                    return Ok(());
+                }
+                self.compare(&p, ci, &mut logs)?;
+            }
         }
+        Ok(())
     }
-    let mut breakdown_csv = CsvLog::create(
-        &args.out.join("breakdown.csv"),
-        &BREAKDOWN_COLUMNS.map(String::from),
-    )?;
-    let model_names: Vec<String> = geo.models.iter().map(|m| m.name.clone()).collect();
-    let model_of = |patch: u32| {
-        geo.flags
-            .get(patch as usize)
-            .map(|f| (f >> PATCH_MODEL_SHIFT) as usize)
-    };
-    for (k, &t) in setup.flip_t.iter().enumerate() {
-        if cancel.load(Ordering::Relaxed) {
-            return Ok(());
-        }
-        // The reference does not depend on ε or λ: one per perspective.
-        clock(renderer, t);
-        let cam = path.camera(t);
+
+    /// The ground truth at perspective `number` (path position `t`), its
+    /// image written. The reference does not depend on ε or λ: one per
+    /// perspective.
+    fn ground_truth(
+        &mut self,
+        geo: &SceneGeometry,
+        number: usize,
+        t: f64,
+    ) -> anyhow::Result<Perspective> {
+        let model_of = |patch: u32| {
+            geo.flags
+                .get(patch as usize)
+                .map(|f| (f >> PATCH_MODEL_SHIFT) as usize)
+        };
+        self.clock(t);
+        let cam = self.path.camera(t);
         let far = cam.far as f32;
-        let truth = ground_truth_image(renderer, &view(t, &m.configs[0]))?;
-        let reference = ground_truth_reference(
-            renderer,
-            &view(t, &m.configs[0]),
-            far,
-            cam.fov_y_deg,
-            model_of,
-        )?;
+        let view = self.view(t, &self.m.configs[0]);
+        let truth = ground_truth_image(self.renderer, &view)?;
+        let view = self.view(t, &self.m.configs[0]);
+        let reference = ground_truth_reference(self.renderer, &view, far, cam.fov_y_deg, model_of)?;
+        let (w, h) = self.args.size;
         write_png(
-            &args.out.join(format!("flip/ground-truth-p{}.png", k + 1)),
+            &self
+                .args
+                .out
+                .join(format!("flip/ground-truth-p{number}.png")),
             w,
             h,
             &truth,
         )?;
-        step(m, &format!("ground truth, perspective {}", k + 1));
-        for ci in 0..n {
-            if cancel.load(Ordering::Relaxed) {
-                return Ok(());
-            }
-            let c = m.configs[ci].clone();
-            renderer.set_method(&c.method)?;
-            let report = renderer.render(&view(t, &c))?;
-            let img = renderer.read_image()?;
-            let f = flip(&truth, &img, w, h)
-                .ok_or_else(|| anyhow!("FLIP: images of different sizes"))?;
-            let distance = distance_image(renderer, &view(t, &c), far)?;
-            let wedges = if report.stats.get_u64("wedge_triangles").is_some() {
-                Some(wedge_image(renderer, &view(t, &c))?)
-            } else {
-                None
-            };
-            let breakdown =
-                geometry::breakdown(&reference, &distance, wedges.as_deref(), &f.errors);
-            let image = format!("flip/{}-p{}.png", c.stem(), k + 1);
-            let heat_map = format!("flip/{}-p{}-flip.png", c.stem(), k + 1);
-            write_png(&args.out.join(&image), w, h, &img)?;
-            f.save_heat_map(&args.out.join(&heat_map))?;
-            let row = FlipRow {
-                config: ci,
-                perspective: k + 1,
-                t,
-                mean: f.mean,
-                triangles: report.triangles(),
-                image,
-                heat_map,
-                breakdown,
-            };
-            flip_csv.append(&flip_cells(&m.configs[ci], &row))?;
-            for cells in breakdown_rows(&m.configs[ci], &row, &model_names) {
-                breakdown_csv.append(&cells)?;
-            }
-            m.flips.push(row);
-            step(m, &label(&c, &format!("FLIP perspective {}", k + 1)));
-        }
+        self.step(&format!("ground truth, perspective {number}"));
+        Ok(Perspective {
+            number,
+            t,
+            far,
+            truth,
+            reference,
+        })
     }
-    Ok(())
+
+    /// Configuration `ci` at perspective `p`: its image, FLIP heat map and
+    /// per-model breakdown, written and logged.
+    fn compare(&mut self, p: &Perspective, ci: usize, logs: &mut FlipLogs) -> anyhow::Result<()> {
+        let (w, h) = self.args.size;
+        let (t, k1) = (p.t, p.number);
+        let c = self.m.configs[ci].clone();
+        self.renderer.set_method(&c.method)?;
+        let report = self.renderer.render(&self.view(t, &c))?;
+        let img = self.renderer.read_image()?;
+        let f =
+            flip(&p.truth, &img, w, h).ok_or_else(|| anyhow!("FLIP: images of different sizes"))?;
+        let distance = distance_image(self.renderer, &self.view(t, &c), p.far)?;
+        let wedges = if report.stats.get_u64("wedge_triangles").is_some() {
+            Some(wedge_image(self.renderer, &self.view(t, &c))?)
+        } else {
+            None
+        };
+        let breakdown = geometry::breakdown(&p.reference, &distance, wedges.as_deref(), &f.errors);
+        let image = format!("flip/{}-p{k1}.png", c.stem());
+        let heat_map = format!("flip/{}-p{k1}-flip.png", c.stem());
+        write_png(&self.args.out.join(&image), w, h, &img)?;
+        f.save_heat_map(&self.args.out.join(&heat_map))?;
+        let row = FlipRow {
+            config: ci,
+            perspective: k1,
+            t,
+            mean: f.mean,
+            triangles: report.triangles(),
+            image,
+            heat_map,
+            breakdown,
+        };
+        logs.flip.append(&flip_cells(&self.m.configs[ci], &row))?;
+        for cells in breakdown_rows(&self.m.configs[ci], &row, &logs.model_names) {
+            logs.breakdown.append(&cells)?;
+        }
+        self.m.flips.push(row);
+        self.step(&label(&c, &format!("FLIP perspective {k1}")));
+        Ok(())
+    }
+}
+
+/// A progress message about configuration `c`.
+fn label(c: &Config, what: &str) -> String {
+    format!("{} ({what})", c.label())
 }
 
 /// Writes `summary.json`, `report.md` and the plots; returns the report.

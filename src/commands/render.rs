@@ -153,16 +153,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let scene = Scene::load(&args.gpu.scene)?;
     let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
     let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
-    check_writable(&out, args.out.is_none()).map_err(|e| anyhow!(e))?;
-    let json_path = stats_path(&out);
-    let heat_path = args.flip.then(|| flip_path(&out));
-    if let Some(p) = &heat_path {
-        check_writable(p, false).map_err(|e| anyhow!(e))?;
-    }
+    let (out, json_path, heat_path) = output_paths(args, &scene)?;
     let loaded = scene
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
@@ -181,15 +172,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let rgba = renderer.read_image()?;
     let (w, h) = args.gpu.size;
     let flipped = if args.flip {
-        let reference = ground_truth_image(&mut renderer, &view)?;
-        let result = flip(&reference, &rgba, w, h)
-            .ok_or_else(|| anyhow!("FLIP: the reference and the image differ in size"))?;
-        let geometry = geometric_error(&mut renderer, &view, &camera, &result)?;
-        Some(FlipOutput {
-            result,
-            grid: renderer.options().grid,
-            geometry,
-        })
+        Some(compare_with_ground_truth(
+            &mut renderer,
+            &view,
+            &camera,
+            (w, h),
+            &rgba,
+        )?)
     } else {
         None
     };
@@ -198,25 +187,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     }
 
     let mut stats = stats_json(args, &scene, eps, lambda, &renderer, report);
-    if let Some(t) = timing {
-        add_timing(&mut stats, t);
-    }
-    stats["warmup_frames"] = json!(warmup);
-    if let Some(cold) = &frames.cold {
-        stats["gpu_ms_cold"] = gpu_ms_json(cold);
-    }
+    add_frames(&mut stats, &frames, warmup);
     if let Some(f) = &flipped {
-        stats["flip_mean"] = json!(f.result.mean);
-        stats["flip_reference"] = json!({ "method": "ground-truth", "grid": f.grid });
-        let g = &f.geometry;
-        stats["geometric_error"] = json!({
-            "mean_px": g.geo_mean_px,
-            "p99_px": g.geo_p99_px,
-            "pixels": g.geo_pixels,
-            "silhouette_diff_px": g.silhouette_diff_px,
-            "flip_silhouette_share": g.flip_silhouette_share,
-            "eps": eps,
-        });
+        add_flip(&mut stats, f, eps);
     }
     let heat = flipped.as_ref().zip(heat_path.as_deref());
     write_outputs(&out, &json_path, (w, h), &rgba, &stats, heat)?;
@@ -224,30 +197,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let s = &report.stats;
     let wedges = s.get_u64("wedge_triangles");
     let flip_line = match (&flipped, &heat_path) {
-        (Some(f), Some(p)) => format!(
-            "FLIP mean {:.4} against ground-truth (grid {}); heat map {}\n\
-             geometric error {:.3} px mean, {:.3} px p99 off silhouettes (ε {eps}), \
-             {} silhouette pixels differ\n",
-            f.result.mean,
-            f.grid,
-            p.display(),
-            f.geometry.geo_mean_px,
-            f.geometry.geo_p99_px,
-            thousands(f.geometry.silhouette_diff_px),
-        ),
+        (Some(f), Some(p)) => flip_summary(f, p, eps),
         _ => String::new(),
     };
     let frame_ms = timing
         .and_then(|t| t.scopes.iter().find(|s| s.0 == "frame").map(|s| s.1))
         .or_else(|| report.ms("frame"))
         .unwrap_or(0.0);
-    let occlusion = match report.stats.own.iter().find(|(k, _)| *k == "occlusion") {
-        Some((_, v)) if v == &serde_json::Value::Bool(true) => format!(
-            ", occlusion culling on ({} instances hidden)",
-            report.stats.get_u64("instances_occluded").unwrap_or(0)
-        ),
-        _ => String::new(),
-    };
+    let occlusion = occlusion_summary(report);
     Ok(format!(
         "{} ({}) on {}{}, {} path{occlusion}: {} triangles{}, {:.3} ms GPU{}{}\n{flip_line}wrote {} and {}\n",
         args.gpu.scene.display(),
@@ -270,6 +227,99 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         out.display(),
         json_path.display()
     ))
+}
+
+/// The image, stats and (with `--flip`) heat map paths, checked before
+/// any GPU work.
+fn output_paths(
+    args: &RenderArgs,
+    scene: &Scene,
+) -> anyhow::Result<(PathBuf, PathBuf, Option<PathBuf>)> {
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
+    check_writable(&out, args.out.is_none()).map_err(|e| anyhow!(e))?;
+    let json_path = stats_path(&out);
+    let heat_path = args.flip.then(|| flip_path(&out));
+    if let Some(p) = &heat_path {
+        check_writable(p, false).map_err(|e| anyhow!(e))?;
+    }
+    Ok((out, json_path, heat_path))
+}
+
+/// Compares the image `rgba` (`w` × `h`) of `view` with the ground truth's: the mean
+/// FLIP and its heat map, and the geometric error.
+fn compare_with_ground_truth(
+    renderer: &mut Renderer,
+    view: &View,
+    camera: &crate::scene::camera::Camera,
+    (w, h): (u32, u32),
+    rgba: &[u8],
+) -> anyhow::Result<FlipOutput> {
+    let reference = ground_truth_image(renderer, view)?;
+    let result = flip(&reference, rgba, w, h)
+        .ok_or_else(|| anyhow!("FLIP: the reference and the image differ in size"))?;
+    let geometry = geometric_error(renderer, view, camera, &result)?;
+    Ok(FlipOutput {
+        result,
+        grid: renderer.options().grid,
+        geometry,
+    })
+}
+
+/// Adds to the stats what the frames drawn say beyond the last one: the
+/// medians of repeated frames, the warm-up and the cold frame's times.
+fn add_frames(stats: &mut Value, frames: &Frames, warmup: u32) {
+    if let Some(t) = &frames.timing {
+        add_timing(stats, t);
+    }
+    stats["warmup_frames"] = json!(warmup);
+    if let Some(cold) = &frames.cold {
+        stats["gpu_ms_cold"] = gpu_ms_json(cold);
+    }
+}
+
+/// Adds the comparison with the ground truth to the stats.
+fn add_flip(stats: &mut Value, f: &FlipOutput, eps: f64) {
+    stats["flip_mean"] = json!(f.result.mean);
+    stats["flip_reference"] = json!({ "method": "ground-truth", "grid": f.grid });
+    let g = &f.geometry;
+    stats["geometric_error"] = json!({
+        "mean_px": g.geo_mean_px,
+        "p99_px": g.geo_p99_px,
+        "pixels": g.geo_pixels,
+        "silhouette_diff_px": g.silhouette_diff_px,
+        "flip_silhouette_share": g.flip_silhouette_share,
+        "eps": eps,
+    });
+}
+
+/// The summary's lines on the comparison with the ground truth (heat map
+/// at `heat_path`).
+fn flip_summary(f: &FlipOutput, heat_path: &Path, eps: f64) -> String {
+    format!(
+        "FLIP mean {:.4} against ground-truth (grid {}); heat map {}\n\
+         geometric error {:.3} px mean, {:.3} px p99 off silhouettes (ε {eps}), \
+         {} silhouette pixels differ\n",
+        f.result.mean,
+        f.grid,
+        heat_path.display(),
+        f.geometry.geo_mean_px,
+        f.geometry.geo_p99_px,
+        thousands(f.geometry.silhouette_diff_px),
+    )
+}
+
+/// The summary's note on occlusion culling, when it was on.
+fn occlusion_summary(report: &FrameReport) -> String {
+    match report.stats.own.iter().find(|(k, _)| *k == "occlusion") {
+        Some((_, v)) if v == &serde_json::Value::Bool(true) => format!(
+            ", occlusion culling on ({} instances hidden)",
+            report.stats.get_u64("instances_occluded").unwrap_or(0)
+        ),
+        _ => String::new(),
+    }
 }
 
 /// Warm-up frames `render` draws unless told: 1, so the figures are not the

@@ -16,9 +16,11 @@
 //! the file is found here: `$BEZIER_SUBDIV_FONT`, else Debian's
 //! `fonts-dejavu-core` (installed by `tools/install-deps.sh`).
 
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -276,39 +278,39 @@ fn draw_marker<DB: DrawingBackend>(
     }
 }
 
-fn draw_panel(area: &Area<'_>, panel: &Panel, fig: &Figure<'_>) -> PlotResult {
-    // A log-log panel plots log10 of both coordinates on linear axes whose
-    // labels show the values again: ticks then fall evenly in ratio, also
-    // when the data spans less than a decade.
-    let tf = |(x, y): (f64, f64)| {
-        if fig.log {
-            (x > 0.0 && y > 0.0).then(|| (x.log10(), y.log10()))
-        } else {
-            Some((x, y))
-        }
-    };
-    let all: Vec<(f64, f64)> = panel
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter().copied())
-        .filter_map(tf)
-        .collect();
-    if all.is_empty() {
-        area.draw(&Text::new(
-            format!("{}: no data", panel.title),
-            (20, 20),
-            ("sans-serif", 20),
-        ))
-        .map_err(err)?;
-        return Ok(());
+/// A panel's chart: linear axes (a log-log panel plots log10 of both
+/// coordinates on them).
+type Chart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Where point `(x, y)` is plotted. A log-log panel plots log10 of both
+/// coordinates on linear axes whose labels show the values again: ticks
+/// then fall evenly in ratio, also when the data spans less than a decade.
+/// Points off a log scale are left out.
+fn plotted(log: bool, (x, y): (f64, f64)) -> Option<(f64, f64)> {
+    if log {
+        (x > 0.0 && y > 0.0).then(|| (x.log10(), y.log10()))
+    } else {
+        Some((x, y))
     }
-    let lo_hi = |k: fn(&(f64, f64)) -> f64| {
-        all.iter()
-            .map(k)
-            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)))
-    };
-    let ((x_lo, x_hi), (y_lo, y_hi)) = (lo_hi(|p| p.0), lo_hi(|p| p.1));
-    let (x, y) = if fig.log {
+}
+
+/// The least and greatest coordinate `k` of `points`.
+fn extent(points: &[(f64, f64)], k: fn(&(f64, f64)) -> f64) -> (f64, f64) {
+    points
+        .iter()
+        .map(k)
+        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)))
+}
+
+/// The axes' ranges for data spanning `(x_lo, x_hi)` and `(y_lo, y_hi)`:
+/// from zero on linear axes, a margin either side on log ones.
+fn axis_ranges(
+    log: bool,
+    (x_lo, x_hi): (f64, f64),
+    (y_lo, y_hi): (f64, f64),
+) -> (Range<f64>, Range<f64>) {
+    if log {
         // A twentieth of the span (at least 0.02 decades) beyond the data.
         let pad = |lo: f64, hi: f64| {
             let d = ((hi - lo) / 20.0).max(0.02);
@@ -317,14 +319,12 @@ fn draw_panel(area: &Area<'_>, panel: &Panel, fig: &Figure<'_>) -> PlotResult {
         (pad(x_lo, x_hi), pad(y_lo, y_hi))
     } else {
         (0f64..(x_hi * 1.02).max(1.0), 0f64..(y_hi * 1.05).max(1e-9))
-    };
-    let mut chart = ChartBuilder::on(area)
-        .caption(&panel.title, ("sans-serif", 20))
-        .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(80)
-        .build_cartesian_2d(x, y)
-        .map_err(err)?;
+    }
+}
+
+/// Draws a panel's axes, grid and labels; `x_hi` and `y_hi` are the data's
+/// greatest coordinates (they choose the labels' precision).
+fn draw_mesh(chart: &mut Chart<'_, '_>, fig: &Figure<'_>, x_hi: f64, y_hi: f64) -> PlotResult {
     let xf = |v: &f64| {
         if fig.log {
             log_label(&10f64.powf(*v))
@@ -356,39 +356,82 @@ fn draw_panel(area: &Area<'_>, panel: &Panel, fig: &Figure<'_>) -> PlotResult {
         .axis_desc_style(("sans-serif", 16))
         .light_line_style(WHITE)
         .draw()
+        .map_err(err)
+}
+
+/// Draws one series' (already plotted) points in style `st`: its line,
+/// dashed for a method that ignores λ, when the figure has lines, and its
+/// markers.
+fn draw_series(
+    chart: &mut Chart<'_, '_>,
+    st: &Style,
+    pts: &[(f64, f64)],
+    lines: bool,
+) -> PlotResult {
+    let colour = COLOURS[st.colour % COLOURS.len()];
+    let style = colour.stroke_width(st.width());
+    if lines {
+        if st.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(pts.iter().copied(), 10, 6, style))
+                .map_err(err)?;
+        } else {
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), style))
+                .map_err(err)?;
+        }
+    }
+    let r = st.radius(pts.len() > 30);
+    let (dot, ring) = (colour.filled(), colour.stroke_width(2));
+    let it = pts.iter().copied();
+    match st.marker {
+        Marker::Dot => chart.draw_series(it.map(|p| Circle::new(p, r, dot))),
+        Marker::Ring => chart.draw_series(it.map(|p| Circle::new(p, r, ring))),
+        Marker::Cross => chart.draw_series(it.map(|p| Cross::new(p, r, ring))),
+        Marker::Triangle => chart.draw_series(it.map(|p| TriangleMarker::new(p, r, ring))),
+        Marker::Square => chart.draw_series(
+            it.map(|p| EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], ring)),
+        ),
+    }
+    .map_err(err)?;
+    Ok(())
+}
+
+/// Draws one panel: axes fitted to its data, then its series (or a note
+/// that it has none).
+fn draw_panel(area: &Area<'_>, panel: &Panel, fig: &Figure<'_>) -> PlotResult {
+    let tf = |p: (f64, f64)| plotted(fig.log, p);
+    let all: Vec<(f64, f64)> = panel
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter_map(tf)
+        .collect();
+    if all.is_empty() {
+        area.draw(&Text::new(
+            format!("{}: no data", panel.title),
+            (20, 20),
+            ("sans-serif", 20),
+        ))
         .map_err(err)?;
+        return Ok(());
+    }
+    let (xs, ys) = (extent(&all, |p| p.0), extent(&all, |p| p.1));
+    let (x, y) = axis_ranges(fig.log, xs, ys);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x, y)
+        .map_err(err)?;
+    draw_mesh(&mut chart, fig, xs.1, ys.1)?;
     // Earlier styles first: the later (narrower) ones land on top.
     let mut order: Vec<&Series> = panel.series.iter().collect();
     order.sort_by_key(|s| s.style);
     for s in order {
-        let st = &fig.styles[s.style];
-        let colour = COLOURS[st.colour % COLOURS.len()];
-        let style = colour.stroke_width(st.width());
         let pts: Vec<(f64, f64)> = s.points.iter().copied().filter_map(tf).collect();
-        if fig.lines {
-            if st.dashed {
-                chart
-                    .draw_series(DashedLineSeries::new(pts.iter().copied(), 10, 6, style))
-                    .map_err(err)?;
-            } else {
-                chart
-                    .draw_series(LineSeries::new(pts.iter().copied(), style))
-                    .map_err(err)?;
-            }
-        }
-        let r = st.radius(pts.len() > 30);
-        let (dot, ring) = (colour.filled(), colour.stroke_width(2));
-        let it = pts.iter().copied();
-        match st.marker {
-            Marker::Dot => chart.draw_series(it.map(|p| Circle::new(p, r, dot))),
-            Marker::Ring => chart.draw_series(it.map(|p| Circle::new(p, r, ring))),
-            Marker::Cross => chart.draw_series(it.map(|p| Cross::new(p, r, ring))),
-            Marker::Triangle => chart.draw_series(it.map(|p| TriangleMarker::new(p, r, ring))),
-            Marker::Square => chart.draw_series(
-                it.map(|p| EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], ring)),
-            ),
-        }
-        .map_err(err)?;
+        draw_series(&mut chart, &fig.styles[s.style], &pts, fig.lines)?;
     }
     Ok(())
 }
@@ -598,6 +641,31 @@ pub fn write_plots(
     summaries: &[ConfigSummary],
 ) -> Result<Vec<(&'static str, &'static str)>, String> {
     load_font()?;
+    let mut written = path_plots(dir, configs, rows)?;
+    written.extend(curve_plots(dir, configs, summaries)?);
+    if let Some(panels) = lambda_figure(configs, summaries) {
+        let styles = lambda_styles(configs, &panels);
+        let fig = Figure {
+            title: "λ: triangles and FLIP (the paper's Fig. 6)",
+            axes: ("λ", ""),
+            styles,
+            panels,
+            cols: 2,
+            lines: true,
+            log: false,
+        };
+        draw(&dir.join("lambda.png"), &fig)?;
+        written.push(("lambda.png", "triangles and FLIP against λ (Fig. 6)"));
+    }
+    Ok(written)
+}
+
+/// The plots along the path: frame time and triangles per frame.
+fn path_plots(
+    dir: &Path,
+    configs: &[Config],
+    rows: &[FrameRow],
+) -> Result<Vec<(&'static str, &'static str)>, String> {
     let mut written = Vec::new();
     for (file, title, key, y, what) in [
         (
@@ -628,7 +696,18 @@ pub fn write_plots(
         draw(&dir.join(file), &fig)?;
         written.push((file, what));
     }
-    // The curves over ε: one point per ε (medians over the perspectives).
+    Ok(written)
+}
+
+/// The curves over ε: one point per ε (medians over the perspectives),
+/// FLIP against triangles and frame time, geometric error against
+/// triangles.
+fn curve_plots(
+    dir: &Path,
+    configs: &[Config],
+    summaries: &[ConfigSummary],
+) -> Result<Vec<(&'static str, &'static str)>, String> {
+    let mut written = Vec::new();
     let curves = pareto::curves(configs, summaries);
     let styles = curve_styles(configs);
     let plain: Vec<Style> = styles.iter().map(|(_, _, s)| s.clone()).collect();
@@ -682,41 +761,33 @@ pub fn write_plots(
         draw(&dir.join(file), &fig)?;
         written.push((file, what));
     }
-    if let Some(panels) = lambda_figure(configs, summaries) {
-        let mut keys: Vec<(String, f64)> = Vec::new();
-        for c in configs.iter().filter(|c| c.lambda.is_some()) {
-            if !keys.contains(&(c.method.clone(), c.eps)) {
-                keys.push((c.method.clone(), c.eps));
-            }
-        }
-        let methods = methods_of(configs);
-        let n = panels[0].series.len() as u32;
-        let styles = panels[0]
-            .series
-            .iter()
-            .zip(&keys)
-            .enumerate()
-            .map(|(i, (_, (m, e)))| Style {
-                label: format!("{m} ε={e}"),
-                colour: methods.iter().position(|x| x == m).unwrap_or(0) + i,
-                marker: LAMBDA_MARKERS[i % LAMBDA_MARKERS.len()],
-                dashed: false,
-                rank: n - 1 - i as u32,
-            })
-            .collect();
-        let fig = Figure {
-            title: "λ: triangles and FLIP (the paper's Fig. 6)",
-            axes: ("λ", ""),
-            styles,
-            panels,
-            cols: 2,
-            lines: true,
-            log: false,
-        };
-        draw(&dir.join("lambda.png"), &fig)?;
-        written.push(("lambda.png", "triangles and FLIP against λ (Fig. 6)"));
-    }
     Ok(written)
+}
+
+/// The styles of Fig. 6's series, one per (method, ε) that reads λ:
+/// colour by method (shifted per series), marker by place.
+fn lambda_styles(configs: &[Config], panels: &[Panel]) -> Vec<Style> {
+    let mut keys: Vec<(String, f64)> = Vec::new();
+    for c in configs.iter().filter(|c| c.lambda.is_some()) {
+        if !keys.contains(&(c.method.clone(), c.eps)) {
+            keys.push((c.method.clone(), c.eps));
+        }
+    }
+    let methods = methods_of(configs);
+    let n = panels[0].series.len() as u32;
+    panels[0]
+        .series
+        .iter()
+        .zip(&keys)
+        .enumerate()
+        .map(|(i, (_, (m, e)))| Style {
+            label: format!("{m} ε={e}"),
+            colour: methods.iter().position(|x| x == m).unwrap_or(0) + i,
+            marker: LAMBDA_MARKERS[i % LAMBDA_MARKERS.len()],
+            dashed: false,
+            rank: n - 1 - i as u32,
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -262,7 +262,25 @@ pub(crate) fn looks_like_cpu(kind: DeviceKind, driver_id: vk::DriverId, name: &s
 /// A multi-line human-readable summary of a device (for `bezier-subdiv info`).
 pub fn describe(info: &DeviceInfo) -> String {
     let mut s = String::new();
-    // Writing into a String cannot fail; the results are ignored on purpose.
+    // Writing into a String cannot fail; the results are ignored on purpose
+    // (here and in the helpers).
+    describe_identity(&mut s, info);
+    describe_limits(&mut s, &info.limits);
+    describe_mesh(&mut s, info.mesh.as_ref());
+    if info.features.tessellation_shader {
+        let _ = writeln!(
+            s,
+            "  tessellation:    max level {}",
+            info.limits.max_tessellation_generation_level
+        );
+    }
+    describe_features(&mut s, &info.features);
+    s
+}
+
+/// The summary's first lines: the device, its driver, API version and
+/// queue (subgroups, timestamps).
+fn describe_identity(s: &mut String, info: &DeviceInfo) {
     let _ = writeln!(s, "device {}: {}", info.index, info.name);
     let _ = writeln!(s, "  type:            {}", info.kind_label());
     if info.is_cpu {
@@ -293,7 +311,10 @@ pub fn describe(info: &DeviceInfo) -> String {
         "  timestamps:      {} valid bits, {} ns/tick",
         info.timestamp_valid_bits, info.timestamp_period
     );
-    let l = &info.limits;
+}
+
+/// The summary's lines on the limits work is sized by.
+fn describe_limits(s: &mut String, l: &DeviceLimits) {
     let _ = writeln!(
         s,
         "  compute:         {} invocations/workgroup, size {:?}, count {:?}, {} KiB shared",
@@ -320,7 +341,11 @@ pub fn describe(info: &DeviceInfo) -> String {
         "  MSAA (--msaa):   {} samples per pixel",
         samples.join(", ")
     );
-    if let Some(m) = &info.mesh {
+}
+
+/// The summary's lines on mesh and task shaders.
+fn describe_mesh(s: &mut String, mesh: Option<&MeshShaderInfo>) {
+    if let Some(m) = mesh {
         let _ = writeln!(
             s,
             "  mesh shader:     {} vertices / {} primitives out, {} invocations (preferred {}), payload {} B",
@@ -341,22 +366,18 @@ pub fn describe(info: &DeviceInfo) -> String {
     } else {
         let _ = writeln!(s, "  mesh shader:     not available");
     }
-    if info.features.tessellation_shader {
-        let _ = writeln!(
-            s,
-            "  tessellation:    max level {}",
-            l.max_tessellation_generation_level
-        );
-    }
-    let enabled: Vec<&str> = info
-        .features
+}
+
+/// The summary's last lines: the optional features on and off (no
+/// newline after the last).
+fn describe_features(s: &mut String, features: &OptionalFeatures) {
+    let enabled: Vec<&str> = features
         .list()
         .iter()
         .filter(|(_, on)| *on)
         .map(|(name, _)| *name)
         .collect();
-    let missing: Vec<&str> = info
-        .features
+    let missing: Vec<&str> = features
         .list()
         .iter()
         .filter(|(_, on)| !*on)
@@ -364,7 +385,6 @@ pub fn describe(info: &DeviceInfo) -> String {
         .collect();
     let _ = writeln!(s, "  features on:     {}", join_or_none(&enabled));
     let _ = write!(s, "  features off:    {}", join_or_none(&missing));
-    s
 }
 
 fn join_or_none(items: &[&str]) -> String {
