@@ -141,108 +141,125 @@ pub struct Deformer {
 impl DeformToml {
     /// Checks the table; `Err` says what is wrong.
     pub fn check(&self) -> Result<Deformer, String> {
-        let only = |fields: &[(&str, bool)]| -> Result<(), String> {
-            match fields.iter().find(|f| f.1) {
-                Some((name, _)) => Err(format!(
-                    "`{name}` does not apply to a {:?} deformer",
-                    self.kind
-                )),
-                None => Ok(()),
-            }
-        };
-        let positive = |name: &str, v: Option<f64>, default: Option<f64>| -> Result<f64, String> {
-            match v.or(default) {
-                Some(x) if x.is_finite() && x > 0.0 => Ok(x),
-                Some(x) => Err(format!("`{name}` must be a positive length (got {x})")),
-                None => Err(format!("a {:?} deformer needs `{name}`", self.kind)),
-            }
-        };
-        let amount = |name: &str, c: &Option<Curve>| -> Result<Curve, String> {
-            let c = c
-                .clone()
-                .ok_or_else(|| format!("a {:?} deformer needs `{name}`", self.kind))?;
-            c.check(name)?;
-            Ok(c)
-        };
         if self.center.iter().any(|c| !c.is_finite()) {
             return Err("`center` must be finite".into());
         }
         let center = DVec3::from_array(self.center);
         match self.kind {
-            Kind::Twist => {
-                only(&[
-                    ("toward", self.toward.is_some()),
-                    ("along", self.along.is_some()),
-                    ("amplitude", self.amplitude.is_some()),
-                    ("wavelength", self.wavelength.is_some()),
-                    ("speed", self.speed.is_some()),
-                    ("grow", self.grow.is_some()),
-                ])?;
-                Ok(Deformer {
-                    kind: Kind::Twist,
-                    axis: self.axis,
-                    other: self.axis,
-                    center,
-                    amount: amount("angle_deg", &self.angle_deg)?,
-                    length: positive("length", self.length, Some(1.0))?,
-                    speed: 0.0,
-                    grow: 0.0,
-                })
-            }
-            Kind::Bend => {
-                only(&[
-                    ("along", self.along.is_some()),
-                    ("amplitude", self.amplitude.is_some()),
-                    ("wavelength", self.wavelength.is_some()),
-                    ("speed", self.speed.is_some()),
-                    ("grow", self.grow.is_some()),
-                ])?;
-                let toward = self
-                    .toward
-                    .ok_or("a Bend deformer needs `toward`: the axis it bends towards")?;
-                if toward == self.axis {
-                    return Err("`toward` must differ from `axis`".into());
-                }
-                Ok(Deformer {
-                    kind: Kind::Bend,
-                    axis: self.axis,
-                    other: toward,
-                    center,
-                    amount: amount("angle_deg", &self.angle_deg)?,
-                    length: positive("length", self.length, None)?,
-                    speed: 0.0,
-                    grow: 0.0,
-                })
-            }
-            Kind::Wave => {
-                only(&[
-                    ("angle_deg", self.angle_deg.is_some()),
-                    ("length", self.length.is_some()),
-                    ("toward", self.toward.is_some()),
-                ])?;
-                let along = self
-                    .along
-                    .ok_or("a Wave deformer needs `along`: the axis it travels along")?;
-                let speed = self.speed.unwrap_or(0.0);
-                if !speed.is_finite() {
-                    return Err("`speed` must be finite".into());
-                }
-                let grow = self.grow.unwrap_or(0.0);
-                if !(grow.is_finite() && grow >= 0.0) {
-                    return Err(format!("`grow` must be ≥ 0 (got {grow})"));
-                }
-                Ok(Deformer {
-                    kind: Kind::Wave,
-                    axis: self.axis,
-                    other: along,
-                    center,
-                    amount: amount("amplitude", &self.amplitude)?,
-                    length: positive("wavelength", self.wavelength, None)?,
-                    speed,
-                    grow,
-                })
-            }
+            Kind::Twist => self.check_twist(center),
+            Kind::Bend => self.check_bend(center),
+            Kind::Wave => self.check_wave(center),
         }
+    }
+
+    /// A twist: `angle_deg` per `length` (default 1) about `axis`.
+    fn check_twist(&self, center: DVec3) -> Result<Deformer, String> {
+        self.only(&[
+            ("toward", self.toward.is_some()),
+            ("along", self.along.is_some()),
+            ("amplitude", self.amplitude.is_some()),
+            ("wavelength", self.wavelength.is_some()),
+            ("speed", self.speed.is_some()),
+            ("grow", self.grow.is_some()),
+        ])?;
+        Ok(Deformer {
+            kind: Kind::Twist,
+            axis: self.axis,
+            other: self.axis,
+            center,
+            amount: self.amount("angle_deg", &self.angle_deg)?,
+            length: self.positive("length", self.length, Some(1.0))?,
+            speed: 0.0,
+            grow: 0.0,
+        })
+    }
+
+    /// A bend: `angle_deg` over `length` along `axis`, towards `toward`.
+    fn check_bend(&self, center: DVec3) -> Result<Deformer, String> {
+        self.only(&[
+            ("along", self.along.is_some()),
+            ("amplitude", self.amplitude.is_some()),
+            ("wavelength", self.wavelength.is_some()),
+            ("speed", self.speed.is_some()),
+            ("grow", self.grow.is_some()),
+        ])?;
+        let toward = self
+            .toward
+            .ok_or("a Bend deformer needs `toward`: the axis it bends towards")?;
+        if toward == self.axis {
+            return Err("`toward` must differ from `axis`".into());
+        }
+        Ok(Deformer {
+            kind: Kind::Bend,
+            axis: self.axis,
+            other: toward,
+            center,
+            amount: self.amount("angle_deg", &self.angle_deg)?,
+            length: self.positive("length", self.length, None)?,
+            speed: 0.0,
+            grow: 0.0,
+        })
+    }
+
+    /// A wave: `amplitude` along `axis`, `wavelength` along `along`,
+    /// travelling at `speed`, growing over `grow`.
+    fn check_wave(&self, center: DVec3) -> Result<Deformer, String> {
+        self.only(&[
+            ("angle_deg", self.angle_deg.is_some()),
+            ("length", self.length.is_some()),
+            ("toward", self.toward.is_some()),
+        ])?;
+        let along = self
+            .along
+            .ok_or("a Wave deformer needs `along`: the axis it travels along")?;
+        let speed = self.speed.unwrap_or(0.0);
+        if !speed.is_finite() {
+            return Err("`speed` must be finite".into());
+        }
+        let grow = self.grow.unwrap_or(0.0);
+        if !(grow.is_finite() && grow >= 0.0) {
+            return Err(format!("`grow` must be ≥ 0 (got {grow})"));
+        }
+        Ok(Deformer {
+            kind: Kind::Wave,
+            axis: self.axis,
+            other: along,
+            center,
+            amount: self.amount("amplitude", &self.amplitude)?,
+            length: self.positive("wavelength", self.wavelength, None)?,
+            speed,
+            grow,
+        })
+    }
+
+    /// Refuses the first of `fields` (name, given) that is given: it does
+    /// not apply to this kind.
+    fn only(&self, fields: &[(&str, bool)]) -> Result<(), String> {
+        match fields.iter().find(|f| f.1) {
+            Some((name, _)) => Err(format!(
+                "`{name}` does not apply to a {:?} deformer",
+                self.kind
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// The length `name`: `v`, else `default`; it must be given and > 0.
+    fn positive(&self, name: &str, v: Option<f64>, default: Option<f64>) -> Result<f64, String> {
+        match v.or(default) {
+            Some(x) if x.is_finite() && x > 0.0 => Ok(x),
+            Some(x) => Err(format!("`{name}` must be a positive length (got {x})")),
+            None => Err(format!("a {:?} deformer needs `{name}`", self.kind)),
+        }
+    }
+
+    /// The curve `name`, which must be given and valid.
+    fn amount(&self, name: &str, c: &Option<Curve>) -> Result<Curve, String> {
+        let c = c
+            .clone()
+            .ok_or_else(|| format!("a {:?} deformer needs `{name}`", self.kind))?;
+        c.check(name)?;
+        Ok(c)
     }
 }
 

@@ -269,63 +269,24 @@ pub fn convert_with(
         ));
     }
     let nv = cage.positions.len();
-    // Where no closed-form mask gives the limit (semi-sharp features,
-    // darts, valence 2), refine the one-ring to it (`limit.rs`).
-    let exact: Vec<Option<DVec3>> = (0..nv)
-        .map(|v| {
-            (exact_corners && super::limit::needs_iteration(cage, topo, v))
-                .then(|| super::limit::limit_position(cage, topo, v))
-                .flatten()
-        })
-        .collect();
-    let (sharp, locals) = points(cage, topo, Config::Sharp, &exact);
-    // Features of sharpness below 1: the points near such a vertex are the
-    // soft configuration's moved towards the sharp one's by its weight.
-    let weight: Vec<Option<f64>> = (0..nv)
-        .map(|v| sharpness::fractional_weight(cage, topo, v))
-        .collect();
-    let smooth = weight
-        .iter()
-        .any(Option::is_some)
-        .then(|| points(cage, topo, Config::Soft, &exact).0);
-    let blend = |v: usize, pick: &dyn Fn(&Points) -> DVec3| -> DVec3 {
-        let hard = pick(&sharp);
-        match (weight[v], &smooth) {
-            (Some(w), Some(soft)) => {
-                let soft = pick(soft);
-                soft + (hard - soft) * w
-            }
-            _ => hard,
-        }
-    };
+    let exact = exact_limits(cage, topo, exact_corners);
+    let (blend, locals) = Blend::new(cage, topo, &exact);
 
     let corner: Vec<Vec3> = (0..nv)
-        .map(|v| round(blend(v, &|pts| pts.corner[v])))
+        .map(|v| round(blend.point(v, &|pts| pts.corner[v])))
         .collect();
-    let edge_point: HashMap<(usize, usize), Vec3> = sharp
+    let edge_point: HashMap<(usize, usize), Vec3> = blend
+        .sharp
         .edge
         .keys()
         .map(|&(near, far)| {
             (
                 (near, far),
-                round(blend(near, &|pts| pts.edge[&(near, far)])),
+                round(blend.point(near, &|pts| pts.edge[&(near, far)])),
             )
         })
         .collect();
-
-    // Sector sizes for the rules report, cutting fans at every sharp edge.
-    let mut sector_of: HashMap<(usize, usize), u32> = HashMap::new();
-    for v in 0..nv {
-        let is_sharp = |e: usize| {
-            let (a, b) = topo.edges[e].ends;
-            cage.edge_sharpness(a, b) > 0.0
-        };
-        for s in sharpness::sectors(topo, v, &is_sharp) {
-            for &c in &s.corners {
-                sector_of.insert(c, s.corners.len() as u32);
-            }
-        }
-    }
+    let sector_of = sector_sizes(cage, topo);
 
     let mut out = Conversion {
         corner,
@@ -336,18 +297,7 @@ pub fn convert_with(
         if cage.is_hole(f) {
             continue;
         }
-        let [v0, v1, v2, v3] = [face[0], face[1], face[2], face[3]];
-        let e = |a: usize, b: usize| out.edge_point[&(a, b)];
-        let i = |k: usize| round(blend(face[k], &|pts| pts.inner[f][k]));
-        let c = |v: usize| out.corner[v];
-        #[rustfmt::skip]
-        let pts = [
-            c(v0),     e(v0, v1), e(v1, v0), c(v1),
-            e(v0, v3), i(0),      i(1),      e(v1, v2),
-            e(v3, v0), i(3),      i(2),      e(v2, v1),
-            c(v3),     e(v3, v2), e(v2, v3), c(v2),
-        ];
-        let patch = BezierPatch { pts }.canonical_zeros();
+        let patch = face_patch(&out, &blend, face, f);
         if !patch.is_finite() {
             let msg = "the patch of this face has a non-finite control point (coordinates too large for f32?)";
             return Err(match cage.line_of(f) {
@@ -355,26 +305,141 @@ pub fn convert_with(
                 None => SceneError::invalid(path, format!("face {}: {msg}", f + 1)),
             });
         }
-        let corners = std::array::from_fn(|k| CornerRule {
-            rule: locals[face[k]].rule,
-            valence: topo.valence(face[k]) as u32,
-            sector: sector_of.get(&(f, k)).copied().unwrap_or(0),
-            semi_sharp: sharpness::has_semi_sharp(cage, topo, face[k]),
-        });
-        let mut feature_edges = 0u8;
-        for k in 0..4 {
-            if is_feature_edge(cage, topo, face[k], face[(k + 1) % 4]) {
-                feature_edges |= 1 << k;
-            }
-        }
+        let rule = patch_rule(cage, topo, &locals, &sector_of, face, f);
         out.patches.push(patch);
         out.faces.push(f);
-        out.rules.push(PatchRule {
-            corners,
-            feature_edges,
-        });
+        out.rules.push(rule);
     }
     Ok(out)
+}
+
+/// Each vertex's limit position where no closed-form mask gives it
+/// (semi-sharp features, darts, valence 2): its one-ring refined to the
+/// limit (`limit.rs`); `None` elsewhere, or everywhere without
+/// `exact_corners`.
+fn exact_limits(cage: &Cage, topo: &Topology, exact_corners: bool) -> Vec<Option<DVec3>> {
+    (0..cage.positions.len())
+        .map(|v| {
+            (exact_corners && super::limit::needs_iteration(cage, topo, v))
+                .then(|| super::limit::limit_position(cage, topo, v))
+                .flatten()
+        })
+        .collect()
+}
+
+/// The control points of the sharp configuration and, where some feature
+/// has sharpness below 1, of the soft one, with each vertex's weight
+/// between them.
+struct Blend {
+    /// Every point with features of sharpness below 1 taken as sharp.
+    sharp: Points,
+    /// Every point with them taken as smooth, when there are any.
+    smooth: Option<Points>,
+    /// Per vertex: the weight of the sharp configuration, for a vertex with
+    /// features of sharpness below 1.
+    weight: Vec<Option<f64>>,
+}
+
+impl Blend {
+    /// Both configurations' points of `cage` and the sharp configuration's
+    /// vertex rules.
+    fn new(cage: &Cage, topo: &Topology, exact: &[Option<DVec3>]) -> (Self, Vec<Local>) {
+        let nv = cage.positions.len();
+        let (sharp, locals) = points(cage, topo, Config::Sharp, exact);
+        // Features of sharpness below 1: the points near such a vertex are the
+        // soft configuration's moved towards the sharp one's by its weight.
+        let weight: Vec<Option<f64>> = (0..nv)
+            .map(|v| sharpness::fractional_weight(cage, topo, v))
+            .collect();
+        let smooth = weight
+            .iter()
+            .any(Option::is_some)
+            .then(|| points(cage, topo, Config::Soft, exact).0);
+        (
+            Blend {
+                sharp,
+                smooth,
+                weight,
+            },
+            locals,
+        )
+    }
+
+    /// The point `pick` near vertex `v`: the sharp configuration's, or the
+    /// soft one's moved towards it by `v`'s weight.
+    fn point(&self, v: usize, pick: &dyn Fn(&Points) -> DVec3) -> DVec3 {
+        let hard = pick(&self.sharp);
+        match (self.weight[v], &self.smooth) {
+            (Some(w), Some(soft)) => {
+                let soft = pick(soft);
+                soft + (hard - soft) * w
+            }
+            _ => hard,
+        }
+    }
+}
+
+/// Sector sizes for the rules report, cutting fans at every sharp edge: per
+/// face corner (face, k), the faces in its sector.
+fn sector_sizes(cage: &Cage, topo: &Topology) -> HashMap<(usize, usize), u32> {
+    let mut sector_of: HashMap<(usize, usize), u32> = HashMap::new();
+    for v in 0..cage.positions.len() {
+        let is_sharp = |e: usize| {
+            let (a, b) = topo.edges[e].ends;
+            cage.edge_sharpness(a, b) > 0.0
+        };
+        for s in sharpness::sectors(topo, v, &is_sharp) {
+            for &c in &s.corners {
+                sector_of.insert(c, s.corners.len() as u32);
+            }
+        }
+    }
+    sector_of
+}
+
+/// The patch of quad `f` (`face`): the shared corner and edge points of
+/// `out`, its own interior points.
+fn face_patch(out: &Conversion, blend: &Blend, face: &[usize], f: usize) -> BezierPatch {
+    let [v0, v1, v2, v3] = [face[0], face[1], face[2], face[3]];
+    let e = |a: usize, b: usize| out.edge_point[&(a, b)];
+    let i = |k: usize| round(blend.point(face[k], &|pts| pts.inner[f][k]));
+    let c = |v: usize| out.corner[v];
+    #[rustfmt::skip]
+    let pts = [
+        c(v0),     e(v0, v1), e(v1, v0), c(v1),
+        e(v0, v3), i(0),      i(1),      e(v1, v2),
+        e(v3, v0), i(3),      i(2),      e(v2, v1),
+        c(v3),     e(v3, v2), e(v2, v3), c(v2),
+    ];
+    BezierPatch { pts }.canonical_zeros()
+}
+
+/// How the patch of quad `f` (`face`) was made: its corners' rules and its
+/// feature edges.
+fn patch_rule(
+    cage: &Cage,
+    topo: &Topology,
+    locals: &[Local],
+    sector_of: &HashMap<(usize, usize), u32>,
+    face: &[usize],
+    f: usize,
+) -> PatchRule {
+    let corners = std::array::from_fn(|k| CornerRule {
+        rule: locals[face[k]].rule,
+        valence: topo.valence(face[k]) as u32,
+        sector: sector_of.get(&(f, k)).copied().unwrap_or(0),
+        semi_sharp: sharpness::has_semi_sharp(cage, topo, face[k]),
+    });
+    let mut feature_edges = 0u8;
+    for k in 0..4 {
+        if is_feature_edge(cage, topo, face[k], face[(k + 1) % 4]) {
+            feature_edges |= 1 << k;
+        }
+    }
+    PatchRule {
+        corners,
+        feature_edges,
+    }
 }
 
 /// Whether the edge `(a, b)` of `cage` is a feature edge (see

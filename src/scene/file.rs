@@ -291,90 +291,22 @@ impl Scene {
             line: e.span().map_or(1, |s| line_of(text, s.start)),
             msg: e.message().trim().to_string(),
         })?;
-        let invalid = |msg: String| SceneError::Invalid {
-            path: path.to_path_buf(),
-            msg,
-        };
-        raw.camera
-            .check()
-            .map_err(|m| invalid(format!("[camera]: {m}")))?;
-        let (keys, path_frames) = match raw.camera_path {
-            Some(p) => (p.key, p.frames),
-            None => (Vec::new(), default_frames()),
-        };
-        for (k, key) in keys.iter().enumerate() {
-            key.check().map_err(|m| {
-                invalid(format!("camera_path key {} (frame {}): {m}", k + 1, k + 1))
-            })?;
-        }
-        if let Some(o) = &raw.camera_orbit {
-            o.check()
-                .map_err(|m| invalid(format!("[camera_orbit]: {m}")))?;
-        }
+        let (keys, path_frames) = check_cameras(
+            path,
+            &raw.camera,
+            raw.camera_path,
+            raw.camera_orbit.as_ref(),
+        )?;
         let v = raw.view;
-        if !(v.eps.is_finite() && v.eps > 0.0) {
-            return Err(invalid(format!("[view] eps must be > 0 (got {})", v.eps)));
-        }
-        if !(0.0..=1.0).contains(&v.lambda) {
-            return Err(invalid(format!(
-                "[view] lambda must be in [0, 1] (got {})",
-                v.lambda
-            )));
-        }
+        check_view(path, &v)?;
         if raw.model.is_empty() {
-            return Err(invalid("the scene has no [[model]]".into()));
+            return Err(SceneError::invalid(path, "the scene has no [[model]]"));
         }
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut models = Vec::new();
         let mut instances_so_far = 0u64;
-        for (i, m) in raw.model.into_iter().enumerate() {
-            let name = m.name.clone().unwrap_or_else(|| format!("model {}", i + 1));
-            if m.isolate > super::isolate::MAX_ISOLATE {
-                return Err(invalid(format!(
-                    "model '{name}': isolate = {} is more than {}: each step quarters every face of the refined parts",
-                    m.isolate,
-                    super::isolate::MAX_ISOLATE
-                )));
-            }
-            // Count before building: a grid of 10^10 copies must be refused,
-            // not allocated. Every instance has at least one patch.
-            let count = instance_count(&m.instance)
-                .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
-            instances_so_far = instances_so_far.saturating_add(count);
-            if instances_so_far > MAX_BASE_PATCHES {
-                return Err(invalid(format!(
-                    "model '{name}': {} instances{}: at one patch each that is already {} base patches \
-                     and at least {} of patch memory; a scene may have at most {} base patches",
-                    thousands(count),
-                    if instances_so_far > count { " (with the models before it)" } else { "" },
-                    thousands(instances_so_far),
-                    bytes_text(instances_so_far.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
-                    thousands(MAX_BASE_PATCHES),
-                )));
-            }
-            let instances = instance_transforms(&m.instance)
-                .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
-            let anim = model_anim(&m, dir).map_err(|e| match e {
-                Err(msg) => invalid(format!("model '{name}': {msg}")),
-                Ok(e) => e,
-            })?;
-            let file = anim
-                .sequence
-                .first()
-                .cloned()
-                .unwrap_or_else(|| dir.join(&m.file));
-            models.push(ModelDesc {
-                name,
-                file,
-                two_sided: m.two_sided,
-                options: CageOptions {
-                    boundary: m.boundary,
-                    isolate: m.isolate,
-                },
-                surface: m.surface,
-                instances,
-                anim,
-            });
+        for (i, m) in raw.model.iter().enumerate() {
+            models.push(model_desc(path, dir, i, m, &mut instances_so_far)?);
         }
         let name = raw.name.unwrap_or_else(|| {
             path.file_stem()
@@ -419,6 +351,113 @@ impl Scene {
         let i = (x.floor() as usize).min(frames.len() - 2);
         frames[i].lerp(&frames[i + 1], x - i as f64)
     }
+}
+
+/// Checks `[camera]`, the camera path's keys and `[camera_orbit]`; returns
+/// the path's keys and frames (none and the default without a path).
+fn check_cameras(
+    path: &Path,
+    camera: &Camera,
+    camera_path: Option<PathToml>,
+    orbit: Option<&Orbit>,
+) -> Result<(Vec<Camera>, u32), SceneError> {
+    let invalid = |msg: String| SceneError::invalid(path, msg);
+    camera
+        .check()
+        .map_err(|m| invalid(format!("[camera]: {m}")))?;
+    let (keys, path_frames) = match camera_path {
+        Some(p) => (p.key, p.frames),
+        None => (Vec::new(), default_frames()),
+    };
+    for (k, key) in keys.iter().enumerate() {
+        key.check()
+            .map_err(|m| invalid(format!("camera_path key {} (frame {}): {m}", k + 1, k + 1)))?;
+    }
+    if let Some(o) = orbit {
+        o.check()
+            .map_err(|m| invalid(format!("[camera_orbit]: {m}")))?;
+    }
+    Ok((keys, path_frames))
+}
+
+/// Checks the `[view]` defaults: ε > 0 and λ in [0, 1].
+fn check_view(path: &Path, v: &ViewDefaults) -> Result<(), SceneError> {
+    let invalid = |msg: String| SceneError::invalid(path, msg);
+    if !(v.eps.is_finite() && v.eps > 0.0) {
+        return Err(invalid(format!("[view] eps must be > 0 (got {})", v.eps)));
+    }
+    if !(0.0..=1.0).contains(&v.lambda) {
+        return Err(invalid(format!(
+            "[view] lambda must be in [0, 1] (got {})",
+            v.lambda
+        )));
+    }
+    Ok(())
+}
+
+/// Model `i` of the scene, checked, its file resolved against `dir`;
+/// `instances_so_far` counts the instances of the models up to it, which
+/// are refused past [`MAX_BASE_PATCHES`] before any is built.
+fn model_desc(
+    path: &Path,
+    dir: &Path,
+    i: usize,
+    m: &ModelToml,
+    instances_so_far: &mut u64,
+) -> Result<ModelDesc, SceneError> {
+    let invalid = |msg: String| SceneError::invalid(path, msg);
+    let name = m.name.clone().unwrap_or_else(|| format!("model {}", i + 1));
+    if m.isolate > super::isolate::MAX_ISOLATE {
+        return Err(invalid(format!(
+            "model '{name}': isolate = {} is more than {}: each step quarters every face of the refined parts",
+            m.isolate,
+            super::isolate::MAX_ISOLATE
+        )));
+    }
+    // Count before building: a grid of 10^10 copies must be refused,
+    // not allocated. Every instance has at least one patch.
+    let count =
+        instance_count(&m.instance).map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
+    *instances_so_far = instances_so_far.saturating_add(count);
+    let instances_so_far = *instances_so_far;
+    if instances_so_far > MAX_BASE_PATCHES {
+        return Err(invalid(format!(
+            "model '{name}': {} instances{}: at one patch each that is already {} base patches \
+             and at least {} of patch memory; a scene may have at most {} base patches",
+            thousands(count),
+            if instances_so_far > count {
+                " (with the models before it)"
+            } else {
+                ""
+            },
+            thousands(instances_so_far),
+            bytes_text(instances_so_far.saturating_mul(GEOMETRY_BYTES_PER_PATCH)),
+            thousands(MAX_BASE_PATCHES),
+        )));
+    }
+    let instances = instance_transforms(&m.instance)
+        .map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
+    let anim = model_anim(m, dir).map_err(|e| match e {
+        Err(msg) => invalid(format!("model '{name}': {msg}")),
+        Ok(e) => e,
+    })?;
+    let file = anim
+        .sequence
+        .first()
+        .cloned()
+        .unwrap_or_else(|| dir.join(&m.file));
+    Ok(ModelDesc {
+        name,
+        file,
+        two_sided: m.two_sided,
+        options: CageOptions {
+            boundary: m.boundary,
+            isolate: m.isolate,
+        },
+        surface: m.surface,
+        instances,
+        anim,
+    })
 }
 
 /// The model's deformers, sequence and instance keys, checked; an error is

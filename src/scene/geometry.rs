@@ -235,11 +235,46 @@ impl Scene {
         &self,
         with_shading: bool,
     ) -> Result<(SceneGeometry, SceneShading, ModelCache), SceneError> {
-        let model_error = |m: &ModelDesc, msg: String| SceneError::Model {
+        let (cache, meshes) = self.load_models()?;
+        // Refuse what cannot be drawn before allocating any of it.
+        self.check_base_patches(&cache)?;
+        let rational = self.models.iter().any(|m| {
+            let model = &cache[&(m.file.clone(), m.options, m.surface)];
+            !m.instances.is_empty() && model.weights.iter().any(|w| !is_polynomial(w))
+        });
+        let mut builder = Builder {
+            scene: self,
+            cache: &cache,
+            meshes: &meshes,
+            with_shading,
+            rational,
+            sources: HashMap::new(),
+            geo: SceneGeometry::default(),
+            shading: SceneShading::default(),
+        };
+        for (index, m) in self.models.iter().enumerate() {
+            builder.add_model(index, m)?;
+        }
+        let Builder {
+            mut geo, shading, ..
+        } = builder;
+        self.check_pn_triangles(&geo)?;
+        geo.pn.number_edges();
+        Ok((geo, shading, cache))
+    }
+
+    /// The error for model `m` of this scene.
+    fn model_error(&self, m: &ModelDesc, msg: String) -> SceneError {
+        SceneError::Model {
             scene: self.path.clone(),
             model: m.name.clone(),
             msg,
-        };
+        }
+    }
+
+    /// Reads every PN-triangle mesh (each file once), then imports every
+    /// other model (each file, options and surface once), in scene order.
+    fn load_models(&self) -> Result<(ModelCache, HashMap<PathBuf, PnMesh>), SceneError> {
         let mut cache: HashMap<(PathBuf, CageOptions, Surface), ImportedModel> = HashMap::new();
         let mut meshes: HashMap<PathBuf, PnMesh> = HashMap::new();
         for m in self
@@ -248,7 +283,7 @@ impl Scene {
             .filter(|m| m.surface == Surface::PnTriangles)
         {
             if !meshes.contains_key(&m.file) {
-                let mesh = pn::read(&m.file).map_err(|e| model_error(m, e.to_string()))?;
+                let mesh = pn::read(&m.file).map_err(|e| self.model_error(m, e.to_string()))?;
                 meshes.insert(m.file.clone(), mesh);
             }
         }
@@ -267,11 +302,16 @@ impl Scene {
             let key = (m.file.clone(), m.options, m.surface);
             if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(key) {
                 let model = load_model_with(&m.file, &m.options)
-                    .map_err(|e| model_error(m, e.to_string()))?;
+                    .map_err(|e| self.model_error(m, e.to_string()))?;
                 slot.insert(model);
             }
         }
-        // Refuse what cannot be drawn before allocating any of it.
+        Ok((cache, meshes))
+    }
+
+    /// Refuses a scene with more base patches than the subdivision kernel
+    /// can count.
+    fn check_base_patches(&self, cache: &ModelCache) -> Result<(), SceneError> {
         let total: u64 = self
             .models
             .iter()
@@ -292,96 +332,11 @@ impl Scene {
                 ),
             ));
         }
-        let mut geo = SceneGeometry::default();
-        let mut shading = SceneShading::default();
-        let rational = self.models.iter().any(|m| {
-            let model = &cache[&(m.file.clone(), m.options, m.surface)];
-            !m.instances.is_empty() && model.weights.iter().any(|w| !is_polynomial(w))
-        });
-        // Each distinct import's patches once, in model space: where its
-        // first model with instances puts them.
-        // A model whose cage moves (src/anim/) has a copy of its own, which
-        // the animation rewrites every frame.
-        let mut sources: HashMap<(ModelKey, Option<usize>), u32> = HashMap::new();
-        for (index, m) in self.models.iter().enumerate() {
-            let key = (m.file.clone(), m.options, m.surface);
-            let model = &cache[&key];
-            let flags =
-                (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
-            let placed = !m.instances.is_empty() && !model.patches.is_empty();
-            let tangents = if with_shading && placed {
-                model.shading_patches()
-            } else {
-                Vec::new()
-            };
-            let source_key = (key.clone(), m.anim.deforms().then_some(index));
-            if placed && !sources.contains_key(&source_key) {
-                sources.insert(source_key.clone(), geo.instances.patches.len() as u32);
-                add_model_patches(&mut geo.instances, model, rational);
-                shading.model.extend_from_slice(&tangents);
-            }
-            for xf in m.instances.iter().filter(|_| placed) {
-                let first = geo.patches.len() as u32;
-                let instance = Instance::new(
-                    xf,
-                    first,
-                    sources[&source_key],
-                    model.patches.len() as u32,
-                    flags,
-                );
-                for k in 0..model.patches.len() {
-                    let source = instance.source as usize + k;
-                    let w = instance.patch(&geo.instances.patches[source]);
-                    if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
-                        return Err(model_error(
-                            m,
-                            format!("a transformed control point exceeds ±{MAX_COORD} (scale the scene down)"),
-                        ));
-                    }
-                    geo.patches.push(w);
-                    geo.flags
-                        .push(instance.patch_flags(geo.instances.flags[source]));
-                    if rational {
-                        geo.weights
-                            .push(instance.weights(&geo.instances.weights[source]));
-                    }
-                    if let Some(t) = tangents.get(k) {
-                        shading.patches.push(t.transformed(xf));
-                    }
-                }
-                let world = &geo.patches[first as usize..];
-                geo.instances.instances.push(instance.bounded(world));
-            }
-            if let Some(mesh) = meshes
-                .get(&m.file)
-                .filter(|_| m.surface == Surface::PnTriangles)
-            {
-                for xf in &m.instances {
-                    let w = mesh.transformed(xf);
-                    if !w
-                        .positions
-                        .iter()
-                        .all(|q| q.abs().max_element() <= MAX_COORD)
-                    {
-                        return Err(model_error(
-                            m,
-                            format!(
-                                "a transformed vertex exceeds ±{MAX_COORD} (scale the scene down)"
-                            ),
-                        ));
-                    }
-                    geo.pn.push(&w, flags);
-                }
-            }
-            geo.models.push(ModelSummary {
-                name: m.name.clone(),
-                file: m.file.clone(),
-                patches_per_instance: model.patches.len(),
-                instances: m.instances.len(),
-                two_sided: m.two_sided,
-                warnings: model.warnings.clone(),
-            });
-        }
+        Ok(())
+    }
+
+    /// Refuses a scene with more PN triangles than cudatess can number.
+    fn check_pn_triangles(&self, geo: &SceneGeometry) -> Result<(), SceneError> {
         // cudatess's vertex word holds the triangle id in CT_PATCH_BITS.
         let most = 1u64 << crate::constants::CT_PATCH_BITS;
         if u64::from(geo.pn.count()) > most {
@@ -394,8 +349,139 @@ impl Scene {
                 ),
             ));
         }
-        geo.pn.number_edges();
-        Ok((geo, shading, cache))
+        Ok(())
+    }
+}
+
+/// A scene's geometry and shading as they are built, model by model, with
+/// the loaded models they are built from.
+struct Builder<'a> {
+    /// The scene (for its path in errors).
+    scene: &'a Scene,
+    /// Imported models by file, cage options and surface.
+    cache: &'a ModelCache,
+    /// PN-triangle meshes by file.
+    meshes: &'a HashMap<PathBuf, PnMesh>,
+    /// Whether to build the shading normals too.
+    with_shading: bool,
+    /// Whether some placed patch is rational (then every patch keeps weights).
+    rational: bool,
+    /// Where each distinct import's model patches start in
+    /// `geo.instances.patches` (a deforming model: its own copy).
+    sources: HashMap<(ModelKey, Option<usize>), u32>,
+    /// The geometry so far.
+    geo: SceneGeometry,
+    /// The shading so far.
+    shading: SceneShading,
+}
+
+impl Builder<'_> {
+    /// Adds model `index` of the scene: its patches once in model space, its
+    /// instances' patches in world space, its PN triangles and its summary.
+    fn add_model(&mut self, index: usize, m: &ModelDesc) -> Result<(), SceneError> {
+        let key = (m.file.clone(), m.options, m.surface);
+        let model = &self.cache[&key];
+        let flags =
+            (index as u32) << PATCH_MODEL_SHIFT | if m.two_sided { PATCH_TWO_SIDED } else { 0 };
+        let placed = !m.instances.is_empty() && !model.patches.is_empty();
+        let tangents = if self.with_shading && placed {
+            model.shading_patches()
+        } else {
+            Vec::new()
+        };
+        // Each distinct import's patches once, in model space: where its
+        // first model with instances puts them.
+        // A model whose cage moves (src/anim/) has a copy of its own, which
+        // the animation rewrites every frame.
+        let source_key = (key.clone(), m.anim.deforms().then_some(index));
+        if placed && !self.sources.contains_key(&source_key) {
+            self.sources
+                .insert(source_key.clone(), self.geo.instances.patches.len() as u32);
+            add_model_patches(&mut self.geo.instances, model, self.rational);
+            self.shading.model.extend_from_slice(&tangents);
+        }
+        if placed {
+            let source = self.sources[&source_key];
+            self.place_instances(m, model, source, flags, &tangents)?;
+        }
+        self.place_pn(m, flags)?;
+        self.geo.models.push(ModelSummary {
+            name: m.name.clone(),
+            file: m.file.clone(),
+            patches_per_instance: model.patches.len(),
+            instances: m.instances.len(),
+            two_sided: m.two_sided,
+            warnings: model.warnings.clone(),
+        });
+        Ok(())
+    }
+
+    /// Places every instance of `m`: its world-space patches, flags, weights
+    /// and shading, and the instance that makes them from the model patches
+    /// at `source`.
+    fn place_instances(
+        &mut self,
+        m: &ModelDesc,
+        model: &ImportedModel,
+        source: u32,
+        flags: u32,
+        tangents: &[ShadingPatch],
+    ) -> Result<(), SceneError> {
+        let geo = &mut self.geo;
+        for xf in &m.instances {
+            let first = geo.patches.len() as u32;
+            let instance = Instance::new(xf, first, source, model.patches.len() as u32, flags);
+            for k in 0..model.patches.len() {
+                let source = instance.source as usize + k;
+                let w = instance.patch(&geo.instances.patches[source]);
+                if !w.pts.iter().all(|q| q.abs().max_element() <= MAX_COORD) {
+                    return Err(self.scene.model_error(
+                        m,
+                        format!("a transformed control point exceeds ±{MAX_COORD} (scale the scene down)"),
+                    ));
+                }
+                geo.patches.push(w);
+                geo.flags
+                    .push(instance.patch_flags(geo.instances.flags[source]));
+                if self.rational {
+                    geo.weights
+                        .push(instance.weights(&geo.instances.weights[source]));
+                }
+                if let Some(t) = tangents.get(k) {
+                    self.shading.patches.push(t.transformed(xf));
+                }
+            }
+            let world = &geo.patches[first as usize..];
+            geo.instances.instances.push(instance.bounded(world));
+        }
+        Ok(())
+    }
+
+    /// Places every instance of a PN-triangle model `m`'s mesh in world
+    /// space (nothing for a patch model).
+    fn place_pn(&mut self, m: &ModelDesc, flags: u32) -> Result<(), SceneError> {
+        let Some(mesh) = self
+            .meshes
+            .get(&m.file)
+            .filter(|_| m.surface == Surface::PnTriangles)
+        else {
+            return Ok(());
+        };
+        for xf in &m.instances {
+            let w = mesh.transformed(xf);
+            if !w
+                .positions
+                .iter()
+                .all(|q| q.abs().max_element() <= MAX_COORD)
+            {
+                return Err(self.scene.model_error(
+                    m,
+                    format!("a transformed vertex exceeds ±{MAX_COORD} (scale the scene down)"),
+                ));
+            }
+            self.geo.pn.push(&w, flags);
+        }
+        Ok(())
     }
 }
 

@@ -150,29 +150,7 @@ pub fn parse_with(
 ) -> Result<ImportedModel, SceneError> {
     let path = path_for_errors;
     let scan = scan(path, text)?;
-    if scan.face_lines.is_empty() {
-        let msg = if text.trim().is_empty() {
-            "empty file"
-        } else {
-            "no faces (`f` lines): nothing to convert"
-        };
-        return Err(SceneError::invalid(path, msg));
-    }
-
-    // The struct gains fields with tobj's optional features (merging,
-    // reordering); the update keeps this compiling if one gets enabled.
-    #[allow(clippy::needless_update)]
-    let load = tobj::LoadOptions {
-        single_index: false,
-        triangulate: false,
-        ignore_points: false,
-        ignore_lines: false,
-        ..Default::default()
-    };
-    let mut reader = text.as_bytes();
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &load, |_| Err(tobj::LoadError::GenericFailure))
-            .map_err(|e| SceneError::invalid(path, format!("OBJ reader: {e}")))?;
+    let models = load_models(path, text, &scan)?;
 
     let mut warnings = Vec::new();
     warnings.extend(scan.tags.ignored_warning());
@@ -200,6 +178,76 @@ pub fn parse_with(
         .filter(|&v| topo.is_non_manifold_vertex(v))
         .count();
     warnings.extend(non_manifold_warning(&topo, non_manifold_vertices));
+    check_holes(path, &cage, &resolved, tagged_holes, &mut warnings)?;
+    let orientation = orient::inside_out(&cage, &topo);
+    if orientation.inside_out > 0 {
+        warnings.push(format!(
+            "{} of {} closed parts wound inside out (clockwise seen from outside): their patches are turned (u and v swapped) so the outside faces out",
+            orientation.inside_out, orientation.closed
+        ));
+    }
+
+    let conv = convert_oriented(path, &cage, &topo, options, &orientation, &mut warnings)?;
+    let info = CageInfo {
+        boundary,
+        boundary_from,
+        boundary_edges: topo.boundary_edges,
+        sharp_edges: tagged.sharp_edges,
+        semi_sharp_edges: tagged.semi_sharp_edges,
+        corners: tagged.corners,
+        non_manifold_edges: topo.non_manifold_edges,
+        non_manifold_vertices,
+        holes: resolved.holes,
+        tagged_holes,
+        degenerate_edges: topo.degenerate_edges,
+        misoriented_edges: topo.misoriented_edges,
+        inside_out: orientation.inside_out,
+        closed_parts: orientation.closed,
+        scheme: cage.scheme,
+        isolate: options.isolate,
+        levels: conv.levels.clone(),
+    };
+    Ok(imported_model(&cage, &scan, conv, info, warnings))
+}
+
+/// Reads the text with `tobj` (faces as polygons), after refusing a file
+/// the scan found no faces in.
+fn load_models(path: &Path, text: &str, scan: &Scan) -> Result<Vec<tobj::Model>, SceneError> {
+    if scan.face_lines.is_empty() {
+        let msg = if text.trim().is_empty() {
+            "empty file"
+        } else {
+            "no faces (`f` lines): nothing to convert"
+        };
+        return Err(SceneError::invalid(path, msg));
+    }
+
+    // The struct gains fields with tobj's optional features (merging,
+    // reordering); the update keeps this compiling if one gets enabled.
+    #[allow(clippy::needless_update)]
+    let load = tobj::LoadOptions {
+        single_index: false,
+        triangulate: false,
+        ignore_points: false,
+        ignore_lines: false,
+        ..Default::default()
+    };
+    let mut reader = text.as_bytes();
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut reader, &load, |_| Err(tobj::LoadError::GenericFailure))
+            .map_err(|e| SceneError::invalid(path, format!("OBJ reader: {e}")))?;
+    Ok(models)
+}
+
+/// Refuses a cage whose every face is a hole, and warns of faces tagged
+/// `t hole` (the surface is open there).
+fn check_holes(
+    path: &Path,
+    cage: &Cage,
+    resolved: &sharpness::Resolved,
+    tagged_holes: usize,
+    warnings: &mut Vec<String>,
+) -> Result<(), SceneError> {
     let holes = (0..cage.faces.len()).filter(|&f| cage.is_hole(f)).count();
     if holes == cage.faces.len() {
         let why = if resolved.holes == holes {
@@ -218,15 +266,20 @@ pub fn parse_with(
              `two_sided = true`, else its inside shows through the hole in patches"
         ));
     }
-    let orientation = orient::inside_out(&cage, &topo);
-    if orientation.inside_out > 0 {
-        warnings.push(format!(
-            "{} of {} closed parts wound inside out (clockwise seen from outside): their patches are turned (u and v swapped) so the outside faces out",
-            orientation.inside_out, orientation.closed
-        ));
-    }
+    Ok(())
+}
 
-    let mut conv = isolate::convert(&cage, &topo, options.isolate, path)?;
+/// Converts the cage to patches (with the note on refinement) and turns
+/// the patches of inside-out parts so their outside faces out.
+fn convert_oriented(
+    path: &Path,
+    cage: &Cage,
+    topo: &Topology,
+    options: &CageOptions,
+    orientation: &orient::Orientation,
+    warnings: &mut Vec<String>,
+) -> Result<isolate::Converted, SceneError> {
+    let mut conv = isolate::convert(cage, topo, options.isolate, path)?;
     if options.isolate == 0 {
         let non_quads = cage.faces.iter().filter(|f| f.len() != 4).count();
         if non_quads > 0 {
@@ -256,33 +309,26 @@ pub fn parse_with(
         .map(|o| orientation.flip[o.face])
         .collect();
     conv.stencils.flip(&turned);
+    Ok(conv)
+}
 
-    let info = CageInfo {
-        boundary,
-        boundary_from,
-        boundary_edges: topo.boundary_edges,
-        sharp_edges: tagged.sharp_edges,
-        semi_sharp_edges: tagged.semi_sharp_edges,
-        corners: tagged.corners,
-        non_manifold_edges: topo.non_manifold_edges,
-        non_manifold_vertices,
-        holes: resolved.holes,
-        tagged_holes,
-        degenerate_edges: topo.degenerate_edges,
-        misoriented_edges: topo.misoriented_edges,
-        inside_out: orientation.inside_out,
-        closed_parts: orientation.closed,
-        scheme: cage.scheme,
-        isolate: options.isolate,
-        levels: conv.levels.clone(),
-    };
-    Ok(ImportedModel {
+/// The imported model: the converted patches, the cage's summary, and the
+/// stencils that move the patches with the file's vertices (when every
+/// cage vertex has one).
+fn imported_model(
+    cage: &Cage,
+    scan: &Scan,
+    conv: isolate::Converted,
+    info: CageInfo,
+    warnings: Vec<String>,
+) -> ImportedModel {
+    ImportedModel {
         patches: conv.patches,
         weights: Vec::new(),
         origins: conv.origins,
         shading: conv.shading,
         cage: Some(info),
-        stencils: file_vertices(&cage, &scan).map(|file_vertex| {
+        stencils: file_vertices(cage, scan).map(|file_vertex| {
             std::sync::Arc::new(super::stencil::CageModel {
                 stencils: conv.stencils,
                 rest: cage.positions.iter().map(|p| p.as_vec3()).collect(),
@@ -292,7 +338,7 @@ pub fn parse_with(
             })
         }),
         warnings,
-    })
+    }
 }
 
 /// The file vertex (0-based `v` line) of each cage vertex, through the

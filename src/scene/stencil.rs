@@ -735,30 +735,7 @@ fn probe_with(
     path: &Path,
 ) -> Result<Option<Vec<Terms>>, SceneError> {
     let reach = reach(coarse, coarse_topo, rings);
-    // Candidate set of each output: the reach of its coarse faces.
-    let mut set_of: Vec<u32> = Vec::with_capacity(outputs.len());
-    let mut sets: Vec<Vec<u32>> = Vec::new();
-    let mut set_id: HashMap<Vec<usize>, u32> = HashMap::new();
-    for id in 0..outputs.len() {
-        let mut faces: Vec<usize> = outputs
-            .faces(id, fine_topo, conv)
-            .into_iter()
-            .map(|f| coarse_face[f])
-            .collect();
-        faces.sort_unstable();
-        faces.dedup();
-        let s = *set_id.entry(faces.clone()).or_insert_with(|| {
-            let mut vs: Vec<u32> = faces
-                .iter()
-                .flat_map(|&f| reach[f].iter().copied())
-                .collect();
-            vs.sort_unstable();
-            vs.dedup();
-            sets.push(vs);
-            sets.len() as u32 - 1
-        });
-        set_of.push(s);
-    }
+    let (set_of, sets) = candidate_sets(&reach, fine_topo, coarse_face, conv, outputs);
     let (colours, count) = colour(coarse.positions.len(), &sets);
     log::debug!(
         "stencils: {} vertices, {} outputs, {} candidate sets, {rings} rings: {count} colours, {} runs",
@@ -776,42 +753,7 @@ fn probe_with(
             v
         })
         .collect();
-    // The runs are independent: on as many threads as the machine has.
-    let runs = count.div_ceil(3);
-    let probe_cage = |run: u32| {
-        let mut cage = coarse.clone();
-        for (v, p) in cage.positions.iter_mut().enumerate() {
-            let c = colours[v];
-            *p = DVec3::ZERO;
-            if c != u32::MAX && c / 3 == run {
-                p[(c % 3) as usize] = 1.0;
-            }
-        }
-        cage
-    };
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(runs as usize)
-        .max(1);
-    let results: Vec<Result<Conversion, SceneError>> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|t| {
-                let probe_cage = &probe_cage;
-                scope.spawn(move || {
-                    (0..runs)
-                        .filter(|r| *r as usize % threads == t)
-                        .map(|r| (r, linear(&probe_cage(r))))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        let mut all: Vec<(u32, Result<Conversion, SceneError>)> = workers
-            .into_iter()
-            .flat_map(|w| w.join().expect("a probing thread panicked"))
-            .collect();
-        all.sort_by_key(|r| r.0);
-        all.into_iter().map(|r| r.1).collect()
-    });
+    let results = run_probes(coarse, &colours, count.div_ceil(3), linear);
     let mut combos: Vec<Vec<(u32, f32)>> = vec![Vec::new(); outputs.len()];
     for (run, out) in results.into_iter().enumerate() {
         let out = out?;
@@ -840,7 +782,94 @@ fn probe_with(
     for c in &mut combos {
         c.sort_unstable_by_key(|t| t.0);
     }
-    // The combinations must give the conversion of the cage as loaded.
+    Ok(gives_rest(coarse, &combos, rest).then_some(combos))
+}
+
+/// The candidate set of each output (an index into the sets) and the
+/// distinct sets: the vertices within the reach of the output's coarse
+/// faces, sorted.
+fn candidate_sets(
+    reach: &[Vec<u32>],
+    fine_topo: &Topology,
+    coarse_face: &[usize],
+    conv: &Conversion,
+    outputs: &Outputs,
+) -> (Vec<u32>, Vec<Vec<u32>>) {
+    let mut set_of: Vec<u32> = Vec::with_capacity(outputs.len());
+    let mut sets: Vec<Vec<u32>> = Vec::new();
+    let mut set_id: HashMap<Vec<usize>, u32> = HashMap::new();
+    for id in 0..outputs.len() {
+        let mut faces: Vec<usize> = outputs
+            .faces(id, fine_topo, conv)
+            .into_iter()
+            .map(|f| coarse_face[f])
+            .collect();
+        faces.sort_unstable();
+        faces.dedup();
+        let s = *set_id.entry(faces.clone()).or_insert_with(|| {
+            let mut vs: Vec<u32> = faces
+                .iter()
+                .flat_map(|&f| reach[f].iter().copied())
+                .collect();
+            vs.sort_unstable();
+            vs.dedup();
+            sets.push(vs);
+            sets.len() as u32 - 1
+        });
+        set_of.push(s);
+    }
+    (set_of, sets)
+}
+
+/// Converts one probe cage per run (run r: the vertices of colours 3r,
+/// 3r + 1, 3r + 2 at the unit x, y, z, every other vertex at 0), the results
+/// in run order.
+fn run_probes(
+    coarse: &Cage,
+    colours: &[u32],
+    runs: u32,
+    linear: &Linear,
+) -> Vec<Result<Conversion, SceneError>> {
+    let probe_cage = |run: u32| {
+        let mut cage = coarse.clone();
+        for (v, p) in cage.positions.iter_mut().enumerate() {
+            let c = colours[v];
+            *p = DVec3::ZERO;
+            if c != u32::MAX && c / 3 == run {
+                p[(c % 3) as usize] = 1.0;
+            }
+        }
+        cage
+    };
+    // The runs are independent: on as many threads as the machine has.
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(runs as usize)
+        .max(1);
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|t| {
+                let probe_cage = &probe_cage;
+                scope.spawn(move || {
+                    (0..runs)
+                        .filter(|r| *r as usize % threads == t)
+                        .map(|r| (r, linear(&probe_cage(r))))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        let mut all: Vec<(u32, Result<Conversion, SceneError>)> = workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("a probing thread panicked"))
+            .collect();
+        all.sort_by_key(|r| r.0);
+        all.into_iter().map(|r| r.1).collect()
+    })
+}
+
+/// Whether the combinations give the conversion of the cage as loaded
+/// (`rest`), within rounding.
+fn gives_rest(coarse: &Cage, combos: &[Terms], rest: &[Vec3]) -> bool {
     let x: Vec<DVec3> = coarse.positions.clone();
     let scale = x
         .iter()
@@ -851,10 +880,10 @@ fn probe_with(
             .iter()
             .fold(DVec3::ZERO, |s, &(i, w)| s + x[i as usize] * f64::from(w));
         if (got - rest[id].as_dvec3()).abs().max_element() > 1e-5 * scale {
-            return Ok(None);
+            return false;
         }
     }
-    Ok(Some(combos))
+    true
 }
 
 #[cfg(test)]

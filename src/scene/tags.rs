@@ -60,6 +60,190 @@ impl Tags {
     /// Reads the words after `t` on line `line`; `vertices` is the number
     /// of `v` lines in the file. The error is the message for that line.
     pub fn read(&mut self, line: usize, words: &[&str], vertices: usize) -> Result<(), String> {
+        let tag = TagLine::parse(words, vertices)?;
+        match tag.name {
+            "crease" => self.read_crease(line, &tag),
+            "corner" => self.read_corner(line, &tag),
+            "interpolateboundary" => self.read_boundary(line, &tag),
+            "hole" => self.read_hole(line, &tag),
+            "creasemethod" | "smoothtriangles" => self.read_choice(line, &tag),
+            name => {
+                let entry = self.ignored.entry(name.to_string()).or_insert((0, line));
+                entry.0 += 1;
+                Ok(())
+            }
+        }
+    }
+
+    /// `t crease`: pairs of vertices, each an edge, and their sharpness.
+    fn read_crease(&mut self, line: usize, tag: &TagLine) -> Result<(), String> {
+        let (ni, ns) = (tag.ni, tag.ns);
+        if ni < 2 || ni % 2 != 0 || ns != 0 {
+            return Err("`t crease` needs pairs of vertices (2, 4, … integers), one or more sharpness values and no strings".into());
+        }
+        for k in 0..ni / 2 {
+            let (a, b) = (
+                tag.vertex(tag.ints[2 * k])?,
+                tag.vertex(tag.ints[2 * k + 1])?,
+            );
+            if a == b {
+                return Err(format!("`t crease`: the pair ({a}, {b}) is not an edge"));
+            }
+            self.creases.push((line, a, b, tag.sharpness(k, ni / 2)?));
+        }
+        Ok(())
+    }
+
+    /// `t corner`: vertices and their sharpness.
+    fn read_corner(&mut self, line: usize, tag: &TagLine) -> Result<(), String> {
+        let (ni, ns) = (tag.ni, tag.ns);
+        if ni < 1 || ns != 0 {
+            return Err("`t corner` needs one or more vertices and sharpness values".into());
+        }
+        for (k, &v) in tag.ints.iter().enumerate() {
+            self.corners
+                .push((line, tag.vertex(v)?, tag.sharpness(k, ni)?));
+        }
+        Ok(())
+    }
+
+    /// `t interpolateboundary`: the boundary rule, the same on every such
+    /// line.
+    fn read_boundary(&mut self, line: usize, tag: &TagLine) -> Result<(), String> {
+        let ints = &tag.ints;
+        if (tag.ni, tag.nf, tag.ns) != (1, 0, 0) {
+            return Err("`t interpolateboundary` takes one integer (1/0/0)".into());
+        }
+        let rule = BoundaryRule::from_tag(ints[0]).ok_or_else(|| {
+            format!(
+                "`t interpolateboundary {}`: expected 0 (none), 1 (edge-and-corner) or 2 (edge-only)",
+                ints[0]
+            )
+        })?;
+        if let Some((first, other)) = self.boundary {
+            if other != rule {
+                return Err(format!(
+                    "`t interpolateboundary` says {rule} here but {other} at line {first}"
+                ));
+            }
+        }
+        self.boundary = Some((line, rule));
+        Ok(())
+    }
+
+    /// `t hole`: faces that give no surface.
+    fn read_hole(&mut self, line: usize, tag: &TagLine) -> Result<(), String> {
+        if tag.ni < 1 || tag.nf != 0 || tag.ns != 0 {
+            return Err("`t hole` takes one or more face indices (N/0/0)".into());
+        }
+        for &f in &tag.ints {
+            if f < 0 {
+                return Err(format!(
+                    "`t hole`: face {f} out of range: faces count from 0"
+                ));
+            }
+            self.holes.push((line, f as usize));
+        }
+        Ok(())
+    }
+
+    /// `t creasemethod` or `t smoothtriangles`: one of two words, the same
+    /// on every such line.
+    fn read_choice(&mut self, line: usize, tag: &TagLine) -> Result<(), String> {
+        let name = tag.name;
+        if (tag.ni, tag.nf, tag.ns) != (0, 0, 1) {
+            return Err(format!("`t {name}` takes one string (0/0/1)"));
+        }
+        let word = tag.args[0];
+        let (value, choices) = if name == "creasemethod" {
+            (
+                match word {
+                    "normal" => Some(false),
+                    "chaikin" => Some(true),
+                    _ => None,
+                },
+                "normal or chaikin",
+            )
+        } else {
+            (
+                match word {
+                    "catmark" => Some(false),
+                    "smooth" => Some(true),
+                    _ => None,
+                },
+                "catmark or smooth",
+            )
+        };
+        let value = value.ok_or_else(|| format!("`t {name} {word}`: expected {choices}"))?;
+        let slot = if name == "creasemethod" {
+            &mut self.chaikin
+        } else {
+            &mut self.smooth_triangles
+        };
+        if let Some((first, other)) = *slot {
+            if other != value {
+                return Err(format!(
+                    "`t {name}` says {word} here but the opposite at line {first}"
+                ));
+            }
+        }
+        *slot = Some((line, value));
+        Ok(())
+    }
+
+    /// One warning naming the ignored tags, if any.
+    pub fn ignored_warning(&self) -> Option<String> {
+        if self.ignored.is_empty() {
+            return None;
+        }
+        let list: Vec<String> = self
+            .ignored
+            .iter()
+            .map(|(name, (n, line))| format!("`{name}` ×{n} (first at line {line})"))
+            .collect();
+        let why = |name: &str| match name {
+            n if n.starts_with("facevarying") => "no face-varying data is read",
+            "vertexedit" | "edgeedit" | "faceedit" => {
+                "hierarchical edits, which OpenSubdiv 3 ignores too"
+            }
+            _ => "unknown",
+        };
+        let mut reasons: Vec<&str> = self.ignored.keys().map(|n| why(n)).collect();
+        reasons.dedup();
+        Some(format!(
+            "OpenSubdiv tags ignored ({}): {}",
+            reasons.join("; "),
+            list.join(", ")
+        ))
+    }
+}
+
+/// The words of one `t` line: its name, its argument counts and its
+/// arguments, the integers and floats parsed (what every tag checks before
+/// its own rules).
+struct TagLine<'a> {
+    /// The tag's name.
+    name: &'a str,
+    /// Integer arguments announced.
+    ni: usize,
+    /// Float arguments announced.
+    nf: usize,
+    /// String arguments announced.
+    ns: usize,
+    /// Every argument after the counts.
+    args: &'a [&'a str],
+    /// The integer arguments.
+    ints: Vec<i64>,
+    /// The float arguments.
+    floats: Vec<f64>,
+    /// The number of `v` lines in the file.
+    vertices: usize,
+}
+
+impl<'a> TagLine<'a> {
+    /// Splits the words after `t` into name, counts and arguments, and
+    /// parses the integers and floats.
+    fn parse(words: &'a [&'a str], vertices: usize) -> Result<Self, String> {
         let Some(&name) = words.first() else {
             return Err("a `t` line needs a tag name".into());
         };
@@ -94,156 +278,48 @@ impl Tags {
                     .map_err(|_| format!("tag `{name}`: {w:?} is not a number"))
             })
             .collect::<Result<Vec<f64>, String>>()?;
-        let vertex = |i: i64| -> Result<usize, String> {
-            if i < 0 || i as u64 >= vertices as u64 {
-                Err(format!(
-                    "tag `{name}`: vertex {i} out of range: tag vertices count from 0 and the file has {vertices} {}",
-                    if vertices == 1 { "vertex" } else { "vertices" }
-                ))
-            } else {
-                Ok(i as usize)
-            }
-        };
-        let sharpness = |k: usize, items: usize| -> Result<f64, String> {
-            let s = match floats.len() {
-                1 => floats[0],
-                n if n == items => floats[k],
-                n => {
-                    return Err(format!(
-                        "tag `{name}`: {n} sharpness values for {items} items: give one, or one per item"
-                    ))
-                }
-            };
-            if s.is_nan() || s < 0.0 {
-                return Err(format!("tag `{name}`: sharpness {s} must be a number ≥ 0"));
-            }
-            Ok(s)
-        };
-        match name {
-            "crease" => {
-                if ni < 2 || ni % 2 != 0 || ns != 0 {
-                    return Err("`t crease` needs pairs of vertices (2, 4, … integers), one or more sharpness values and no strings".into());
-                }
-                for k in 0..ni / 2 {
-                    let (a, b) = (vertex(ints[2 * k])?, vertex(ints[2 * k + 1])?);
-                    if a == b {
-                        return Err(format!("`t crease`: the pair ({a}, {b}) is not an edge"));
-                    }
-                    self.creases.push((line, a, b, sharpness(k, ni / 2)?));
-                }
-            }
-            "corner" => {
-                if ni < 1 || ns != 0 {
-                    return Err("`t corner` needs one or more vertices and sharpness values".into());
-                }
-                for (k, &v) in ints.iter().enumerate() {
-                    self.corners.push((line, vertex(v)?, sharpness(k, ni)?));
-                }
-            }
-            "interpolateboundary" => {
-                if (ni, nf, ns) != (1, 0, 0) {
-                    return Err("`t interpolateboundary` takes one integer (1/0/0)".into());
-                }
-                let rule = BoundaryRule::from_tag(ints[0]).ok_or_else(|| {
-                    format!(
-                        "`t interpolateboundary {}`: expected 0 (none), 1 (edge-and-corner) or 2 (edge-only)",
-                        ints[0]
-                    )
-                })?;
-                if let Some((first, other)) = self.boundary {
-                    if other != rule {
-                        return Err(format!(
-                            "`t interpolateboundary` says {rule} here but {other} at line {first}"
-                        ));
-                    }
-                }
-                self.boundary = Some((line, rule));
-            }
-            "hole" => {
-                if ni < 1 || nf != 0 || ns != 0 {
-                    return Err("`t hole` takes one or more face indices (N/0/0)".into());
-                }
-                for &f in &ints {
-                    if f < 0 {
-                        return Err(format!(
-                            "`t hole`: face {f} out of range: faces count from 0"
-                        ));
-                    }
-                    self.holes.push((line, f as usize));
-                }
-            }
-            "creasemethod" | "smoothtriangles" => {
-                if (ni, nf, ns) != (0, 0, 1) {
-                    return Err(format!("`t {name}` takes one string (0/0/1)"));
-                }
-                let word = args[0];
-                let (value, choices) = if name == "creasemethod" {
-                    (
-                        match word {
-                            "normal" => Some(false),
-                            "chaikin" => Some(true),
-                            _ => None,
-                        },
-                        "normal or chaikin",
-                    )
-                } else {
-                    (
-                        match word {
-                            "catmark" => Some(false),
-                            "smooth" => Some(true),
-                            _ => None,
-                        },
-                        "catmark or smooth",
-                    )
-                };
-                let value =
-                    value.ok_or_else(|| format!("`t {name} {word}`: expected {choices}"))?;
-                let slot = if name == "creasemethod" {
-                    &mut self.chaikin
-                } else {
-                    &mut self.smooth_triangles
-                };
-                if let Some((first, other)) = *slot {
-                    if other != value {
-                        return Err(format!(
-                            "`t {name}` says {word} here but the opposite at line {first}"
-                        ));
-                    }
-                }
-                *slot = Some((line, value));
-            }
-            _ => {
-                let entry = self.ignored.entry(name.to_string()).or_insert((0, line));
-                entry.0 += 1;
-            }
-        }
-        Ok(())
+        Ok(TagLine {
+            name,
+            ni,
+            nf,
+            ns,
+            args,
+            ints,
+            floats,
+            vertices,
+        })
     }
 
-    /// One warning naming the ignored tags, if any.
-    pub fn ignored_warning(&self) -> Option<String> {
-        if self.ignored.is_empty() {
-            return None;
+    /// Vertex `i` as an index into the file's `v` lines, or the error.
+    fn vertex(&self, i: i64) -> Result<usize, String> {
+        let (name, vertices) = (self.name, self.vertices);
+        if i < 0 || i as u64 >= vertices as u64 {
+            Err(format!(
+                "tag `{name}`: vertex {i} out of range: tag vertices count from 0 and the file has {vertices} {}",
+                if vertices == 1 { "vertex" } else { "vertices" }
+            ))
+        } else {
+            Ok(i as usize)
         }
-        let list: Vec<String> = self
-            .ignored
-            .iter()
-            .map(|(name, (n, line))| format!("`{name}` ×{n} (first at line {line})"))
-            .collect();
-        let why = |name: &str| match name {
-            n if n.starts_with("facevarying") => "no face-varying data is read",
-            "vertexedit" | "edgeedit" | "faceedit" => {
-                "hierarchical edits, which OpenSubdiv 3 ignores too"
+    }
+
+    /// The sharpness of item `k` of `items`: the one value for all, or the
+    /// item's own.
+    fn sharpness(&self, k: usize, items: usize) -> Result<f64, String> {
+        let (name, floats) = (self.name, &self.floats);
+        let s = match floats.len() {
+            1 => floats[0],
+            n if n == items => floats[k],
+            n => {
+                return Err(format!(
+                "tag `{name}`: {n} sharpness values for {items} items: give one, or one per item"
+            ))
             }
-            _ => "unknown",
         };
-        let mut reasons: Vec<&str> = self.ignored.keys().map(|n| why(n)).collect();
-        reasons.dedup();
-        Some(format!(
-            "OpenSubdiv tags ignored ({}): {}",
-            reasons.join("; "),
-            list.join(", ")
-        ))
+        if s.is_nan() || s < 0.0 {
+            return Err(format!("tag `{name}`: sharpness {s} must be a number ≥ 0"));
+        }
+        Ok(s)
     }
 }
 
