@@ -506,6 +506,34 @@ fn import_takes_a_boundary_rule() {
     assert!(String::from_utf8_lossy(&run.stderr).contains("none, edge-only, edge-and-corner"));
 }
 
+/// `import --isolate N` reports the refinement (parts refined, patches and
+/// memory per level) as a line of the summary, not as a warning: it is
+/// what was asked for (it was printed as `warning: isolate 2: ...`).
+#[test]
+fn import_reports_isolation_as_a_summary_line() {
+    let cage = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/osd-shapes/catmark_chaikin0.obj");
+    let run = bin()
+        .arg("import")
+        .arg(&cage)
+        .args(["--isolate", "2"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        text.contains("  isolation       isolate 2: 1 of 1 connected parts refined 2 times; level 2: 352 patches"),
+        "{text}"
+    );
+    assert!(!text.contains("warning: isolate"), "{text}");
+    let plain = bin().arg("import").arg(&cage).output().unwrap();
+    assert!(!String::from_utf8_lossy(&plain.stdout).contains("isolation"));
+}
+
 /// A wait that runs out says what was running, how long it had run and
 /// what to try (a longer --timeout or its environment variable, a smaller
 /// --size, a coarser --grid), exits 1 and writes nothing; the flag and the

@@ -85,6 +85,12 @@ fn cage_lines(info: &CageInfo) -> String {
             info.non_manifold_edges, info.non_manifold_vertices
         );
     }
+    if let Some(isolation) = &info.isolation {
+        s += &format!(
+            "  isolation       {isolation}
+"
+        );
+    }
     s
 }
 

@@ -231,7 +231,7 @@ fn draw_legend(area: &Area<'_>, fig: &Figure<'_>) -> PlotResult {
             .any(|p| p.series.iter().any(|s| s.style == i))
     };
     let mut y = 60;
-    for (i, st) in fig.styles.iter().enumerate().filter(|(i, _)| used(*i)) {
+    for (_, st) in fig.styles.iter().enumerate().filter(|(i, _)| used(*i)) {
         let colour = COLOURS[st.colour % COLOURS.len()];
         let stroke = colour.stroke_width(st.width());
         if fig.lines {
@@ -253,7 +253,6 @@ fn draw_legend(area: &Area<'_>, fig: &Figure<'_>) -> PlotResult {
         ))
         .map_err(err)?;
         y += 28;
-        let _ = i;
     }
     Ok(())
 }
@@ -575,9 +574,9 @@ fn curve_panel(
     }
 }
 
-/// Fig. 6: per method that reads λ and ε with three or more λ measured,
-/// triangles and FLIP against λ. `None` when the run sweeps no λ.
-fn lambda_figure(configs: &[Config], summaries: &[ConfigSummary]) -> Option<Vec<Panel>> {
+/// The (method, ε) pairs measured at 3 or more λ, in configuration
+/// order: one series each in the λ figure, labelled in the same order.
+fn lambda_keys(configs: &[Config]) -> Vec<(String, f64)> {
     let mut keys: Vec<(String, f64)> = Vec::new();
     for c in configs {
         let k = (c.method.clone(), c.eps);
@@ -589,6 +588,13 @@ fn lambda_figure(configs: &[Config], summaries: &[ConfigSummary]) -> Option<Vec<
             keys.push(k);
         }
     }
+    keys
+}
+
+/// Fig. 6: per method that reads λ and ε with three or more λ measured,
+/// triangles and FLIP against λ. `None` when the run sweeps no λ.
+fn lambda_figure(configs: &[Config], summaries: &[ConfigSummary]) -> Option<Vec<Panel>> {
+    let keys = lambda_keys(configs);
     if keys.is_empty() {
         return None;
     }
@@ -767,12 +773,8 @@ fn curve_plots(
 /// The styles of Fig. 6's series, one per (method, ε) that reads λ:
 /// colour by method (shifted per series), marker by place.
 fn lambda_styles(configs: &[Config], panels: &[Panel]) -> Vec<Style> {
-    let mut keys: Vec<(String, f64)> = Vec::new();
-    for c in configs.iter().filter(|c| c.lambda.is_some()) {
-        if !keys.contains(&(c.method.clone(), c.eps)) {
-            keys.push((c.method.clone(), c.eps));
-        }
-    }
+    // The same keys, in the same order, as the panel's series.
+    let keys = lambda_keys(configs);
     let methods = methods_of(configs);
     let n = panels[0].series.len() as u32;
     panels[0]

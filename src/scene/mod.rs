@@ -100,6 +100,9 @@ pub struct CageInfo {
     pub isolate: u32,
     /// Patches per refinement level.
     pub levels: Vec<isolate::LevelCount>,
+    /// With `isolate` > 0: the parts refined, and patches and GPU memory
+    /// per level, as one line for the import report.
+    pub isolation: Option<String>,
 }
 
 /// The result of importing one model file.

@@ -206,6 +206,7 @@ pub fn parse_with(
         scheme: cage.scheme,
         isolate: options.isolate,
         levels: conv.levels.clone(),
+        isolation: (options.isolate > 0).then(|| isolate_note(&conv, options.isolate)),
     };
     Ok(imported_model(&cage, &scan, conv, info, warnings))
 }
@@ -269,7 +270,7 @@ fn check_holes(
     Ok(())
 }
 
-/// Converts the cage to patches (with the note on refinement) and turns
+/// Converts the cage to patches (with the warning on non-quads) and turns
 /// the patches of inside-out parts so their outside faces out.
 fn convert_oriented(
     path: &Path,
@@ -288,8 +289,6 @@ fn convert_oriented(
                 conv.patches.len()
             ));
         }
-    } else {
-        warnings.push(isolate_note(&conv, options.isolate));
     }
     for ((p, s), o) in conv
         .patches
