@@ -7,10 +7,12 @@
 // levels::canonical_ready.
 //
 // With occlusion culling a frame runs twice (pc.phase): the early phase
-// takes the instances the last frame found visible (BIND_VISIBILITY); the
-// late phase tests every instance in view against the depth pyramid of
-// what the early phase drew, records the verdict for the next frame, and
-// takes the visible ones the early phase did not draw. The late phase
+// takes the instances the last frame found visible (BIND_VISIBILITY), and
+// of them draws the patches the last frame found visible (process_root in
+// level.glsl); the late phase tests every instance in view against the
+// depth pyramid of what the early phase drew, records the verdict for the
+// next frame, and takes the visible ones, flagging those the early phase
+// listed (ROOT_EARLY): their patches drawn already are only tested again. The late phase
 // keeps the frame's totals (ready nodes so far: its list continues the
 // early one; rounds, nodes per depth) and its draw starts where the early
 // list ends (C_READY_FIRST).
@@ -24,11 +26,6 @@
 #include "common/level.glsl"
 
 layout(local_size_x = LEVEL_GROUP_SIZE) in;
-
-// Per instance: 1 where the last occlusion test found it visible.
-layout(std430, set = SET_SCENE, binding = BIND_VISIBILITY) buffer Visibility {
-    uint visibility[];
-};
 
 shared uint s_incl[2][LEVEL_GROUP_SIZE];
 
@@ -63,6 +60,24 @@ bool schedule_word(uint i) {
 
 shared bool s_early_done;
 
+// The late phase's start of the cluster bits' turn (level.glsl): zeroes the
+// set the parity does not name, then flips the parity, so that this
+// phase's rounds read the set the early phase read and write the other.
+// Whole workgroup.
+void clear_next_visibility(uint t) {
+    uint parity = visibility[visibility_parity()];
+    uint first = visibility_parity() + 1u;
+    uint words = (uint(visibility.length()) - first) / 2u;
+    uint next = first + (parity ^ 1u) * words;
+    for (uint w = t; w < words; w += LEVEL_GROUP_SIZE) {
+        visibility[next + w] = 0u;
+    }
+    group_sync();
+    if (t == 0u) {
+        visibility[visibility_parity()] = parity ^ 1u;
+    }
+}
+
 void main() {
     uint t = gl_LocalInvocationID.x;
     bool early = pc.phase == PHASE_EARLY;
@@ -82,6 +97,7 @@ void main() {
     uint dense = 0u;    // their patches
     uvec2 culled = uvec2(0u);    // out of view: instances, patches
     uvec2 occluded = uvec2(0u);  // hidden (late phase): instances, patches
+    uint fresh = 0u;    // listed instances the early phase did not list
     for (uint first = 0u; first < n; first += LEVEL_GROUP_SIZE) {
         uint i = first + t;
         uint count = i < n ? instances[i].count : 0u;
@@ -90,6 +106,7 @@ void main() {
         bool in_view = count > 0u && !out_of_view;
         bool keep = in_view;
         bool hidden = false;
+        uint early_flag = 0u;
         if (early && i < n) {
             keep = in_view && visibility[i] != 0u;
         } else if (late && i < n) {
@@ -97,12 +114,15 @@ void main() {
             hidden = in_view
                 && box_occluded(instances[i].lo.xyz, instances[i].hi.xyz, HIZ_INSTANCE_SPAN);
             visibility[i] = in_view && !hidden ? 1u : 0u;
-            keep = in_view && !hidden && !drawn;
+            // Listed again when the early phase drew it: its patches that
+            // were not visible last frame are this phase's (process_root).
+            keep = in_view && !hidden;
+            early_flag = drawn ? ROOT_EARLY : 0u;
             hidden = hidden && !drawn;
         }
         inclusive_sums(t, keep ? 1u : 0u, keep ? count : 0u);
         if (keep) {
-            roots[listed + s_incl[0][t] - 1u] = uvec2(i, dense + s_incl[1][t] - count);
+            roots[listed + s_incl[0][t] - 1u] = uvec2(i | early_flag, dense + s_incl[1][t] - count);
         }
         uvec2 batch = uvec2(s_incl[0][LEVEL_GROUP_SIZE - 1u], s_incl[1][LEVEL_GROUP_SIZE - 1u]);
         barrier();
@@ -111,6 +131,10 @@ void main() {
         bool counted_out = out_of_view && !late;  // counted once a frame
         culled += sums(t, counted_out ? 1u : 0u, counted_out ? count : 0u);
         occluded += sums(t, hidden ? 1u : 0u, hidden ? count : 0u);
+        fresh += sums(t, keep && early_flag == 0u ? 1u : 0u, 0u).x;
+    }
+    if (late) {
+        clear_next_visibility(t);
     }
     group_sync();
     if (t == 0u) {
@@ -121,6 +145,8 @@ void main() {
         state[S_OCCLUDED_INSTANCE_PATCHES] += occluded.y;
         if (early) {
             state[S_EARLY_INSTANCES] = listed;
+        } else {
+            state[S_NEW_INSTANCES] = fresh;
         }
         if (late && !s_early_done) {
             state[S_EARLY_UNFINISHED] = 1u;

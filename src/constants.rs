@@ -314,6 +314,13 @@ shared_constants! {
         PHASE_EARLY = 1;
         PHASE_LATE = 2;
     }
+    /// Occlusion culling's visibility kept between frames (set 0's
+    /// BIND_VISIBILITY): a word per instance, the parity word, then two
+    /// sets of one bit per cluster of VISIBILITY_CLUSTER base patches
+    /// (global ids), read and written in turn (glsl/common/level.glsl).
+    group {
+        VISIBILITY_CLUSTER = 32;
+    }
     /// The depth pyramid (glsl/hiz_*.comp, glsl/common/hiz.glsl): level 0 is
     /// the depth of every pixel (the farthest of its samples), level k + 1
     /// the farthest of 2 x 2 texels of level k (ceil sizes), down to 1 x 1,
@@ -399,6 +406,11 @@ shared_constants! {
         /// rounds before its schedule was done (the frame is drawn again
         /// with more).
         S_EARLY_UNFINISHED = 144;
+        /// Instances listed by the frame's last pass that no earlier pass
+        /// listed (occlusion culling's late phase lists the early phase's
+        /// again, for their patches not drawn yet): with S_EARLY_INSTANCES,
+        /// the instances the frame drew from.
+        S_NEW_INSTANCES = 145;
         LEVEL_STATE_WORDS = 160;
     }
     /// S_JOIN: the window-closed bit above the count.

@@ -15,7 +15,7 @@ use bezier_subdiv::commands::GpuRequest;
 use bezier_subdiv::draw::DrawRequest;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::scene::file::Scene;
-use bezier_subdiv::scene::instances::{GPU_BYTES_PER_INSTANCE, INSTANCE_BYTES};
+use bezier_subdiv::scene::instances::{cluster_set_words, GPU_BYTES_PER_INSTANCE, INSTANCE_BYTES};
 
 /// Instances of every kind of transform: the identity, rotated and scaled,
 /// mirrored (one axis negative, then two), and a lattice.
@@ -124,9 +124,10 @@ fn placed_rational_instances_validate() {
 }
 
 /// The GPU holds each model's patches once and 108 bytes per instance (its
-/// record, its roots entry and its visibility word; issue 22 allows 128):
-/// the renderer uploads the instance table (not the world patches) and
-/// reports its memory so.
+/// record, its roots entry and its visibility word; issue 22 allows 128),
+/// beside occlusion culling's parity word and cluster bits (2 per
+/// instance, 2 per 32 base patches): the renderer uploads the instance
+/// table (not the world patches) and reports its memory so.
 #[test]
 fn the_gpu_holds_each_model_once() {
     let gpu = common::gpu();
@@ -157,9 +158,11 @@ fn the_gpu_holds_each_model_once() {
     let bytes = |key: &str| memory.iter().find(|(k, _)| *k == key).unwrap().1;
     assert_eq!(bytes("base_patches"), 6 * 196);
     assert_eq!(bytes("shading_patches"), 6 * 288);
+    let clusters = cluster_set_words(instances, 6 * instances);
+    assert_eq!(clusters, 1);
     assert_eq!(
         bytes("instances"),
-        instances as u64 * GPU_BYTES_PER_INSTANCE
+        instances as u64 * GPU_BYTES_PER_INSTANCE + 4 + 2 * 4 * clusters as u64
     );
     assert_eq!((INSTANCE_BYTES, GPU_BYTES_PER_INSTANCE), (96, 108));
     gpu.finish();

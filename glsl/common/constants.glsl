@@ -191,6 +191,12 @@ const uint PHASE_ALL = 0;
 const uint PHASE_EARLY = 1;
 const uint PHASE_LATE = 2;
 
+// Occlusion culling's visibility kept between frames (set 0's
+// BIND_VISIBILITY): a word per instance, the parity word, then two
+// sets of one bit per cluster of VISIBILITY_CLUSTER base patches
+// (global ids), read and written in turn (glsl/common/level.glsl).
+const uint VISIBILITY_CLUSTER = 32;
+
 // The depth pyramid (glsl/hiz_*.comp, glsl/common/hiz.glsl): level 0 is
 // the depth of every pixel (the farthest of its samples), level k + 1
 // the farthest of 2 x 2 texels of level k (ceil sizes), down to 1 x 1,
@@ -272,6 +278,11 @@ const uint S_DEPTH_NODES = 128;
 // rounds before its schedule was done (the frame is drawn again
 // with more).
 const uint S_EARLY_UNFINISHED = 144;
+// Instances listed by the frame's last pass that no earlier pass
+// listed (occlusion culling's late phase lists the early phase's
+// again, for their patches not drawn yet): with S_EARLY_INSTANCES,
+// the instances the frame drew from.
+const uint S_NEW_INSTANCES = 145;
 const uint LEVEL_STATE_WORDS = 160;
 
 // S_JOIN: the window-closed bit above the count.

@@ -51,6 +51,38 @@ layout(std430, set = SET_SCENE, binding = BIND_ROOTS) buffer Roots {
     uvec2 roots[];
 };
 
+// Occlusion culling's visibility, kept from frame to frame: one word per
+// instance (1 where the last frame found it visible), a parity word, then
+// two sets of one bit per cluster of up to VISIBILITY_CLUSTER consecutive
+// base patches of one instance (root_cluster). A late phase zeroes the set the parity does not name, flips
+// the parity (level_init) and sets the bit of every cluster with a root it
+// finds visible (in view, not hidden, split or ready); the next frame's
+// early phase reads that set, and draws only the patches of its instances
+// whose cluster's bit is set; its late phase draws every other patch in
+// view. Two sets, because a cluster's bit is the OR of its patches'
+// verdicts: the set written is cleared first, the set read stays whole.
+// Bits cost 1/128 byte per base patch and 2 bits per instance (13 bytes
+// per car of 1,575 patches).
+layout(std430, set = SET_SCENE, binding = BIND_VISIBILITY) buffer Visibility {
+    uint visibility[];
+};
+
+// The parity word's index (after the instance words).
+uint visibility_parity() {
+    return uint(instances.length());
+}
+
+// Cluster c's bit in set `s` (0 or 1): (word, mask).
+uvec2 cluster_bit(uint c, uint s) {
+    uint first = visibility_parity() + 1u;
+    uint words = (uint(visibility.length()) - first) / 2u;
+    return uvec2(first + s * words + c / 32u, 1u << (c % 32u));
+}
+
+// Set in a root entry's instance index (late phase): the early phase listed
+// that instance, so its patches whose bit is set are drawn already.
+const uint ROOT_EARLY = 0x80000000u;
+
 // src/gpu/blocks.rs LevelPush.
 layout(push_constant) uniform LevelPush {
     uint patch_count;     // base patches: the nodes of depth 0
@@ -123,7 +155,7 @@ uint block_stats(uint b) {
 // Base patch j (dense index) of depth 0: the entry of the last surviving
 // instance whose first dense index is at most j, then the patch's place in
 // that instance.
-uint root_patch(uint j) {
+uint root_entry(uint j) {
     uint lo = 0u;
     uint hi = state[S_ROOT_INSTANCES];
     while (hi - lo > 1u) {
@@ -134,7 +166,62 @@ uint root_patch(uint j) {
             hi = mid;
         }
     }
-    return instances[roots[lo].x].first + (j - roots[lo].y);
+    return lo;
+}
+
+uint root_patch(uint j) {
+    uint r = root_entry(j);
+    return instances[roots[r].x & ~ROOT_EARLY].first + (j - roots[r].y);
+}
+
+// The cluster of node j of depth 0 (root entry r): its instance's patches
+// in runs of VISIBILITY_CLUSTER from the instance's first, numbered
+// floor(first / VISIBILITY_CLUSTER) + instance + run. No cluster holds two
+// instances' patches (a visible instance would draw a hidden one's early),
+// and the numbers are distinct: instance i + 1's first lies past instance
+// i's last, since floor((first + count) / n) >= floor(first / n) +
+// floor((count - 1) / n). At most base patches / VISIBILITY_CLUSTER +
+// instances + 1 clusters.
+uint root_cluster(uint r, uint j) {
+    uint i = roots[r].x & ~ROOT_EARLY;
+    return instances[i].first / VISIBILITY_CLUSTER + i + (j - roots[r].y) / VISIBILITY_CLUSTER;
+}
+
+// Depth 0 under occlusion culling (pc.phase early or late): node j, base
+// patch q, by its cluster's bit from the last frame (see the buffer above;
+// the early phase reads the set the parity names, the late phase, after
+// level_init flipped it, reads that same set and writes the other).
+// Early: processed if the bit is set, else deferred. Late: deferred if the
+// early phase drew it, after its boxes are tested again; processed
+// otherwise; either way a visible root sets its cluster's bit.
+uint process_root(uint j, uvec2 q, out uvec2 kids[4], out uint nkids) {
+    uint r = root_entry(j);
+    uint c = root_cluster(r, j);
+    uint parity = visibility[visibility_parity()];
+    bool late = pc.phase == PHASE_LATE;
+    uvec2 read = cluster_bit(c, late ? parity ^ 1u : parity);
+    bool seen = (visibility[read.x] & read.y) != 0u;
+    if (!late && !seen) {
+        kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
+        nkids = 0u;
+        return OUT_DEFERRED;
+    }
+    if (!late) {
+        return process(q, kids, nkids);
+    }
+    bool drawn = seen && (roots[r].x & ROOT_EARLY) != 0u;
+    process_box_only = drawn;
+    uint outcome = process(q, kids, nkids);
+    process_box_only = false;
+    if (outcome == OUT_READY || outcome == OUT_SPLIT) {
+        uvec2 write = cluster_bit(c, parity);
+        atomicOr(visibility[write.x], write.y);
+    }
+    if (drawn) {
+        nkids = 0u;
+        return OUT_DEFERRED;
+    }
+    return outcome;
 }
 
 // Node j (dense index) of depth d: a base patch at depth 0, else the slot
@@ -286,7 +373,12 @@ void process_block(uint b, uint t) {
     uvec2 q = have ? level_node(d, j) : uvec2(0u);
     uvec2 kids[4];
     uint nkids = 0u;
-    uint outcome = have ? process(q, kids, nkids) : OUT_CULLED;
+    uint outcome = OUT_CULLED;
+    if (have && d == 0u && pc.phase != PHASE_ALL) {
+        outcome = process_root(j, q, kids, nkids);
+    } else if (have) {
+        outcome = process(q, kids, nkids);
+    }
     uint v[VALUES];
     node_values(have, q, outcome, nkids, v);
     uint totals[VALUES];

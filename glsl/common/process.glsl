@@ -11,6 +11,9 @@ const uint OUT_BACKFACE = 1u;
 const uint OUT_READY = 2u;
 const uint OUT_SPLIT = 3u;
 const uint OUT_OCCLUDED = 4u;
+// A base patch left to the other phase of occlusion culling (drawn in the
+// early phase, or not visible last frame): nothing drawn, nothing counted.
+const uint OUT_DEFERRED = 5u;
 
 #ifdef LEVEL_KERNEL
 #include "hiz.glsl"
@@ -20,7 +23,20 @@ const uint OUT_OCCLUDED = 4u;
 // (control points and wedge pivots: everything it and its descendants
 // draw) lies behind the pyramid.
 bool process_occludes = false;
+// Only the box tests: a base patch the early phase drew, processed again in
+// the late phase to learn whether it is still visible (OUT_READY if it
+// passes the frustum and occlusion tests, whatever the criterion says).
+bool process_box_only = false;
 #endif
+
+// Whether the node, having passed the box tests, is only being tested.
+bool box_test_only() {
+#ifdef LEVEL_KERNEL
+    return process_box_only;
+#else
+    return false;
+#endif
+}
 
 // Whether the node's box lo..hi (control points and wedge pivots) is
 // hidden behind what the early phase drew.
@@ -95,6 +111,9 @@ uint process_rational(uvec2 q, Instance t, uint flags, out uvec2 kids[4], out ui
             return OUT_OCCLUDED;
         }
     }
+    if (box_test_only()) {
+        return OUT_READY;
+    }
     bvec2 can = can_split(q);
     if (can.x || can.y) {
         uvec4 states = edge_states(q);
@@ -161,6 +180,9 @@ uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
         if (node_occluded(clo, chi)) {
             return OUT_OCCLUDED;
         }
+    }
+    if (box_test_only()) {
+        return OUT_READY;
     }
     bvec2 can = can_split(q);
     if (can.x || can.y) {

@@ -21,7 +21,7 @@ use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
 use crate::scene::file::{SceneGeometry, SceneShading};
-use crate::scene::instances::{Instance, InstanceTable, INSTANCE_BYTES};
+use crate::scene::instances::{cluster_set_words, Instance, InstanceTable, INSTANCE_BYTES};
 use crate::scene::pn::PnScene;
 use crate::scene::shading::ShadingPatch;
 use crate::vk::{
@@ -467,8 +467,8 @@ impl SceneBuffers {
         // first frame's pyramid would be empty and only the third would).
         let visibility = Buffer::with_data(
             ctx,
-            "instance visibility",
-            &vec![1u32; table.instances.len().max(1)],
+            "instance and cluster visibility",
+            &initial_visibility(table),
             storage,
             gpu,
         )?;
@@ -524,3 +524,16 @@ impl SceneBuffers {
 /// Bytes of one slot's `ViewParams` (the view binding's range; slots lie
 /// `view_stride` apart).
 const VIEW_BYTES: u64 = std::mem::size_of::<ViewParams>() as u64;
+
+/// The visibility buffer before the first frame (`glsl/common/level.glsl`):
+/// every instance and every cluster of base patches visible, parity 0. A
+/// word per instance, the parity, then two sets of a bit per cluster of up
+/// to VISIBILITY_CLUSTER base patches of one instance (`root_cluster`).
+fn initial_visibility(table: &InstanceTable) -> Vec<u32> {
+    let instances = table.instances.len().max(1);
+    let set = cluster_set_words(instances, table.base_patches());
+    let mut words = vec![1u32; instances];
+    words.push(0);
+    words.extend(std::iter::repeat_n(u32::MAX, 2 * set));
+    words
+}

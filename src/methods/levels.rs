@@ -485,6 +485,9 @@ pub struct LevelState {
     pub occluded_instances: u32,
     /// See `early_instances`.
     pub occluded_instance_patches: u32,
+    /// Instances the last pass listed that the early phase did not (all
+    /// of a frame of one pass).
+    pub new_instances: u32,
 }
 
 impl LevelState {
@@ -506,6 +509,7 @@ impl LevelState {
             early_instances: at(S_EARLY_INSTANCES),
             occluded_instances: at(S_OCCLUDED_INSTANCES),
             occluded_instance_patches: at(S_OCCLUDED_INSTANCE_PATCHES),
+            new_instances: at(S_NEW_INSTANCES),
         }
     }
 
@@ -520,7 +524,7 @@ impl LevelState {
             ("node_memory_bytes", json!(plan.bytes())),
             (
                 "instances_drawn",
-                json!(self.early_instances + self.root_instances),
+                json!(self.early_instances + self.new_instances),
             ),
             ("instances_culled", json!(self.culled_instances)),
             (

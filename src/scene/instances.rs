@@ -34,6 +34,18 @@ pub const INSTANCE_BYTES: u64 = INSTANCE_WORDS as u64 * 4;
 /// visibility word (BIND_VISIBILITY).
 pub const GPU_BYTES_PER_INSTANCE: u64 = INSTANCE_BYTES + 8 + 4;
 
+/// Words of one of the two sets of occlusion culling's cluster bits for
+/// `instances` instances of `base_patches` base patches in all: a bit per
+/// run of up to VISIBILITY_CLUSTER patches of one instance, numbered as
+/// `root_cluster` in `glsl/common/level.glsl` does (at most
+/// base_patches / VISIBILITY_CLUSTER + instances + 1). Beside the
+/// instances' words and one parity word, the visibility buffer holds two
+/// such sets: 2 bits per instance and 1/128 byte per base patch more.
+pub fn cluster_set_words(instances: usize, base_patches: usize) -> usize {
+    let clusters = base_patches / crate::constants::VISIBILITY_CLUSTER as usize + instances + 1;
+    clusters.div_ceil(32)
+}
+
 /// The flag bits that belong to an instance alone; the others (two-sided,
 /// the model index) are the flags of each of its patches.
 pub const INSTANCE_ONLY_FLAGS: u32 = INSTANCE_MIRRORED | INSTANCE_IDENTITY;
