@@ -17,16 +17,16 @@ use bezier_subdiv::commands::GpuRequest;
 use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::cudatess::checks as ct;
 use bezier_subdiv::methods::cudatess::pattern::{Pattern, Place};
 use bezier_subdiv::methods::cudatess::scan::scan_on_gpu;
-use bezier_subdiv::methods::cudatess::FrameData;
+use bezier_subdiv::methods::cudatess::{CudaTess, FrameData};
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::patch::homogeneous::{self, HomPatch};
 use bezier_subdiv::patch::rational::{RationalPatch, Weights};
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::file::{Scene, SceneGeometry};
-use bezier_subdiv::validate::cudatess as ct;
 use bezier_subdiv::validate::edges::{check_edge_vertices, check_levels, shared_edges};
 use glam::{DVec3, DVec4, Vec3};
 use rand::rngs::SmallRng;
@@ -55,7 +55,7 @@ fn view(scene: &Scene, k: usize, eps: f64, culled: bool) -> View {
 
 fn frame(r: &Renderer) -> FrameData {
     r.method()
-        .cudatess()
+        .downcast::<CudaTess>()
         .unwrap()
         .read_frame(r.context())
         .unwrap()
@@ -310,7 +310,7 @@ fn overflowing_frames_are_redone_with_grown_buffers() {
             "{first:?}: redone {}",
             report.redone
         );
-        let (cv, ci) = small.method().cudatess().unwrap().capacities();
+        let (cv, ci) = small.method().downcast::<CudaTess>().unwrap().capacities();
         assert!(cv >= nv && ci >= ni, "{first:?}: grown to {cv}, {ci}");
         let got = frame(&small);
         assert_eq!(got.records, want.records, "{first:?}");

@@ -11,13 +11,13 @@ use std::path::Path;
 
 use bezier_subdiv::constants::{SHADE_FACING, SHADE_NORMAL};
 use bezier_subdiv::frame::View;
-use bezier_subdiv::methods::cudatess::FrameData;
+use bezier_subdiv::methods::cudatess::checks::check_pn_edges;
+use bezier_subdiv::methods::cudatess::{CudaTess, FrameData};
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::file::{Scene, SceneGeometry, SceneShading};
 use bezier_subdiv::scene::pn::{PnNet, PnScene};
-use bezier_subdiv::validate::cudatess::check_pn_edges;
 use glam::Vec3;
 
 const SIZE: (u32, u32) = (320, 180);
@@ -79,7 +79,7 @@ fn cameras(pn: &PnScene) -> Vec<Camera> {
 
 fn render_frame(r: &mut Renderer, cam: &Camera, eps: f64, shade: u32) -> FrameData {
     r.render(&View::new(cam, SIZE, eps, 0.5, shade)).unwrap();
-    let ct = r.method().cudatess().expect("cudatess");
+    let ct = r.method().downcast::<CudaTess>().expect("cudatess");
     ct.read_frame(r.context()).unwrap()
 }
 

@@ -16,7 +16,7 @@ use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::eval::flip::flip;
 use bezier_subdiv::eval::ground_truth_image;
 use bezier_subdiv::frame::View;
-use bezier_subdiv::methods::tess::PatchLevels;
+use bezier_subdiv::methods::tess::{PatchLevels, Tess};
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::file::SceneGeometry;
@@ -40,7 +40,11 @@ fn tess_renderer(gpu: &common::Gpu, geo: &SceneGeometry, method: &str) -> Render
 }
 
 fn levels(r: &Renderer) -> Vec<PatchLevels> {
-    r.method().tess().unwrap().read_levels(r.context()).unwrap()
+    r.method()
+        .downcast::<Tess>()
+        .unwrap()
+        .read_levels(r.context())
+        .unwrap()
 }
 
 /// Every shared edge of the kitchen's patches gets bit-identical outer
@@ -90,7 +94,7 @@ fn shared_edge_vertices_meet_bit_for_bit() {
     for method in ["tess", "tess-reparam"] {
         let mut r = tess_renderer(&gpu, &geo, method);
         r.render(&unculled(&s.camera, 0.25)).unwrap();
-        let tess = r.method().tess().unwrap();
+        let tess = r.method().downcast::<Tess>().unwrap();
         let (vertices, total) = tess.read_edge_vertices(r.context()).unwrap();
         assert_eq!(
             vertices.len() as u64,

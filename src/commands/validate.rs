@@ -1,14 +1,13 @@
 //! `validate`: the checks that apply to the method, on every keyframe of a
 //! scene (or one). Methods with a ready list are held against the CPU
 //! oracle (ready set, vertex positions bit for bit, the §4.4 reordering
-//! test on the GPU); the tessellation methods' shared edges are checked
-//! for equal levels and vertices from both sides (cudatess on the buffers
-//! its frame wrote: equal and largest edge factors, bit-identical edge
-//! vertices, every patch's indices its pattern's); every method gets the
-//! hole test on every model.
+//! test on the GPU); methods that cull by occlusion are checked to change
+//! no pixel by it; a method's own checks (its registry entry's `checks`:
+//! the tessellators' shared edges, for one) run next; every method gets the
+//! hole test on every model. Nothing here names a method.
 //! Prints a table; the binary exits non-zero when any check fails.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
@@ -22,10 +21,6 @@ use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
 use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
 use crate::scene::file::{Scene, SceneGeometry};
-use crate::validate::cudatess as ct_checks;
-use crate::validate::edges::{
-    check_edge_vertices, check_levels, shared_edges, EdgeCheck, EdgeKey, EdgeSide,
-};
 use crate::validate::holes::{self, run_model};
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
@@ -60,18 +55,9 @@ impl ValidateReport {
     }
 }
 
-fn line(check: &str, frame: Option<usize>, ok: bool, detail: String) -> CheckResult {
-    CheckResult {
-        check: check.into(),
-        frame,
-        ok,
-        detail,
-    }
-}
-
 /// Runs every check that applies to the method.
 pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
-    args.gpu.method_info()?;
+    let info = args.gpu.method_info()?;
     let scene = Scene::load(&args.gpu.scene)?;
     let frames: Vec<usize> = match args.frame {
         Some(k) => {
@@ -121,26 +107,19 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         }
         renderer.capture = false;
     }
-    let culls = matches!(renderer.method().name(), "subdiv" | "subdiv-indirect")
-        && args.gpu.kernel == crate::methods::subdiv::Kernel::Levels;
-    if culls && args.gpu.occlusion != Some(false) {
+    if renderer.method().culls_occluded() && args.gpu.occlusion != Some(false) {
         for (k, view) in &views {
             results.push(occlusion_check(&mut renderer, view, *k)?);
         }
     }
-    if renderer.method().tess().is_some() {
-        let shared = shared_edges(&geo.patches);
-        renderer.capture = true;
+    if let Some(make) = info.checks {
+        let check = make(&geo);
+        renderer.capture = check.capture();
         for (k, view) in &views {
-            results.extend(edge_checks(&mut renderer, &shared, view, *k)?);
+            renderer.render(view)?;
+            results.extend(check.keyframe(&renderer, *k)?);
         }
         renderer.capture = false;
-    }
-    if renderer.method().cudatess().is_some() {
-        let shared = shared_edges(&geo.patches);
-        for (k, view) in &views {
-            results.extend(cudatess_checks(&mut renderer, &geo, &shared, view, *k)?);
-        }
     }
     if !args.skip_holes {
         let debug = args.debug_dir.as_deref();
@@ -153,7 +132,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     }
     if args.gpu.validation {
         let errors = ctx.validation_errors();
-        results.push(line(
+        results.push(CheckResult::new(
             "validation layer",
             None,
             errors.is_empty(),
@@ -217,7 +196,7 @@ fn oracle_checks(
         flags: &geo.flags,
     };
     let (ok, detail) = compare_ready(&gpu_ready, &oracle.ready);
-    let mut out = vec![line("ready set", Some(k), ok, detail)];
+    let mut out = vec![CheckResult::new("ready set", Some(k), ok, detail)];
 
     let wedges = params.flags & FLAG_WEDGES != 0;
     let (compared, bad, source) = match stage.path() {
@@ -249,7 +228,7 @@ fn oracle_checks(
             (compared, bad, source)
         }
     };
-    out.push(line(
+    out.push(CheckResult::new(
         "positions",
         Some(k),
         bad == 0 && compared > 0,
@@ -262,7 +241,7 @@ fn oracle_checks(
 
     let reorder = ReorderCheck::new(&ctx, stage)?;
     let (checked, failed) = reorder.run(renderer, ready_count)?;
-    out.push(line(
+    out.push(CheckResult::new(
         "reorder (§4.4)",
         Some(k),
         failed == 0 && checked == ready_count,
@@ -302,7 +281,7 @@ fn occlusion_check(renderer: &mut Renderer, view: &View, k: usize) -> anyhow::Re
     renderer.set_options(off)?;
     let last = last.context("no culled frame")?;
     let own = |key| last.stats.get_u64(key).unwrap_or(0);
-    Ok(line(
+    Ok(CheckResult::new(
         "occlusion",
         Some(k),
         differ == 0,
@@ -315,155 +294,6 @@ fn occlusion_check(renderer: &mut Renderer, view: &View, k: usize) -> anyhow::Re
             thousands(unculled.triangles())
         ),
     ))
-}
-
-/// The shared-edge checks of a tessellation method for one keyframe.
-fn edge_checks(
-    renderer: &mut Renderer,
-    shared: &HashMap<EdgeKey, Vec<EdgeSide>>,
-    view: &View,
-    k: usize,
-) -> anyhow::Result<Vec<CheckResult>> {
-    renderer.render(view)?;
-    let ctx = renderer.context().clone();
-    let tess = renderer
-        .method()
-        .tess()
-        .context("not a tessellation method")?;
-    let levels = tess.read_levels(&ctx)?;
-    let (vertices, total) = tess.read_edge_vertices(&ctx)?;
-    let lv = check_levels(shared, &levels);
-    let mut out = vec![line(
-        "edge levels",
-        Some(k),
-        lv.bad == 0,
-        format!(
-            "{} shared edges, {} with different levels on their sides{}",
-            thousands(lv.checked),
-            lv.bad,
-            lv.first.map_or(String::new(), |f| format!(": {f}"))
-        ),
-    )];
-    // A full capture holds some sides' vertices and not others': that
-    // would read as T-junctions, so the check says it could not run.
-    let full = (vertices.len() as u64) < total;
-    let vx = check_edge_vertices(shared, &levels, &vertices);
-    out.push(line(
-        "edge vertices",
-        Some(k),
-        vx.bad == 0 && !full,
-        if full {
-            format!(
-                "the capture holds {} of {} edge vertices; validate at a smaller --size",
-                thousands(vertices.len() as u64),
-                thousands(total)
-            )
-        } else {
-            format!(
-                "{} shared edge vertices, {} differing or missing on a side{}",
-                thousands(vx.checked),
-                vx.bad,
-                vx.first.map_or(String::new(), |f| format!(": {f}"))
-            )
-        },
-    ));
-    Ok(out)
-}
-
-/// cudatess's checks for one keyframe, on what the frame left in its
-/// buffers.
-fn cudatess_checks(
-    renderer: &mut Renderer,
-    geo: &SceneGeometry,
-    shared: &HashMap<EdgeKey, Vec<EdgeSide>>,
-    view: &View,
-    k: usize,
-) -> anyhow::Result<Vec<CheckResult>> {
-    renderer.render(view)?;
-    let ctx = renderer.context().clone();
-    let frame = renderer
-        .method()
-        .cudatess()
-        .context("not cudatess")?
-        .read_frame(&ctx)?;
-    let first = |c: &EdgeCheck| c.first.as_ref().map_or(String::new(), |f| format!(": {f}"));
-    let levels = ct_checks::levels(&frame);
-    let equal = check_levels(shared, &levels);
-    let largest = ct_checks::check_max_factors(shared, &frame);
-    let vx = check_edge_vertices(shared, &levels, &ct_checks::edge_vertices(&frame));
-    let ix = ct_checks::check_indices(&frame);
-    let mut out = vec![
-        line(
-            "edge factors",
-            Some(k),
-            equal.bad == 0,
-            format!(
-                "{} shared edges, {} with different factors on their sides{}",
-                thousands(equal.checked),
-                equal.bad,
-                first(&equal)
-            ),
-        ),
-        line(
-            "largest factor",
-            Some(k),
-            largest.bad == 0,
-            format!(
-                "{} patch edges and every shared edge: {} not the largest asked for{}",
-                thousands(largest.checked),
-                largest.bad,
-                first(&largest)
-            ),
-        ),
-        line(
-            "edge vertices",
-            Some(k),
-            vx.bad == 0,
-            format!(
-                "{} shared edge vertices, {} differing or missing on a side{}",
-                thousands(vx.checked),
-                vx.bad,
-                first(&vx)
-            ),
-        ),
-        line(
-            "indices",
-            Some(k),
-            ix.bad == 0 && ix.checked > 0,
-            format!(
-                "{} drawn patches' index slots against their patterns, {} wrong{}",
-                thousands(ix.checked),
-                ix.bad,
-                first(&ix)
-            ),
-        ),
-    ];
-    if !geo.pn.triangles.is_empty() {
-        let (factors, vertices) = ct_checks::check_pn_edges(&geo.pn, &frame);
-        out.push(line(
-            "PN edge factors",
-            Some(k),
-            factors.bad == 0 && factors.checked > 0,
-            format!(
-                "{} shared PN edges, {} with different factors on their sides{}",
-                thousands(factors.checked),
-                factors.bad,
-                first(&factors)
-            ),
-        ));
-        out.push(line(
-            "PN edge vertices",
-            Some(k),
-            vertices.bad == 0,
-            format!(
-                "{} shared PN edges, {} with different vertex bits on their sides{}",
-                thousands(vertices.checked),
-                vertices.bad,
-                first(&vertices)
-            ),
-        ));
-    }
-    Ok(out)
 }
 
 /// The hole test for the first instance of every distinct model file.
@@ -490,7 +320,7 @@ fn hole_checks(
             .map_or("model".into(), |f| f.to_string_lossy().into_owned());
         let views = run_model(renderer, &one, eps_lambda, &name, debug_dir)?;
         let (ok, detail) = holes::verdict(&views);
-        out.push(line(&format!("holes {name}"), None, ok, detail));
+        out.push(CheckResult::new(&format!("holes {name}"), None, ok, detail));
     }
     Ok(out)
 }

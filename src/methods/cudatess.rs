@@ -40,13 +40,14 @@
 //! records, offsets and the buffers stay readable for validation
 //! ([`CudaTess::read_frame`]).
 
+pub mod checks;
 pub mod pattern;
 pub mod scan;
 
 use ash::vk;
 use serde_json::json;
 
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{CtPush, DrawPush};
@@ -63,7 +64,10 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "Schwarz-Stamminger compute tessellation: Zheng-Sederberg factors, scan, \
             vertex and index buffers, one indexed indirect draw (rational patches too)",
     rational: true,
+    pn: true,
     reads_lambda: false,
+    reads: Reads::TESSELLATES,
+    checks: Some(checks::make),
     build: |setup| Ok(Box::new(CudaTess::new(setup)?)),
 };
 
@@ -829,10 +833,6 @@ impl Method for CudaTess {
         v.push(("vertex_buffer", self.outputs.vertices.size()));
         v.push(("index_buffer", self.outputs.indices.size()));
         v
-    }
-
-    fn cudatess(&self) -> Option<&CudaTess> {
-        Some(self)
     }
 }
 

@@ -39,7 +39,7 @@ pub mod pn;
 use ash::vk;
 use serde_json::json;
 
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, GridPush};
@@ -53,7 +53,16 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "ground-truth",
     about: "every patch as a uniform grid (64x64 quads by default, the paper's reference)",
     rational: true,
+    pn: true,
     reads_lambda: false,
+    // A fixed grid per patch, nothing back-face culled.
+    reads: Reads {
+        eps: false,
+        backface: false,
+        grid: true,
+        ..Reads::TESSELLATES
+    },
+    checks: None,
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };
 

@@ -11,9 +11,14 @@
 //! - *self-drawing* methods (`ground-truth`, `tess`, `tess-reparam`,
 //!   `cudatess`) record their own draw with the same fragment shading.
 //!
-//! A scene with rational patches (weights other than 1) is only accepted by
-//! methods whose [`MethodInfo::rational`] says so; the others refuse it with
-//! a sentence rather than draw it wrong.
+//! A method declares what it can do in its [`MethodInfo`], and nothing
+//! outside its file names it: a scene with rational patches (weights other
+//! than 1) or PN triangles is only accepted by methods whose
+//! [`MethodInfo::rational`] or [`MethodInfo::pn`] says so (the others refuse
+//! it with a sentence rather than draw it wrong), the window greys out the
+//! controls a method does not read ([`MethodInfo::reads`]), and `validate`
+//! runs the method's own checks ([`MethodInfo::checks`], in the method's
+//! folder, which reach its concrete type through [`Method::downcast`]).
 //!
 //! Adding a method means a new file here with a [`MethodInfo`] and one line
 //! in [`METHODS`].
@@ -25,6 +30,8 @@ pub mod subdiv;
 pub mod subdiv_indirect;
 pub mod tess;
 
+use std::any::Any;
+
 use serde_json::Value;
 
 use crate::draw::{DrawPath, ReadyStage};
@@ -32,6 +39,7 @@ use crate::frame::{FrameOut, FrameRec, Retired};
 use crate::gpu::{SceneGpu, SceneLayout, Shaders};
 use crate::patch::view::ViewParams;
 use crate::scene::file::SceneGeometry;
+use crate::validate::MakeCheck;
 use crate::vk::{Context, VkError};
 
 /// What can go wrong while rendering with a method.
@@ -195,8 +203,22 @@ pub enum Finished {
     },
 }
 
+/// Any sized type as [`Any`]: the supertrait that lets a `dyn Method` be
+/// asked for its concrete type ([`Method::downcast`]) without the trait
+/// naming any implementor.
+pub trait AsAny: Any {
+    /// `self` as [`Any`].
+    fn as_any(&self) -> &dyn Any;
+}
+
+impl<T: Any> AsAny for T {
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
 /// A rendering method.
-pub trait Method {
+pub trait Method: AsAny {
     /// The registry name.
     fn name(&self) -> &'static str;
 
@@ -243,22 +265,26 @@ pub trait Method {
         self.ready().is_some_and(|s| s.path() == DrawPath::Mesh)
     }
 
-    /// The tessellation method behind this one, for its captures (levels
-    /// and edge vertices) in validation.
-    fn tess(&self) -> Option<&tess::Tess> {
-        None
-    }
-
-    /// The `cudatess` method behind this one, for reading its buffers back
-    /// in validation.
-    fn cudatess(&self) -> Option<&cudatess::CudaTess> {
-        None
-    }
-
     /// Whether the method draws the crack-closing wedges (the hole test
-    /// then also looks with them off, to show it can see cracks).
+    /// then also looks with them off, to show it can see cracks). The ready
+    /// stage's draw is what draws them, so exactly the ready-list methods do.
     fn has_wedges(&self) -> bool {
+        self.ready().is_some()
+    }
+
+    /// Whether occlusion culling ([`MethodOptions::occlusion`]) takes effect
+    /// in the method as made, whether or not it is on now: `validate` then
+    /// checks that turning it on changes no pixel.
+    fn culls_occluded(&self) -> bool {
         false
+    }
+}
+
+impl dyn Method {
+    /// The method as its concrete type `T`, if it is one (a method's own
+    /// checks read its buffers through this).
+    pub fn downcast<T: Method>(&self) -> Option<&T> {
+        self.as_any().downcast_ref()
     }
 }
 
@@ -270,9 +296,16 @@ pub struct MethodInfo {
     pub about: &'static str,
     /// Whether it draws rational patches (scenes with weights other than 1).
     pub rational: bool,
+    /// Whether it draws PN-triangle models (`surface = "pn-triangles"`).
+    pub pn: bool,
     /// Whether λ changes what it draws (`bench` runs a method that ignores
     /// λ once per ε, not once per λ).
     pub reads_lambda: bool,
+    /// The view settings it reads.
+    pub reads: Reads,
+    /// Its own `validate` checks, beyond those every method gets (the
+    /// oracle comparisons of a ready list, occlusion culling, the hole test).
+    pub checks: Option<MakeCheck>,
     /// Makes the method.
     pub build: fn(&mut MethodSetup<'_>) -> Result<Box<dyn Method>, RenderError>,
 }
@@ -312,9 +345,10 @@ pub struct Reads {
     pub grid: bool,
 }
 
-/// What method `name` reads ([`Reads`]); an unknown name reads everything.
-pub fn reads(name: &str) -> Reads {
-    let subdivides = Reads {
+impl Reads {
+    /// Every setting: what a name no method has reads, so that nothing is
+    /// greyed out on a guess.
+    pub const ALL: Reads = Reads {
         draw_path: true,
         eps: true,
         lambda: true,
@@ -323,33 +357,35 @@ pub fn reads(name: &str) -> Reads {
         wedges: true,
         backface: true,
         occlusion: true,
-        grid: false,
+        grid: true,
     };
-    // The tessellators set their levels from ε alone and draw themselves.
-    let tessellates = Reads {
+
+    /// What a subdivision method with a ready list reads: all but the grid.
+    pub const SUBDIVIDES: Reads = Reads {
+        grid: false,
+        ..Reads::ALL
+    };
+
+    /// What a tessellator reads: it sets its levels from ε alone and draws
+    /// itself.
+    pub const TESSELLATES: Reads = Reads {
         draw_path: false,
         lambda: false,
         l_max: false,
         split: false,
         wedges: false,
         occlusion: false,
-        ..subdivides
+        ..Reads::SUBDIVIDES
     };
-    match name {
-        "subdiv" | "subdiv-indirect" => subdivides,
-        "tess" | "tess-reparam" | "cudatess" => tessellates,
-        // A fixed grid per patch, nothing back-face culled.
-        "ground-truth" => Reads {
-            eps: false,
-            backface: false,
-            grid: true,
-            ..tessellates
-        },
-        _ => Reads {
-            grid: true,
-            ..subdivides
-        },
-    }
+}
+
+/// What method `name` reads ([`MethodInfo::reads`]); an unknown name reads
+/// everything.
+pub fn reads(name: &str) -> Reads {
+    METHODS
+        .iter()
+        .find(|m| m.name == name)
+        .map_or(Reads::ALL, |m| m.reads)
 }
 
 /// Names reserved for methods still to come (none at present; a name put
@@ -412,12 +448,20 @@ fn refuse(
             able.join(" or ")
         )));
     }
-    let pn_able = [cudatess::INFO.name, ground_truth::INFO.name];
-    if pn > 0 && !pn_able.contains(&info.name) {
+    if pn > 0 && !info.pn {
+        // The ground truth is named apart: it is the reference, not a method
+        // to draw the scene with.
+        let reference = ground_truth::INFO.name;
+        let able: Vec<&str> = METHODS
+            .iter()
+            .filter(|m| m.pn && m.name != reference)
+            .map(|m| m.name)
+            .collect();
         return Err(RenderError::Request(format!(
             "method `{}` cannot draw PN triangles, and the scene has {pn} of them \
-             (models with surface = \"pn-triangles\"); use cudatess (or ground-truth, the reference)",
-            info.name
+             (models with surface = \"pn-triangles\"); use {} (or {reference}, the reference)",
+            info.name,
+            able.join(" or ")
         )));
     }
     Ok(())
@@ -447,17 +491,35 @@ fn find_in<'a>(
 mod tests {
     use super::*;
 
-    /// Every built method says what it reads (none falls to the default),
-    /// and only the subdivision methods read λ, l_max and wedges.
+    /// Every built method says what it reads (none reads everything, as an
+    /// unknown name does), only the subdivision methods read λ, l_max and
+    /// wedges, and `reads_lambda` agrees with `reads`.
     #[test]
     fn every_method_says_what_it_reads() {
         let unknown = reads("no such method");
+        assert_eq!(unknown, Reads::ALL);
         for m in METHODS {
             let r = reads(m.name);
-            assert_ne!(r, unknown, "{} has no entry in reads()", m.name);
+            assert_eq!(r, m.reads, "{}", m.name);
+            assert_ne!(r, unknown, "{} reads everything", m.name);
             let subdivides = m.name.starts_with("subdiv");
             assert_eq!(r.lambda && r.l_max && r.wedges, subdivides, "{}", m.name);
             assert_eq!(r.grid, m.name == ground_truth::INFO.name, "{}", m.name);
+            assert_eq!(m.reads_lambda, r.lambda, "{}", m.name);
+        }
+    }
+
+    /// The PN refusal names the methods that declare PN triangles, in the
+    /// sentence it has always had.
+    #[test]
+    fn pn_refusal_names_the_able_methods() {
+        let e = refuse(&subdiv::INFO, 0, 4, 2).err().unwrap().to_string();
+        assert!(
+            e.ends_with("use cudatess (or ground-truth, the reference)"),
+            "{e}"
+        );
+        for m in METHODS {
+            assert_eq!(refuse(m, 0, 4, 2).is_ok(), m.pn, "{}", m.name);
         }
     }
 

@@ -28,7 +28,7 @@ use serde_json::json;
 
 use super::levels::{self, LevelState, Levels, PersistentRun};
 use super::subdiv_indirect::{base_rounds, finish_rounds};
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
 use crate::draw::{DrawPath, ReadyCaps, ReadyStage};
@@ -45,7 +45,10 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "recursive subdivision, one dispatch of persistent workgroups (this project's \
             stand-in for the paper's work graph)",
     rational: true,
+    pn: false,
     reads_lambda: true,
+    reads: Reads::SUBDIVIDES,
+    checks: None,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
 
@@ -659,8 +662,10 @@ impl Method for Subdiv {
         Some(&self.stage)
     }
 
-    fn has_wedges(&self) -> bool {
-        true
+    /// The level kernels cull by occlusion (in both phases of
+    /// `levels::record_phases`); the queue kernel does not.
+    fn culls_occluded(&self) -> bool {
+        self.kernel == Kernel::Levels
     }
 }
 

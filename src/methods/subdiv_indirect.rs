@@ -17,7 +17,7 @@ use serde_json::json;
 
 use super::levels::{self, LevelState, Levels, DEFAULT_NODE_MEMORY};
 use super::subdiv::GpuSubdivStats;
-use super::{Finished, Method, MethodInfo, MethodSetup, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, Reads, RenderError};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
 use crate::draw::{ReadyCaps, ReadyStage};
@@ -30,7 +30,10 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "recursive subdivision, one indirect dispatch per depth (the paper's \
             execute-indirect variant), in bounded node memory",
     rational: true,
+    pn: false,
     reads_lambda: true,
+    reads: Reads::SUBDIVIDES,
+    checks: None,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
 
@@ -238,7 +241,7 @@ impl Method for SubdivIndirect {
         Some(&self.stage)
     }
 
-    fn has_wedges(&self) -> bool {
+    fn culls_occluded(&self) -> bool {
         true
     }
 }

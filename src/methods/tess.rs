@@ -21,10 +21,12 @@
 //! cracks. There is no count of its own: the frame's triangles come from
 //! the renderer's primitive query, which is why the method needs one.
 
+pub mod checks;
+
 use ash::vk;
 use serde_json::json;
 
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
@@ -38,7 +40,10 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "tess",
     about: "hardware tessellation, uniform levels from the Filip et al. bound (Buchenau-Guthe §3)",
     rational: false,
+    pn: false,
     reads_lambda: false,
+    reads: Reads::TESSELLATES,
+    checks: Some(checks::make),
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Uniform)?)),
 };
 
@@ -47,7 +52,10 @@ pub const INFO_REPARAM: MethodInfo = MethodInfo {
     name: "tess-reparam",
     about: "hardware tessellation with Buchenau-Guthe's curvature re-parameterisation (§4, §5.2)",
     rational: false,
+    pn: false,
     reads_lambda: false,
+    reads: Reads::TESSELLATES,
+    checks: Some(checks::make),
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Reparam)?)),
 };
 
@@ -398,9 +406,5 @@ impl Method for Tess {
             v.push(("capture", b.levels.size() + b.edge_vertices.size()));
         }
         v
-    }
-
-    fn tess(&self) -> Option<&Tess> {
-        Some(self)
     }
 }

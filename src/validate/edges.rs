@@ -9,6 +9,7 @@ use std::collections::HashMap;
 
 use glam::Vec3;
 
+use crate::figures::thousands;
 use crate::methods::tess::{EdgeVertex, PatchLevels};
 use crate::patch::bezier::BezierPatch;
 
@@ -94,6 +95,36 @@ impl EdgeCheck {
         if self.first.is_none() {
             self.first = Some(what());
         }
+    }
+
+    /// `": "` and the first failure, or nothing where none failed: the end
+    /// of every report line of an edge check.
+    pub fn first_suffix(&self) -> String {
+        self.first
+            .as_ref()
+            .map_or(String::new(), |f| format!(": {f}"))
+    }
+
+    /// The detail of a check that the sides of shared edges agree on a
+    /// value: `N <edges>, M with different <what> on their sides`.
+    pub fn sides_detail(&self, edges: &str, what: &str) -> String {
+        format!(
+            "{} {edges}, {} with different {what} on their sides{}",
+            thousands(self.checked),
+            self.bad,
+            self.first_suffix()
+        )
+    }
+
+    /// The detail of [`check_edge_vertices`], which the tessellation
+    /// methods and cudatess report in the same words.
+    pub fn vertices_detail(&self) -> String {
+        format!(
+            "{} shared edge vertices, {} differing or missing on a side{}",
+            thousands(self.checked),
+            self.bad,
+            self.first_suffix()
+        )
     }
 }
 

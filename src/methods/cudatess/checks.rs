@@ -1,9 +1,10 @@
 //! The checks of `cudatess` on what a frame left in its buffers
-//! ([`CudaTess::read_frame`](crate::methods::cudatess::CudaTess::read_frame)):
-//! the edge factors are the largest any drawn patch on the edge asked for
-//! (so equal from both sides), the vertices along shared edges are bit
-//! identical from every side (through the generic shared-edge checks of
-//! [`super::edges`]), and every patch's indices are its pattern's
+//! ([`CudaTess::read_frame`]), which `validate` runs on every keyframe
+//! ([`run`], declared by the registry entry): the edge factors are the
+//! largest any drawn patch on the edge asked for (so equal from both
+//! sides), the vertices along shared edges are bit identical from every
+//! side (through the generic shared-edge checks of
+//! [`crate::validate::edges`]), and every patch's indices are its pattern's
 //! ([`Pattern::triangles`]) inside its own slot of the vertex buffer.
 //! PN triangles (the records after the patches'): both triangles of every
 //! shared edge read the same factor and write the same vertex bits along
@@ -12,11 +13,104 @@
 
 use std::collections::HashMap;
 
-use super::edges::{EdgeCheck, EdgeKey, EdgeSide};
-use crate::methods::cudatess::pattern::Pattern;
-use crate::methods::cudatess::{FrameData, PatchRecord};
+use super::pattern::Pattern;
+use super::{CudaTess, FrameData, PatchRecord};
+use crate::figures::thousands;
 use crate::methods::tess::{EdgeVertex, PatchLevels};
+use crate::methods::RenderError;
+use crate::renderer::Renderer;
+use crate::scene::file::SceneGeometry;
 use crate::scene::pn::PnScene;
+use crate::validate::edges::{
+    check_edge_vertices, check_levels, shared_edges, EdgeCheck, EdgeKey, EdgeSide,
+};
+use crate::validate::{Check, CheckResult};
+
+/// The checks for a scene's geometry (`MethodInfo::checks`).
+pub fn make(geo: &SceneGeometry) -> Box<dyn Check + '_> {
+    Box::new(FrameChecks {
+        geo,
+        shared: shared_edges(&geo.patches),
+    })
+}
+
+/// The scene, and its shared edges found once for every keyframe.
+struct FrameChecks<'a> {
+    geo: &'a SceneGeometry,
+    shared: HashMap<EdgeKey, Vec<EdgeSide>>,
+}
+
+impl Check for FrameChecks<'_> {
+    fn keyframe(&self, renderer: &Renderer, k: usize) -> Result<Vec<CheckResult>, RenderError> {
+        let frame = renderer
+            .method()
+            .downcast::<CudaTess>()
+            .ok_or_else(|| RenderError::Request("not cudatess".into()))?
+            .read_frame(renderer.context())?;
+        Ok(keyframe(self.geo, &self.shared, &frame, k))
+    }
+}
+
+/// The checks of one keyframe's frame.
+fn keyframe(
+    geo: &SceneGeometry,
+    shared: &HashMap<EdgeKey, Vec<EdgeSide>>,
+    frame: &FrameData,
+    k: usize,
+) -> Vec<CheckResult> {
+    let levels = levels(frame);
+    let equal = check_levels(shared, &levels);
+    let largest = check_max_factors(shared, frame);
+    let vx = check_edge_vertices(shared, &levels, &edge_vertices(frame));
+    let ix = check_indices(frame);
+    let mut out = vec![
+        CheckResult::new(
+            "edge factors",
+            Some(k),
+            equal.bad == 0,
+            equal.sides_detail("shared edges", "factors"),
+        ),
+        CheckResult::new(
+            "largest factor",
+            Some(k),
+            largest.bad == 0,
+            format!(
+                "{} patch edges and every shared edge: {} not the largest asked for{}",
+                thousands(largest.checked),
+                largest.bad,
+                largest.first_suffix()
+            ),
+        ),
+        CheckResult::new("edge vertices", Some(k), vx.bad == 0, vx.vertices_detail()),
+        CheckResult::new(
+            "indices",
+            Some(k),
+            ix.bad == 0 && ix.checked > 0,
+            format!(
+                "{} drawn patches' index slots against their patterns, {} wrong{}",
+                thousands(ix.checked),
+                ix.bad,
+                ix.first_suffix()
+            ),
+        ),
+    ];
+    if !geo.pn.triangles.is_empty() {
+        let (factors, vertices) = check_pn_edges(&geo.pn, frame);
+        out.push(CheckResult::new(
+            "PN edge factors",
+            Some(k),
+            factors.bad == 0 && factors.checked > 0,
+            factors.sides_detail("shared PN edges", "factors"),
+        ));
+        out.push(CheckResult::new(
+            "PN edge vertices",
+            Some(k),
+            vertices.bad == 0,
+            vertices.sides_detail("shared PN edges", "vertex bits"),
+        ));
+    }
+    out
+}
 
 /// The records as the tessellation methods' levels: edge factors as outer
 /// levels, the patch's own factors as inner ones, culled patches marked.
