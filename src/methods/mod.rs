@@ -223,8 +223,11 @@ pub trait Method: AsAny {
     fn name(&self) -> &'static str;
 
     /// How it gets triangles to the rasterizer, in words (`mesh`,
-    /// `fallback`, `grid`).
-    fn draw_path(&self) -> &'static str;
+    /// `fallback`, `grid`): a ready-list method's is its stage's path, and
+    /// a self-drawing method names its own.
+    fn draw_path(&self) -> &'static str {
+        self.ready().map_or("self-drawn", |s| s.path().name())
+    }
 
     /// Changes the view's criterion constants this method runs with (e.g. a
     /// lower depth limit); the renderer applies it before uploading them.

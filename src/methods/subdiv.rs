@@ -27,7 +27,7 @@ use ash::vk;
 use serde_json::json;
 
 use super::levels::{self, LevelState, Levels, PersistentRun};
-use super::subdiv_indirect::{base_rounds, finish_rounds};
+use super::subdiv_indirect::{base_rounds, finish_rounds, level_memory, recorded};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
@@ -529,10 +529,6 @@ impl Method for Subdiv {
         INFO.name
     }
 
-    fn draw_path(&self) -> &'static str {
-        self.stage.path().name()
-    }
-
     fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError> {
         self.stage.ensure_capture(f.ctx, f.capture, f.retired)?;
         let stage = &self.stage;
@@ -564,11 +560,7 @@ impl Method for Subdiv {
     }
 
     fn finish(&mut self, out: &mut FrameOut<'_>) -> Result<Finished, RenderError> {
-        let (Some(c), Some(s)) = (self.counters, self.state) else {
-            return Err(RenderError::Request(
-                "finish() before any frame was recorded".into(),
-            ));
-        };
+        let (c, s) = recorded(self.counters, self.state)?;
         let mut finished = if let Some(reason) = self.fallback.clone() {
             let mut m = finish_rounds(
                 &mut self.stage,
@@ -647,15 +639,8 @@ impl Method for Subdiv {
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {
-        let mut v = vec![("node_memory", self.levels.bytes())];
-        if let Some(h) = &self.occlusion {
-            v.push(("depth_pyramid", h.bytes()));
-        }
-        if let Some(q) = &self.queue {
-            v.push(("queue", q.queue.bytes()));
-        }
-        v.extend(self.stage.memory_bytes());
-        v
+        let queue = self.queue.as_ref().map(|q| ("queue", q.queue.bytes()));
+        level_memory(&self.levels, self.occlusion.as_ref(), queue, &self.stage)
     }
 
     fn ready(&self) -> Option<&ReadyStage> {

@@ -161,13 +161,39 @@ pub(crate) fn finish_rounds(
     Ok(Finished::Done(m))
 }
 
+/// The copies of the counters and the level state that `record` made; an
+/// error where `finish` comes first. Shared with `subdiv`.
+pub(crate) fn recorded(
+    counters: Option<CopyRange>,
+    state: Option<CopyRange>,
+) -> Result<(CopyRange, CopyRange), RenderError> {
+    let (Some(c), Some(s)) = (counters, state) else {
+        return Err(RenderError::Request(
+            "finish() before any frame was recorded".into(),
+        ));
+    };
+    Ok((c, s))
+}
+
+/// The memory of a level-schedule method by purpose: the node memory, the
+/// depth pyramid where it culls by occlusion, a buffer of its own
+/// (`subdiv`'s queue) and the ready stage's. Shared with `subdiv`.
+pub(crate) fn level_memory(
+    levels: &Levels,
+    occlusion: Option<&Hiz>,
+    own: Option<(&'static str, u64)>,
+    stage: &ReadyStage,
+) -> Vec<(&'static str, u64)> {
+    let mut v = vec![("node_memory", levels.bytes())];
+    v.extend(occlusion.map(|h| ("depth_pyramid", h.bytes())));
+    v.extend(own);
+    v.extend(stage.memory_bytes());
+    v
+}
+
 impl Method for SubdivIndirect {
     fn name(&self) -> &'static str {
         INFO.name
-    }
-
-    fn draw_path(&self) -> &'static str {
-        self.stage.path().name()
     }
 
     fn adjust_view(&self, params: &mut ViewParams) {
@@ -191,17 +217,12 @@ impl Method for SubdivIndirect {
     }
 
     fn finish(&mut self, out: &mut FrameOut<'_>) -> Result<Finished, RenderError> {
-        let (Some(c), Some(s)) = (self.counters, self.state) else {
-            return Err(RenderError::Request(
-                "finish() before any frame was recorded".into(),
-            ));
-        };
         let mut m = finish_rounds(
             &mut self.stage,
             &self.levels,
             &mut self.rounds,
             out,
-            (c, s),
+            recorded(self.counters, self.state)?,
             INFO.name,
         )?;
         if let Finished::Done(m) = &mut m {
@@ -229,12 +250,7 @@ impl Method for SubdivIndirect {
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {
-        let mut v = vec![("node_memory", self.levels.bytes())];
-        if let Some(h) = &self.occlusion {
-            v.push(("depth_pyramid", h.bytes()));
-        }
-        v.extend(self.stage.memory_bytes());
-        v
+        level_memory(&self.levels, self.occlusion.as_ref(), None, &self.stage)
     }
 
     fn ready(&self) -> Option<&ReadyStage> {
