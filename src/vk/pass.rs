@@ -1,0 +1,416 @@
+//! Passes that declare what they read and write; a [`Recorder`] per command
+//! buffer derives the barriers between them.
+//!
+//! A pass names each resource it touches ([`Res`]: a buffer, an image in a
+//! layout, or all memory where a global barrier is meant) with the
+//! [`Access`] of the use. The recorder remembers, per resource, the writes
+//! not yet made visible and the reads since the last write, and before each
+//! pass records one `vkCmdPipelineBarrier2` holding what the pass needs: a
+//! write waits for earlier reads and writes, a read waits for an earlier
+//! write it has not been made visible to, an image in another layout is
+//! transitioned. Two reads never get a barrier between them.
+//!
+//! What happened before the recorder (earlier in the command buffer, or in
+//! an earlier submission) is declared with [`Recorder::after`]; what later,
+//! undeclared work needs is given with [`Recorder::hand_off`].
+
+use super::commands::Access;
+use super::context::Context;
+use super::memory::{Buffer, Image};
+use ash::vk;
+use std::ffi::CString;
+
+/// A resource a pass uses.
+#[derive(Clone, Copy)]
+pub enum Res<'a> {
+    /// Every resource: the barrier is a global memory barrier. For passes
+    /// whose buffers are too many or too dynamic to list (a kernel that
+    /// reads and writes the whole node pool), as the code before the pass
+    /// layer deliberately did.
+    Memory,
+    /// A whole buffer.
+    Buffer(&'a Buffer),
+    /// A whole image, used in this layout.
+    Image(&'a Image, vk::ImageLayout),
+}
+
+/// What identifies a resource's tracked state.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Key {
+    Memory,
+    Buffer(vk::Buffer),
+    Image(vk::Image),
+}
+
+impl Res<'_> {
+    fn key(&self) -> Key {
+        match self {
+            Res::Memory => Key::Memory,
+            Res::Buffer(b) => Key::Buffer(b.handle()),
+            Res::Image(i, _) => Key::Image(i.handle()),
+        }
+    }
+}
+
+/// One declared use.
+#[derive(Clone, Copy)]
+struct Use<'a> {
+    res: Res<'a>,
+    access: Access,
+    write: bool,
+}
+
+/// A pass: a name (its debug label) and the uses it declares.
+pub struct Pass<'a> {
+    name: &'a str,
+    uses: Vec<Use<'a>>,
+}
+
+impl<'a> Pass<'a> {
+    /// A pass with no uses yet.
+    pub fn new(name: &'a str) -> Self {
+        Self {
+            name,
+            uses: Vec::new(),
+        }
+    }
+
+    /// Declares that the pass reads `res` with `access`.
+    pub fn read(mut self, res: Res<'a>, access: Access) -> Self {
+        self.uses.push(Use {
+            res,
+            access,
+            write: false,
+        });
+        self
+    }
+
+    /// Declares that the pass writes `res` (and may read it) with `access`.
+    pub fn write(mut self, res: Res<'a>, access: Access) -> Self {
+        self.uses.push(Use {
+            res,
+            access,
+            write: true,
+        });
+        self
+    }
+}
+
+/// The tracked state of one resource.
+#[derive(Clone, Copy, Debug)]
+struct State {
+    key: Key,
+    /// The last writes, not yet visible to everything.
+    writes: Access,
+    /// The scope the last writes were made visible to.
+    visible: Access,
+    /// Reads since the last write (a later write waits for them).
+    reads: Access,
+    /// Writes before the last ones: already available, kept so that a
+    /// hand-off to undeclared work names them in its source too.
+    carried: Access,
+    layout: vk::ImageLayout,
+}
+
+impl State {
+    fn new(key: Key) -> Self {
+        Self {
+            key,
+            writes: Access::NONE,
+            visible: Access::NONE,
+            reads: Access::NONE,
+            carried: Access::NONE,
+            layout: vk::ImageLayout::UNDEFINED,
+        }
+    }
+
+    /// The source scope `u` must wait for, if any.
+    fn source(&self, u: &Use<'_>) -> Access {
+        if u.write {
+            self.writes.union(self.reads)
+        } else if self.visible.covers(u.access) {
+            Access::NONE
+        } else {
+            self.writes
+        }
+    }
+
+    /// The state after `u` ran, behind a barrier from [`State::source`].
+    fn apply(&mut self, u: &Use<'_>) {
+        if u.write {
+            self.carried = self.carried.union(self.writes);
+            self.writes = u.access;
+            self.visible = Access::NONE;
+            self.reads = Access::NONE;
+        } else {
+            if !self.writes.is_none() {
+                self.visible = self.visible.union(u.access);
+            }
+            self.reads = self.reads.union(u.access);
+        }
+    }
+}
+
+/// The barriers of one pass, gathered so they go in one call.
+#[derive(Default)]
+struct Barriers {
+    memory: Option<(Access, Access)>,
+    buffers: Vec<vk::BufferMemoryBarrier2<'static>>,
+    images: Vec<vk::ImageMemoryBarrier2<'static>>,
+}
+
+impl Barriers {
+    fn is_empty(&self) -> bool {
+        self.memory.is_none() && self.buffers.is_empty() && self.images.is_empty()
+    }
+
+    fn global(&mut self, src: Access, dst: Access) {
+        let (s, d) = self.memory.unwrap_or((Access::NONE, Access::NONE));
+        self.memory = Some((s.union(src), d.union(dst)));
+    }
+
+    fn record(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        let memory: Vec<vk::MemoryBarrier2> = self
+            .memory
+            .iter()
+            .map(|(src, dst)| {
+                vk::MemoryBarrier2::default()
+                    .src_stage_mask(src.stage)
+                    .src_access_mask(src.access)
+                    .dst_stage_mask(dst.stage)
+                    .dst_access_mask(dst.access)
+            })
+            .collect();
+        let dep = vk::DependencyInfo::default()
+            .memory_barriers(&memory)
+            .buffer_memory_barriers(&self.buffers)
+            .image_memory_barriers(&self.images);
+        unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
+    }
+}
+
+/// Records passes into one command buffer, with the barriers their
+/// declarations call for.
+pub struct Recorder<'c> {
+    ctx: &'c Context,
+    cmd: vk::CommandBuffer,
+    states: Vec<State>,
+}
+
+impl<'c> Recorder<'c> {
+    /// A recorder that knows of no earlier use of anything.
+    pub fn new(ctx: &'c Context, cmd: vk::CommandBuffer) -> Self {
+        Self {
+            ctx,
+            cmd,
+            states: vec![State::new(Key::Memory)],
+        }
+    }
+
+    /// The command buffer recorded into.
+    pub fn cmd(&self) -> vk::CommandBuffer {
+        self.cmd
+    }
+
+    /// Continues in another command buffer of the same queue (a frame
+    /// split into parts): the tracked state still holds, since only a
+    /// barrier, not a submission boundary, makes writes visible.
+    pub fn set_cmd(&mut self, cmd: vk::CommandBuffer) {
+        self.cmd = cmd;
+    }
+
+    /// Declares that work before the recorder (earlier in the command
+    /// buffer or an earlier submission) may have written `res` with
+    /// `access`, leaving an image in the layout `res` names.
+    pub fn after(&mut self, res: Res<'_>, access: Access) -> &mut Self {
+        let state = self.state(res.key());
+        state.carried = state.carried.union(state.writes);
+        state.writes = access;
+        state.visible = Access::NONE;
+        state.reads = Access::NONE;
+        if let Res::Image(_, layout) = res {
+            state.layout = layout;
+        }
+        self
+    }
+
+    /// Records `pass`: its barriers, then `work`, inside its debug label.
+    pub fn run<R>(&mut self, pass: &Pass<'_>, work: impl FnOnce(vk::CommandBuffer) -> R) -> R {
+        begin_label(self.ctx, self.cmd, pass.name);
+        let barriers = self.derive(pass);
+        if !barriers.is_empty() {
+            barriers.record(self.ctx, self.cmd);
+        }
+        let out = work(self.cmd);
+        end_label(self.ctx, self.cmd);
+        out
+    }
+
+    /// Records `pass` with a dispatch of `groups` workgroups as its work.
+    pub fn dispatch(&mut self, pass: &Pass<'_>, groups: [u32; 3]) {
+        let device = self.ctx.device();
+        self.run(pass, |cmd| unsafe {
+            device.cmd_dispatch(cmd, groups[0], groups[1], groups[2])
+        });
+    }
+
+    /// Records `pass` with an indirect dispatch whose arguments are at
+    /// `offset` in `args` (the pass should declare reading them).
+    pub fn dispatch_indirect(&mut self, pass: &Pass<'_>, args: &Buffer, offset: u64) {
+        let device = self.ctx.device();
+        self.run(pass, |cmd| unsafe {
+            device.cmd_dispatch_indirect(cmd, args.handle(), offset)
+        });
+    }
+
+    /// Records filling the whole of `buffer` with `value`, as a pass that
+    /// writes it in the transfer stage.
+    pub fn fill(&mut self, name: &str, buffer: &Buffer, value: u32) {
+        let pass = Pass::new(name).write(Res::Buffer(buffer), Access::TRANSFER_WRITE);
+        let device = self.ctx.device();
+        self.run(&pass, |cmd| unsafe {
+            device.cmd_fill_buffer(cmd, buffer.handle(), 0, vk::WHOLE_SIZE, value)
+        });
+    }
+
+    /// Records the barrier that lets later work the recorder does not see
+    /// (another recorder, the host after the fence, the next frame) use
+    /// `res` with `dst`: from every tracked write and read of it.
+    pub fn hand_off(&mut self, res: Res<'_>, dst: Access) {
+        let key = res.key();
+        let mut src = Access::NONE;
+        for s in self.states.iter().filter(|s| overlaps(key, s.key)) {
+            src = src.union(s.writes).union(s.reads).union(s.carried);
+        }
+        if src.is_none() {
+            return;
+        }
+        let mut barriers = Barriers::default();
+        let layout = self.state(key).layout;
+        push_barrier(&mut barriers, res, layout, src, dst);
+        barriers.record(self.ctx, self.cmd);
+        if let Res::Image(_, new_layout) = res {
+            self.state(key).layout = new_layout;
+        }
+        for s in self.states.iter_mut().filter(|s| overlaps(key, s.key)) {
+            s.visible = s.visible.union(dst);
+            s.reads = s.reads.union(dst);
+            if dst.covers(Access::ALL) {
+                s.carried = Access::NONE;
+            }
+        }
+    }
+
+    /// Makes every device write visible to host reads after the fence.
+    pub fn host_read(&mut self) {
+        self.hand_off(Res::Memory, Access::HOST_READ);
+    }
+
+    /// The barriers `pass` needs, and the states after it.
+    fn derive(&mut self, pass: &Pass<'_>) -> Barriers {
+        let mut barriers = Barriers::default();
+        for u in &pass.uses {
+            let key = u.res.key();
+            let mut src = Access::NONE;
+            for s in self.states.iter().filter(|s| overlaps(key, s.key)) {
+                src = src.union(s.source(u));
+            }
+            let old_layout = self.state(key).layout;
+            let transition = match u.res {
+                Res::Image(_, layout) if layout != old_layout => {
+                    // A layout transition writes the image: it waits for
+                    // every earlier use.
+                    let s = self.state(key);
+                    src = src.union(s.writes).union(s.reads).union(s.carried);
+                    true
+                }
+                _ => false,
+            };
+            if !src.is_none() || transition {
+                push_barrier(&mut barriers, u.res, old_layout, src, u.access);
+            }
+            let all = key == Key::Memory;
+            for s in self.states.iter_mut().filter(|s| s.key == key || all) {
+                s.apply(u);
+            }
+            if let Res::Image(_, layout) = u.res {
+                self.state(key).layout = layout;
+            }
+        }
+        barriers
+    }
+
+    fn state(&mut self, key: Key) -> &mut State {
+        let i = match self.states.iter().position(|s| s.key == key) {
+            Some(i) => i,
+            None => {
+                self.states.push(State::new(key));
+                self.states.len() - 1
+            }
+        };
+        &mut self.states[i]
+    }
+}
+
+/// Whether a use of `used` must look at the state of `tracked`: its own,
+/// and all memory's (a global use looks at everything).
+fn overlaps(used: Key, tracked: Key) -> bool {
+    used == tracked || used == Key::Memory || tracked == Key::Memory
+}
+
+/// Adds the barrier for one use of `res`: global, buffer or image (with
+/// the transition from `old_layout`).
+fn push_barrier(
+    b: &mut Barriers,
+    res: Res<'_>,
+    old_layout: vk::ImageLayout,
+    src: Access,
+    dst: Access,
+) {
+    match res {
+        Res::Memory => b.global(src, dst),
+        Res::Buffer(buffer) => b.buffers.push(
+            vk::BufferMemoryBarrier2::default()
+                .src_stage_mask(src.stage)
+                .src_access_mask(src.access)
+                .dst_stage_mask(dst.stage)
+                .dst_access_mask(dst.access)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .buffer(buffer.handle())
+                .offset(0)
+                .size(vk::WHOLE_SIZE),
+        ),
+        Res::Image(image, layout) => b.images.push(
+            vk::ImageMemoryBarrier2::default()
+                .src_stage_mask(src.stage)
+                .src_access_mask(src.access)
+                .dst_stage_mask(dst.stage)
+                .dst_access_mask(dst.access)
+                .old_layout(old_layout)
+                .new_layout(layout)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(image.handle())
+                .subresource_range(image.full_range()),
+        ),
+    }
+}
+
+/// Opens a debug label named `name` (no-op without debug utils), so
+/// captures and validation messages show which pass a command is in.
+fn begin_label(ctx: &Context, cmd: vk::CommandBuffer, name: &str) {
+    let Some(loader) = ctx.debug_utils() else {
+        return;
+    };
+    let name = CString::new(name.replace('\0', " ")).unwrap_or_default();
+    let label = vk::DebugUtilsLabelEXT::default().label_name(&name);
+    unsafe { loader.cmd_begin_debug_utils_label(cmd, &label) };
+}
+
+/// Closes the label [`begin_label`] opened.
+fn end_label(ctx: &Context, cmd: vk::CommandBuffer) {
+    if let Some(loader) = ctx.debug_utils() {
+        unsafe { loader.cmd_end_debug_utils_label(cmd) };
+    }
+}
