@@ -135,18 +135,21 @@ impl State {
         }
     }
 
-    /// The state after `u` ran, behind a barrier from [`State::source`].
-    fn apply(&mut self, u: &Use<'_>) {
-        if u.write {
+    /// The state after a pass that wrote `w` and read `r` of it, behind
+    /// a barrier from [`State::source`] of each use. The pass's own reads
+    /// stay in `reads` so that a later write waits for them, but are not
+    /// made visible: its writes are not visible to anything yet.
+    fn apply(&mut self, w: Access, r: Access) {
+        if !w.is_none() {
             self.carried = self.carried.union(self.writes);
-            self.writes = u.access;
+            self.writes = w;
             self.visible = Access::NONE;
-            self.reads = Access::NONE;
+            self.reads = r;
         } else {
             if !self.writes.is_none() {
-                self.visible = self.visible.union(u.access);
+                self.visible = self.visible.union(r);
             }
-            self.reads = self.reads.union(u.access);
+            self.reads = self.reads.union(r);
         }
     }
 }
@@ -306,7 +309,9 @@ impl<'c> Recorder<'c> {
         self.hand_off(Res::Memory, Access::HOST_READ);
     }
 
-    /// The barriers `pass` needs, and the states after it.
+    /// The barriers `pass` needs, and the states after it. Every use is
+    /// checked against the state before the pass (a pass's uses are not
+    /// ordered among themselves), then the state is moved on.
     fn derive(&mut self, pass: &Pass<'_>) -> Barriers {
         let mut barriers = Barriers::default();
         for u in &pass.uses {
@@ -316,25 +321,37 @@ impl<'c> Recorder<'c> {
                 src = src.union(s.source(u));
             }
             let old_layout = self.state(key).layout;
-            let transition = match u.res {
-                Res::Image(_, layout) if layout != old_layout => {
-                    // A layout transition writes the image: it waits for
-                    // every earlier use.
-                    let s = self.state(key);
-                    src = src.union(s.writes).union(s.reads).union(s.carried);
-                    true
-                }
-                _ => false,
-            };
+            let transition = matches!(u.res, Res::Image(_, layout) if layout != old_layout);
+            if transition {
+                // A layout transition writes the image: it waits for every
+                // earlier use.
+                let s = self.state(key);
+                src = src.union(s.writes).union(s.reads).union(s.carried);
+            }
             if !src.is_none() || transition {
                 push_barrier(&mut barriers, u.res, old_layout, src, u.access);
             }
-            let all = key == Key::Memory;
-            for s in self.states.iter_mut().filter(|s| s.key == key || all) {
-                s.apply(u);
+        }
+        // Register every used key first, so that a use of all memory moves
+        // them all on, each once.
+        for u in &pass.uses {
+            self.state(u.res.key());
+        }
+        let touched = |key: Key, write: bool| {
+            pass.uses
+                .iter()
+                .filter(|u| u.write == write && (u.res.key() == key || u.res.key() == Key::Memory))
+                .fold(Access::NONE, |a, u| a.union(u.access))
+        };
+        for s in &mut self.states {
+            let (w, r) = (touched(s.key, true), touched(s.key, false));
+            if !w.is_none() || !r.is_none() {
+                s.apply(w, r);
             }
+        }
+        for u in &pass.uses {
             if let Res::Image(_, layout) = u.res {
-                self.state(key).layout = layout;
+                self.state(u.res.key()).layout = layout;
             }
         }
         barriers
