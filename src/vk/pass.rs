@@ -32,6 +32,9 @@ pub enum Res<'a> {
     Buffer(&'a Buffer),
     /// A whole image, used in this layout.
     Image(&'a Image, vk::ImageLayout),
+    /// A swapchain image (owned by the swapchain, one mip and layer of
+    /// colour), used in this layout.
+    Swapchain(vk::Image, vk::ImageLayout),
 }
 
 /// What identifies a resource's tracked state.
@@ -48,6 +51,15 @@ impl Res<'_> {
             Res::Memory => Key::Memory,
             Res::Buffer(b) => Key::Buffer(b.handle()),
             Res::Image(i, _) => Key::Image(i.handle()),
+            Res::Swapchain(i, _) => Key::Image(*i),
+        }
+    }
+
+    /// The layout an image is used in.
+    fn layout(&self) -> Option<vk::ImageLayout> {
+        match self {
+            Res::Image(_, layout) | Res::Swapchain(_, layout) => Some(*layout),
+            _ => None,
         }
     }
 }
@@ -231,7 +243,7 @@ impl<'c> Recorder<'c> {
         state.writes = access;
         state.visible = Access::NONE;
         state.reads = Access::NONE;
-        if let Res::Image(_, layout) = res {
+        if let Some(layout) = res.layout() {
             state.layout = layout;
         }
         self
@@ -292,7 +304,7 @@ impl<'c> Recorder<'c> {
         let layout = self.state(key).layout;
         push_barrier(&mut barriers, res, layout, src, dst);
         barriers.record(self.ctx, self.cmd);
-        if let Res::Image(_, new_layout) = res {
+        if let Some(new_layout) = res.layout() {
             self.state(key).layout = new_layout;
         }
         for s in self.states.iter_mut().filter(|s| overlaps(key, s.key)) {
@@ -321,7 +333,7 @@ impl<'c> Recorder<'c> {
                 src = src.union(s.source(u));
             }
             let old_layout = self.state(key).layout;
-            let transition = matches!(u.res, Res::Image(_, layout) if layout != old_layout);
+            let transition = u.res.layout().is_some_and(|layout| layout != old_layout);
             if transition {
                 // A layout transition writes the image: it waits for every
                 // earlier use.
@@ -350,7 +362,7 @@ impl<'c> Recorder<'c> {
             }
         }
         for u in &pass.uses {
-            if let Res::Image(_, layout) = u.res {
+            if let Some(layout) = u.res.layout() {
                 self.state(u.res.key()).layout = layout;
             }
         }
@@ -399,19 +411,34 @@ fn push_barrier(
                 .size(vk::WHOLE_SIZE),
         ),
         Res::Image(image, layout) => b.images.push(
-            vk::ImageMemoryBarrier2::default()
-                .src_stage_mask(src.stage)
-                .src_access_mask(src.access)
-                .dst_stage_mask(dst.stage)
-                .dst_access_mask(dst.access)
-                .old_layout(old_layout)
-                .new_layout(layout)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            image_barrier(src, dst, old_layout, layout)
                 .image(image.handle())
                 .subresource_range(image.full_range()),
         ),
+        Res::Swapchain(image, layout) => b.images.push(
+            image_barrier(src, dst, old_layout, layout)
+                .image(image)
+                .subresource_range(super::swapchain::color_range()),
+        ),
     }
+}
+
+/// An image barrier without its image.
+fn image_barrier(
+    src: Access,
+    dst: Access,
+    old_layout: vk::ImageLayout,
+    layout: vk::ImageLayout,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(src.stage)
+        .src_access_mask(src.access)
+        .dst_stage_mask(dst.stage)
+        .dst_access_mask(dst.access)
+        .old_layout(old_layout)
+        .new_layout(layout)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
 }
 
 /// Opens a debug label named `name` (no-op without debug utils), so
