@@ -368,7 +368,7 @@ impl ReadyStage {
     ) -> VkResult<()> {
         let pc = f.view.draw_push(self.list.caps.ready, f.capture, 0);
         self.check(f.ctx, &pc)?;
-        barrier_from_producers(f.ctx, f.cmd);
+        hand_off_from_producers(f.ctx, f.cmd);
         if sort && !self.list.caps.sort {
             return Err(VkError::Usage(
                 "a sort was recorded for a ready list made without its second buffer".into(),
@@ -465,7 +465,7 @@ impl ReadyStage {
 /// rasterizer. Earlier reads in the vertex stage are in the source scope
 /// too, so the expansion cannot overwrite vertices a previous draw in the
 /// same command buffer still reads.
-fn barrier_from_producers(ctx: &Context, cmd: vk::CommandBuffer) {
+fn hand_off_from_producers(ctx: &Context, cmd: vk::CommandBuffer) {
     let mut stages =
         vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::VERTEX_SHADER;
     if ctx.info().has_mesh_shader() {

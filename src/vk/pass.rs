@@ -136,14 +136,19 @@ impl State {
         }
     }
 
-    /// The source scope `u` must wait for, if any.
+    /// The source scope `u` must wait for, if any: the last writes unless
+    /// a barrier already made them visible to `u`'s scope (which also
+    /// orders a write after them), and for a write the reads since.
     fn source(&self, u: &Use<'_>) -> Access {
-        if u.write {
-            self.writes.union(self.reads)
-        } else if self.visible.covers(u.access) {
+        let writes = if self.visible.covers(u.access) {
             Access::NONE
         } else {
             self.writes
+        };
+        if u.write {
+            writes.union(self.reads)
+        } else {
+            writes
         }
     }
 
@@ -290,7 +295,9 @@ impl<'c> Recorder<'c> {
 
     /// Records the barrier that lets later work the recorder does not see
     /// (another recorder, the host after the fence, the next frame) use
-    /// `res` with `dst`: from every tracked write and read of it.
+    /// `res` with `dst`: from every tracked write and read of it. That
+    /// work's own accesses are not tracked: a pass after a hand-off that
+    /// may race with it declares them with [`Recorder::after`].
     pub fn hand_off(&mut self, res: Res<'_>, dst: Access) {
         let key = res.key();
         let mut src = Access::NONE;
@@ -309,8 +316,9 @@ impl<'c> Recorder<'c> {
         }
         for s in self.states.iter_mut().filter(|s| overlaps(key, s.key)) {
             s.visible = s.visible.union(dst);
-            s.reads = s.reads.union(dst);
             if dst.covers(Access::ALL) {
+                // Everything before is now ordered before everything after.
+                s.reads = Access::NONE;
                 s.carried = Access::NONE;
             }
         }
