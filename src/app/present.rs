@@ -193,8 +193,8 @@ fn record(
     let mut rec = Recorder::new(ctx, cmd);
     // The target was written by the renderer's frame, submitted earlier:
     // its transfer reads wait for all earlier commands. The swapchain
-    // image's old contents are not kept; the wait is for its acquire
-    // semaphore, whose wait covers those stages.
+    // image's old contents are not kept: its transition only has to chain
+    // with the acquire semaphore's wait in those stages.
     rec.after(
         Res::Image(target.color(), DrawTarget::FINAL_LAYOUT),
         Access::ALL,

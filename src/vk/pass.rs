@@ -466,3 +466,73 @@ fn end_label(ctx: &Context, cmd: vk::CommandBuffer) {
         unsafe { loader.cmd_end_debug_utils_label(cmd) };
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(access: Access) -> Use<'static> {
+        Use {
+            res: Res::Memory,
+            access,
+            write: true,
+        }
+    }
+
+    fn read(access: Access) -> Use<'static> {
+        Use {
+            res: Res::Memory,
+            access,
+            write: false,
+        }
+    }
+
+    #[test]
+    fn a_read_after_a_write_waits_once_and_a_second_read_does_not() {
+        let mut s = State::new(Key::Memory);
+        s.apply(Access::COMPUTE_WRITE, Access::NONE);
+        let r = read(Access::INDIRECT_READ);
+        assert_eq!(s.source(&r), Access::COMPUTE_WRITE);
+        s.apply(Access::NONE, r.access);
+        assert!(s.source(&r).is_none());
+    }
+
+    #[test]
+    fn a_write_waits_for_the_reads_and_writes_before_it() {
+        let mut s = State::new(Key::Memory);
+        s.apply(Access::COMPUTE_WRITE, Access::NONE);
+        s.apply(Access::NONE, Access::TRANSFER_READ);
+        let w = write(Access::COMPUTE_READ_WRITE);
+        // The write was made visible to transfers only: the compute write
+        // still waits for it, and for the copy's read.
+        assert_eq!(
+            s.source(&w),
+            Access::COMPUTE_WRITE.union(Access::TRANSFER_READ)
+        );
+    }
+
+    #[test]
+    fn nothing_before_means_no_barrier() {
+        let s = State::new(Key::Memory);
+        assert!(s.source(&write(Access::ALL)).is_none());
+        assert!(s.source(&read(Access::ALL)).is_none());
+    }
+
+    #[test]
+    fn a_pass_s_own_reads_are_not_visible_to_the_next() {
+        let mut s = State::new(Key::Memory);
+        s.apply(Access::COMPUTE_WRITE, Access::INDIRECT_READ);
+        assert_eq!(
+            s.source(&read(Access::INDIRECT_READ)),
+            Access::COMPUTE_WRITE
+        );
+    }
+
+    #[test]
+    fn all_commands_and_memory_access_cover_any_scope() {
+        assert!(Access::ALL.covers(Access::COMPUTE_READ_WRITE));
+        assert!(Access::ALL.covers(Access::HOST_READ));
+        assert!(!Access::COMPUTE_READ.covers(Access::COMPUTE_WRITE));
+        assert!(!Access::COMPUTE_WRITE.covers(Access::INDIRECT_READ));
+    }
+}
