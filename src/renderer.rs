@@ -30,7 +30,7 @@ use crate::methods::{
     self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
 };
 use crate::patch::view::ViewParams;
-use crate::scene::file::{SceneGeometry, SceneShading};
+use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::vk::{
     host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, PrimitiveCounter,
     PrimitiveQuery, ProgressSink, VkError, VkResult, MAX_FRAME_PARTS,

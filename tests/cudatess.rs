@@ -25,7 +25,7 @@ use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::patch::homogeneous::{self, HomPatch};
 use bezier_subdiv::patch::rational::{RationalPatch, Weights};
 use bezier_subdiv::renderer::Renderer;
-use bezier_subdiv::scene::file::{Scene, SceneGeometry};
+use bezier_subdiv::scene::{desc::Scene, geometry::SceneGeometry};
 use bezier_subdiv::validate::cudatess as ct;
 use bezier_subdiv::validate::edges::{check_edge_vertices, check_levels, shared_edges};
 use glam::{DVec3, DVec4, Vec3};

@@ -25,7 +25,7 @@ use winit::window::WindowId;
 use crate::commands::render::Shade;
 use crate::commands::{eps_lambda, keyframe, GpuRequest};
 use crate::files::check_writable;
-use crate::scene::file::Scene;
+use crate::scene::desc::Scene;
 use session::Session;
 
 /// What `view` is asked for.

@@ -36,8 +36,8 @@ use crate::gpu::write_png;
 use crate::methods::{self, ground_truth};
 use crate::patch::view::Split;
 use crate::renderer::Renderer;
-use crate::scene::file::{Scene, SceneGeometry};
-use crate::scene::orbit::ScenePath;
+use crate::scene::{desc::Scene, geometry::SceneGeometry};
+use crate::scene::path::ScenePath;
 use crate::vk::{Context, DeviceSelector};
 
 /// Default ε list (the paper's Table 2).

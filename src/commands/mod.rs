@@ -15,7 +15,7 @@ use anyhow::anyhow;
 
 use crate::renderer::{Renderer, RendererOptions};
 use crate::scene::camera::Camera;
-use crate::scene::file::Scene;
+use crate::scene::desc::Scene;
 
 /// The scene used when `--scene` is not given.
 pub const DEFAULT_SCENE: &str = "scenes/kitchen.toml";
@@ -146,7 +146,7 @@ impl GpuRequest {
     }
 
     /// The split mode of this request's views: the flag, else the scene's.
-    pub fn split_of(&self, scene: &crate::scene::file::Scene) -> crate::patch::view::Split {
+    pub fn split_of(&self, scene: &crate::scene::desc::Scene) -> crate::patch::view::Split {
         self.split.unwrap_or(scene.view.split)
     }
 
@@ -179,8 +179,8 @@ impl GpuRequest {
     pub fn renderer(
         &self,
         ctx: &Arc<crate::vk::Context>,
-        geo: &crate::scene::file::SceneGeometry,
-        shading: &crate::scene::file::SceneShading,
+        geo: &crate::scene::geometry::SceneGeometry,
+        shading: &crate::scene::geometry::SceneShading,
     ) -> anyhow::Result<Renderer> {
         let draw = crate::draw::choose(ctx, self.draw)?;
         let methods = crate::methods::MethodOptions {

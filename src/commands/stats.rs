@@ -15,8 +15,8 @@ use crate::patch::oracle::{
 };
 use crate::patch::quadnode::QuadNode;
 use crate::patch::view::{ViewParams, FLAGS_DEFAULT, FLAG_WEDGES};
-use crate::scene::file::Scene;
-use crate::scene::file::SceneGeometry;
+use crate::scene::desc::Scene;
+use crate::scene::geometry::SceneGeometry;
 use crate::validate::raster::{PreviewShade, Raster};
 
 /// Background of preview images.

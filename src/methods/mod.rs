@@ -31,7 +31,7 @@ use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::{FrameOut, FrameRec, Retired};
 use crate::gpu::{SceneGpu, SceneLayout, Shaders};
 use crate::patch::view::ViewParams;
-use crate::scene::file::SceneGeometry;
+use crate::scene::geometry::SceneGeometry;
 use crate::vk::{Context, VkError};
 
 /// What can go wrong while rendering with a method.

@@ -397,7 +397,7 @@ fn non_manifold_warning(topo: &Topology, vertices: usize) -> Option<String> {
 fn isolate_note(conv: &isolate::Converted, n: u32) -> String {
     use crate::figures::{bytes_text, thousands};
     let per_patch =
-        super::geometry::GEOMETRY_BYTES_PER_PATCH + super::shading::SHADING_BYTES_PER_PATCH as u64;
+        super::limits::GEOMETRY_BYTES_PER_PATCH + super::shading::SHADING_BYTES_PER_PATCH as u64;
     let per_level: Vec<String> = conv
         .levels
         .iter()
