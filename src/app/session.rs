@@ -52,10 +52,8 @@ pub struct Start {
     pub time: f64,
     /// Where the camera starts.
     pub camera: Camera,
-    /// The scene's (or the command line's) ε.
-    pub eps: f64,
-    /// … and λ.
-    pub lambda: f64,
+    /// The command line's ε, λ and split mode, else the scene's.
+    pub view: crate::commands::ViewRequest,
 }
 
 /// Whether the window stays open.
@@ -108,8 +106,7 @@ impl Session {
             animation,
             time,
             camera,
-            eps,
-            lambda,
+            view,
         } = start;
         let (w, h) = args.gpu.size;
         let attrs = Window::default_attributes()
@@ -154,10 +151,10 @@ impl Session {
         let controls = Controls {
             method: renderer.method().name().to_string(),
             draw: renderer.options().draw,
-            eps,
-            lambda,
+            eps: view.eps,
+            lambda: view.lambda,
             l_max: L_MAX,
-            split: args.gpu.split_of(&scene),
+            split: view.split,
             frustum: true,
             backface: true,
             wedges: true,

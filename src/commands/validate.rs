@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 
-use super::{eps_lambda, keyframe, GpuRequest};
+use super::{keyframe, GpuRequest, ViewRequest};
 use crate::constants::{FALLBACK_CHUNK_NODES, NODE_MESH_SLOTS, SHADE_NORMAL};
 use crate::draw::{DrawPath, ReadyList, ReadyStage};
 use crate::figures::thousands;
@@ -80,8 +80,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         }
         None => (0..scene.frame_count()).collect(),
     };
-    let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
-    let split = args.gpu.split_of(&scene);
+    let ViewRequest { eps, lambda, split } = args.gpu.view_request(&scene)?;
     let loaded = scene
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
