@@ -286,42 +286,32 @@ impl Topology {
             .iter()
             .copied()
             .filter(|&c| !self.edges[self.incoming(c)].is_manifold());
-        for start in starts {
-            let mut corners = vec![start];
-            let mut at = start;
-            // Each corner has one successor and an open start none, so the
-            // walk ends; the bound only guards against a broken invariant.
-            while let Some(next) = step(at) {
-                if corners.len() > incident.len() {
-                    break;
-                }
-                corners.push(next);
-                at = next;
-            }
-            seen.extend(&corners);
-            fans.push(Fan {
-                corners,
-                closed: false,
-            });
-        }
-        for &first in incident {
-            if seen.contains(&first) {
-                continue;
-            }
+        // The fan from `first`: to its open end, or (closed) back round to
+        // `first`. Each corner has one successor and an open start none, so
+        // the walk ends; the bound only guards against a broken invariant.
+        let walk = |first: (usize, usize), closed: bool| {
             let mut corners = vec![first];
             let mut at = first;
             while let Some(next) = step(at) {
-                if next == first || corners.len() > incident.len() {
+                if (closed && next == first) || corners.len() > incident.len() {
                     break;
                 }
                 corners.push(next);
                 at = next;
             }
-            seen.extend(&corners);
-            fans.push(Fan {
-                corners,
-                closed: true,
-            });
+            Fan { corners, closed }
+        };
+        for start in starts {
+            let fan = walk(start, false);
+            seen.extend(&fan.corners);
+            fans.push(fan);
+        }
+        for &first in incident {
+            if !seen.contains(&first) {
+                let fan = walk(first, true);
+                seen.extend(&fan.corners);
+                fans.push(fan);
+            }
         }
         fans
     }

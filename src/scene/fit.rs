@@ -26,7 +26,6 @@
 //! across it (tests/osd_reference.rs measures it); `isolate` makes it
 //! exact.
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -249,12 +248,7 @@ pub fn apply(
     if !fit.iter().any(|&f| f) {
         return Ok(());
     }
-    let patch_of: HashMap<usize, usize> = conv
-        .faces
-        .iter()
-        .enumerate()
-        .map(|(p, &f)| (f, p))
-        .collect();
+    let patch_of = conv.patch_of_face();
     let want: Vec<usize> = conv
         .faces
         .iter()
