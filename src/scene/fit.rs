@@ -136,7 +136,7 @@ impl Fine {
                 }
             }
         }
-        let (mut fine, _) = super::isolate::extract(cage, &faces);
+        let (mut fine, _) = cage.extract(&faces);
         // Holes still give the fine surface its shape; every face converts.
         fine.holes.clear();
         let mut fine_topo = Topology::build(&fine, path)?;
@@ -154,7 +154,7 @@ impl Fine {
                 .iter()
                 .map(|s| {
                     let (f, o, du, dv) = at[s.face];
-                    let q = super::isolate::sub_quad_uv(s.corner);
+                    let q = super::refine::sub_quad_uv(s.corner);
                     let map = |p: [f32; 2]| {
                         let (a, b) = (f64::from(p[0]), f64::from(p[1]));
                         [o[0] + a * du[0] + b * dv[0], o[1] + a * du[1] + b * dv[1]]

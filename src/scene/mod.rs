@@ -98,7 +98,7 @@ pub struct CageInfo {
     /// Closed parts (every edge manifold).
     pub closed_parts: usize,
     /// Creasing method and triangle rule.
-    pub scheme: refine::Scheme,
+    pub scheme: cage::Scheme,
     /// The isolation asked for.
     pub isolate: u32,
     /// Patches per refinement level.

@@ -109,8 +109,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::cage::{Cage, Topology};
-use super::refine::Scheme;
+use super::cage::{Cage, Scheme, Topology};
 use super::sharpness::{self, BoundaryRule, INFINITE};
 use super::tags::Tags;
 use super::{isolate, orient, CageInfo, ImportedModel, RuleSource, SceneError};
