@@ -33,7 +33,8 @@ use crate::frame::View;
 use crate::methods::{MethodOptions, RenderError};
 use crate::renderer::{FrameReport, FrameTicket, Renderer, DEFAULT_FRAMES_IN_FLIGHT};
 use crate::scene::camera::Camera;
-use crate::scene::{desc::Scene, geometry::{SceneGeometry, SceneShading}};
+use crate::scene::desc::Scene;
+use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::vk::{Context, ContextOptions, PresentPacing, WindowHandles};
 
 /// What the session is made from.

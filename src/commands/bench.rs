@@ -36,7 +36,8 @@ use crate::gpu::write_png;
 use crate::methods::{self, ground_truth};
 use crate::patch::view::Split;
 use crate::renderer::Renderer;
-use crate::scene::{desc::Scene, geometry::SceneGeometry};
+use crate::scene::desc::Scene;
+use crate::scene::geometry::SceneGeometry;
 use crate::scene::path::ScenePath;
 use crate::vk::{Context, DeviceSelector};
 

@@ -15,7 +15,8 @@ use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
 use crate::renderer::{FrameReport, Renderer};
-use crate::scene::{desc::Scene, limits::GEOMETRY_BYTES_PER_PATCH};
+use crate::scene::desc::Scene;
+use crate::scene::limits::GEOMETRY_BYTES_PER_PATCH;
 use crate::scene::shading::SHADING_BYTES_PER_PATCH;
 
 /// The background of rendered images.

@@ -21,7 +21,8 @@ use crate::frame::View;
 use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
 use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
-use crate::scene::{desc::Scene, geometry::SceneGeometry};
+use crate::scene::desc::Scene;
+use crate::scene::geometry::SceneGeometry;
 use crate::validate::cudatess as ct_checks;
 use crate::validate::edges::{
     check_edge_vertices, check_levels, shared_edges, EdgeCheck, EdgeKey, EdgeSide,

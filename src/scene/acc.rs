@@ -128,7 +128,11 @@ pub struct Conversion {
 impl Conversion {
     /// The patch of each cage face that has one (holes have none).
     pub fn patch_of_face(&self) -> HashMap<usize, usize> {
-        self.faces.iter().enumerate().map(|(p, &f)| (f, p)).collect()
+        self.faces
+            .iter()
+            .enumerate()
+            .map(|(p, &f)| (f, p))
+            .collect()
     }
 }
 

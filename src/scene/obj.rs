@@ -645,7 +645,8 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
                 seen[if keyword == "vt" { 1 } else { 2 }] += 1;
             }
             "f" => {
-                let face = face_corners(&rest, |r| check_face_ref(r, &seen, &total)).map_err(err)?;
+                let face =
+                    face_corners(&rest, |r| check_face_ref(r, &seen, &total)).map_err(err)?;
                 out.faces.push(face);
                 out.face_lines.push(line_no);
             }
