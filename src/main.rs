@@ -172,64 +172,7 @@ enum Command {
     /// (the paper's Tables 1 and 2, time per pass, memory by purpose, the
     /// targets) and plots. Ctrl-C stops after the current frame and writes
     /// every report from what was measured.
-    Bench {
-        /// Scene file (TOML); its [camera_orbit] is the path, else its
-        /// [camera_path] keys, else an orbit of its bounding box.
-        #[arg(long, default_value = commands::DEFAULT_SCENE)]
-        scene: PathBuf,
-        /// Methods, comma-separated (default: every built method except
-        /// ground-truth, the reference).
-        #[arg(long, value_name = "LIST", value_delimiter = ',')]
-        methods: Option<Vec<String>>,
-        /// Pixel tolerances, comma-separated.
-        #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_EPS)]
-        eps: Vec<f64>,
-        /// Distance blends, comma-separated.
-        #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_LAMBDA)]
-        lambda: Vec<f64>,
-        /// Frames timed along the path per configuration (default: the
-        /// path's `frames`; 5 with --quick).
-        #[arg(long, value_name = "N")]
-        frames: Option<u32>,
-        /// Image size; ε is measured in its pixels.
-        #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
-        size: (u32, u32),
-        /// Untimed frames before each configuration (default 5; 2 with --quick).
-        #[arg(long, value_name = "N")]
-        warmup: Option<u32>,
-        /// FLIP perspectives spread along the path, 0 for none (default 6,
-        /// like the paper's Table 1; 2 with --quick).
-        #[arg(long, value_name = "N")]
-        flip_frames: Option<u32>,
-        /// The ground truth's grid cells per patch side (a power of two;
-        /// lower it on CPU devices: 32 is ~18 s per kitchen image there).
-        #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
-        grid: u32,
-        /// Output directory (created).
-        #[arg(long, value_name = "DIR", default_value = "out/bench")]
-        out: PathBuf,
-        /// Vulkan device: an index from `info`, or part of its name.
-        #[arg(long, value_name = "ID", default_value = "auto")]
-        device: DeviceSelector,
-        /// A few frames per configuration, every method: a run of minutes
-        /// on a GPU that still writes every report file.
-        #[arg(long)]
-        quick: bool,
-        /// Enable the Khronos validation layer; any error fails the run.
-        #[arg(long)]
-        vk_validation: bool,
-        /// How subdiv and subdiv-indirect split a node: iso (1:4, the
-        /// paper's) or aniso (1:2 where one direction suffices); default:
-        /// the scene's, else iso. One mode per run: compare two runs'
-        /// flip.csv with tools/bench/equal_error.py.
-        #[arg(long, value_name = "MODE", value_enum)]
-        split: Option<bezier_subdiv::patch::view::Split>,
-        /// Occlusion culling of subdiv and subdiv-indirect, on or off
-        /// (default off: the paper's comparison culls by frustum and back
-        /// faces alone, like the tessellators).
-        #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off")]
-        occlusion: bool,
-    },
+    Bench(BenchFlags),
     /// List the Vulkan devices and what they support.
     Info {
         /// Also enable the Khronos validation layer (checks it is installed).
@@ -266,6 +209,89 @@ enum Command {
 }
 
 /// What a view is made of: the scene and the tolerance in an image size.
+/// `bench`'s flags, as clap reads them (see the variant for the verb).
+#[derive(clap::Args)]
+struct BenchFlags {
+    /// Scene file (TOML); its [camera_orbit] is the path, else its
+    /// [camera_path] keys, else an orbit of its bounding box.
+    #[arg(long, default_value = commands::DEFAULT_SCENE)]
+    scene: PathBuf,
+    /// Methods, comma-separated (default: every built method except
+    /// ground-truth, the reference).
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    methods: Option<Vec<String>>,
+    /// Pixel tolerances, comma-separated.
+    #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_EPS)]
+    eps: Vec<f64>,
+    /// Distance blends, comma-separated.
+    #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_LAMBDA)]
+    lambda: Vec<f64>,
+    /// Frames timed along the path per configuration (default: the
+    /// path's `frames`; 5 with --quick).
+    #[arg(long, value_name = "N")]
+    frames: Option<u32>,
+    /// Image size; ε is measured in its pixels.
+    #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Untimed frames before each configuration (default 5; 2 with --quick).
+    #[arg(long, value_name = "N")]
+    warmup: Option<u32>,
+    /// FLIP perspectives spread along the path, 0 for none (default 6,
+    /// like the paper's Table 1; 2 with --quick).
+    #[arg(long, value_name = "N")]
+    flip_frames: Option<u32>,
+    /// The ground truth's grid cells per patch side (a power of two;
+    /// lower it on CPU devices: 32 is ~18 s per kitchen image there).
+    #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
+    grid: u32,
+    /// Output directory (created).
+    #[arg(long, value_name = "DIR", default_value = "out/bench")]
+    out: PathBuf,
+    /// Vulkan device: an index from `info`, or part of its name.
+    #[arg(long, value_name = "ID", default_value = "auto")]
+    device: DeviceSelector,
+    /// A few frames per configuration, every method: a run of minutes
+    /// on a GPU that still writes every report file.
+    #[arg(long)]
+    quick: bool,
+    /// Enable the Khronos validation layer; any error fails the run.
+    #[arg(long)]
+    vk_validation: bool,
+    /// How subdiv and subdiv-indirect split a node: iso (1:4, the
+    /// paper's) or aniso (1:2 where one direction suffices); default:
+    /// the scene's, else iso. One mode per run: compare two runs'
+    /// flip.csv with tools/bench/equal_error.py.
+    #[arg(long, value_name = "MODE", value_enum)]
+    split: Option<bezier_subdiv::patch::view::Split>,
+    /// Occlusion culling of subdiv and subdiv-indirect, on or off
+    /// (default off: the paper's comparison culls by frustum and back
+    /// faces alone, like the tessellators).
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off")]
+    occlusion: bool,
+}
+
+impl BenchFlags {
+    /// The library's arguments: the flags, the scene resolved.
+    fn into_args(self) -> BenchArgs {
+        BenchArgs {
+            methods: self.methods,
+            eps: self.eps,
+            lambda: self.lambda,
+            frames: self.frames,
+            size: self.size,
+            warmup: self.warmup,
+            flip_frames: self.flip_frames,
+            grid: self.grid,
+            device: self.device,
+            quick: self.quick,
+            validation: self.vk_validation,
+            split: self.split,
+            occlusion: self.occlusion,
+            ..BenchArgs::new(resolve_scene(Some(&self.scene)), self.out)
+        }
+    }
+}
+
 #[derive(clap::Args)]
 struct ViewArgs {
     /// Scene file (TOML).
@@ -506,38 +532,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             screenshot,
             resize,
         } => run_view(frame, shade, vsync, frames, screenshot, resize),
-        Command::Bench {
-            scene,
-            methods,
-            eps,
-            lambda,
-            frames,
-            size,
-            warmup,
-            flip_frames,
-            grid,
-            out,
-            device,
-            quick,
-            vk_validation,
-            split,
-            occlusion,
-        } => run_bench(&BenchArgs {
-            methods,
-            eps,
-            lambda,
-            frames,
-            size,
-            warmup,
-            flip_frames,
-            grid,
-            device,
-            quick,
-            validation: vk_validation,
-            split,
-            occlusion,
-            ..BenchArgs::new(resolve_scene(Some(&scene)), out)
-        }),
+        Command::Bench(flags) => run_bench(&flags.into_args()),
         Command::Info { vk_validation } => emit(&commands::info::run(vk_validation)?),
         Command::Import {
             file,

@@ -30,7 +30,7 @@ use crate::methods::{
     self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
 };
 use crate::patch::view::ViewParams;
-use crate::scene::file::{SceneGeometry, SceneShading};
+use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::vk::{
     Access, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, PrimitiveCounter, PrimitiveQuery,
     ProgressSink, Recorder, Res, VkError, VkResult, MAX_FRAME_PARTS,

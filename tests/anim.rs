@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use bezier_subdiv::anim::{deform, AnimatedScene};
-use bezier_subdiv::scene::file::Scene;
+use bezier_subdiv::scene::desc::Scene;
 use bezier_subdiv::scene::obj;
 use bezier_subdiv::scene::stencil::CageModel;
 use glam::Vec3;

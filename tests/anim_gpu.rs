@@ -18,7 +18,7 @@ use bezier_subdiv::methods::levels;
 use bezier_subdiv::methods::subdiv::Kernel;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::{Renderer, RendererOptions};
-use bezier_subdiv::scene::file::Scene;
+use bezier_subdiv::scene::desc::Scene;
 
 const SIZE: (u32, u32) = (320, 180);
 
@@ -259,7 +259,7 @@ fn moved_instances_are_not_culled_by_their_box_at_rest() {
     let t = 1.0;
     let (geo, _) = loaded.at(t);
     // Both moved clear of where they were at load.
-    let pts = |g: &bezier_subdiv::scene::file::SceneGeometry| {
+    let pts = |g: &bezier_subdiv::scene::geometry::SceneGeometry| {
         let mut lo = glam::Vec3::splat(f32::MAX);
         let mut hi = glam::Vec3::splat(-f32::MAX);
         for q in g.patches.iter().flat_map(|p| p.pts) {

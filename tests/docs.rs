@@ -45,7 +45,7 @@ fn the_guide_documents_every_scene_key() {
     let guide = read("docs/GUIDE.md");
     let structs = [
         ("src/scene/file.rs", "SceneToml"),
-        ("src/scene/file.rs", "ViewDefaults"),
+        ("src/scene/desc.rs", "ViewDefaults"),
         ("src/scene/file.rs", "PathToml"),
         ("src/scene/file.rs", "ModelToml"),
         ("src/scene/file.rs", "InstanceToml"),

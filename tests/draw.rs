@@ -17,7 +17,7 @@ use bezier_subdiv::gpu::DrawTarget;
 use bezier_subdiv::patch::oracle::triangle_counts;
 use bezier_subdiv::patch::view::FLAG_BACKFACE_CULL;
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::Scene;
+use bezier_subdiv::scene::desc::Scene;
 use bezier_subdiv::vk::VkError;
 
 use draw_rig::*;

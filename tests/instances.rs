@@ -14,7 +14,7 @@ use bezier_subdiv::commands::validate::{run, ValidateArgs};
 use bezier_subdiv::commands::GpuRequest;
 use bezier_subdiv::draw::DrawRequest;
 use bezier_subdiv::methods::MethodOptions;
-use bezier_subdiv::scene::file::Scene;
+use bezier_subdiv::scene::desc::Scene;
 use bezier_subdiv::scene::instances::{cluster_set_words, GPU_BYTES_PER_INSTANCE, INSTANCE_BYTES};
 
 /// Instances of every kind of transform: the identity, rotated and scaled,

@@ -14,7 +14,8 @@ use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::{FrameReport, Renderer};
-use bezier_subdiv::scene::file::{Scene, SceneGeometry};
+use bezier_subdiv::scene::desc::Scene;
+use bezier_subdiv::scene::geometry::SceneGeometry;
 use std::path::PathBuf;
 
 const SIZE: (u32, u32) = (320, 180);

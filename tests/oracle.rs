@@ -19,7 +19,7 @@ use bezier_subdiv::patch::oracle::{subdivide, subdivide_parallel, triangulate, O
 use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::load_model;
+use bezier_subdiv::scene::geometry::load_model;
 
 const MODELS: &[&str] = &[
     "teapot.bpt",
@@ -574,7 +574,7 @@ fn same_input_same_output() {
 #[test]
 fn frustum_culling_leaves_no_visible_crack() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/kitchen.toml");
-    let scene = bezier_subdiv::scene::file::Scene::load(&path).unwrap();
+    let scene = bezier_subdiv::scene::desc::Scene::load(&path).unwrap();
     let geo = scene.geometry().unwrap();
     let mut culled_total = 0;
     for (k, aniso) in (0..scene.frame_count()).flat_map(|k| [(k, false), (k, true)]) {

@@ -24,7 +24,7 @@ use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
 use bezier_subdiv::patch::rational::{is_polynomial, RationalPatch, Weights, UNIT_WEIGHTS};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::load_model;
+use bezier_subdiv::scene::geometry::load_model;
 
 const MODELS: &[&str] = &["rational_torus.rbpt", "rational_sphere.rbpt"];
 

@@ -16,7 +16,8 @@ use bezier_subdiv::methods::cudatess::{CudaTess, FrameData};
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::{Scene, SceneGeometry, SceneShading};
+use bezier_subdiv::scene::desc::Scene;
+use bezier_subdiv::scene::geometry::{SceneGeometry, SceneShading};
 use bezier_subdiv::scene::pn::{PnNet, PnScene};
 use glam::Vec3;
 
@@ -268,7 +269,7 @@ fn other_methods_refuse_pn_triangles() {
     let gpu = common::gpu();
     let geo = pn_geometry(Some("icosphere"));
     for method in ["subdiv", "subdiv-indirect", "tess", "tess-reparam"] {
-        let shading = bezier_subdiv::scene::file::SceneShading::default();
+        let shading = bezier_subdiv::scene::geometry::SceneShading::default();
         let e = match Renderer::new(
             gpu.arc(),
             &geo,

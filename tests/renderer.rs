@@ -17,7 +17,7 @@ use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::{MethodOptions, RenderError};
 use bezier_subdiv::patch::oracle::subdivide;
 use bezier_subdiv::renderer::{Renderer, RendererOptions};
-use bezier_subdiv::scene::file::{SceneGeometry, SceneShading};
+use bezier_subdiv::scene::geometry::{SceneGeometry, SceneShading};
 use bezier_subdiv::vk::{Context, ContextOptions, VkError};
 
 const SIZE: (u32, u32) = (256, 144);

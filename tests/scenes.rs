@@ -5,8 +5,10 @@
 use std::path::{Path, PathBuf};
 
 use bezier_subdiv::commands::stats::{self, StatsArgs};
+use bezier_subdiv::constants::PATCH_MODEL_SHIFT;
 use bezier_subdiv::patch::oracle::subdivide_parallel_weighted;
-use bezier_subdiv::scene::file::{Scene, SceneGeometry, PATCH_MODEL_SHIFT};
+use bezier_subdiv::scene::desc::Scene;
+use bezier_subdiv::scene::geometry::SceneGeometry;
 use bezier_subdiv::validate::raster::PreviewShade;
 
 /// The shipped scenes: file, base patches, keyframes (camera + path keys).

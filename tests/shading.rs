@@ -8,7 +8,8 @@
 
 use std::path::PathBuf;
 
-use bezier_subdiv::scene::file::{load_model, Scene};
+use bezier_subdiv::scene::desc::Scene;
+use bezier_subdiv::scene::geometry::load_model;
 use bezier_subdiv::scene::obj::{read_with, CageOptions};
 use bezier_subdiv::scene::shading::{self, EdgePair, ShadingPatch, SHADING_BYTES_PER_PATCH};
 use bezier_subdiv::scene::ImportedModel;

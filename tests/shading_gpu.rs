@@ -19,7 +19,7 @@ use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::SceneShading;
+use bezier_subdiv::scene::geometry::SceneShading;
 use bezier_subdiv::scene::shading::SHADING_BYTES_PER_PATCH;
 use glam::{DVec3, DVec4};
 

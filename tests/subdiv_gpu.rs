@@ -19,7 +19,7 @@ use bezier_subdiv::patch::oracle::{subdivide_parallel_weighted, triangle_counts}
 use bezier_subdiv::patch::quadnode::QuadNode;
 use bezier_subdiv::renderer::{FrameReport, Renderer};
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::SceneGeometry;
+use bezier_subdiv::scene::geometry::SceneGeometry;
 
 /// Every test of this binary shares one context made with 8 lavapipe
 /// worker threads (read when the device is made), more than this
@@ -408,7 +408,7 @@ fn workgroup_and_in_flight_limits_are_refused_with_a_sentence() {
         let err = bezier_subdiv::renderer::Renderer::new(
             gpu.arc(),
             &geo,
-            &bezier_subdiv::scene::file::SceneShading::from_geometry(&geo.patches),
+            &bezier_subdiv::scene::geometry::SceneShading::from_geometry(&geo.patches),
             "subdiv",
             bezier_subdiv::renderer::RendererOptions {
                 size,

@@ -19,7 +19,7 @@ use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::tess::{PatchLevels, Tess};
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::Renderer;
-use bezier_subdiv::scene::file::SceneGeometry;
+use bezier_subdiv::scene::geometry::SceneGeometry;
 use bezier_subdiv::validate::edges::{check_edge_vertices, check_levels, shared_edges};
 use bezier_subdiv::vk::PrimitiveQuery;
 

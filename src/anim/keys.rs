@@ -139,76 +139,87 @@ pub struct Deformer {
 }
 
 impl DeformToml {
-    /// Checks the table; `Err` says what is wrong.
+    /// Checks the table; `Err` says what is wrong: a key of another kind
+    /// first, then the kind's own keys, then its amount and its length.
     pub fn check(&self) -> Result<Deformer, String> {
         if self.center.iter().any(|c| !c.is_finite()) {
             return Err("`center` must be finite".into());
         }
-        let center = DVec3::from_array(self.center);
-        match self.kind {
-            Kind::Twist => self.check_twist(center),
-            Kind::Bend => self.check_bend(center),
-            Kind::Wave => self.check_wave(center),
-        }
+        self.only_its_keys()?;
+        let (other, speed, grow) = match self.kind {
+            Kind::Twist => (self.axis, 0.0, 0.0),
+            Kind::Bend => (self.toward()?, 0.0, 0.0),
+            Kind::Wave => self.travel()?,
+        };
+        // A twist turns `angle_deg` per `length` (default 1), a bend by
+        // `angle_deg` over `length`, a wave by `amplitude` per `wavelength`.
+        let (amount, length) = match self.kind {
+            Kind::Twist => (
+                self.amount("angle_deg", &self.angle_deg)?,
+                self.positive("length", self.length, Some(1.0))?,
+            ),
+            Kind::Bend => (
+                self.amount("angle_deg", &self.angle_deg)?,
+                self.positive("length", self.length, None)?,
+            ),
+            Kind::Wave => (
+                self.amount("amplitude", &self.amplitude)?,
+                self.positive("wavelength", self.wavelength, None)?,
+            ),
+        };
+        Ok(Deformer {
+            kind: self.kind,
+            axis: self.axis,
+            other,
+            center: DVec3::from_array(self.center),
+            amount,
+            length,
+            speed,
+            grow,
+        })
     }
 
-    /// A twist: `angle_deg` per `length` (default 1) about `axis`.
-    fn check_twist(&self, center: DVec3) -> Result<Deformer, String> {
-        self.only(&[
+    /// Refuses the first optional key (in the table's order) that is given
+    /// but does not apply to this kind.
+    fn only_its_keys(&self) -> Result<(), String> {
+        let own: &[&str] = match self.kind {
+            Kind::Twist => &["angle_deg", "length"],
+            Kind::Bend => &["angle_deg", "length", "toward"],
+            Kind::Wave => &["along", "amplitude", "wavelength", "speed", "grow"],
+        };
+        let given = [
+            ("angle_deg", self.angle_deg.is_some()),
+            ("length", self.length.is_some()),
             ("toward", self.toward.is_some()),
             ("along", self.along.is_some()),
             ("amplitude", self.amplitude.is_some()),
             ("wavelength", self.wavelength.is_some()),
             ("speed", self.speed.is_some()),
             ("grow", self.grow.is_some()),
-        ])?;
-        Ok(Deformer {
-            kind: Kind::Twist,
-            axis: self.axis,
-            other: self.axis,
-            center,
-            amount: self.amount("angle_deg", &self.angle_deg)?,
-            length: self.positive("length", self.length, Some(1.0))?,
-            speed: 0.0,
-            grow: 0.0,
-        })
+        ];
+        match given.iter().find(|(name, g)| *g && !own.contains(name)) {
+            Some((name, _)) => Err(format!(
+                "`{name}` does not apply to a {:?} deformer",
+                self.kind
+            )),
+            None => Ok(()),
+        }
     }
 
-    /// A bend: `angle_deg` over `length` along `axis`, towards `toward`.
-    fn check_bend(&self, center: DVec3) -> Result<Deformer, String> {
-        self.only(&[
-            ("along", self.along.is_some()),
-            ("amplitude", self.amplitude.is_some()),
-            ("wavelength", self.wavelength.is_some()),
-            ("speed", self.speed.is_some()),
-            ("grow", self.grow.is_some()),
-        ])?;
+    /// A bend's second axis: the one it bends towards.
+    fn toward(&self) -> Result<Axis, String> {
         let toward = self
             .toward
             .ok_or("a Bend deformer needs `toward`: the axis it bends towards")?;
         if toward == self.axis {
             return Err("`toward` must differ from `axis`".into());
         }
-        Ok(Deformer {
-            kind: Kind::Bend,
-            axis: self.axis,
-            other: toward,
-            center,
-            amount: self.amount("angle_deg", &self.angle_deg)?,
-            length: self.positive("length", self.length, None)?,
-            speed: 0.0,
-            grow: 0.0,
-        })
+        Ok(toward)
     }
 
-    /// A wave: `amplitude` along `axis`, `wavelength` along `along`,
-    /// travelling at `speed`, growing over `grow`.
-    fn check_wave(&self, center: DVec3) -> Result<Deformer, String> {
-        self.only(&[
-            ("angle_deg", self.angle_deg.is_some()),
-            ("length", self.length.is_some()),
-            ("toward", self.toward.is_some()),
-        ])?;
+    /// A wave's second axis (the one it travels along), its speed and the
+    /// length over which it grows.
+    fn travel(&self) -> Result<(Axis, f64, f64), String> {
         let along = self
             .along
             .ok_or("a Wave deformer needs `along`: the axis it travels along")?;
@@ -220,28 +231,7 @@ impl DeformToml {
         if !(grow.is_finite() && grow >= 0.0) {
             return Err(format!("`grow` must be ≥ 0 (got {grow})"));
         }
-        Ok(Deformer {
-            kind: Kind::Wave,
-            axis: self.axis,
-            other: along,
-            center,
-            amount: self.amount("amplitude", &self.amplitude)?,
-            length: self.positive("wavelength", self.wavelength, None)?,
-            speed,
-            grow,
-        })
-    }
-
-    /// Refuses the first of `fields` (name, given) that is given: it does
-    /// not apply to this kind.
-    fn only(&self, fields: &[(&str, bool)]) -> Result<(), String> {
-        match fields.iter().find(|f| f.1) {
-            Some((name, _)) => Err(format!(
-                "`{name}` does not apply to a {:?} deformer",
-                self.kind
-            )),
-            None => Ok(()),
-        }
+        Ok((along, speed, grow))
     }
 
     /// The length `name`: `v`, else `default`; it must be given and > 0.

@@ -33,7 +33,8 @@ use std::sync::Arc;
 use glam::{DMat4, DVec3, Vec3};
 
 use crate::patch::bezier::BezierPatch;
-use crate::scene::file::{Scene, SceneGeometry, SceneShading};
+use crate::scene::desc::Scene;
+use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::scene::instances::Instance;
 use crate::scene::shading::ShadingPatch;
 use crate::scene::stencil::CageModel;

@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use crate::scene::camera::Camera;
-use crate::scene::file::Scene;
+use crate::scene::desc::Scene;
 
 /// Seconds the camera path takes from its first key to its last.
 pub const PATH_SECONDS: f64 = 20.0;

@@ -23,9 +23,9 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::WindowId;
 
 use crate::commands::render::Shade;
-use crate::commands::{eps_lambda, keyframe, GpuRequest};
+use crate::commands::{keyframe, GpuRequest};
 use crate::files::check_writable;
-use crate::scene::file::Scene;
+use crate::scene::desc::Scene;
 use session::Session;
 
 /// What `view` is asked for.
@@ -61,7 +61,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<String> {
     }
     let scene = Scene::load(&args.gpu.scene)?;
     let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
-    let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
+    let view = args.gpu.view_request(&scene)?;
     let loaded = scene
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
@@ -81,8 +81,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<String> {
             animation: loaded.animation,
             time,
             camera,
-            eps,
-            lambda,
+            view,
         }),
         session: None,
         error: None,

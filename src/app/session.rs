@@ -33,7 +33,8 @@ use crate::frame::View;
 use crate::methods::{MethodOptions, RenderError};
 use crate::renderer::{FrameReport, FrameTicket, Renderer, DEFAULT_FRAMES_IN_FLIGHT};
 use crate::scene::camera::Camera;
-use crate::scene::file::{Scene, SceneGeometry, SceneShading};
+use crate::scene::desc::Scene;
+use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::vk::{Context, ContextOptions, PresentPacing, WindowHandles};
 
 /// What the session is made from.
@@ -52,10 +53,8 @@ pub struct Start {
     pub time: f64,
     /// Where the camera starts.
     pub camera: Camera,
-    /// The scene's (or the command line's) ε.
-    pub eps: f64,
-    /// … and λ.
-    pub lambda: f64,
+    /// The command line's ε, λ and split mode, else the scene's.
+    pub view: crate::commands::ViewRequest,
 }
 
 /// Whether the window stays open.
@@ -108,8 +107,7 @@ impl Session {
             animation,
             time,
             camera,
-            eps,
-            lambda,
+            view,
         } = start;
         let (w, h) = args.gpu.size;
         let attrs = Window::default_attributes()
@@ -154,10 +152,10 @@ impl Session {
         let controls = Controls {
             method: renderer.method().name().to_string(),
             draw: renderer.options().draw,
-            eps,
-            lambda,
+            eps: view.eps,
+            lambda: view.lambda,
             l_max: L_MAX,
-            split: args.gpu.split_of(&scene),
+            split: view.split,
             frustum: true,
             backface: true,
             wedges: true,

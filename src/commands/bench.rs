@@ -36,8 +36,9 @@ use crate::gpu::write_png;
 use crate::methods::{self, ground_truth};
 use crate::patch::view::Split;
 use crate::renderer::Renderer;
-use crate::scene::file::{Scene, SceneGeometry};
-use crate::scene::orbit::ScenePath;
+use crate::scene::desc::Scene;
+use crate::scene::geometry::SceneGeometry;
+use crate::scene::path::ScenePath;
 use crate::vk::{Context, DeviceSelector};
 
 /// Default ε list (the paper's Table 2).
@@ -123,6 +124,10 @@ pub struct Plan {
     pub flip_frames: u32,
     /// The scene.
     pub scene: Scene,
+    /// How `subdiv` and `subdiv-indirect` split a node: `--split`, else
+    /// the scene's `[view] split` (ε and λ are the lists, never the
+    /// scene's).
+    pub split: crate::patch::view::Split,
 }
 
 impl Plan {
@@ -303,6 +308,7 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
         frames: pick(args.frames, qf, 0),
         warmup: pick(args.warmup, qw, DEFAULT_WARMUP),
         flip_frames: pick(args.flip_frames, qp, DEFAULT_FLIP_FRAMES),
+        split: args.split.unwrap_or(scene.view.split),
         scene,
     })
 }
@@ -481,7 +487,7 @@ fn describe_setup(
     let flip_t: Vec<f64> = (0..plan.flip_frames)
         .map(|k| path.t(k, plan.flip_frames))
         .collect();
-    let split = args.split.unwrap_or(plan.scene.view.split);
+    let split = plan.split;
     Setup {
         command: command_line(args, plan),
         scene: args.scene.display().to_string(),
@@ -529,7 +535,7 @@ fn measure(
 ) -> anyhow::Result<()> {
     let mut run = Measuring {
         total: plan.total_steps(),
-        split: args.split.unwrap_or(plan.scene.view.split),
+        split: plan.split,
         // Animation time of path position t (frame i of the path at i / fps).
         fps: renderer.animation().map(|a| a.fps),
         renderer,

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use crate::files::{commit, stage, temp_sibling};
 use crate::patch::bezier::BezierPatch;
-use crate::scene::file::load_model_with;
+use crate::scene::geometry::load_model_with;
 use crate::scene::obj::CageOptions;
 use crate::scene::shading::{self, SHADING_BYTES_PER_PATCH};
 use crate::scene::{bpt, CageInfo, ImportedModel, PatchOrigin, RuleSource};

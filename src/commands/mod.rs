@@ -15,7 +15,7 @@ use anyhow::anyhow;
 
 use crate::renderer::{Renderer, RendererOptions};
 use crate::scene::camera::Camera;
-use crate::scene::file::Scene;
+use crate::scene::desc::Scene;
 
 /// The scene used when `--scene` is not given.
 pub const DEFAULT_SCENE: &str = "scenes/kitchen.toml";
@@ -145,9 +145,9 @@ impl GpuRequest {
         Ok(t)
     }
 
-    /// The split mode of this request's views: the flag, else the scene's.
-    pub fn split_of(&self, scene: &crate::scene::file::Scene) -> crate::patch::view::Split {
-        self.split.unwrap_or(scene.view.split)
+    /// This request's ε, λ and split mode resolved against `scene`.
+    pub fn view_request(&self, scene: &Scene) -> anyhow::Result<ViewRequest> {
+        ViewRequest::resolve(scene, self.eps, self.lambda, self.split)
     }
 
     /// The method's registry entry, or the sentence why there is none
@@ -179,8 +179,8 @@ impl GpuRequest {
     pub fn renderer(
         &self,
         ctx: &Arc<crate::vk::Context>,
-        geo: &crate::scene::file::SceneGeometry,
-        shading: &crate::scene::file::SceneShading,
+        geo: &crate::scene::geometry::SceneGeometry,
+        shading: &crate::scene::geometry::SceneShading,
     ) -> anyhow::Result<Renderer> {
         let draw = crate::draw::choose(ctx, self.draw)?;
         let methods = crate::methods::MethodOptions {
@@ -232,24 +232,46 @@ pub fn keyframe(scene: &Scene, path: &Path, k: usize) -> anyhow::Result<Camera> 
     })
 }
 
-/// ε and λ: the overrides, else the scene's defaults; refused (with a
-/// sentence) when ε ≤ 0 or λ is outside [0, 1].
-pub fn eps_lambda(
-    scene: &Scene,
-    eps: Option<f64>,
-    lambda: Option<f64>,
-) -> anyhow::Result<(f64, f64)> {
-    let eps = eps.unwrap_or(scene.view.eps);
-    let lambda = lambda.unwrap_or(scene.view.lambda);
-    if !(eps.is_finite() && eps > 0.0) {
-        return Err(anyhow!(
-            "--eps must be a positive number of pixels (got {eps})"
-        ));
+/// How finely a command's views are drawn: ε, λ and the split mode, the
+/// command line's where it gives them, else the scene's `[view]`. Resolved
+/// and checked once, where the scene is first read, so every command (and
+/// the window) draws with the same choices and refuses the same values in
+/// the same words.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewRequest {
+    /// Pixel tolerance ε.
+    pub eps: f64,
+    /// Blend λ between orthogonal (0) and parametric (1) distance.
+    pub lambda: f64,
+    /// How `subdiv` and `subdiv-indirect` split a node.
+    pub split: crate::patch::view::Split,
+}
+
+impl ViewRequest {
+    /// The overrides, else `scene`'s defaults; refused (with a sentence)
+    /// when ε ≤ 0 or λ is outside [0, 1].
+    pub fn resolve(
+        scene: &Scene,
+        eps: Option<f64>,
+        lambda: Option<f64>,
+        split: Option<crate::patch::view::Split>,
+    ) -> anyhow::Result<Self> {
+        let eps = eps.unwrap_or(scene.view.eps);
+        let lambda = lambda.unwrap_or(scene.view.lambda);
+        if !(eps.is_finite() && eps > 0.0) {
+            return Err(anyhow!(
+                "--eps must be a positive number of pixels (got {eps})"
+            ));
+        }
+        if !(0.0..=1.0).contains(&lambda) {
+            return Err(anyhow!("--lambda must be in [0, 1] (got {lambda})"));
+        }
+        Ok(ViewRequest {
+            eps,
+            lambda,
+            split: split.unwrap_or(scene.view.split),
+        })
     }
-    if !(0.0..=1.0).contains(&lambda) {
-        return Err(anyhow!("--lambda must be in [0, 1] (got {lambda})"));
-    }
-    Ok((eps, lambda))
 }
 
 /// Parses `WxH` (e.g. `1920x1080`).

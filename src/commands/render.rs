@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context as _};
 use serde_json::{json, Map, Value};
 
-use super::{eps_lambda, keyframe, GpuRequest};
+use super::{keyframe, GpuRequest, ViewRequest};
 use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_NORMALS, SHADE_WEDGES, SHADE_WIREFRAME};
 use crate::eval::flip::{flip, FlipResult};
 use crate::eval::ground_truth_image;
@@ -15,7 +15,8 @@ use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
 use crate::renderer::{FrameReport, Renderer};
-use crate::scene::file::{Scene, GEOMETRY_BYTES_PER_PATCH};
+use crate::scene::desc::Scene;
+use crate::scene::limits::GEOMETRY_BYTES_PER_PATCH;
 use crate::scene::shading::SHADING_BYTES_PER_PATCH;
 
 /// The background of rendered images.
@@ -152,7 +153,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let method = args.gpu.method_info()?;
     let scene = Scene::load(&args.gpu.scene)?;
     let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
-    let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
+    let ViewRequest { eps, lambda, split } = args.gpu.view_request(&scene)?;
     let (out, json_path, heat_path) = output_paths(args, &scene)?;
     let loaded = scene
         .load_animated()
@@ -164,7 +165,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     args.gpu.animate(&mut renderer, loaded.animation.as_ref())?;
     renderer.set_progress(super::progress::parts_bar());
     let mut view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
-    view.params.flags |= args.gpu.split_of(&scene).flag();
+    view.params.flags |= split.flag();
     let warmup = args.warmup.unwrap_or_else(|| default_warmup(method.name));
     let frames = timed_frames(&mut renderer, &view, warmup, args.repeat)?;
     let report = &frames.report;

@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::{anyhow, Context as _};
 use serde::Serialize;
 
-use super::{eps_lambda, keyframe};
+use super::{keyframe, ViewRequest};
 use crate::constants::PATCH_MODEL_SHIFT;
 use crate::figures::thousands;
 use crate::patch::oracle::{
@@ -15,8 +15,8 @@ use crate::patch::oracle::{
 };
 use crate::patch::quadnode::QuadNode;
 use crate::patch::view::{ViewParams, FLAGS_DEFAULT, FLAG_WEDGES};
-use crate::scene::file::Scene;
-use crate::scene::file::SceneGeometry;
+use crate::scene::desc::Scene;
+use crate::scene::geometry::SceneGeometry;
 use crate::validate::raster::{PreviewShade, Raster};
 
 /// Background of preview images.
@@ -232,7 +232,8 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     }
     let scene = Scene::load(&args.scene)?;
     let camera = keyframe(&scene, &args.scene, args.frame)?;
-    let (eps, lambda) = eps_lambda(&scene, args.eps, args.lambda)?;
+    let ViewRequest { eps, lambda, split } =
+        ViewRequest::resolve(&scene, args.eps, args.lambda, args.split)?;
     // Shading normals only for the preview that shows them.
     let smooth = args.preview.is_some() && args.preview_shade == PreviewShade::Smooth;
     let (geo, shading) = if smooth {
@@ -243,7 +244,6 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     .with_context(|| format!("loading the models of {}", args.scene.display()))?;
     let (w, h) = args.size;
     let mut vp = camera.view_params(w, h, eps, lambda);
-    let split = args.split.unwrap_or(scene.view.split);
     vp.flags = args.flags | split.flag();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let start = Instant::now();

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 
-use super::{eps_lambda, keyframe, GpuRequest};
+use super::{keyframe, GpuRequest, ViewRequest};
 use crate::constants::{FALLBACK_CHUNK_NODES, NODE_MESH_SLOTS, SHADE_NORMAL};
 use crate::draw::{DrawPath, ReadyList, ReadyStage};
 use crate::figures::thousands;
@@ -20,7 +20,8 @@ use crate::frame::View;
 use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
 use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
-use crate::scene::file::{Scene, SceneGeometry};
+use crate::scene::desc::Scene;
+use crate::scene::geometry::SceneGeometry;
 use crate::validate::holes::{self, run_model};
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
@@ -66,8 +67,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         }
         None => (0..scene.frame_count()).collect(),
     };
-    let (eps, lambda) = eps_lambda(&scene, args.gpu.eps, args.gpu.lambda)?;
-    let split = args.gpu.split_of(&scene);
+    let ViewRequest { eps, lambda, split } = args.gpu.view_request(&scene)?;
     let loaded = scene
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;

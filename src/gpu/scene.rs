@@ -20,7 +20,7 @@ use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
-use crate::scene::file::{SceneGeometry, SceneShading};
+use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::scene::instances::{cluster_set_words, Instance, InstanceTable, INSTANCE_BYTES};
 use crate::scene::pn::PnScene;
 use crate::scene::shading::ShadingPatch;

@@ -38,7 +38,7 @@ use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::{FrameOut, FrameRec, Retired};
 use crate::gpu::{SceneGpu, SceneLayout, Shaders};
 use crate::patch::view::ViewParams;
-use crate::scene::file::SceneGeometry;
+use crate::scene::geometry::SceneGeometry;
 use crate::validate::MakeCheck;
 use crate::vk::{Context, VkError};
 

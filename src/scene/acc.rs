@@ -125,6 +125,17 @@ pub struct Conversion {
     pub edge_point: HashMap<(usize, usize), Vec3>,
 }
 
+impl Conversion {
+    /// The patch of each cage face that has one (holes have none).
+    pub fn patch_of_face(&self) -> HashMap<usize, usize> {
+        self.faces
+            .iter()
+            .enumerate()
+            .map(|(p, &f)| (f, p))
+            .collect()
+    }
+}
+
 /// A vertex's rule in one configuration and the far ends of its sharp
 /// edges, in fan order.
 struct Local {

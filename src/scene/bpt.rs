@@ -52,7 +52,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::file::MAX_COORD;
+use super::limits::MAX_COORD;
 use super::SceneError;
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{weight_ok, Weights, MAX_WEIGHT, MIN_WEIGHT};

@@ -61,7 +61,19 @@ pub struct Cage {
     /// from a non-manifold edge (it stays one, as in OpenSubdiv).
     pub edge_list: Vec<CageEdge>,
     /// How the cage refines: creasing method, triangle rule.
-    pub scheme: super::refine::Scheme,
+    pub scheme: Scheme,
+}
+
+/// OpenSubdiv's scheme options that change how a cage refines (its
+/// `Sdc::Options` beyond the boundary rule).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Scheme {
+    /// `t creasemethod 0/0/1 chaikin`: Chaikin's rule for the sharpness of
+    /// semi-sharp crease halves (default uniform: one less).
+    pub chaikin: bool,
+    /// `t smoothtriangles 0/0/1 smooth`: OpenSubdiv's smoother edge weights
+    /// next to triangles (default: Catmull–Clark's).
+    pub smooth_triangles: bool,
 }
 
 /// An explicit edge of a refined cage.
@@ -74,6 +86,44 @@ pub struct CageEdge {
 }
 
 impl Cage {
+    /// The faces `faces` of this cage as a cage of their own, vertices renumbered
+    /// in order of use; also the new index of each old vertex used.
+    pub(crate) fn extract(&self, faces: &[usize]) -> (Cage, Vec<Option<usize>>) {
+        let mut map: Vec<Option<usize>> = vec![None; self.positions.len()];
+        let mut out = Cage {
+            scheme: self.scheme,
+            ..Cage::default()
+        };
+        for &f in faces {
+            let face = self.faces[f]
+                .iter()
+                .map(|&v| {
+                    *map[v].get_or_insert_with(|| {
+                        out.positions.push(self.positions[v]);
+                        out.positions.len() - 1
+                    })
+                })
+                .collect();
+            out.faces.push(face);
+            out.face_lines.push(self.line_of(f));
+            out.holes.push(self.is_hole(f));
+        }
+        for (&(a, b), &s) in &self.edge_sharpness {
+            if let (Some(a), Some(b)) = (map[a], map[b]) {
+                out.edge_sharpness.insert((a.min(b), a.max(b)), s);
+            }
+        }
+        for (&v, &s) in &self.vertex_sharpness {
+            if let Some(v) = map[v] {
+                out.vertex_sharpness.insert(v, s);
+            }
+        }
+        if !out.holes.iter().any(|&h| h) {
+            out.holes.clear();
+        }
+        (out, map)
+    }
+
     /// Sharpness of the edge between `a` and `b` (0 when untagged).
     pub fn edge_sharpness(&self, a: usize, b: usize) -> f64 {
         self.edge_sharpness
@@ -286,42 +336,32 @@ impl Topology {
             .iter()
             .copied()
             .filter(|&c| !self.edges[self.incoming(c)].is_manifold());
-        for start in starts {
-            let mut corners = vec![start];
-            let mut at = start;
-            // Each corner has one successor and an open start none, so the
-            // walk ends; the bound only guards against a broken invariant.
-            while let Some(next) = step(at) {
-                if corners.len() > incident.len() {
-                    break;
-                }
-                corners.push(next);
-                at = next;
-            }
-            seen.extend(&corners);
-            fans.push(Fan {
-                corners,
-                closed: false,
-            });
-        }
-        for &first in incident {
-            if seen.contains(&first) {
-                continue;
-            }
+        // The fan from `first`: to its open end, or (closed) back round to
+        // `first`. Each corner has one successor and an open start none, so
+        // the walk ends; the bound only guards against a broken invariant.
+        let walk = |first: (usize, usize), closed: bool| {
             let mut corners = vec![first];
             let mut at = first;
             while let Some(next) = step(at) {
-                if next == first || corners.len() > incident.len() {
+                if (closed && next == first) || corners.len() > incident.len() {
                     break;
                 }
                 corners.push(next);
                 at = next;
             }
-            seen.extend(&corners);
-            fans.push(Fan {
-                corners,
-                closed: true,
-            });
+            Fan { corners, closed }
+        };
+        for start in starts {
+            let fan = walk(start, false);
+            seen.extend(&fan.corners);
+            fans.push(fan);
+        }
+        for &first in incident {
+            if !seen.contains(&first) {
+                let fan = walk(first, true);
+                seen.extend(&fan.corners);
+                fans.push(fan);
+            }
         }
         fans
     }

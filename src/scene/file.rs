@@ -55,33 +55,25 @@
 //! boundary points stay bitwise shared within each instance. A mirroring
 //! transform swaps each patch's u and v to keep normals outward.
 //!
+//! The scene they describe is [`Scene`] (`desc.rs`); this file reads it.
+//!
 //! A scene may ask for at most [`MAX_BASE_PATCHES`] base patches (what the
 //! subdivision kernel's in-flight counter holds); more is refused before
 //! anything is built, with the count and the memory it would need.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{DMat4, DVec3, EulerRot};
 use serde::Deserialize;
 
 use super::camera::Camera;
+use super::desc::{ModelAnim, ModelDesc, Scene, Surface, ViewDefaults};
+use super::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES};
 use super::obj::CageOptions;
 use super::orbit::Orbit;
 use super::sharpness::BoundaryRule;
 use super::SceneError;
 use crate::figures::{bytes_text, thousands};
-
-pub use super::geometry::{
-    load_model, load_model_with, transform_patch, ModelSummary, SceneGeometry, SceneShading,
-    GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES,
-};
-
-/// Largest absolute world coordinate accepted. The criterion multiplies up
-/// to sixth powers of lengths; this keeps them far from f32 overflow.
-pub const MAX_COORD: f32 = 1.0e6;
-
-/// Bit position of the model index in a patch's flags word.
-pub use crate::constants::PATCH_MODEL_SHIFT;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -97,38 +89,6 @@ struct SceneToml {
     model: Vec<ModelToml>,
 }
 
-/// Default ε and λ of a scene.
-#[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ViewDefaults {
-    /// Pixel tolerance ε.
-    #[serde(default = "default_eps")]
-    pub eps: f64,
-    /// Blend λ.
-    #[serde(default = "default_lambda")]
-    pub lambda: f64,
-    /// How `subdiv` and `subdiv-indirect` split a node (`iso`, the paper's
-    /// 1:4, or `aniso`).
-    #[serde(default)]
-    pub split: crate::patch::view::Split,
-}
-
-impl Default for ViewDefaults {
-    fn default() -> Self {
-        ViewDefaults {
-            eps: default_eps(),
-            lambda: default_lambda(),
-            split: Default::default(),
-        }
-    }
-}
-
-fn default_eps() -> f64 {
-    1.0
-}
-fn default_lambda() -> f64 {
-    0.5
-}
 fn default_frames() -> u32 {
     240
 }
@@ -158,17 +118,6 @@ struct ModelToml {
     instance: Vec<InstanceToml>,
     #[serde(default)]
     deform: Vec<crate::anim::keys::DeformToml>,
-}
-
-/// What a model file's faces are.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Surface {
-    /// A Catmull–Clark cage (or a patch file).
-    #[default]
-    Cage,
-    /// A triangle mesh drawn as PN triangles ([`super::pn`]).
-    PnTriangles,
 }
 
 #[derive(Deserialize)]
@@ -203,73 +152,6 @@ impl Default for Scale {
 struct GridToml {
     count: [u32; 3],
     step: [f64; 3],
-}
-
-/// One model of a scene with its instance transforms.
-#[derive(Clone, Debug)]
-pub struct ModelDesc {
-    /// Display name.
-    pub name: String,
-    /// Resolved model file.
-    pub file: PathBuf,
-    /// Never back-face culled.
-    pub two_sided: bool,
-    /// Choices for a cage the file does not make itself.
-    pub options: CageOptions,
-    /// A cage or PN triangles.
-    pub surface: Surface,
-    /// Object → world transforms.
-    pub instances: Vec<DMat4>,
-    /// What moves: deformers, an OBJ sequence, keyed instances.
-    pub anim: ModelAnim,
-}
-
-/// What of a model moves (`src/anim/`).
-#[derive(Clone, Debug, Default)]
-pub struct ModelAnim {
-    /// Deformers of its cage, applied in order.
-    pub deform: Vec<crate::anim::keys::Deformer>,
-    /// The frame files of an OBJ sequence (`file` with a run of `#`); the
-    /// first is [`ModelDesc::file`].
-    pub sequence: Vec<PathBuf>,
-    /// Per instance (parallel to [`ModelDesc::instances`]): its keyed
-    /// transform, if it has keys.
-    pub keys: Vec<Option<crate::anim::keys::InstanceKeys>>,
-}
-
-impl ModelAnim {
-    /// Whether the model's cage moves (deformers or a sequence).
-    pub fn deforms(&self) -> bool {
-        !self.deform.is_empty() || self.sequence.len() > 1
-    }
-
-    /// Whether anything of the model moves.
-    pub fn moves(&self) -> bool {
-        self.deforms() || self.keys.iter().any(Option::is_some)
-    }
-}
-
-/// A parsed scene file.
-#[derive(Clone, Debug)]
-pub struct Scene {
-    /// The scene file.
-    pub path: PathBuf,
-    /// Display name.
-    pub name: String,
-    /// Default ε and λ.
-    pub view: ViewDefaults,
-    /// Frame 0's camera.
-    pub camera: Camera,
-    /// Camera path keyframes (frames 1..).
-    pub keys: Vec<Camera>,
-    /// Frames `bench` samples along the path.
-    pub path_frames: u32,
-    /// The orbit `bench` samples instead of the keyframe path, if given.
-    pub orbit: Option<Orbit>,
-    /// Models.
-    pub models: Vec<ModelDesc>,
-    /// The `[animation]` table (defaults where absent).
-    pub animation: crate::anim::keys::AnimationToml,
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
@@ -323,33 +205,6 @@ impl Scene {
             models,
             animation: raw.animation.unwrap_or_default(),
         })
-    }
-
-    /// Number of keyframes: the scene camera plus the path keys.
-    pub fn frame_count(&self) -> usize {
-        1 + self.keys.len()
-    }
-
-    /// Keyframe `k`: 0 is `[camera]`, `k ≥ 1` is path key `k`.
-    pub fn frame_camera(&self, k: usize) -> Option<Camera> {
-        match k {
-            0 => Some(self.camera),
-            _ => self.keys.get(k - 1).copied(),
-        }
-    }
-
-    /// The camera at `t` ∈ [0, 1] along the piecewise-linear path through
-    /// every keyframe (frame 0 first).
-    pub fn path_camera(&self, t: f64) -> Camera {
-        let frames: Vec<Camera> = (0..self.frame_count())
-            .filter_map(|k| self.frame_camera(k))
-            .collect();
-        if frames.len() == 1 {
-            return frames[0];
-        }
-        let x = t.clamp(0.0, 1.0) * (frames.len() - 1) as f64;
-        let i = (x.floor() as usize).min(frames.len() - 2);
-        frames[i].lerp(&frames[i + 1], x - i as f64)
     }
 }
 
@@ -584,7 +439,6 @@ fn instance_transforms(list: &[InstanceToml]) -> Result<Vec<DMat4>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::patch::bezier::BezierPatch;
 
     const MINIMAL: &str = r#"
 [camera]
@@ -747,24 +601,5 @@ file = "teapot.bpt"
             .unwrap_err()
             .to_string();
         assert!(e.contains("scene.toml:") && e.contains("radius"), "{e}");
-    }
-
-    #[test]
-    fn mirroring_keeps_normals_outward() {
-        let mut pts = [glam::Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                pts[4 * j + i] = glam::Vec3::new(i as f32, j as f32, 0.0);
-            }
-        }
-        let p = BezierPatch { pts };
-        let n0 = p.normal(0.5, 0.5);
-        let m = DMat4::from_scale(DVec3::new(1.0, 1.0, -1.0)) * DMat4::from_rotation_x(0.3);
-        let q = transform_patch(&p, &m);
-        let want = m.transform_vector3(n0.as_dvec3());
-        // The mirrored normal of the original surface, as an oriented plane,
-        // should agree with the new patch's normal after the u/v swap.
-        let got = q.normal(0.5, 0.5).as_dvec3();
-        assert!(got.dot(want) > 0.0);
     }
 }

@@ -26,7 +26,6 @@
 //! across it (tests/osd_reference.rs measures it); `isolate` makes it
 //! exact.
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -137,7 +136,7 @@ impl Fine {
                 }
             }
         }
-        let (mut fine, _) = super::isolate::extract(cage, &faces);
+        let (mut fine, _) = cage.extract(&faces);
         // Holes still give the fine surface its shape; every face converts.
         fine.holes.clear();
         let mut fine_topo = Topology::build(&fine, path)?;
@@ -155,7 +154,7 @@ impl Fine {
                 .iter()
                 .map(|s| {
                     let (f, o, du, dv) = at[s.face];
-                    let q = super::isolate::sub_quad_uv(s.corner);
+                    let q = super::refine::sub_quad_uv(s.corner);
                     let map = |p: [f32; 2]| {
                         let (a, b) = (f64::from(p[0]), f64::from(p[1]));
                         [o[0] + a * du[0] + b * dv[0], o[1] + a * du[1] + b * dv[1]]
@@ -249,12 +248,7 @@ pub fn apply(
     if !fit.iter().any(|&f| f) {
         return Ok(());
     }
-    let patch_of: HashMap<usize, usize> = conv
-        .faces
-        .iter()
-        .enumerate()
-        .map(|(p, &f)| (f, p))
-        .collect();
+    let patch_of = conv.patch_of_face();
     let want: Vec<usize> = conv
         .faces
         .iter()

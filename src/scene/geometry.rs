@@ -6,25 +6,18 @@ use std::path::{Path, PathBuf};
 
 use glam::DMat4;
 
-use super::file::{ModelDesc, Scene, Surface, MAX_COORD, PATCH_MODEL_SHIFT};
+use super::desc::{ModelDesc, Scene, Surface};
 use super::instances::{Instance, InstanceTable};
+use super::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES, MAX_COORD};
 use super::obj::CageOptions;
 use super::pn::{self, PnMesh, PnScene};
 use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
 use super::{bpt, obj, ImportedModel, SceneError};
-use crate::constants::PATCH_RATIONAL;
+use crate::constants::{PATCH_MODEL_SHIFT, PATCH_RATIONAL};
 use crate::figures::{bytes_text, thousands};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::PATCH_TWO_SIDED;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
-
-/// Most base patches a scene may have: the subdivision kernel counts the
-/// items in flight, base patches included, in 24 bits.
-pub const MAX_BASE_PATCHES: u64 = crate::constants::IN_FLIGHT_MASK as u64;
-
-/// Bytes per base patch on the GPU: 16 control points of 3 f32 and a
-/// flags word.
-pub const GEOMETRY_BYTES_PER_PATCH: u64 = 16 * 3 * 4 + 4;
 
 /// What a model contributed to the scene geometry.
 #[derive(Clone, Debug)]
@@ -509,4 +502,29 @@ fn add_model_patches(table: &mut InstanceTable, model: &ImportedModel, rational:
 /// mirroring transforms swap u and v so ∂u × ∂v stays outward).
 pub fn transform_patch(p: &BezierPatch, m: &DMat4) -> BezierPatch {
     Instance::new(m, 0, 0, 1, 0).patch(&p.canonical_zeros())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn mirroring_keeps_normals_outward() {
+        let mut pts = [glam::Vec3::ZERO; 16];
+        for j in 0..4 {
+            for i in 0..4 {
+                pts[4 * j + i] = glam::Vec3::new(i as f32, j as f32, 0.0);
+            }
+        }
+        let p = BezierPatch { pts };
+        let n0 = p.normal(0.5, 0.5);
+        let m = DMat4::from_scale(DVec3::new(1.0, 1.0, -1.0)) * DMat4::from_rotation_x(0.3);
+        let q = transform_patch(&p, &m);
+        let want = m.transform_vector3(n0.as_dvec3());
+        // The mirrored normal of the original surface, as an oriented plane,
+        // should agree with the new patch's normal after the u/v swap.
+        let got = q.normal(0.5, 0.5).as_dvec3();
+        assert!(got.dot(want) > 0.0);
+    }
 }

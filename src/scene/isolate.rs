@@ -33,7 +33,7 @@ use std::path::Path;
 
 use super::acc::{self, Conversion};
 use super::cage::{Cage, Topology};
-use super::refine::{refine, SubFace};
+use super::refine::{refine, sub_quad_uv, SubFace, QUAD_UV};
 use super::shading::ShadingPatch;
 use super::stencil::{self, CageStencils};
 use super::{fit, tangent, PatchOrigin, SceneError};
@@ -92,7 +92,7 @@ pub fn convert(
     let mut pieces: Vec<(Vec<usize>, Vec<usize>, Converted)> = Vec::with_capacity(parts.len());
     let mut isolated = 0;
     for faces in parts.iter() {
-        let (sub, map) = extract(cage, faces);
+        let (sub, map) = cage.extract(faces);
         // The cage vertex of each vertex of the part.
         let mut vertex = vec![0; sub.positions.len()];
         for (old, new) in map.iter().enumerate() {
@@ -253,16 +253,6 @@ fn origin(
     }
 }
 
-/// Face-parameter coordinates of a quad's corners 0..4.
-pub const QUAD_UV: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-
-/// `corners_uv` of sub-quad `k` of a quad face, in the face's parameters.
-pub fn sub_quad_uv(k: usize) -> [[f32; 2]; 4] {
-    let c = |i: usize| QUAD_UV[i % 4];
-    let mid = |a: [f32; 2], b: [f32; 2]| [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5];
-    [c(k), mid(c(k), c(k + 1)), [0.5, 0.5], mid(c(k + 3), c(k))]
-}
-
 /// The points `inner` (in the unit square) mapped into the square whose
 /// corners (0,0), (1,0), (1,1), (0,1) lie at `outer`. Dyadic values stay
 /// exact.
@@ -309,44 +299,6 @@ fn parts(cage: &Cage) -> Vec<Vec<usize>> {
         .into_iter()
         .map(|r| by_root.remove(&r).unwrap_or_default())
         .collect()
-}
-
-/// The faces `faces` of `cage` as a cage of their own, vertices renumbered
-/// in order of use; also the new index of each old vertex used.
-pub(crate) fn extract(cage: &Cage, faces: &[usize]) -> (Cage, Vec<Option<usize>>) {
-    let mut map: Vec<Option<usize>> = vec![None; cage.positions.len()];
-    let mut out = Cage {
-        scheme: cage.scheme,
-        ..Cage::default()
-    };
-    for &f in faces {
-        let face = cage.faces[f]
-            .iter()
-            .map(|&v| {
-                *map[v].get_or_insert_with(|| {
-                    out.positions.push(cage.positions[v]);
-                    out.positions.len() - 1
-                })
-            })
-            .collect();
-        out.faces.push(face);
-        out.face_lines.push(cage.line_of(f));
-        out.holes.push(cage.is_hole(f));
-    }
-    for (&(a, b), &s) in &cage.edge_sharpness {
-        if let (Some(a), Some(b)) = (map[a], map[b]) {
-            out.edge_sharpness.insert((a.min(b), a.max(b)), s);
-        }
-    }
-    for (&v, &s) in &cage.vertex_sharpness {
-        if let Some(v) = map[v] {
-            out.vertex_sharpness.insert(v, s);
-        }
-    }
-    if !out.holes.iter().any(|&h| h) {
-        out.holes.clear();
-    }
-    (out, map)
 }
 
 /// Joins the parts' patches in the cage's face order (each part's own

@@ -55,7 +55,7 @@ pub fn limit_position(cage: &Cage, topo: &Topology, v: usize) -> Option<DVec3> {
     }
     let path = Path::new("one-ring");
     let faces: Vec<usize> = ring_faces(cage, v);
-    let (mut ring, map) = super::isolate::extract(cage, &faces);
+    let (mut ring, map) = cage.extract(&faces);
     let mut at = map[v]?;
     for _ in 0..STEPS {
         let ring_topo = Topology::build(&ring, path).ok()?;
@@ -66,7 +66,7 @@ pub fn limit_position(cage: &Cage, topo: &Topology, v: usize) -> Option<DVec3> {
         let (fine, _) = refine(&ring, &ring_topo);
         // The vertex point keeps the vertex's index.
         let next = ring_faces(&fine, at);
-        let (sub, map) = super::isolate::extract(&fine, &next);
+        let (sub, map) = fine.extract(&next);
         at = map[at]?;
         ring = sub;
     }

@@ -5,6 +5,7 @@ pub mod adjacency;
 pub mod bpt;
 pub mod cage;
 pub mod camera;
+pub mod desc;
 pub mod error;
 pub mod file;
 pub mod fit;
@@ -12,10 +13,12 @@ pub mod geometry;
 pub mod instances;
 pub mod isolate;
 pub mod limit;
+pub mod limits;
 pub mod linear;
 pub mod obj;
 pub mod orbit;
 pub mod orient;
+pub mod path;
 pub mod pn;
 pub mod refine;
 pub mod shading;
@@ -95,7 +98,7 @@ pub struct CageInfo {
     /// Closed parts (every edge manifold).
     pub closed_parts: usize,
     /// Creasing method and triangle rule.
-    pub scheme: refine::Scheme,
+    pub scheme: cage::Scheme,
     /// The isolation asked for.
     pub isolate: u32,
     /// Patches per refinement level.

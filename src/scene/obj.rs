@@ -109,8 +109,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::cage::{Cage, Topology};
-use super::refine::Scheme;
+use super::cage::{Cage, Scheme, Topology};
 use super::sharpness::{self, BoundaryRule, INFINITE};
 use super::tags::Tags;
 use super::{isolate, orient, CageInfo, ImportedModel, RuleSource, SceneError};
@@ -397,7 +396,7 @@ fn non_manifold_warning(topo: &Topology, vertices: usize) -> Option<String> {
 fn isolate_note(conv: &isolate::Converted, n: u32) -> String {
     use crate::figures::{bytes_text, thousands};
     let per_patch =
-        super::geometry::GEOMETRY_BYTES_PER_PATCH + super::shading::SHADING_BYTES_PER_PATCH as u64;
+        super::limits::GEOMETRY_BYTES_PER_PATCH + super::shading::SHADING_BYTES_PER_PATCH as u64;
     let per_level: Vec<String> = conv
         .levels
         .iter()
@@ -631,14 +630,8 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
         faces: Vec::new(),
         tags: Tags::default(),
     };
-    for (i, line) in text.lines().enumerate() {
-        let line_no = i + 1;
+    for (line_no, keyword, rest) in statements(text) {
         let err = |msg: String| SceneError::at(path, line_no, msg);
-        let mut words = line.split_whitespace();
-        let Some(keyword) = words.next() else {
-            continue;
-        };
-        let rest: Vec<&str> = words.collect();
         match keyword {
             "v" => {
                 check_vertex(&rest).map_err(err)?;
@@ -652,17 +645,8 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
                 seen[if keyword == "vt" { 1 } else { 2 }] += 1;
             }
             "f" => {
-                if rest.len() < 3 {
-                    return Err(err(format!(
-                        "a face needs at least 3 vertices, this one has {}",
-                        rest.len()
-                    )));
-                }
-                let face = rest
-                    .iter()
-                    .map(|r| check_face_ref(r, &seen, &total))
-                    .collect::<Result<Vec<usize>, String>>()
-                    .map_err(err)?;
+                let face =
+                    face_corners(&rest, |r| check_face_ref(r, &seen, &total)).map_err(err)?;
                 out.faces.push(face);
                 out.face_lines.push(line_no);
             }
@@ -680,6 +664,31 @@ fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
         }
     }
     Ok(out)
+}
+
+/// The statements of OBJ text: each line that is not blank as its number
+/// (from 1, for errors), its keyword and the words after it.
+pub(crate) fn statements(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(i, line)| {
+        let mut words = line.split_whitespace();
+        let keyword = words.next()?;
+        Some((i + 1, keyword, words.collect()))
+    })
+}
+
+/// The corners of an `f` statement's words `refs`, each read by `corner`;
+/// a face needs at least 3.
+pub(crate) fn face_corners<T>(
+    refs: &[&str],
+    corner: impl Fn(&str) -> Result<T, String>,
+) -> Result<Vec<T>, String> {
+    if refs.len() < 3 {
+        return Err(format!(
+            "a face needs at least 3 vertices, this one has {}",
+            refs.len()
+        ));
+    }
+    refs.iter().map(|r| corner(r)).collect()
 }
 
 /// `x y z`, `x y z w` (w ≠ 0) or `x y z r g b`, all coordinates finite.

@@ -182,14 +182,8 @@ pub fn parse(path: &Path, text: &str) -> Result<PnMesh, SceneError> {
     let mut positions: Vec<Vec3> = Vec::new();
     let mut file_normals: Vec<Vec3> = Vec::new();
     let mut faces: Vec<(usize, Vec<Corner>)> = Vec::new();
-    for (i, line) in text.lines().enumerate() {
-        let line_no = i + 1;
+    for (line_no, keyword, rest) in super::obj::statements(text) {
         let err = |msg: String| SceneError::at(path, line_no, msg);
-        let mut words = line.split_whitespace();
-        let Some(keyword) = words.next() else {
-            continue;
-        };
-        let rest: Vec<&str> = words.collect();
         match keyword {
             "v" | "vn" => {
                 let p = three_numbers(&rest).map_err(|m| err(format!("`{keyword}` {m}")))?;
@@ -202,17 +196,10 @@ pub fn parse(path: &Path, text: &str) -> Result<PnMesh, SceneError> {
                 }
             }
             "f" => {
-                if rest.len() < 3 {
-                    return Err(err(format!(
-                        "a face needs at least 3 vertices, this one has {}",
-                        rest.len()
-                    )));
-                }
-                let corners = rest
-                    .iter()
-                    .map(|r| corner(r, positions.len(), file_normals.len()))
-                    .collect::<Result<Vec<Corner>, String>>()
-                    .map_err(err)?;
+                let corners = super::obj::face_corners(&rest, |r| {
+                    corner(r, positions.len(), file_normals.len())
+                })
+                .map_err(err)?;
                 faces.push((line_no, corners));
             }
             "l" | "p" => {

@@ -38,16 +38,14 @@ use glam::DVec3;
 use super::cage::{Cage, CageEdge, Topology};
 use super::sharpness::{Config, VertexRule, INFINITE};
 
-/// OpenSubdiv's scheme options that change how a cage refines (its
-/// `Sdc::Options` beyond the boundary rule).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Scheme {
-    /// `t creasemethod 0/0/1 chaikin`: Chaikin's rule for the sharpness of
-    /// semi-sharp crease halves (default uniform: one less).
-    pub chaikin: bool,
-    /// `t smoothtriangles 0/0/1 smooth`: OpenSubdiv's smoother edge weights
-    /// next to triangles (default: Catmull–Clark's).
-    pub smooth_triangles: bool,
+/// Face-parameter coordinates of a quad's corners 0..4.
+pub const QUAD_UV: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+
+/// `corners_uv` of sub-quad `k` of a quad face, in the face's parameters.
+pub fn sub_quad_uv(k: usize) -> [[f32; 2]; 4] {
+    let c = |i: usize| QUAD_UV[i % 4];
+    let mid = |a: [f32; 2], b: [f32; 2]| [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5];
+    [c(k), mid(c(k), c(k + 1)), [0.5, 0.5], mid(c(k + 3), c(k))]
 }
 
 /// Where each face of a refined cage came from.

@@ -276,7 +276,7 @@ mod tests {
             DMat4::from_rotation_z(0.4) * DMat4::from_scale(DVec3::new(2.0, 1.0, 0.5)),
             DMat4::from_scale(DVec3::new(1.0, -1.0, 1.0)) * DMat4::from_rotation_x(0.3),
         ] {
-            let moved = crate::scene::file::transform_patch(&p, &m);
+            let moved = crate::scene::geometry::transform_patch(&p, &m);
             let want = ShadingPatch::from_geometry(&moved);
             let got = s.transformed(&m);
             for (a, b) in got

@@ -294,6 +294,13 @@ fn corner_tangents<V: Vector>(
 /// Decides every sector's fit and every shared smooth edge end's α from
 /// the conversion `conv` of `cage` (see the module doc).
 pub fn decide(cage: &Cage, topo: &Topology, conv: &Conversion) -> Decisions {
+    in_f64(conv, |pts| decide_over(cage, topo, conv, pts))
+}
+
+/// The points of `conv` in f64, as the construction reads them, handed to
+/// `f` (the f32 points widen exactly, so deciding and constructing over
+/// them see the same values).
+fn in_f64<R>(conv: &Conversion, f: impl FnOnce(&Points<'_, DVec3>) -> R) -> R {
     let corner = |v: usize| conv.corner[v].as_dvec3();
     let edge = |a: usize, b: usize| conv.edge_point[&(a, b)].as_dvec3();
     let slot = |p: usize, s: usize| conv.patches[p].pts[s].as_dvec3();
@@ -302,6 +309,16 @@ pub fn decide(cage: &Cage, topo: &Topology, conv: &Conversion) -> Decisions {
         edge: &edge,
         slot: &slot,
     };
+    f(&pts)
+}
+
+/// [`decide`] over the points `pts` of `conv`.
+fn decide_over(
+    cage: &Cage,
+    topo: &Topology,
+    conv: &Conversion,
+    pts: &Points<'_, DVec3>,
+) -> Decisions {
     let mut decisions = Decisions::default();
     // (vertex, edge) → (fit, edges, cyclic) of the sector holding the edge.
     let mut sector_of: HashMap<(usize, usize), (Fit, usize, bool)> = HashMap::new();
@@ -309,7 +326,7 @@ pub fn decide(cage: &Cage, topo: &Topology, conv: &Conversion) -> Decisions {
         let crease = is_crease(cage, topo, v);
         let mut fits = Vec::new();
         for sector in sharpness::sectors(topo, v, &feature(cage, topo)) {
-            let g = edge_tangents(topo, &pts, v, &sector.edges);
+            let g = edge_tangents(topo, pts, v, &sector.edges);
             let fit = if sector.cyclic {
                 decide_cyclic(&g)
             } else {
@@ -325,7 +342,7 @@ pub fn decide(cage: &Cage, topo: &Topology, conv: &Conversion) -> Decisions {
     // α: ± the cosine of the sector's angle step where it was fitted (what
     // the projection below gives there, exactly); the projection of the
     // geometry's own tangents where it was not.
-    let corner_t = corner_tangents(cage, topo, &pts, &decisions);
+    let corner_t = corner_tangents(cage, topo, pts, &decisions);
     for e in 0..topo.edges.len() {
         let Some(sides) = shared_smooth(cage, topo, conv, e) else {
             continue;
@@ -398,12 +415,7 @@ fn construct<V: Vector>(
     decisions: &Decisions,
 ) -> Vec<[V; 24]> {
     let corner_t = corner_tangents(cage, topo, pts, decisions);
-    let patch_of: HashMap<usize, usize> = conv
-        .faces
-        .iter()
-        .enumerate()
-        .map(|(p, &f)| (f, p))
-        .collect();
+    let patch_of = conv.patch_of_face();
 
     let mut edges: Vec<Vec<EdgeTangents<V>>> = Vec::with_capacity(conv.patches.len());
     for (p, &f) in conv.faces.iter().enumerate() {
@@ -493,15 +505,7 @@ fn assemble<V: Vector>(p: usize, pts: &Points<V>, e: &[EdgeTangents<V>]) -> [V; 
 /// computed in f64 from its points and rounded once.
 pub fn tangent_patches(cage: &Cage, topo: &Topology, conv: &Conversion) -> Vec<ShadingPatch> {
     let decisions = decide(cage, topo, conv);
-    let corner = |v: usize| conv.corner[v].as_dvec3();
-    let edge = |a: usize, b: usize| conv.edge_point[&(a, b)].as_dvec3();
-    let slot = |p: usize, s: usize| conv.patches[p].pts[s].as_dvec3();
-    let pts = Points {
-        corner: &corner,
-        edge: &edge,
-        slot: &slot,
-    };
-    construct(cage, topo, conv, &pts, &decisions)
+    in_f64(conv, |pts| construct(cage, topo, conv, pts, &decisions))
         .iter()
         .map(|v| {
             let round = |d: DVec3| d.as_vec3() + Vec3::ZERO;

@@ -34,7 +34,7 @@ use crate::patch::rational::RationalPatch;
 use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
 use crate::scene::camera::Camera;
-use crate::scene::file::{SceneGeometry, SceneShading};
+use crate::scene::geometry::{SceneGeometry, SceneShading};
 
 /// Background of the subdivided image: the key colour.
 pub const KEY_BACKGROUND: [f32; 4] = [0.0, 1.0, 0.0, 1.0];

@@ -20,7 +20,7 @@ use crate::patch::oracle::Surfaces;
 use crate::patch::quadnode::QuadNode;
 use crate::patch::wedge::node_mesh;
 use crate::renderer::Renderer;
-use crate::scene::file::SceneGeometry;
+use crate::scene::geometry::SceneGeometry;
 use crate::vk::{Context, Pipeline, ShaderModule, VkError, VkResult};
 
 /// One line of the report.

@@ -116,13 +116,13 @@ pub fn output_dir(tag: &str) -> std::path::PathBuf {
 pub fn scene(
     name: &str,
 ) -> (
-    bezier_subdiv::scene::file::Scene,
-    bezier_subdiv::scene::file::SceneGeometry,
+    bezier_subdiv::scene::desc::Scene,
+    bezier_subdiv::scene::geometry::SceneGeometry,
 ) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .join(name);
-    let s = bezier_subdiv::scene::file::Scene::load(&path).unwrap();
+    let s = bezier_subdiv::scene::desc::Scene::load(&path).unwrap();
     let g = s.geometry().unwrap();
     (s, g)
 }
@@ -131,14 +131,14 @@ pub fn scene(
 pub fn scene_with_shading(
     name: &str,
 ) -> (
-    bezier_subdiv::scene::file::Scene,
-    bezier_subdiv::scene::file::SceneGeometry,
-    bezier_subdiv::scene::file::SceneShading,
+    bezier_subdiv::scene::desc::Scene,
+    bezier_subdiv::scene::geometry::SceneGeometry,
+    bezier_subdiv::scene::geometry::SceneShading,
 ) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .join(name);
-    let s = bezier_subdiv::scene::file::Scene::load(&path).unwrap();
+    let s = bezier_subdiv::scene::desc::Scene::load(&path).unwrap();
     let (g, sh) = s.geometry_and_shading().unwrap();
     (s, g, sh)
 }
@@ -148,7 +148,7 @@ pub fn scene_with_shading(
 /// with the patches' own derivatives (`set_geometry` replaces them).
 pub fn renderer(
     gpu: &Gpu,
-    geo: &bezier_subdiv::scene::file::SceneGeometry,
+    geo: &bezier_subdiv::scene::geometry::SceneGeometry,
     method: &str,
     size: (u32, u32),
     options: bezier_subdiv::methods::MethodOptions,
@@ -156,7 +156,7 @@ pub fn renderer(
     bezier_subdiv::renderer::Renderer::new(
         gpu.arc(),
         geo,
-        &bezier_subdiv::scene::file::SceneShading::own_derivatives(geo),
+        &bezier_subdiv::scene::geometry::SceneShading::own_derivatives(geo),
         method,
         bezier_subdiv::renderer::RendererOptions {
             size,

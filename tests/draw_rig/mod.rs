@@ -19,7 +19,8 @@ use bezier_subdiv::patch::quadnode::QuadNode;
 use bezier_subdiv::patch::view::ViewParams;
 use bezier_subdiv::patch::wedge::{node_mesh, wedge_code, wedge_pivots};
 use bezier_subdiv::scene::camera::Camera;
-use bezier_subdiv::scene::file::{load_model, Scene};
+use bezier_subdiv::scene::desc::Scene;
+use bezier_subdiv::scene::geometry::load_model;
 use bezier_subdiv::scene::shading::ShadingPatch;
 use bezier_subdiv::vk::{Buffer, Context, GpuTimer, MemoryLocation};
 

@@ -19,7 +19,7 @@ use crate::figures::thousands;
 use crate::methods::tess::{EdgeVertex, PatchLevels};
 use crate::methods::RenderError;
 use crate::renderer::Renderer;
-use crate::scene::file::SceneGeometry;
+use crate::scene::geometry::SceneGeometry;
 use crate::scene::pn::PnScene;
 use crate::validate::edges::{
     check_edge_vertices, check_levels, shared_edges, EdgeCheck, EdgeKey, EdgeSide,

@@ -10,7 +10,7 @@ use super::Tess;
 use crate::figures::thousands;
 use crate::methods::RenderError;
 use crate::renderer::Renderer;
-use crate::scene::file::SceneGeometry;
+use crate::scene::geometry::SceneGeometry;
 use crate::validate::edges::{check_edge_vertices, check_levels, shared_edges, EdgeKey, EdgeSide};
 use crate::validate::{Check, CheckResult};
 
