@@ -1,4 +1,6 @@
-//! Shared setup for GPU integration tests.
+//! Shared setup for the integration tests: the GPU context, scenes,
+//! renderers and `validate` runs here; fixtures and helpers in submodules
+//! named for what they hold.
 //!
 //! Every GPU test in a test binary shares one validation-enabled [`Context`]
 //! behind a mutex, so tests run on the device one at a time even under the
@@ -13,6 +15,8 @@
 //! own short-lived context instead.
 
 #![allow(dead_code)]
+
+pub mod spirv;
 
 use bezier_subdiv::vk::{Context, ContextOptions};
 use std::ops::Deref;
