@@ -16,6 +16,7 @@
 
 #![allow(dead_code)]
 
+pub mod fuzz;
 pub mod spirv;
 
 use bezier_subdiv::vk::{Context, ContextOptions};
