@@ -16,6 +16,9 @@
 
 #![allow(dead_code)]
 
+pub mod cameras;
+pub mod culling;
+pub mod edges;
 pub mod fuzz;
 pub mod spirv;
 
@@ -184,4 +187,14 @@ pub fn distinct_models(name: &str) -> usize {
         .map(|m| m.file.clone())
         .collect::<std::collections::HashSet<_>>()
         .len()
+}
+
+/// A path relative to the repository root.
+pub fn repo_path(rel: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// A model file of `scenes/models/`.
+pub fn model_path(name: &str) -> std::path::PathBuf {
+    repo_path("scenes/models").join(name)
 }
