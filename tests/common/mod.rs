@@ -16,6 +16,7 @@
 
 #![allow(dead_code)]
 
+pub mod cages;
 pub mod cameras;
 pub mod culling;
 pub mod edges;
