@@ -199,3 +199,45 @@ pub fn repo_path(rel: &str) -> std::path::PathBuf {
 pub fn model_path(name: &str) -> std::path::PathBuf {
     repo_path("scenes/models").join(name)
 }
+
+/// Renders `v` and checks the frame bit for bit: the GPU's ready set
+/// against `oracle` run on the method's own view (its depth limit, where it
+/// has one), the captured positions and, on the fallback path, the vertex
+/// words against `surfaces`; `what` names the case in a failure. Returns
+/// the GPU's ready list (in GPU order) and the oracle's result.
+pub fn check_frame<S: bezier_subdiv::patch::oracle::Surfaces + ?Sized>(
+    r: &mut bezier_subdiv::renderer::Renderer,
+    v: &bezier_subdiv::frame::View,
+    what: &str,
+    surfaces: &S,
+    oracle: impl FnOnce(
+        &bezier_subdiv::patch::view::ViewParams,
+    ) -> bezier_subdiv::patch::oracle::SubdivResult,
+) -> (
+    Vec<bezier_subdiv::patch::quadnode::QuadNode>,
+    bezier_subdiv::patch::oracle::SubdivResult,
+) {
+    use bezier_subdiv::constants::FLAG_WEDGES;
+    use bezier_subdiv::draw::DrawPath;
+    use bezier_subdiv::validate::{compare_capture, compare_ready, compare_vertices};
+    let report = r.render(v).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let ctx = r.context().clone();
+    let stage = r.method().ready().unwrap();
+    let list = stage.list();
+    let count = report.stats.get_u64("ready_quads").unwrap() as u32;
+    let ready = list.read_ready(&ctx, count).unwrap();
+    let params = r.effective_params(v);
+    let oracle = oracle(&params);
+    let (ok, detail) = compare_ready(&ready, &oracle.ready);
+    assert!(ok, "{what}: {detail}");
+    let wedges = params.flags & FLAG_WEDGES != 0;
+    let capture: Vec<[f32; 4]> = list.capture.read(&ctx).unwrap();
+    let (n, bad) = compare_capture(surfaces, &ready, &capture, wedges);
+    assert_eq!(bad, 0, "{what}: {bad} of {n} captured positions differ");
+    if stage.path() == DrawPath::Fallback {
+        let words: Vec<u32> = list.vertices.read(&ctx).unwrap();
+        let (n, bad) = compare_vertices(surfaces, &ready, &words, wedges);
+        assert_eq!(bad, 0, "{what}: {bad} of {n} fallback vertices differ");
+    }
+    (ready, oracle)
+}
