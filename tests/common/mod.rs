@@ -200,6 +200,30 @@ pub fn model_path(name: &str) -> std::path::PathBuf {
     repo_path("scenes/models").join(name)
 }
 
+/// `validate` of the scene `name` of `scenes/` with `method` at `size`,
+/// validation layer on, every keyframe; the hole check (its debug images
+/// under the test output) only where `holes`. A run that cannot start
+/// fails the test, naming the scene and method.
+pub fn validate(
+    name: &str,
+    method: &str,
+    size: (u32, u32),
+    holes: bool,
+) -> bezier_subdiv::commands::validate::ValidateReport {
+    use bezier_subdiv::commands::validate::{run, ValidateArgs};
+    let mut gpu = bezier_subdiv::commands::GpuRequest::new(repo_path("scenes").join(name));
+    gpu.size = size;
+    gpu.method = method.into();
+    gpu.validation = true;
+    run(&ValidateArgs {
+        gpu,
+        frame: None,
+        skip_holes: !holes,
+        debug_dir: holes.then(|| output_dir("holes")),
+    })
+    .unwrap_or_else(|e| panic!("validate {name} with {method}: {e:#}"))
+}
+
 /// Renders `v` and checks the frame bit for bit: the GPU's ready set
 /// against `oracle` run on the method's own view (its depth limit, where it
 /// has one), the captured positions and, on the fallback path, the vertex
