@@ -18,6 +18,7 @@
 
 pub mod cages;
 pub mod cameras;
+pub mod cli;
 pub mod culling;
 pub mod edges;
 pub mod fuzz;
