@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 use bezier_subdiv::anim::{deform, AnimatedScene};
 use bezier_subdiv::scene::desc::Scene;
 use bezier_subdiv::scene::obj;
-use bezier_subdiv::scene::stencil::CageModel;
 use glam::Vec3;
 
 mod common;
@@ -25,31 +24,6 @@ fn demo() -> (Scene, AnimatedScene) {
     let scene = Scene::load(&scenes().join("anim.toml")).unwrap();
     let loaded = scene.load_animated().unwrap();
     (scene, loaded)
-}
-
-/// `text` with the `v` line of each cage vertex replaced by its position
-/// in `posed`.
-fn with_positions(text: &str, cage: &CageModel, posed: &[Vec3]) -> String {
-    let mut at: Vec<Option<Vec3>> = vec![None; cage.file_vertices];
-    for (v, &i) in cage.file_vertex.iter().enumerate() {
-        at[i] = Some(posed[v]);
-    }
-    let mut out = String::new();
-    let mut k = 0;
-    for line in text.lines() {
-        let is_v = line.split_whitespace().next() == Some("v");
-        match at.get(k).copied().flatten().filter(|_| is_v) {
-            Some(p) => out += &format!("v {} {} {}\n", p.x, p.y, p.z),
-            None => {
-                out += line;
-                out.push('\n');
-            }
-        }
-        if is_v {
-            k += 1;
-        }
-    }
-    out
 }
 
 /// The demo's deformed torus (180° twist and a bend) and waving flag at
@@ -79,7 +53,7 @@ fn a_deformed_frame_is_the_import_of_the_deformed_cage() {
             let text = std::fs::read_to_string(&desc.file).unwrap();
             let again = obj::parse_with(
                 &desc.file,
-                &with_positions(&text, &model.cage, &verts),
+                &common::cages::with_positions(&text, &model.cage, &verts),
                 &desc.options,
             )
             .unwrap();

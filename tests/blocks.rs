@@ -6,12 +6,13 @@
 //! A member added, moved or retyped on one side only fails here instead of
 //! corrupting a frame.
 
+mod common;
+
 use std::collections::HashMap;
 
 use bezier_subdiv::gpu::blocks::{all_blocks, BlockField};
 use bezier_subdiv::vk::{embedded_shaders, load_spirv};
-use rspirv::binary::{Consumer, ParseAction};
-use rspirv::dr::{Instruction, ModuleHeader, Operand};
+use rspirv::dr::{Instruction, Operand};
 use rspirv::spirv::{Decoration, Op, StorageClass};
 
 /// The Vulkan core's own self-test shader has its own block, checked by
@@ -42,33 +43,9 @@ fn lit(op: &Operand) -> u32 {
     }
 }
 
-/// Every instruction of a module, in order (the plain parser: rspirv's
-/// module builder rejects the SPIR-V 1.6 `OpExecutionModeId` glslang emits
-/// for `local_size_x` from a constant).
-#[derive(Default)]
-struct Collect(Vec<Instruction>);
-
-impl Consumer for Collect {
-    fn initialize(&mut self) -> ParseAction {
-        ParseAction::Continue
-    }
-    fn finalize(&mut self) -> ParseAction {
-        ParseAction::Continue
-    }
-    fn consume_header(&mut self, _: ModuleHeader) -> ParseAction {
-        ParseAction::Continue
-    }
-    fn consume_instruction(&mut self, inst: Instruction) -> ParseAction {
-        self.0.push(inst);
-        ParseAction::Continue
-    }
-}
-
 fn reflect(shader: &str) -> Reflected {
     let words = load_spirv(shader).unwrap();
-    let mut all = Collect::default();
-    rspirv::binary::parse_words(&words, &mut all).unwrap_or_else(|e| panic!("{shader}: {e:?}"));
-    Reflected::new(&all.0)
+    Reflected::new(&common::spirv::instructions(shader, &words))
 }
 
 impl Reflected {

@@ -4,6 +4,8 @@
 //!
 //! The teapot is read from its copy in `scenes/models/`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use bezier_subdiv::patch::bezier::BezierPatch;
@@ -335,30 +337,31 @@ fn errors_name_the_file_and_line() {
         2,
         "16",
     );
-    expect_error(
-        "garbled-index",
-        &with_line(1, "1,2,3,4,5,x,7,8,9,10,11,12,13,14,15,16"),
-        2,
-        "\"x\"",
-    );
-    expect_error(
-        "index-zero",
-        &with_line(1, "0,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16"),
-        2,
-        "out of range",
-    );
-    expect_error(
-        "index-high",
-        &with_line(1, "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,17"),
-        2,
-        "out of range",
-    );
-    expect_error(
-        "negative-index",
-        &with_line(1, "-1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16"),
-        2,
-        "\"-1\"",
-    );
+    // A bad index on the index line (line 2).
+    for (tag, indices, needle) in [
+        (
+            "garbled-index",
+            "1,2,3,4,5,x,7,8,9,10,11,12,13,14,15,16",
+            "\"x\"",
+        ),
+        (
+            "index-zero",
+            "0,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16",
+            "out of range",
+        ),
+        (
+            "index-high",
+            "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,17",
+            "out of range",
+        ),
+        (
+            "negative-index",
+            "-1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16",
+            "\"-1\"",
+        ),
+    ] {
+        expect_error(tag, &with_line(1, indices), 2, needle);
+    }
     expect_error("point-count", &with_line(2, "sixteen"), 3, "point count");
     expect_error(
         "garbled-coord",
@@ -423,23 +426,12 @@ fn missing_file_is_an_io_error_naming_it() {
 /// Garbage in, an error out: no input panics the parser.
 #[test]
 fn never_panics_on_mangled_input() {
-    use rand::{rngs::SmallRng, Rng, SeedableRng};
+    use rand::{rngs::SmallRng, SeedableRng};
     let base = one_patch_lines().join("\n");
     let alphabet = b"0123456789,.-+eE \n\rNaNinf";
     let mut rng = SmallRng::seed_from_u64(7);
     for _ in 0..5000 {
-        let mut bytes = base.clone().into_bytes();
-        for _ in 0..rng.random_range(1..4) {
-            let at = rng.random_range(0..bytes.len());
-            match rng.random_range(0..3) {
-                0 => bytes[at] = alphabet[rng.random_range(0..alphabet.len())],
-                1 => {
-                    bytes.remove(at);
-                }
-                _ => bytes.insert(at, alphabet[rng.random_range(0..alphabet.len())]),
-            }
-        }
-        let text = String::from_utf8(bytes).unwrap();
+        let text = common::fuzz::mangle(&mut rng, &base, alphabet);
         if let Ok(p) = parse(Path::new("fuzz"), &text) {
             assert!(p.iter().all(|p| p.is_finite()));
         }

@@ -2,11 +2,18 @@
 //! that name the file and exit non-zero, and `render`'s checks that run
 //! before any GPU work.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_bezier-subdiv"))
+use common::cli::bin;
+
+/// `import` of `file`, ready for more arguments.
+fn import(file: &Path) -> Command {
+    let mut cmd = bin();
+    cmd.arg("import").arg(file);
+    cmd
 }
 
 fn temp_dir(tag: &str) -> PathBuf {
@@ -26,19 +33,13 @@ fn model(name: &str) -> PathBuf {
 fn import_writes_patches_and_sidecar() {
     let dir = temp_dir("import");
     let out = dir.join("pawn.bpt");
-    let run = bin()
-        .arg("import")
-        .arg(model("catmark_pawn.obj"))
+    let run = import(&model("catmark_pawn.obj"))
         .arg("--out")
         .arg(&out)
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{text}{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    common::cli::assert_success(&run, &text);
     assert!(text.contains("patches         588"), "{text}");
     assert!(
         text.contains("creases         0 infinitely sharp edges, 120 semi-sharp"),
@@ -49,7 +50,7 @@ fn import_writes_patches_and_sidecar() {
         "{text}"
     );
     // The written patches read back as the same model.
-    let again = bin().arg("import").arg(&out).output().unwrap();
+    let again = import(&out).output().unwrap();
     assert!(again.status.success());
     assert!(String::from_utf8_lossy(&again.stdout).contains("patches         588"));
     let side: serde_json::Value =
@@ -101,13 +102,13 @@ fn refused_files_name_themselves_and_fail() {
     let bad = dir.join("broken.bpt");
     std::fs::write(&bad, "2\n1,2,3\n").unwrap();
     for file in [bad.clone(), dir.join("missing.obj"), dir.join("model.stl")] {
-        let run = bin().arg("import").arg(&file).output().unwrap();
+        let run = import(&file).output().unwrap();
         let err = String::from_utf8_lossy(&run.stderr);
         assert!(!run.status.success());
         assert!(err.contains(&*file.to_string_lossy()), "{err}");
         assert!(!err.contains("panicked"), "{err}");
     }
-    let run = bin().arg("import").arg(&bad).output().unwrap();
+    let run = import(&bad).output().unwrap();
     assert!(
         String::from_utf8_lossy(&run.stderr).contains("broken.bpt:2"),
         "the line is named"
@@ -125,18 +126,13 @@ fn refused_files_name_themselves_and_fail() {
     };
     let far = dir.join("far.bpt");
     std::fs::write(&far, points("1e30,0,0")).unwrap();
-    let run = bin().arg("import").arg(&far).output().unwrap();
+    let run = import(&far).output().unwrap();
     let err = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{err}");
     assert!(err.contains("far.bpt:9: coordinate x"), "{err}");
     assert!(err.contains("beyond ±1e6"), "{err}");
     std::fs::write(&far, points("1000000,0,-1000000")).unwrap();
-    let run = bin().arg("import").arg(&far).output().unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    common::cli::run_ok(&mut import(&far));
 }
 
 #[test]
@@ -278,11 +274,7 @@ fn render_flip_writes_mean_and_heat_map() {
         let out = dir.join(format!("{method}.png"));
         let run = render(method, &out);
         let text = String::from_utf8_lossy(&run.stdout);
-        assert!(
-            run.status.success(),
-            "{method}: {}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        common::cli::assert_success(&run, &format!("{method}: "));
         assert!(text.contains("FLIP mean"), "{text}");
         let stats: serde_json::Value =
             serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
@@ -353,32 +345,23 @@ fn interleaved_workgroups_equal_the_oracle() {
             .output()
             .unwrap();
         let out = String::from_utf8_lossy(&run.stdout);
-        assert!(
-            run.status.success(),
-            "{method}: {out}{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        common::cli::assert_success(&run, &format!("{method}: {out}"));
         // Ready set, positions, reordering, occlusion culling.
         assert!(out.contains("all 4 checks passed"), "{out}");
     }
     let render = |kernel: &str| {
         let out = dir.join(format!("k-{kernel}.png"));
-        let run = bin()
-            .args([
-                "render", "--size", "320x180", "--groups", "32", "--repeat", "2", "--kernel",
-                kernel,
-            ])
-            .arg("--scene")
-            .arg(&scene)
-            .arg("--out")
-            .arg(&out)
-            .env("LP_NUM_THREADS", "8")
-            .output()
-            .unwrap();
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
+        common::cli::run_ok(
+            bin()
+                .args([
+                    "render", "--size", "320x180", "--groups", "32", "--repeat", "2", "--kernel",
+                    kernel,
+                ])
+                .arg("--scene")
+                .arg(&scene)
+                .arg("--out")
+                .arg(&out)
+                .env("LP_NUM_THREADS", "8"),
         );
         let stats: serde_json::Value =
             serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
@@ -417,7 +400,7 @@ fn errors_say_each_thing_once() {
     let dir = temp_dir("once");
     let binary = dir.join("patches.bpt");
     std::fs::write(&binary, [0x32u8, 0x0a, 0xff, 0xfe, 0x00, 0x31]).unwrap();
-    let run = bin().arg("import").arg(&binary).output().unwrap();
+    let run = import(&binary).output().unwrap();
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success());
     assert_eq!(err.matches("not a text file").count(), 1, "{err}");
@@ -427,11 +410,7 @@ fn errors_say_each_thing_once() {
     );
     assert!(!err.contains("stream did not contain valid UTF-8"), "{err}");
 
-    let run = bin()
-        .arg("import")
-        .arg(dir.join("gone.obj"))
-        .output()
-        .unwrap();
+    let run = import(&dir.join("gone.obj")).output().unwrap();
     let err = String::from_utf8_lossy(&run.stderr);
     assert_eq!(err.matches("No such file or directory").count(), 1, "{err}");
 
@@ -467,19 +446,12 @@ fn import_takes_a_boundary_rule() {
     )
     .unwrap();
     let out = dir.join("sheet.bpt");
-    let run = bin()
-        .arg("import")
-        .arg(&sheet)
-        .args(["--boundary", "edge-only", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = common::cli::run_ok(
+        import(&sheet)
+            .args(["--boundary", "edge-only", "--out"])
+            .arg(&out),
     );
+    let text = String::from_utf8_lossy(&run.stdout);
     assert!(
         text.contains("boundary rule   edge-only (option)"),
         "{text}"
@@ -496,9 +468,7 @@ fn import_takes_a_boundary_rule() {
         assert_eq!(patches[p]["corners"][k]["sector"], 1);
     }
     assert!(patches.iter().all(|e| e["exact"] == false));
-    let run = bin()
-        .arg("import")
-        .arg(&sheet)
+    let run = import(&sheet)
         .args(["--boundary", "sharp"])
         .output()
         .unwrap();
@@ -513,24 +483,14 @@ fn import_takes_a_boundary_rule() {
 fn import_reports_isolation_as_a_summary_line() {
     let cage = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/osd-shapes/catmark_chaikin0.obj");
-    let run = bin()
-        .arg("import")
-        .arg(&cage)
-        .args(["--isolate", "2"])
-        .output()
-        .unwrap();
+    let run = common::cli::run_ok(import(&cage).args(["--isolate", "2"]));
     let text = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
     assert!(
         text.contains("  isolation       isolate 2: 1 of 1 connected parts refined 2 times; level 2: 352 patches"),
         "{text}"
     );
     assert!(!text.contains("warning: isolate"), "{text}");
-    let plain = bin().arg("import").arg(&cage).output().unwrap();
+    let plain = import(&cage).output().unwrap();
     assert!(!String::from_utf8_lossy(&plain.stdout).contains("isolation"));
 }
 
@@ -614,20 +574,15 @@ fn a_timeout_says_what_ran_and_what_to_try() {
 fn render_times_a_warm_frame_and_keeps_the_cold_one() {
     let dir = temp_dir("warm");
     let render = |out: &Path, extra: &[&str]| {
-        let run = bin()
-            .arg("render")
-            .args(extra)
-            .arg("--out")
-            .arg(out)
-            .env("MESA_SHADER_CACHE_DISABLE", "true")
-            .output()
-            .unwrap();
-        let text = String::from_utf8_lossy(&run.stdout).to_string();
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
+        let run = common::cli::run_ok(
+            bin()
+                .arg("render")
+                .args(extra)
+                .arg("--out")
+                .arg(out)
+                .env("MESA_SHADER_CACHE_DISABLE", "true"),
         );
+        let text = String::from_utf8_lossy(&run.stdout).to_string();
         let stats: serde_json::Value =
             serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
         (text, stats)
@@ -680,26 +635,21 @@ fn render_times_a_warm_frame_and_keeps_the_cold_one() {
 fn the_readme_flip_command_finishes_in_parts() {
     let dir = temp_dir("readme-flip");
     let out = dir.join("kitchen.png");
-    let run = bin()
-        .args([
-            "render",
-            "--method",
-            "tess",
-            "--flip",
-            "--timeout",
-            "20",
-            "--out",
-        ])
-        .arg(&out)
-        .env_remove("BEZIER_SUBDIV_TIMEOUT")
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = common::cli::run_ok(
+        bin()
+            .args([
+                "render",
+                "--method",
+                "tess",
+                "--flip",
+                "--timeout",
+                "20",
+                "--out",
+            ])
+            .arg(&out)
+            .env_remove("BEZIER_SUBDIV_TIMEOUT"),
     );
+    let text = String::from_utf8_lossy(&run.stdout);
     assert!(text.contains("FLIP mean"), "{text}");
     let stats: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
@@ -712,13 +662,8 @@ fn the_readme_flip_command_finishes_in_parts() {
 /// the ones it does.
 #[test]
 fn info_lists_the_sample_counts_msaa_takes() {
-    let run = bin().arg("info").output().unwrap();
+    let run = common::cli::run_ok(bin().arg("info"));
     let text = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
     let line = text
         .lines()
         .find(|l| l.contains("MSAA (--msaa):"))

@@ -4,6 +4,8 @@
 //! boundary control points bit for bit. (How close the surface is to
 //! OpenSubdiv's is tests/osd_reference.rs.)
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -14,22 +16,12 @@ use bezier_subdiv::scene::{ImportedModel, RuleSource, SceneError};
 use glam::Vec3;
 
 fn path(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
+    common::repo_path(rel)
 }
 
-const MODELS: &[&str] = &[
-    "scenes/models/catmark_torus.obj",
-    "scenes/models/catmark_cube.obj",
-    "scenes/models/catmark_pawn.obj",
-    "scenes/models/catmark_car.obj",
-    "scenes/models/catmark_helmet.obj",
-    "scenes/models/catmark_xord_interior.obj",
-    "scenes/models/catmark_pole64.obj",
-    "tests/data/cages/grid_crease.obj",
-    "tests/data/cages/grid_semi.obj",
-    "tests/data/cages/book.obj",
-    "tests/data/cages/cubes_touching.obj",
-];
+fn models() -> Vec<&'static str> {
+    common::cages::with(&[])
+}
 
 fn text(rel: &str) -> String {
     std::fs::read_to_string(path(rel)).unwrap()
@@ -128,7 +120,7 @@ fn cage_boundary(text: &str) -> (usize, bool) {
 /// cage's own boundary (each half of it, when the cage was refined).
 #[test]
 fn creased_cages_stay_watertight_bit_for_bit() {
-    for &rel in MODELS {
+    for rel in models() {
         let original = text(rel);
         let (boundary, refined) = cage_boundary(&original);
         let expected = if refined { 2 * boundary } else { boundary };

@@ -12,8 +12,6 @@ mod common;
 
 use std::path::Path;
 
-use bezier_subdiv::commands::validate::{run, ValidateArgs};
-use bezier_subdiv::commands::GpuRequest;
 use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
@@ -72,21 +70,7 @@ fn no_holes_on_the_rational_and_kitchen_models() {
     for scene in ["rational.toml", "kitchen.toml"] {
         let models = common::distinct_models(scene);
         assert!(models >= 3, "{scene}: {models} models");
-        let mut gpu = GpuRequest::new(
-            Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("scenes")
-                .join(scene),
-        );
-        gpu.size = SIZE;
-        gpu.method = "cudatess".into();
-        gpu.validation = true;
-        let report = run(&ValidateArgs {
-            gpu,
-            frame: None,
-            skip_holes: false,
-            debug_dir: Some(common::output_dir("holes")),
-        })
-        .unwrap();
+        let report = common::validate(scene, "cudatess", SIZE, true);
         println!("{}", report.table);
         assert!(report.ok(), "{}", report.table);
         let count = |prefix: &str| {

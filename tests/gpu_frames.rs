@@ -45,26 +45,9 @@ fn check_frame(
     v: &View,
     what: &str,
 ) -> (Vec<QuadNode>, Vec<u8>) {
-    let report = r.render(v).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let ctx = r.context().clone();
-    let stage = r.method().ready().unwrap();
-    let list = stage.list();
-    let count = report.stats.get_u64("ready_quads").unwrap() as u32;
-    let ready = list.read_ready(&ctx, count).unwrap();
-    // The method's own depth limit, where it has one.
-    let params = r.effective_params(v);
-    let oracle = subdivide_parallel(&geo.patches, &geo.flags, &params, 2);
-    let (ok, detail) = compare_ready(&ready, &oracle.ready);
-    assert!(ok, "{what}: {detail}");
-    let wedges = params.flags & FLAG_WEDGES != 0;
-    let capture: Vec<[f32; 4]> = list.capture.read(&ctx).unwrap();
-    let (n, bad) = compare_capture(&geo.patches, &ready, &capture, wedges);
-    assert_eq!(bad, 0, "{what}: {bad} of {n} captured positions differ");
-    if stage.path() == DrawPath::Fallback {
-        let words: Vec<u32> = list.vertices.read(&ctx).unwrap();
-        let (n, bad) = compare_vertices(&geo.patches, &ready, &words, wedges);
-        assert_eq!(bad, 0, "{what}: {bad} of {n} fallback vertices differ");
-    }
+    let (ready, _) = common::check_frame(r, v, what, &geo.patches, |params| {
+        subdivide_parallel(&geo.patches, &geo.flags, params, 2)
+    });
     let img = r.read_image().unwrap();
     (ready, img)
 }

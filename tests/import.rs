@@ -4,6 +4,8 @@
 //! The reference models are read from their copies in `scenes/models/`. The cage topology the tests check
 //! against comes from a tiny OBJ reader of their own, not from the importer.
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -789,24 +791,13 @@ fn missing_file_is_an_io_error_naming_it() {
 /// loads is finite.
 #[test]
 fn mangled_cages_never_panic() {
-    use rand::{rngs::SmallRng, Rng, SeedableRng};
+    use rand::{rngs::SmallRng, SeedableRng};
     let base = format!("{}g a\n{}", PRISM, "t crease 2/1/0 1 2 3.0\n");
     let alphabet = b"0123456789 -./\nvftgl#eNaI";
     let mut rng = SmallRng::seed_from_u64(11);
     let mut loaded = 0;
     for _ in 0..3000 {
-        let mut bytes = base.clone().into_bytes();
-        for _ in 0..rng.random_range(1..4) {
-            let at = rng.random_range(0..bytes.len());
-            match rng.random_range(0..3) {
-                0 => bytes[at] = alphabet[rng.random_range(0..alphabet.len())],
-                1 => {
-                    bytes.remove(at);
-                }
-                _ => bytes.insert(at, alphabet[rng.random_range(0..alphabet.len())]),
-            }
-        }
-        let text = String::from_utf8(bytes).unwrap();
+        let text = common::fuzz::mangle(&mut rng, &base, alphabet);
         if let Ok(m) = obj::parse(Path::new("fuzz.obj"), &text) {
             assert!(m.patches.iter().all(|p| p.is_finite()));
             assert_eq!(m.patches.len(), m.origins.len());

@@ -8,32 +8,14 @@
 //! Vulkan memory model, and the data published through those words is read
 //! and written with device-scope visibility and availability (`coherent`).
 
+mod common;
+
 use std::collections::HashMap;
 
 use bezier_subdiv::constants::*;
 use bezier_subdiv::vk::load_spirv;
-use rspirv::binary::{Consumer, ParseAction};
-use rspirv::dr::{Instruction, ModuleHeader, Operand};
+use rspirv::dr::{Instruction, Operand};
 use rspirv::spirv::{MemoryAccess, MemoryModel, Op, Scope};
-
-#[derive(Default)]
-struct Collect(Vec<Instruction>);
-
-impl Consumer for Collect {
-    fn initialize(&mut self) -> ParseAction {
-        ParseAction::Continue
-    }
-    fn finalize(&mut self) -> ParseAction {
-        ParseAction::Continue
-    }
-    fn consume_header(&mut self, _: ModuleHeader) -> ParseAction {
-        ParseAction::Continue
-    }
-    fn consume_instruction(&mut self, inst: Instruction) -> ParseAction {
-        self.0.push(inst);
-        ParseAction::Continue
-    }
-}
 
 fn id(op: &Operand) -> u32 {
     match op {
@@ -170,9 +152,7 @@ impl Module {
     }
 
     fn parse(shader: &str, words: &[u32]) -> Self {
-        let mut c = Collect::default();
-        rspirv::binary::parse_words(words, &mut c).unwrap_or_else(|e| panic!("{shader}: {e:?}"));
-        let all = c.0;
+        let all = common::spirv::instructions(shader, words);
         let mut names = HashMap::new();
         let mut constants = HashMap::new();
         let mut types: HashMap<u32, Instruction> = HashMap::new();

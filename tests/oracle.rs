@@ -3,6 +3,8 @@
 //! edge decisions on both sides of shared edges, watertight output, and
 //! determinism.
 
+mod common;
+
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
@@ -11,15 +13,15 @@ use rand::{rngs::SmallRng, Rng, SeedableRng};
 
 use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::patch::blossom::reconstruct;
-use bezier_subdiv::patch::criterion::{
-    edge_flat, edge_samples, edge_tolerance2, line_sample_terms,
-};
-use bezier_subdiv::patch::ops::{affine_row, cross3, dot3, THIRD};
+use bezier_subdiv::patch::criterion::{edge_flat, edge_samples, edge_tolerance2};
+use bezier_subdiv::patch::ops::affine_row;
 use bezier_subdiv::patch::oracle::{subdivide, subdivide_parallel, triangulate, Outcome, Triangle};
 use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::geometry::load_model;
+use common::cameras;
+use common::edges::{segments, sides, SharedEdge};
 
 const MODELS: &[&str] = &[
     "teapot.bpt",
@@ -33,10 +35,9 @@ const MODELS: &[&str] = &[
 ];
 
 fn model(name: &str) -> Vec<BezierPatch> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/models")
-        .join(name);
-    load_model(&path).unwrap_or_else(|e| panic!("{e}")).patches
+    load_model(&common::model_path(name))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .patches
 }
 
 /// A random patch of size `scale` ∈ [0.01, 10) placed up to `reach`·100
@@ -177,6 +178,19 @@ fn reconstruction_matches_de_casteljau() {
     }
 }
 
+/// [`reorder_invariant`] at every node of `work` and at 20,000 random deep
+/// nodes of `patches`; fails listing the first failures.
+fn check_reordering(patches: &[BezierPatch], mut work: Vec<QuadNode>, rng: &mut SmallRng) {
+    for _ in 0..20_000 {
+        let k = rng.random_range(0..patches.len() as u32);
+        work.push(random_node(rng, k, 7..=L_MAX));
+    }
+    let fails = par_check(&work, |q| {
+        reorder_invariant(&patches[q.patch() as usize], *q)
+    });
+    assert!(fails.is_empty(), "{fails:#?}");
+}
+
 #[test]
 fn reordering_invariance_on_random_patches() {
     let mut rng = SmallRng::seed_from_u64(1);
@@ -188,14 +202,7 @@ fn reordering_invariance_on_random_patches() {
                 .map(|(l, m, n)| QuadNode::new(k as u32, (l, m), (l, n), [EDGE_PENDING; 4])),
         );
     }
-    for _ in 0..20_000 {
-        let k = rng.random_range(0..patches.len() as u32);
-        work.push(random_node(&mut rng, k, 7..=L_MAX));
-    }
-    let fails = par_check(&work, |q| {
-        reorder_invariant(&patches[q.patch() as usize], *q)
-    });
-    assert!(fails.is_empty(), "{fails:#?}");
+    check_reordering(&patches, work, &mut rng);
 }
 
 #[test]
@@ -212,98 +219,22 @@ fn reordering_invariance_on_shipped_models() {
             all_nodes(6).map(|(l, m, n)| QuadNode::new(k, (l, m), (l, n), [EDGE_PENDING; 4])),
         );
     }
-    for _ in 0..20_000 {
-        let k = rng.random_range(0..patches.len() as u32);
-        work.push(random_node(&mut rng, k, 7..=L_MAX));
-    }
-    let fails = par_check(&work, |q| {
-        reorder_invariant(&patches[q.patch() as usize], *q)
-    });
-    assert!(fails.is_empty(), "{fails:#?}");
-}
-
-/// The node along edge `e` (counter-clockwise order) of a base patch
-/// covering segment `k` of `2^l`, counted in that direction.
-fn edge_node(patch: u32, e: usize, l: u32, k: u32) -> QuadNode {
-    let last = (1u32 << l) - 1;
-    let (m, n) = match e {
-        0 => (k, 0),
-        1 => (last, k),
-        2 => (last - k, last),
-        _ => (0, last - k),
-    };
-    QuadNode::new(patch, (l, m), (l, n), [EDGE_PENDING; 4])
+    check_reordering(&patches, work, &mut rng);
 }
 
 fn curve_bits(c: &[Vec3; 4]) -> [[u32; 3]; 4] {
     c.map(|p| p.to_array().map(f32::to_bits))
 }
 
-/// A boundary curve shared by two base patches.
-struct SharedEdge {
-    a: (u32, usize),
-    b: (u32, usize),
-    reversed: bool,
-}
-
 fn shared_edges(patches: &[BezierPatch]) -> Vec<SharedEdge> {
-    // Curve bits (in the canonical direction) → (patch, edge, flipped).
-    type Uses = Vec<(u32, usize, bool)>;
-    let mut by_key: HashMap<[[u32; 3]; 4], Uses> = HashMap::new();
-    for (k, p) in patches.iter().enumerate() {
-        for e in 0..4 {
-            let c = p.edge(e);
-            let fwd = curve_bits(&c);
-            let rev = curve_bits(&[c[3], c[2], c[1], c[0]]);
-            // Key on the lexicographically smaller direction.
-            let (key, flipped) = if fwd <= rev {
-                (fwd, false)
-            } else {
-                (rev, true)
-            };
-            // A collapsed edge (a pole) is not an edge between two patches.
-            if c.iter().all(|q| *q == c[0]) {
-                continue;
-            }
-            by_key.entry(key).or_default().push((k as u32, e, flipped));
+    common::edges::shared_edges(patches.len(), |k, e| {
+        let c = patches[k].edge(e);
+        // A collapsed edge (a pole) is not an edge between two patches.
+        if c.iter().all(|q| *q == c[0]) {
+            return None;
         }
-    }
-    let mut out = Vec::new();
-    for list in by_key.values() {
-        for i in 0..list.len() {
-            for j in i + 1..list.len() {
-                let (pa, ea, fa) = list[i];
-                let (pb, eb, fb) = list[j];
-                out.push(SharedEdge {
-                    a: (pa, ea),
-                    b: (pb, eb),
-                    reversed: fa != fb,
-                });
-            }
-        }
-    }
-    out
-}
-
-fn test_cameras(patches: &[BezierPatch]) -> Vec<Camera> {
-    let (lo, hi) = BezierPatch::bounds(patches).unwrap();
-    let c = ((lo + hi) * 0.5).as_dvec3();
-    let r = ((hi - lo).length() as f64).max(1e-3);
-    [
-        DVec3::new(1.5, -2.0, 1.0),
-        DVec3::new(-0.4, 0.3, 0.6),
-        DVec3::new(0.2, 0.9, -1.4),
-    ]
-    .iter()
-    .map(|d| Camera {
-        position: (c + *d * r).to_array(),
-        target: c.to_array(),
-        up: [0.0, 0.0, 1.0],
-        fov_y_deg: 45.0,
-        near: 0.01 * r,
-        far: 100.0 * r,
+        Some((curve_bits(&c), curve_bits(&[c[3], c[2], c[1], c[0]])))
     })
-    .collect()
 }
 
 /// Both sides of every shared boundary curve rebuild the same sub-curve
@@ -315,7 +246,7 @@ fn shared_edges_decide_identically() {
         let patches = model(name);
         let edges = shared_edges(&patches);
         assert!(!edges.is_empty(), "{name}: no shared edges found");
-        let views: Vec<ViewParams> = test_cameras(&patches)
+        let views: Vec<ViewParams> = cameras::around(&patches)
             .iter()
             .flat_map(|cam| [0.5, 1.0, 2.0].map(|eps| cam.view_params(640, 360, eps, 0.5)))
             .collect();
@@ -324,27 +255,11 @@ fn shared_edges_decide_identically() {
         let mut flat_count = 0u64;
         for se in &edges {
             for l in 0..=L_MAX {
-                let segs = 1u32 << l;
-                let ks: Vec<u32> = if l <= 6 && !(big && l > 3) {
-                    (0..segs).collect()
-                } else {
-                    (0..4).map(|_| rng.random_range(0..segs)).collect()
-                };
-                for k in ks {
-                    let kb = if se.reversed { segs - 1 - k } else { k };
-                    let na = edge_node(se.a.0, se.a.1, l, k);
-                    let nb = edge_node(se.b.0, se.b.1, l, kb);
-                    let sub = |q: QuadNode| {
+                for k in segments(l, l <= 6 && !(big && l > 3), 4, &mut rng) {
+                    let (na, nb, ca, cb, cb_aligned) = sides(se, l, k, |q, e| {
                         let (a, b, c, d) = q.domain();
-                        reconstruct(&patches[q.patch() as usize], a, b, c, d)
-                    };
-                    let ca = sub(na).edge(se.a.1);
-                    let cb = sub(nb).edge(se.b.1);
-                    let cb_aligned = if se.reversed {
-                        [cb[3], cb[2], cb[1], cb[0]]
-                    } else {
-                        cb
-                    };
+                        reconstruct(&patches[q.patch() as usize], a, b, c, d).edge(e)
+                    });
                     assert_eq!(
                         curve_bits(&ca),
                         curve_bits(&cb_aligned),
@@ -353,23 +268,7 @@ fn shared_edges_decide_identically() {
                     // The samples and both sides of every comparison, as
                     // the criterion computes them, are the same set of bits.
                     let terms = |c: &[Vec3; 4], vp: &ViewParams| {
-                        let t2 = edge_tolerance2(c, vp);
-                        let mut v: Vec<[u32; 11]> = edge_samples(c)
-                            .iter()
-                            .map(|s| {
-                                let (lhs, rhs) =
-                                    line_sample_terms(s.point, s.from, s.to, THIRD, t2, vp);
-                                let f =
-                                    [s.point, s.from, s.to].map(|p| p.to_array().map(f32::to_bits));
-                                let mut out = [0u32; 11];
-                                out[..9].copy_from_slice(f.as_flattened());
-                                out[9] = lhs.to_bits();
-                                out[10] = rhs.to_bits();
-                                out
-                            })
-                            .collect();
-                        v.sort();
-                        v
+                        common::edges::edge_terms(&edge_samples(c), edge_tolerance2(c, vp), vp)
                     };
                     for vp in &views {
                         assert_eq!(
@@ -478,7 +377,7 @@ fn open_edges(patches: &[BezierPatch], tris: &[Triangle]) -> usize {
 /// Views for the crack tests, each with `iso` and with `aniso` splits.
 fn watertight_views(patches: &[BezierPatch]) -> Vec<ViewParams> {
     let mut out = Vec::new();
-    for cam in test_cameras(patches) {
+    for cam in cameras::around(patches) {
         for (eps, lambda) in [(0.5, 0.5), (1.0, 0.0), (2.0, 1.0)] {
             let mut vp = cam.view_params(640, 360, eps, lambda);
             vp.flags &= !(FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL);
@@ -557,7 +456,7 @@ fn leaves_tile_the_domain() {
 fn same_input_same_output() {
     let patches = model("catmark_pawn.obj");
     let flags = vec![0u32; patches.len()];
-    let vp = test_cameras(&patches)[0].view_params(1280, 720, 1.0, 0.5);
+    let vp = cameras::around(&patches)[0].view_params(1280, 720, 1.0, 0.5);
     let a = subdivide(&patches, &flags, &vp);
     let b = subdivide(&patches, &flags, &vp);
     let c = subdivide_parallel(&patches, &flags, &vp, 4);
@@ -613,31 +512,20 @@ fn backface_culling_removes_only_triangles_facing_away() {
     let mut culled = 0;
     for name in ["catmark_torus.obj", "catmark_cube.obj", "catmark_pawn.obj"] {
         let patches = model(name);
-        for (cam, aniso) in test_cameras(&patches)
+        for (cam, aniso) in cameras::around(&patches)
             .into_iter()
             .flat_map(|c| [(c, 0), (c, FLAG_ANISO)])
         {
             let mut vp = cam.view_params(640, 360, 1.0, 0.5);
             vp.flags |= aniso;
             let eye = vp.eye.truncate();
-            let mut stack: Vec<QuadNode> = (0..patches.len() as u32).map(QuadNode::root).collect();
-            while let Some(q) = stack.pop() {
-                let base = &patches[q.patch() as usize];
-                match bezier_subdiv::patch::oracle::process(base, 0, q, &vp) {
-                    Outcome::Split(ch) => stack.extend(ch),
-                    Outcome::BackFacing => {
-                        culled += 1;
-                        for t in triangulate(&patches, &[q], true) {
-                            let n = cross3(t.v[1] - t.v[0], t.v[2] - t.v[0]);
-                            assert!(
-                                dot3(n, t.v[0] - eye) > 0.0,
-                                "{name}: a culled triangle faces the eye: {t:?}"
-                            );
-                        }
-                    }
-                    _ => {}
-                }
-            }
+            culled += common::culling::culled_face_away(
+                name,
+                patches.len() as u32,
+                eye,
+                |q| bezier_subdiv::patch::oracle::process(&patches[q.patch() as usize], 0, q, &vp),
+                |q| triangulate(&patches, &[q], true),
+            );
         }
     }
     assert!(culled > 1000, "the views must cull ({culled})");

@@ -6,17 +6,16 @@
 //! removes a triangle facing the eye; a rational patch with all weights 1
 //! subdivides like the polynomial patch.
 
-use std::collections::HashMap;
-use std::path::Path;
+mod common;
 
-use glam::{DVec3, Vec3, Vec4};
+use std::collections::HashMap;
+
+use glam::{Vec3, Vec4};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 
 use bezier_subdiv::constants::PATCH_RATIONAL;
 use bezier_subdiv::patch::bezier::BezierPatch;
-use bezier_subdiv::patch::criterion::line_sample_terms;
 use bezier_subdiv::patch::homogeneous::{edge_flat, edge_samples, edge_tolerance2, HomPatch};
-use bezier_subdiv::patch::ops::THIRD;
 use bezier_subdiv::patch::oracle::{
     subdivide, subdivide_weighted, triangulate_surfaces, Triangle, WeightedPatches,
 };
@@ -25,6 +24,8 @@ use bezier_subdiv::patch::rational::{is_polynomial, RationalPatch, Weights, UNIT
 use bezier_subdiv::patch::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::geometry::load_model;
+use common::cameras;
+use common::edges::{segments, sides, SharedEdge};
 
 const MODELS: &[&str] = &["rational_torus.rbpt", "rational_sphere.rbpt"];
 
@@ -36,10 +37,7 @@ struct Model {
 
 impl Model {
     fn load(name: &str) -> Self {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("scenes/models")
-            .join(name);
-        let m = load_model(&path).unwrap_or_else(|e| panic!("{e}"));
+        let m = load_model(&common::model_path(name)).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(m.weights.len(), m.patches.len(), "{name}: weights");
         let flags = m
             .weights
@@ -70,105 +68,22 @@ fn bits4(c: &[Vec4; 4]) -> [[u32; 4]; 4] {
     c.map(|p| p.to_array().map(f32::to_bits))
 }
 
-/// The node along edge `e` (counter-clockwise order) of a base patch
-/// covering segment `k` of `2^l`, counted in that direction.
-fn edge_node(patch: u32, e: usize, l: u32, k: u32) -> QuadNode {
-    let last = (1u32 << l) - 1;
-    let (m, n) = match e {
-        0 => (k, 0),
-        1 => (last, k),
-        2 => (last - k, last),
-        _ => (0, last - k),
-    };
-    QuadNode::new(patch, (l, m), (l, n), [EDGE_PENDING; 4])
-}
-
-/// A boundary curve (homogeneous control points) shared by two patches.
-struct SharedEdge {
-    a: (u32, usize),
-    b: (u32, usize),
-    reversed: bool,
-}
-
 fn shared_edges(m: &Model) -> Vec<SharedEdge> {
-    // Curve bits (in the canonical direction) → (patch, edge, flipped).
-    type Uses = Vec<(u32, usize, bool)>;
-    let mut by_key: HashMap<[[u32; 4]; 4], Uses> = HashMap::new();
-    for k in 0..m.patches.len() {
-        let h = m.hom(k);
-        for e in 0..4 {
-            let c = h.edge(e);
-            // A collapsed edge (a pole) is not an edge between two patches.
-            let p0 = c[0].truncate() / c[0].w;
-            if c.iter().all(|q| q.truncate() / q.w == p0) {
-                continue;
-            }
-            let fwd = bits4(&c);
-            let rev = bits4(&[c[3], c[2], c[1], c[0]]);
-            let (key, flipped) = if fwd <= rev {
-                (fwd, false)
-            } else {
-                (rev, true)
-            };
-            by_key.entry(key).or_default().push((k as u32, e, flipped));
+    common::edges::shared_edges(m.patches.len(), |k, e| {
+        let c = m.hom(k).edge(e);
+        // A collapsed edge (a pole) is not an edge between two patches.
+        let p0 = c[0].truncate() / c[0].w;
+        if c.iter().all(|q| q.truncate() / q.w == p0) {
+            return None;
         }
-    }
-    let mut out = Vec::new();
-    for list in by_key.values() {
-        for i in 0..list.len() {
-            for j in i + 1..list.len() {
-                let (pa, ea, fa) = list[i];
-                let (pb, eb, fb) = list[j];
-                out.push(SharedEdge {
-                    a: (pa, ea),
-                    b: (pb, eb),
-                    reversed: fa != fb,
-                });
-            }
-        }
-    }
-    out
-}
-
-fn cameras(patches: &[BezierPatch]) -> Vec<Camera> {
-    let (lo, hi) = BezierPatch::bounds(patches).unwrap();
-    let c = ((lo + hi) * 0.5).as_dvec3();
-    let r = ((hi - lo).length() as f64).max(1e-3);
-    [
-        DVec3::new(1.5, -2.0, 1.0),
-        DVec3::new(-0.4, 0.3, 0.6),
-        DVec3::new(0.2, 0.9, -1.4),
-    ]
-    .iter()
-    .map(|d| Camera {
-        position: (c + *d * r).to_array(),
-        target: c.to_array(),
-        up: [0.0, 0.0, 1.0],
-        fov_y_deg: 45.0,
-        near: 0.01 * r,
-        far: 100.0 * r,
+        Some((bits4(&c), bits4(&[c[3], c[2], c[1], c[0]])))
     })
-    .collect()
 }
 
 /// The edge tier's samples and both sides of both comparisons, as bits,
 /// sorted (the two sides run the curve in opposite directions).
 fn edge_terms(c: &[Vec4; 4], vp: &ViewParams) -> Vec<[u32; 11]> {
-    let t2 = edge_tolerance2(c, vp);
-    let mut v: Vec<[u32; 11]> = edge_samples(c)
-        .iter()
-        .map(|s| {
-            let (lhs, rhs) = line_sample_terms(s.point, s.from, s.to, THIRD, t2, vp);
-            let f = [s.point, s.from, s.to].map(|p| p.to_array().map(f32::to_bits));
-            let mut out = [0u32; 11];
-            out[..9].copy_from_slice(f.as_flattened());
-            out[9] = lhs.to_bits();
-            out[10] = rhs.to_bits();
-            out
-        })
-        .collect();
-    v.sort();
-    v
+    common::edges::edge_terms(&edge_samples(c), edge_tolerance2(c, vp), vp)
 }
 
 /// Both sides of every shared boundary curve rebuild the same homogeneous
@@ -186,7 +101,7 @@ fn shared_edges_decide_identically() {
             "{name}: {} shared",
             edges.len()
         );
-        let views: Vec<ViewParams> = cameras(&m.patches)
+        let views: Vec<ViewParams> = cameras::around(&m.patches)
             .iter()
             .flat_map(|cam| {
                 [(0.5, 0.0), (1.0, 0.5), (2.0, 0.5)]
@@ -196,27 +111,11 @@ fn shared_edges_decide_identically() {
         let (mut checked, mut flat_count) = (0u64, 0u64);
         for se in &edges {
             for l in 0..=L_MAX {
-                let segs = 1u32 << l;
-                let ks: Vec<u32> = if l <= 6 {
-                    (0..segs).collect()
-                } else {
-                    (0..8).map(|_| rng.random_range(0..segs)).collect()
-                };
-                for k in ks {
-                    let kb = if se.reversed { segs - 1 - k } else { k };
-                    let na = edge_node(se.a.0, se.a.1, l, k);
-                    let nb = edge_node(se.b.0, se.b.1, l, kb);
-                    let sub = |q: QuadNode| {
+                for k in segments(l, l <= 6, 8, &mut rng) {
+                    let (na, nb, ca, cb, cb_aligned) = sides(se, l, k, |q, e| {
                         let (a, b, c, d) = q.domain();
-                        m.hom(q.patch() as usize).sub(a, b, c, d)
-                    };
-                    let ca = sub(na).edge(se.a.1);
-                    let cb = sub(nb).edge(se.b.1);
-                    let cb_aligned = if se.reversed {
-                        [cb[3], cb[2], cb[1], cb[0]]
-                    } else {
-                        cb
-                    };
+                        m.hom(q.patch() as usize).sub(a, b, c, d).edge(e)
+                    });
                     assert_eq!(bits4(&ca), bits4(&cb_aligned), "{name}: {na:?} vs {nb:?}");
                     for vp in &views {
                         assert_eq!(
@@ -270,7 +169,7 @@ fn closed_rational_models_are_watertight_and_need_wedges() {
         let m = Model::load(name);
         let mut cracked_without = 0;
         let mut deepest = 0;
-        for cam in cameras(&m.patches) {
+        for cam in cameras::around(&m.patches) {
             for (eps, lambda) in [(0.5, 0.5), (1.0, 0.0), (2.0, 1.0)] {
                 let mut vp = cam.view_params(640, 360, eps, lambda);
                 vp.flags &= !(FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL);
@@ -308,13 +207,14 @@ fn unit_weights_subdivide_like_the_polynomial_patch() {
         let u = k as f32 / 256.0;
         assert_eq!(curve4(u, &[Vec4::W; 4]).w, 1.0, "k = {k}");
     }
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/models/teapot.bpt");
-    let patches = load_model(&path).unwrap().patches;
+    let patches = load_model(&common::model_path("teapot.bpt"))
+        .unwrap()
+        .patches;
     let weights = vec![UNIT_WEIGHTS; patches.len()];
     let poly_flags = vec![0u32; patches.len()];
     let rat_flags = vec![PATCH_RATIONAL; patches.len()];
     let (mut nodes, mut exact, mut total) = (0, 0, 0);
-    for cam in cameras(&patches) {
+    for cam in cameras::around(&patches) {
         for (eps, lambda) in [(0.5, 0.5), (1.0, 0.0), (2.0, 1.0)] {
             let mut vp = cam.view_params(640, 360, eps, lambda);
             vp.flags &= !FLAG_BACKFACE_CULL;
@@ -354,35 +254,25 @@ fn unit_weights_subdivide_like_the_polynomial_patch() {
 /// away from the eye, wedges included (the closed rational models).
 #[test]
 fn backface_culling_removes_only_triangles_facing_away() {
-    use bezier_subdiv::patch::ops::{cross3, dot3};
-    use bezier_subdiv::patch::oracle::{process_rational, Outcome};
+    use bezier_subdiv::patch::oracle::process_rational;
     let mut culled = 0;
     for name in MODELS {
         let m = Model::load(name);
-        for cam in cameras(&m.patches) {
+        for cam in cameras::around(&m.patches) {
             for eps in [0.5, 2.0] {
                 let vp = cam.view_params(640, 360, eps, 0.5);
                 let eye = vp.eye.truncate();
-                let mut stack: Vec<QuadNode> =
-                    (0..m.patches.len() as u32).map(QuadNode::root).collect();
-                while let Some(q) = stack.pop() {
-                    let k = q.patch() as usize;
-                    let base = RationalPatch::new(m.patches[k], m.weights[k]);
-                    match process_rational(&base, 0, q, &vp) {
-                        Outcome::Split(ch) => stack.extend(ch),
-                        Outcome::BackFacing => {
-                            culled += 1;
-                            for t in triangulate_surfaces(&m.surfaces(), &[q], true) {
-                                let n = cross3(t.v[1] - t.v[0], t.v[2] - t.v[0]);
-                                assert!(
-                                    dot3(n, t.v[0] - eye) > 0.0,
-                                    "{name}: a culled triangle faces the eye: {t:?}"
-                                );
-                            }
-                        }
-                        _ => {}
-                    }
-                }
+                culled += common::culling::culled_face_away(
+                    name,
+                    m.patches.len() as u32,
+                    eye,
+                    |q| {
+                        let k = q.patch() as usize;
+                        let base = RationalPatch::new(m.patches[k], m.weights[k]);
+                        process_rational(&base, 0, q, &vp)
+                    },
+                    |q| triangulate_surfaces(&m.surfaces(), &[q], true),
+                );
             }
         }
     }

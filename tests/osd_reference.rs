@@ -14,6 +14,8 @@
 //! output, see `untagged_cages_convert_as_before` in tests/creases.rs; it
 //! refused non-manifold cages), "after" as it does now.
 
+mod common;
+
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -168,23 +170,39 @@ fn diagonal(model: &ImportedModel) -> f64 {
 /// Largest deviation per class, over the samples that have a patch.
 type Table = BTreeMap<&'static str, (usize, f64)>;
 
+/// Each sample of `case` that has a limit point: the point, where `model`
+/// puts it (patch and parameters) and the patch of `classes` that holds
+/// it; a sample either import leaves without a patch fails the test,
+/// naming it.
+fn located<'a>(
+    case: &'a Case,
+    model: &'a ImportedModel,
+    classes: &'a ImportedModel,
+) -> impl Iterator<Item = (DVec3, (usize, f32, f32), usize)> + 'a {
+    case.samples
+        .iter()
+        .filter_map(move |&(face, sub, u, v, point)| {
+            let limit = point?;
+            let at = (face, sub, u, v);
+            let quad = case.quads[face];
+            let (Some(found), Some((pc, _, _))) =
+                (locate(model, at, quad), locate(classes, at, quad))
+            else {
+                panic!(
+                    "{}: no patch for face {face} sub {sub} at ({u}, {v})",
+                    case.name
+                );
+            };
+            Some((limit, found, pc))
+        })
+}
+
 /// `classes` (the converter as it is now, at isolate 0) names each
 /// sample's class and gives the diagonal both imports are measured in.
 fn deviations(case: &Case, model: &ImportedModel, classes: &ImportedModel) -> Table {
     let diag = diagonal(classes);
     let mut table = Table::new();
-    for &(face, sub, u, v, point) in &case.samples {
-        let Some(limit) = point else { continue };
-        let at = (face, sub, u, v);
-        let quad = case.quads[face];
-        let (Some((p, s, t)), Some((pc, _, _))) =
-            (locate(model, at, quad), locate(classes, at, quad))
-        else {
-            panic!(
-                "{}: no patch for face {face} sub {sub} at ({u}, {v})",
-                case.name
-            );
-        };
+    for (limit, (p, s, t), pc) in located(case, model, classes) {
         let dev = (model.patches[p].eval(s, t).as_dvec3() - limit).length() / diag;
         let entry = table
             .entry(classes.origins[pc].rule.class())
@@ -541,18 +559,7 @@ fn deviations2(case: &Case, model: &ImportedModel, classes: &ImportedModel) -> T
     let diag = diagonal(classes);
     let near = Nearest::new(model);
     let mut table = Table2::new();
-    for &(face, sub, u, v, point) in &case.samples {
-        let Some(limit) = point else { continue };
-        let at = (face, sub, u, v);
-        let quad = case.quads[face];
-        let (Some((p, s, t)), Some((pc, _, _))) =
-            (locate(model, at, quad), locate(classes, at, quad))
-        else {
-            panic!(
-                "{}: no patch for face {face} sub {sub} at ({u}, {v})",
-                case.name
-            );
-        };
+    for (limit, (p, s, t), pc) in located(case, model, classes) {
         let (param, _, _) = eval64(&near.patches[p], s as f64, t as f64);
         let par = (param - limit).length() / diag;
         let geo = near.distance(limit, p, (s as f64, t as f64)) / diag;

@@ -322,20 +322,8 @@ fn bad_pn_obj_names_file_and_line() {
 /// what the frame wrote, and they pass.
 #[test]
 fn validate_checks_pn_edges() {
-    use bezier_subdiv::commands::validate::{run, ValidateArgs};
-    use bezier_subdiv::commands::GpuRequest;
     let _gpu = common::gpu();
-    let mut gpu = GpuRequest::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pn.toml"));
-    gpu.size = SIZE;
-    gpu.method = "cudatess".into();
-    gpu.validation = true;
-    let report = run(&ValidateArgs {
-        gpu,
-        frame: None,
-        skip_holes: true,
-        debug_dir: None,
-    })
-    .unwrap();
+    let report = common::validate("pn.toml", "cudatess", SIZE, false);
     assert!(report.ok(), "{}", report.table);
     let pn: Vec<_> = report
         .results

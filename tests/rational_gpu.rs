@@ -27,30 +27,14 @@ const SIZE: (u32, u32) = (320, 180);
 /// nodes the oracle culled as back-facing (only the rational models are
 /// one-sided in this scene).
 fn check_frame(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) -> (usize, u64) {
-    let report = r.render(v).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let ctx = r.context().clone();
-    let stage = r.method().ready().unwrap();
-    let list = stage.list();
-    let count = report.stats.get_u64("ready_quads").unwrap() as u32;
-    let ready = list.read_ready(&ctx, count).unwrap();
-    let params = r.effective_params(v);
-    let oracle = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &params, 2);
-    let (ok, detail) = compare_ready(&ready, &oracle.ready);
-    assert!(ok, "{what}: {detail}");
     let surfaces = WeightedPatches {
         patches: &geo.patches,
         weights: &geo.weights,
         flags: &geo.flags,
     };
-    let wedges = params.flags & FLAG_WEDGES != 0;
-    let capture: Vec<[f32; 4]> = list.capture.read(&ctx).unwrap();
-    let (n, bad) = compare_capture(&surfaces, &ready, &capture, wedges);
-    assert_eq!(bad, 0, "{what}: {bad} of {n} captured positions differ");
-    if stage.path() == DrawPath::Fallback {
-        let words: Vec<u32> = list.vertices.read(&ctx).unwrap();
-        let (n, bad) = compare_vertices(&surfaces, &ready, &words, wedges);
-        assert_eq!(bad, 0, "{what}: {bad} of {n} fallback vertices differ");
-    }
+    let (ready, oracle) = common::check_frame(r, v, what, &surfaces, |params| {
+        subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, params, 2)
+    });
     let rational = ready
         .iter()
         .filter(|q| geo.flags[q.patch() as usize] & PATCH_RATIONAL != 0)

@@ -78,17 +78,24 @@ fn frames_in_flight_keep_their_own_figures() {
     gpu.finish();
 }
 
+/// A `subdiv` renderer on the mesh path with the ground truth's grid at
+/// 8, and those options (for changing one knob).
+fn grid8_subdiv(gpu: &common::Gpu, geo: &SceneGeometry) -> (Renderer, MethodOptions) {
+    let options = MethodOptions {
+        grid: 8,
+        ..MethodOptions::new(DrawPath::Mesh)
+    };
+    let r = common::renderer(gpu, geo, "subdiv", SIZE, options.clone());
+    (r, options)
+}
+
 /// Switching methods, ε and λ keeps the uploaded scene, the shader modules
 /// and the methods already made.
 #[test]
 fn switching_reuses_scene_shaders_and_methods() {
     let gpu = common::gpu();
     let (geo, views) = views();
-    let options = MethodOptions {
-        grid: 8,
-        ..MethodOptions::new(DrawPath::Mesh)
-    };
-    let mut r = common::renderer(&gpu, &geo, "subdiv", SIZE, options.clone());
+    let (mut r, options) = grid8_subdiv(&gpu, &geo);
     let patches = r.scene().patches.handle();
     r.render(&views[0]).unwrap();
     r.set_method("ground-truth").unwrap();
@@ -148,11 +155,7 @@ fn the_triangle_query_counts_what_each_method_draws() {
     use bezier_subdiv::vk::PrimitiveQuery;
     let gpu = common::gpu();
     let (geo, views) = views();
-    let options = MethodOptions {
-        grid: 8,
-        ..MethodOptions::new(DrawPath::Mesh)
-    };
-    let mut r = common::renderer(&gpu, &geo, "subdiv", SIZE, options.clone());
+    let (mut r, options) = grid8_subdiv(&gpu, &geo);
     let mut mesh_counts = Vec::new();
     for v in &views[..2] {
         let mesh = r.render(v).unwrap();

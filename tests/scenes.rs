@@ -2,6 +2,8 @@
 //! keyframe sees something, and the oracle draws every model from frame 0.
 //! Also the `stats --preview` path end to end.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use bezier_subdiv::commands::stats::{self, StatsArgs};
@@ -159,11 +161,7 @@ fn the_herd_is_what_its_script_writes() {
         .arg(&out)
         .output()
         .expect("python3 runs tools/herd/make.py");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    common::cli::assert_success(&run, "");
     assert!(
         std::fs::read(out.join("herd.toml")).unwrap()
             == std::fs::read(scenes_dir().join("herd.toml")).unwrap(),
@@ -184,11 +182,7 @@ fn the_kitchen_is_what_its_script_writes() {
         .arg(&out)
         .output()
         .expect("python3 runs tools/kitchen/make.py");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    common::cli::assert_success(&run, "");
     let mut written = vec![out.join("kitchen.toml")];
     for e in std::fs::read_dir(out.join("models")).unwrap() {
         written.push(e.unwrap().path());

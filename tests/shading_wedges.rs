@@ -27,8 +27,9 @@
 //! or a non-manifold edge that the patch's extension cannot stand in for,
 //! `scan_opensubdiv_shapes` measures (docs/OPENSUBDIV.md).
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn temp_dir() -> PathBuf {
     let d = std::env::temp_dir().join(format!("bezier-subdiv-wedges-{}", std::process::id()));
@@ -57,18 +58,13 @@ fn scene(dir: &Path, name: &str, model: &Path, camera: [[f64; 3]; 2], two_sided:
 }
 
 fn render(scene: &Path, shade: &str, out: &Path) -> image::RgbImage {
-    let run = Command::new(env!("CARGO_BIN_EXE_bezier-subdiv"))
-        .arg("render")
-        .arg("--scene")
-        .arg(scene)
-        .args(["--size", "640x360", "--shade", shade, "--out"])
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    common::cli::run_ok(
+        common::cli::bin()
+            .arg("render")
+            .arg("--scene")
+            .arg(scene)
+            .args(["--size", "640x360", "--shade", shade, "--out"])
+            .arg(out),
     );
     image::open(out).unwrap().to_rgb8()
 }

@@ -3,6 +3,8 @@
 //! boundary point is one row, and a deformed pose evaluated by the table is
 //! bit for bit the import of the deformed cage written out as an OBJ.
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -12,23 +14,12 @@ use bezier_subdiv::scene::ImportedModel;
 use glam::Vec3;
 
 fn path(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
+    common::repo_path(rel)
 }
 
-const MODELS: &[&str] = &[
-    "scenes/models/catmark_torus.obj",
-    "scenes/models/catmark_cube.obj",
-    "scenes/models/catmark_pawn.obj",
-    "scenes/models/catmark_car.obj",
-    "scenes/models/catmark_helmet.obj",
-    "scenes/models/catmark_xord_interior.obj",
-    "scenes/models/catmark_pole64.obj",
-    "scenes/models/kitchen_chair.obj",
-    "tests/data/cages/grid_crease.obj",
-    "tests/data/cages/grid_semi.obj",
-    "tests/data/cages/book.obj",
-    "tests/data/cages/cubes_touching.obj",
-];
+fn models() -> Vec<&'static str> {
+    common::cages::with(&["scenes/models/kitchen_chair.obj"])
+}
 
 fn import_text(rel: &str, text: &str, isolate: u32) -> ImportedModel {
     obj::parse_with(
@@ -54,7 +45,7 @@ fn bits(v: Vec3) -> [u32; 3] {
 /// patches and shading patches.
 #[test]
 fn the_static_import_is_the_table_at_rest() {
-    for &rel in MODELS {
+    for rel in models() {
         for isolate in [0, 2] {
             if isolate > 0 && rel.contains("car") {
                 continue;
@@ -80,7 +71,7 @@ fn the_static_import_is_the_table_at_rest() {
 /// rows for it, so they get the same bits in any pose.
 #[test]
 fn every_shared_boundary_point_is_one_row() {
-    for &rel in MODELS {
+    for rel in models() {
         let model = import(rel, 0);
         let cage = model.stencils.as_deref().unwrap();
         let rows = &cage.stencils.patch_rows;
@@ -144,41 +135,17 @@ fn deform(rest: &[Vec3]) -> Vec<Vec3> {
         .collect()
 }
 
-/// `text` with the `v` line of each cage vertex replaced by its position
-/// in `posed`.
-fn with_positions(text: &str, cage: &CageModel, posed: &[Vec3]) -> String {
-    let mut at: Vec<Option<Vec3>> = vec![None; cage.file_vertices];
-    for (v, &i) in cage.file_vertex.iter().enumerate() {
-        at[i] = Some(posed[v]);
-    }
-    let mut out = String::new();
-    let mut k = 0;
-    for line in text.lines() {
-        match (line.split_whitespace().next(), at.get(k).copied().flatten()) {
-            (Some("v"), Some(p)) => out += &format!("v {} {} {}\n", p.x, p.y, p.z),
-            _ => {
-                out += line;
-                out.push('\n');
-            }
-        }
-        if line.split_whitespace().next() == Some("v") {
-            k += 1;
-        }
-    }
-    out
-}
-
 /// A deformed pose through the table is the import of the deformed cage:
 /// the same conversion either way, bit for bit.
 #[test]
 fn a_deformed_pose_is_the_import_of_the_deformed_cage() {
-    for &rel in MODELS {
+    for rel in models() {
         let text = std::fs::read_to_string(path(rel)).unwrap();
         let model = import_text(rel, &text, 0);
         let cage = model.stencils.as_deref().unwrap();
         let posed = deform(&cage.rest);
         let (patches, shading) = cage.stencils.evaluate(&posed);
-        let again = import_text(rel, &with_positions(&text, cage, &posed), 0);
+        let again = import_text(rel, &common::cages::with_positions(&text, cage, &posed), 0);
         assert_eq!(again.patches.len(), patches.len(), "{rel}");
         for (k, (a, b)) in patches.iter().zip(&again.patches).enumerate() {
             assert_eq!(a.pts.map(bits), b.pts.map(bits), "{rel}: patch {k}");
@@ -207,7 +174,7 @@ fn a_deformed_pose_is_the_import_of_the_deformed_cage() {
 /// Table sizes per patch, for the record (docs/BENCHMARKS.md).
 #[test]
 fn table_bytes_per_patch() {
-    for &rel in MODELS {
+    for rel in models() {
         let model = import(rel, 0);
         let s = &model.stencils.as_deref().unwrap().stencils;
         let per = |b: usize| b as f64 / s.patches() as f64;

@@ -7,10 +7,6 @@
 
 mod common;
 
-use std::path::Path;
-
-use bezier_subdiv::commands::validate::{run, ValidateArgs};
-use bezier_subdiv::commands::GpuRequest;
 use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::eval::flip::flip;
@@ -228,18 +224,7 @@ fn flip_orders_coarse_and_fine_renders() {
 fn no_holes_on_the_kitchen_models() {
     let _gpu = common::gpu();
     for method in ["tess", "tess-reparam"] {
-        let mut gpu =
-            GpuRequest::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/kitchen.toml"));
-        gpu.size = SIZE;
-        gpu.method = method.into();
-        gpu.validation = true;
-        let report = run(&ValidateArgs {
-            gpu,
-            frame: None,
-            skip_holes: false,
-            debug_dir: Some(common::output_dir("holes")),
-        })
-        .unwrap();
+        let report = common::validate("kitchen.toml", method, SIZE, true);
         println!("{}", report.table);
         assert!(report.ok(), "{}", report.table);
         let holes = report

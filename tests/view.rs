@@ -5,6 +5,8 @@
 //! Needs `xvfb-run` (installed by tools/install-deps.sh) unless a display
 //! is already there.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -61,19 +63,14 @@ fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
 }
 
 fn render(out: &Path, size: (u32, u32), frame: u32) {
-    let run = Command::new(bin())
-        .args(["render", "--vk-validation", "--msaa", "4", "--size"])
-        .arg(format!("{}x{}", size.0, size.1))
-        .args(["--frame", &frame.to_string(), "--scene"])
-        .arg(scene())
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    common::cli::run_ok(
+        Command::new(bin())
+            .args(["render", "--vk-validation", "--msaa", "4", "--size"])
+            .arg(format!("{}x{}", size.0, size.1))
+            .args(["--frame", &frame.to_string(), "--scene"])
+            .arg(scene())
+            .arg("--out")
+            .arg(out),
     );
 }
 
@@ -99,11 +96,7 @@ fn the_window_shows_what_render_draws() {
         "--vk-validation",
     ]);
     let out = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{out}{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    common::cli::assert_success(&run, &out);
     assert!(out.contains("view: 6 frames"), "{out}");
     let stats: serde_json::Value =
         serde_json::from_slice(&std::fs::read(shot.with_extension("json")).unwrap()).unwrap();
@@ -175,11 +168,7 @@ fn other_methods_and_views_run_in_the_window() {
             shot.to_str().unwrap(),
             "--vk-validation",
         ]);
-        assert!(
-            run.status.success(),
-            "{method}: {}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        common::cli::assert_success(&run, &format!("{method}: "));
         let stats: serde_json::Value =
             serde_json::from_slice(&std::fs::read(shot.with_extension("json")).unwrap()).unwrap();
         assert_eq!(stats["method"], method);

@@ -1,4 +1,6 @@
-//! Shared setup for GPU integration tests.
+//! Shared setup for the integration tests: the GPU context, scenes,
+//! renderers and `validate` runs here; fixtures and helpers in submodules
+//! named for what they hold.
 //!
 //! Every GPU test in a test binary shares one validation-enabled [`Context`]
 //! behind a mutex, so tests run on the device one at a time even under the
@@ -13,6 +15,14 @@
 //! own short-lived context instead.
 
 #![allow(dead_code)]
+
+pub mod cages;
+pub mod cameras;
+pub mod cli;
+pub mod culling;
+pub mod edges;
+pub mod fuzz;
+pub mod spirv;
 
 use bezier_subdiv::vk::{Context, ContextOptions};
 use std::ops::Deref;
@@ -179,4 +189,80 @@ pub fn distinct_models(name: &str) -> usize {
         .map(|m| m.file.clone())
         .collect::<std::collections::HashSet<_>>()
         .len()
+}
+
+/// A path relative to the repository root.
+pub fn repo_path(rel: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// A model file of `scenes/models/`.
+pub fn model_path(name: &str) -> std::path::PathBuf {
+    repo_path("scenes/models").join(name)
+}
+
+/// `validate` of the scene `name` of `scenes/` with `method` at `size`,
+/// validation layer on, every keyframe; the hole check (its debug images
+/// under the test output) only where `holes`. A run that cannot start
+/// fails the test, naming the scene and method.
+pub fn validate(
+    name: &str,
+    method: &str,
+    size: (u32, u32),
+    holes: bool,
+) -> bezier_subdiv::commands::validate::ValidateReport {
+    use bezier_subdiv::commands::validate::{run, ValidateArgs};
+    let mut gpu = bezier_subdiv::commands::GpuRequest::new(repo_path("scenes").join(name));
+    gpu.size = size;
+    gpu.method = method.into();
+    gpu.validation = true;
+    run(&ValidateArgs {
+        gpu,
+        frame: None,
+        skip_holes: !holes,
+        debug_dir: holes.then(|| output_dir("holes")),
+    })
+    .unwrap_or_else(|e| panic!("validate {name} with {method}: {e:#}"))
+}
+
+/// Renders `v` and checks the frame bit for bit: the GPU's ready set
+/// against `oracle` run on the method's own view (its depth limit, where it
+/// has one), the captured positions and, on the fallback path, the vertex
+/// words against `surfaces`; `what` names the case in a failure. Returns
+/// the GPU's ready list (in GPU order) and the oracle's result.
+pub fn check_frame<S: bezier_subdiv::patch::oracle::Surfaces + ?Sized>(
+    r: &mut bezier_subdiv::renderer::Renderer,
+    v: &bezier_subdiv::frame::View,
+    what: &str,
+    surfaces: &S,
+    oracle: impl FnOnce(
+        &bezier_subdiv::patch::view::ViewParams,
+    ) -> bezier_subdiv::patch::oracle::SubdivResult,
+) -> (
+    Vec<bezier_subdiv::patch::quadnode::QuadNode>,
+    bezier_subdiv::patch::oracle::SubdivResult,
+) {
+    use bezier_subdiv::constants::FLAG_WEDGES;
+    use bezier_subdiv::draw::DrawPath;
+    use bezier_subdiv::validate::{compare_capture, compare_ready, compare_vertices};
+    let report = r.render(v).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let ctx = r.context().clone();
+    let stage = r.method().ready().unwrap();
+    let list = stage.list();
+    let count = report.stats.get_u64("ready_quads").unwrap() as u32;
+    let ready = list.read_ready(&ctx, count).unwrap();
+    let params = r.effective_params(v);
+    let oracle = oracle(&params);
+    let (ok, detail) = compare_ready(&ready, &oracle.ready);
+    assert!(ok, "{what}: {detail}");
+    let wedges = params.flags & FLAG_WEDGES != 0;
+    let capture: Vec<[f32; 4]> = list.capture.read(&ctx).unwrap();
+    let (n, bad) = compare_capture(surfaces, &ready, &capture, wedges);
+    assert_eq!(bad, 0, "{what}: {bad} of {n} captured positions differ");
+    if stage.path() == DrawPath::Fallback {
+        let words: Vec<u32> = list.vertices.read(&ctx).unwrap();
+        let (n, bad) = compare_vertices(surfaces, &ready, &words, wedges);
+        assert_eq!(bad, 0, "{what}: {bad} of {n} fallback vertices differ");
+    }
+    (ready, oracle)
 }

@@ -1,0 +1,130 @@
+//! Boundary curves that two base patches share, and the nodes along them.
+
+use std::collections::HashMap;
+use std::hash::Hash;
+
+use bezier_subdiv::patch::criterion::{line_sample_terms, EdgeSample};
+use bezier_subdiv::patch::ops::THIRD;
+use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING};
+use bezier_subdiv::patch::view::ViewParams;
+use rand::rngs::SmallRng;
+use rand::Rng;
+
+/// The node along edge `e` (counter-clockwise order) of a base patch
+/// covering segment `k` of `2^l`, counted in that direction.
+pub fn edge_node(patch: u32, e: usize, l: u32, k: u32) -> QuadNode {
+    let last = (1u32 << l) - 1;
+    let (m, n) = match e {
+        0 => (k, 0),
+        1 => (last, k),
+        2 => (last - k, last),
+        _ => (0, last - k),
+    };
+    QuadNode::new(patch, (l, m), (l, n), [EDGE_PENDING; 4])
+}
+
+/// A boundary curve shared by two base patches.
+pub struct SharedEdge {
+    pub a: (u32, usize),
+    pub b: (u32, usize),
+    pub reversed: bool,
+}
+
+/// Every pair of (patch, edge) uses of one boundary curve among `patches`
+/// base patches. `curve(k, e)` gives the bits of edge `e` of patch `k`
+/// forwards and backwards, or `None` for a collapsed edge (a pole, not an
+/// edge between two patches).
+pub fn shared_edges<K: Ord + Hash>(
+    patches: usize,
+    curve: impl Fn(usize, usize) -> Option<(K, K)>,
+) -> Vec<SharedEdge> {
+    // Curve bits (in the canonical direction) → (patch, edge, flipped).
+    type Uses = Vec<(u32, usize, bool)>;
+    let mut by_key: HashMap<K, Uses> = HashMap::new();
+    for k in 0..patches {
+        for e in 0..4 {
+            let Some((fwd, rev)) = curve(k, e) else {
+                continue;
+            };
+            // Key on the lexicographically smaller direction.
+            let (key, flipped) = if fwd <= rev {
+                (fwd, false)
+            } else {
+                (rev, true)
+            };
+            by_key.entry(key).or_default().push((k as u32, e, flipped));
+        }
+    }
+    let mut out = Vec::new();
+    for list in by_key.values() {
+        for i in 0..list.len() {
+            for j in i + 1..list.len() {
+                let (pa, ea, fa) = list[i];
+                let (pb, eb, fb) = list[j];
+                out.push(SharedEdge {
+                    a: (pa, ea),
+                    b: (pb, eb),
+                    reversed: fa != fb,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The segments of depth `l` along an edge to check: all of them where
+/// `all`, else `random` of them drawn from `rng`.
+pub fn segments(l: u32, all: bool, random: usize, rng: &mut SmallRng) -> Vec<u32> {
+    let segs = 1u32 << l;
+    if all {
+        (0..segs).collect()
+    } else {
+        (0..random).map(|_| rng.random_range(0..segs)).collect()
+    }
+}
+
+/// The nodes of depth `l` on both sides of `se` covering segment `k`
+/// (counted along side a) and their curves along the edge, `curve(node,
+/// e)` rebuilding edge `e` of the node's sub-patch: `(na, nb, ca, cb,
+/// cb_aligned)`, the last side b's curve turned to run the way side a's
+/// does.
+#[allow(clippy::type_complexity)]
+pub fn sides<T: Copy>(
+    se: &SharedEdge,
+    l: u32,
+    k: u32,
+    curve: impl Fn(QuadNode, usize) -> [T; 4],
+) -> (QuadNode, QuadNode, [T; 4], [T; 4], [T; 4]) {
+    let segs = 1u32 << l;
+    let kb = if se.reversed { segs - 1 - k } else { k };
+    let na = edge_node(se.a.0, se.a.1, l, k);
+    let nb = edge_node(se.b.0, se.b.1, l, kb);
+    let ca = curve(na, se.a.1);
+    let cb = curve(nb, se.b.1);
+    let cb_aligned = if se.reversed {
+        [cb[3], cb[2], cb[1], cb[0]]
+    } else {
+        cb
+    };
+    (na, nb, ca, cb, cb_aligned)
+}
+
+/// The edge tier's `samples` and both sides of both comparisons at the
+/// squared tolerance `t2`, as bits, sorted (the two sides of an edge run
+/// the curve in opposite directions).
+pub fn edge_terms(samples: &[EdgeSample], t2: f32, vp: &ViewParams) -> Vec<[u32; 11]> {
+    let mut v: Vec<[u32; 11]> = samples
+        .iter()
+        .map(|s| {
+            let (lhs, rhs) = line_sample_terms(s.point, s.from, s.to, THIRD, t2, vp);
+            let f = [s.point, s.from, s.to].map(|p| p.to_array().map(f32::to_bits));
+            let mut out = [0u32; 11];
+            out[..9].copy_from_slice(f.as_flattened());
+            out[9] = lhs.to_bits();
+            out[10] = rhs.to_bits();
+            out
+        })
+        .collect();
+    v.sort();
+    v
+}
