@@ -11,8 +11,8 @@ use crate::gpu::{DrawPush, DrawTarget, SceneGpu};
 use crate::patch::view::ViewParams;
 use crate::scene::camera::Camera;
 use crate::vk::{
-    buffer_barrier, Access, Buffer, Context, FrameRing, GpuTimer, PipelineLayout, PrimitiveCounter,
-    VkError, VkResult, MAX_FRAME_PARTS,
+    Access, Buffer, Context, FrameRing, GpuTimer, Pass, PipelineLayout, PrimitiveCounter, Recorder,
+    Res, VkError, VkResult, MAX_FRAME_PARTS,
 };
 
 /// One view: the criterion's constants plus what drawing needs.
@@ -252,25 +252,21 @@ impl<'a> FrameRec<'a> {
                 offset
             )));
         }
-        buffer_barrier(
-            self.ctx,
-            self.cmd,
-            buffer,
-            Access::ALL,
-            Access::TRANSFER_READ,
-        );
+        // After every earlier write of `buffer`; the copy-out area's last
+        // reader, the host, waited for the slot's fence.
+        let mut rec = Recorder::new(self.ctx, self.cmd);
+        rec.after(Res::Buffer(buffer), Access::ALL);
+        let pass = Pass::new("copy out")
+            .read(Res::Buffer(buffer), Access::TRANSFER_READ)
+            .write(Res::Buffer(self.copy_out), Access::TRANSFER_WRITE);
         let region = [vk::BufferCopy::default()
             .src_offset(0)
             .dst_offset(u64::from(offset) * 4)
             .size(u64::from(words) * 4)];
-        unsafe {
-            self.ctx.device().cmd_copy_buffer(
-                self.cmd,
-                buffer.handle(),
-                self.copy_out.handle(),
-                &region,
-            )
-        };
+        let device = self.ctx.device();
+        rec.run(&pass, |cmd| unsafe {
+            device.cmd_copy_buffer(cmd, buffer.handle(), self.copy_out.handle(), &region)
+        });
         self.copied += words;
         Ok(CopyRange { offset, len: words })
     }

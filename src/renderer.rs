@@ -32,8 +32,8 @@ use crate::methods::{
 use crate::patch::view::ViewParams;
 use crate::scene::file::{SceneGeometry, SceneShading};
 use crate::vk::{
-    host_read_barrier, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, PrimitiveCounter,
-    PrimitiveQuery, ProgressSink, VkError, VkResult, MAX_FRAME_PARTS,
+    Access, Buffer, Context, FrameRing, GpuTimer, MemoryLocation, PrimitiveCounter, PrimitiveQuery,
+    ProgressSink, Recorder, Res, VkError, VkResult, MAX_FRAME_PARTS,
 };
 
 /// Frames in flight unless told otherwise.
@@ -565,7 +565,10 @@ impl Renderer {
         recorded?;
         ended?;
         data.timer.end(last, "frame")?;
-        host_read_barrier(&self.ctx, last);
+        // Everything the frame wrote, for the host after the fence.
+        let mut rec = Recorder::new(&self.ctx, last);
+        rec.after(Res::Memory, Access::ALL);
+        rec.host_read();
         Ok(())
     }
 

@@ -9,8 +9,10 @@ use std::time::Duration;
 use ash::vk;
 
 use crate::gpu::DrawTarget;
-use crate::vk::swapchain::color_range;
-use crate::vk::{Acquired, Context, FrameRing, PresentPacing, Swapchain, VkError, VkResult};
+use crate::vk::{
+    Access, Acquired, Context, FrameRing, Pass, PresentPacing, Recorder, Res, Swapchain, VkError,
+    VkResult,
+};
 
 /// Frames the presenter keeps in flight.
 pub const PRESENT_SLOTS: usize = 2;
@@ -174,32 +176,6 @@ impl Drop for Presenter {
     }
 }
 
-/// An image barrier on a swapchain image.
-#[allow(clippy::too_many_arguments)]
-fn transition(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
-    image: vk::Image,
-    from: vk::ImageLayout,
-    to: vk::ImageLayout,
-    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
-) {
-    let barrier = [vk::ImageMemoryBarrier2::default()
-        .src_stage_mask(src.0)
-        .src_access_mask(src.1)
-        .dst_stage_mask(dst.0)
-        .dst_access_mask(dst.1)
-        .old_layout(from)
-        .new_layout(to)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .image(image)
-        .subresource_range(color_range())];
-    let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
-    unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
-}
-
 /// Records the blit of `target` into swapchain image `index`, the overlay,
 /// and the transition for presenting.
 fn record(
@@ -213,26 +189,29 @@ fn record(
     let image = chain.image(index);
     let transfer = vk::PipelineStageFlags2::ALL_TRANSFER;
     let color_out = vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT;
+    let swap = |layout| Res::Swapchain(image, layout);
+    let mut rec = Recorder::new(ctx, cmd);
     // The target was written by the renderer's frame, submitted earlier:
-    // its transfer reads wait for all earlier commands.
-    crate::vk::image_barrier(
-        ctx,
-        cmd,
-        target.color(),
-        DrawTarget::FINAL_LAYOUT,
-        DrawTarget::FINAL_LAYOUT,
-        crate::vk::Access::ALL,
-        crate::vk::Access::TRANSFER_READ,
+    // its transfer reads wait for all earlier commands. The swapchain
+    // image's old contents are not kept: its transition only has to chain
+    // with the acquire semaphore's wait in those stages.
+    rec.after(
+        Res::Image(target.color(), DrawTarget::FINAL_LAYOUT),
+        Access::ALL,
     );
-    transition(
-        ctx,
-        cmd,
-        image,
-        vk::ImageLayout::UNDEFINED,
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        (transfer | color_out, vk::AccessFlags2::NONE),
-        (transfer, vk::AccessFlags2::TRANSFER_WRITE),
+    rec.after(
+        swap(vk::ImageLayout::UNDEFINED),
+        Access::new(transfer | color_out, vk::AccessFlags2::NONE),
     );
+    let blit = Pass::new("blit to swapchain")
+        .read(
+            Res::Image(target.color(), DrawTarget::FINAL_LAYOUT),
+            Access::TRANSFER_READ,
+        )
+        .write(
+            swap(vk::ImageLayout::TRANSFER_DST_OPTIMAL),
+            Access::new(transfer, vk::AccessFlags2::TRANSFER_WRITE),
+        );
     let src = target.extent();
     let dst = chain.extent();
     let corner = |e: vk::Extent2D| vk::Offset3D {
@@ -248,7 +227,7 @@ fn record(
         .src_offsets([vk::Offset3D::default(), corner(src)])
         .dst_subresource(layers)
         .dst_offsets([vk::Offset3D::default(), corner(dst)])];
-    unsafe {
+    rec.run(&blit, |cmd| unsafe {
         ctx.device().cmd_blit_image(
             cmd,
             target.color().handle(),
@@ -258,16 +237,11 @@ fn record(
             &region,
             vk::Filter::NEAREST,
         )
-    };
+    });
     let attach = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-    transition(
-        ctx,
-        cmd,
-        image,
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        attach,
-        (transfer, vk::AccessFlags2::TRANSFER_WRITE),
-        (
+    let overlay_pass = Pass::new("overlay").write(
+        swap(attach),
+        Access::new(
             color_out,
             vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         ),
@@ -285,17 +259,16 @@ fn record(
         .render_area(area)
         .layer_count(1)
         .color_attachments(&colors);
-    unsafe { ctx.device().cmd_begin_rendering(cmd, &info) };
-    let drawn = overlay.record(ctx, cmd, dst);
-    unsafe { ctx.device().cmd_end_rendering(cmd) };
-    transition(
-        ctx,
-        cmd,
-        image,
-        attach,
-        vk::ImageLayout::PRESENT_SRC_KHR,
-        (color_out, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
-        (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+    let drawn = rec.run(&overlay_pass, |cmd| {
+        unsafe { ctx.device().cmd_begin_rendering(cmd, &info) };
+        let drawn = overlay.record(ctx, cmd, dst);
+        unsafe { ctx.device().cmd_end_rendering(cmd) };
+        drawn
+    });
+    // Presentation waits on the submission's semaphore, not a stage.
+    rec.hand_off(
+        swap(vk::ImageLayout::PRESENT_SRC_KHR),
+        Access::new(vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
     );
     drawn
 }

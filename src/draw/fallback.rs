@@ -22,10 +22,16 @@ use super::ReadyStage;
 use crate::constants::{CHUNK_ARG_WORDS, C_CHUNK_ARGS};
 use crate::frame::FrameRec;
 use crate::gpu::{DrawPush, Shaders};
-use crate::vk::{buffer_barrier, Access, Context, Pipeline, PipelineLayout, VkResult};
+use crate::vk::{Access, Context, Pass, Pipeline, PipelineLayout, Recorder, Res, VkResult};
 
 /// Bytes of one `VkDrawIndirectCommand`.
 const DRAW_ARGS_STRIDE: u32 = 16;
+
+/// The vertex shader's reads of the expanded vertices.
+pub(super) const VERTEX_READ: Access = Access::new(
+    vk::PipelineStageFlags2::VERTEX_SHADER,
+    vk::AccessFlags2::SHADER_STORAGE_READ,
+);
 
 /// Byte offset in the counters of chunk `pc.chunk`'s expansion arguments
 /// (its draw arguments follow 16 bytes later).
@@ -60,32 +66,20 @@ impl FallbackDraw {
     }
 
     /// Records the indirect expansion dispatch of chunk `pc.chunk` (outside
-    /// rendering) and the barrier from its vertex writes to the vertex
-    /// shader's reads.
+    /// rendering) as a pass writing the vertices: `rec` makes it wait for
+    /// the previous chunk's draw to have read them.
     pub(super) fn record_expand(
         &self,
         f: &FrameRec<'_>,
+        rec: &mut Recorder<'_>,
         stage: &ReadyStage,
         pc: &DrawPush,
     ) -> VkResult<()> {
         self.expand.bind(f.cmd);
         stage.bind_draw(f, vk::PipelineBindPoint::COMPUTE, pc)?;
         let list = stage.list();
-        unsafe {
-            f.ctx
-                .device()
-                .cmd_dispatch_indirect(f.cmd, list.counters.handle(), chunk_args(pc))
-        };
-        buffer_barrier(
-            f.ctx,
-            f.cmd,
-            &list.vertices,
-            Access::COMPUTE_WRITE,
-            Access::new(
-                vk::PipelineStageFlags2::VERTEX_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
-        );
+        let pass = Pass::new("expand").write(Res::Buffer(&list.vertices), Access::COMPUTE_WRITE);
+        rec.dispatch_indirect(&pass, &list.counters, chunk_args(pc));
         Ok(())
     }
 
@@ -108,21 +102,5 @@ impl FallbackDraw {
             )
         };
         Ok(())
-    }
-
-    /// Records, after chunk `pc.chunk`'s draw, that the next chunk's
-    /// expansion overwrites the vertices only once the vertex shader has
-    /// read them.
-    pub(super) fn record_next_chunk(&self, f: &FrameRec<'_>, stage: &ReadyStage) {
-        buffer_barrier(
-            f.ctx,
-            f.cmd,
-            &stage.list().vertices,
-            Access::new(
-                vk::PipelineStageFlags2::VERTEX_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
-            Access::COMPUTE_WRITE,
-        );
     }
 }

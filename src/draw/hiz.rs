@@ -16,8 +16,8 @@ use crate::constants::{BIND_HIZ_DEPTH, BIND_HIZ_PYRAMID, HIZ_BINDINGS, HIZ_GROUP
 use crate::frame::{FrameRec, Retired};
 use crate::gpu::{DrawTarget, HizPush, SceneLayout, Shaders};
 use crate::vk::{
-    image_barrier, memory_barrier, Access, Binding, Buffer, Context, DescriptorSet, MemoryLocation,
-    Pipeline, PipelineLayout, Sampler, SetLayout, VkResult,
+    Access, Binding, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
+    PipelineLayout, Recorder, Res, Sampler, SetLayout, VkResult,
 };
 
 /// The levels of a `width` × `height` pyramid: (first float, width,
@@ -167,17 +167,13 @@ impl Hiz {
                 vk::PipelineStageFlags2::COMPUTE_SHADER,
                 vk::AccessFlags2::SHADER_SAMPLED_READ,
             );
-            image_barrier(
-                ctx,
-                cmd,
-                depth,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                Access::DEPTH_ATTACHMENT,
-                sampled,
-            );
-            // The previous frame's late phase read the pyramid.
-            memory_barrier(ctx, cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
+            let mut rec = Recorder::new(ctx, cmd);
+            // What the frame drew so far, and the previous frame's late
+            // phase, which read the pyramid.
+            let attached = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+            rec.after(Res::Image(depth, attached), Access::DEPTH_ATTACHMENT);
+            rec.after(Res::Memory, Access::ALL);
+            let read_depth = Res::Image(depth, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
             let bind = vk::PipelineBindPoint::COMPUTE;
             f.scene.bind(ctx, cmd, bind, &self.layout, f.slot);
             p.set.bind(ctx, cmd, bind, &self.layout, 1, &[]);
@@ -204,21 +200,19 @@ impl Hiz {
                         pad: 0,
                     },
                 )?;
-                unsafe {
-                    ctx.device()
-                        .cmd_dispatch(cmd, w.div_ceil(HIZ_GROUP), h.div_ceil(HIZ_GROUP), 1)
-                };
-                memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+                // Each level reads the last (the pyramid is in memory the
+                // set names, declared as all memory).
+                let mut pass =
+                    Pass::new("hiz level").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+                if k == 0 {
+                    pass = pass.read(read_depth, sampled);
+                }
+                rec.dispatch(&pass, [w.div_ceil(HIZ_GROUP), h.div_ceil(HIZ_GROUP), 1]);
             }
-            image_barrier(
-                ctx,
-                cmd,
-                depth,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                sampled,
-                Access::DEPTH_ATTACHMENT,
-            );
+            // The late phase tests against the pyramid; what it drew stays
+            // in the depth image for the next part.
+            rec.hand_off(Res::Memory, Access::COMPUTE_READ_WRITE);
+            rec.hand_off(Res::Image(depth, attached), Access::DEPTH_ATTACHMENT);
             Ok(())
         })
     }

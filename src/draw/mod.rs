@@ -42,7 +42,7 @@ use crate::frame::{FrameRec, Retired};
 use crate::gpu::{DrawPush, ListPush, SceneLayout, Shaders};
 use crate::patch::quadnode::QuadNode;
 use crate::vk::{
-    memory_barrier, Access, Context, DeviceInfo, PipelineLayout, SetLayout, VkError, VkResult,
+    Access, Context, DeviceInfo, Pass, PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 pub use ready::{indirect_args, ReadyCaps, ReadyList};
@@ -368,7 +368,7 @@ impl ReadyStage {
     ) -> VkResult<()> {
         let pc = f.view.draw_push(self.list.caps.ready, f.capture, 0);
         self.check(f.ctx, &pc)?;
-        barrier_from_producers(f.ctx, f.cmd);
+        hand_off_from_producers(f.ctx, f.cmd);
         if sort && !self.list.caps.sort {
             return Err(VkError::Usage(
                 "a sort was recorded for a ready list made without its second buffer".into(),
@@ -382,15 +382,19 @@ impl ReadyStage {
                 Self::record_rendering(f, first, last, |f| m.record_draw(f, self, &pc))
             }
             PathPipelines::Fallback(fb) => {
+                // Each chunk's expansion overwrites the vertices the last
+                // chunk's draw read: the recorder orders the two.
+                let mut rec = Recorder::new(f.ctx, f.cmd);
+                let vertices = Res::Buffer(&self.list.vertices);
                 let chunks = self.list.caps.chunks();
                 for chunk in 0..chunks {
                     let pc = DrawPush { chunk, ..pc };
-                    if chunk > 0 {
-                        fb.record_next_chunk(f, self);
-                    }
-                    f.scoped("expand", |f| fb.record_expand(f, self, &pc))?;
+                    f.scoped("expand", |f| fb.record_expand(f, &mut rec, self, &pc))?;
                     let (first, last) = (first && chunk == 0, last && chunk + 1 == chunks);
-                    Self::record_rendering(f, first, last, |f| fb.record_draw(f, self, &pc))?;
+                    let pass = Pass::new("draw chunk").read(vertices, fallback::VERTEX_READ);
+                    rec.run(&pass, |_| {
+                        Self::record_rendering(f, first, last, |f| fb.record_draw(f, self, &pc))
+                    })?;
                 }
                 Ok(())
             }
@@ -461,7 +465,7 @@ impl ReadyStage {
 /// rasterizer. Earlier reads in the vertex stage are in the source scope
 /// too, so the expansion cannot overwrite vertices a previous draw in the
 /// same command buffer still reads.
-fn barrier_from_producers(ctx: &Context, cmd: vk::CommandBuffer) {
+fn hand_off_from_producers(ctx: &Context, cmd: vk::CommandBuffer) {
     let mut stages =
         vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::VERTEX_SHADER;
     if ctx.info().has_mesh_shader() {
@@ -476,5 +480,9 @@ fn barrier_from_producers(ctx: &Context, cmd: vk::CommandBuffer) {
             | vk::AccessFlags2::SHADER_STORAGE_WRITE
             | vk::AccessFlags2::UNIFORM_READ,
     );
-    memory_barrier(ctx, cmd, src, dst);
+    // The producers were recorded elsewhere: declared here as what came
+    // before, handed off to the draw's stages.
+    let mut rec = Recorder::new(ctx, cmd);
+    rec.after(Res::Memory, src);
+    rec.hand_off(Res::Memory, dst);
 }

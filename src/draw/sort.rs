@@ -14,7 +14,7 @@ use super::ReadyStage;
 use crate::constants::*;
 use crate::frame::FrameRec;
 use crate::gpu::{ListPush, Shaders};
-use crate::vk::{memory_barrier, Access, Context, Pipeline, PipelineLayout, VkResult};
+use crate::vk::{Access, Context, Pass, Pipeline, PipelineLayout, Recorder, Res, VkResult};
 
 const MODE_BLOCK: u32 = 0;
 const MODE_MERGE: u32 = 1;
@@ -55,9 +55,13 @@ impl ReadySort {
         let layout = stage.list_layout();
         self.pipeline.bind(f.cmd);
         stage.bind_sets(f, vk::PipelineBindPoint::COMPUTE, layout);
-        let counters = stage.list().counters.handle();
-        let compute = Access::COMPUTE_READ_WRITE;
-        let pass = |mode: u32, k: u32, args: u32| -> VkResult<()> {
+        let counters = &stage.list().counters;
+        // The passes read and write the list, the count and each other's
+        // runs: all memory, as one compute pass after another.
+        let mut rec = Recorder::new(f.ctx, f.cmd);
+        // The producer's writes (list, count, arguments) first.
+        rec.after(Res::Memory, Access::ALL);
+        let mut pass = |name: &str, mode: u32, k: u32, args: u32| -> VkResult<()> {
             let pc = ListPush {
                 ready_capacity: cap,
                 mode,
@@ -65,21 +69,22 @@ impl ReadySort {
                 j: 0,
             };
             layout.push_block(f.cmd, &pc)?;
-            unsafe {
-                f.ctx
-                    .device()
-                    .cmd_dispatch_indirect(f.cmd, counters, u64::from(args) * 4)
-            };
-            memory_barrier(f.ctx, f.cmd, compute, compute);
+            let pass = Pass::new(name)
+                .write(Res::Memory, Access::COMPUTE_READ_WRITE)
+                .read(Res::Memory, Access::INDIRECT_READ);
+            rec.dispatch_indirect(&pass, counters, u64::from(args) * 4);
             Ok(())
         };
-        // The producer's writes (list, count, arguments) first.
-        memory_barrier(f.ctx, f.cmd, Access::ALL, Access::ALL);
-        pass(MODE_BLOCK, 0, C_SORT_BLOCK_ARGS)?;
+        pass("sort blocks", MODE_BLOCK, 0, C_SORT_BLOCK_ARGS)?;
         for i in 0..merge_passes(cap) {
-            pass(MODE_MERGE, SORT_BLOCK << i, C_SORT_MERGE_ARGS + 4 * i)?;
+            pass(
+                "sort merge",
+                MODE_MERGE,
+                SORT_BLOCK << i,
+                C_SORT_MERGE_ARGS + 4 * i,
+            )?;
         }
-        memory_barrier(f.ctx, f.cmd, Access::ALL, Access::ALL);
+        rec.hand_off(Res::Memory, Access::ALL);
         Ok(())
     }
 }

@@ -24,8 +24,8 @@ use crate::gpu::{AnimPush, SceneGpu, Shaders};
 use crate::scene::instances::{Instance, INSTANCE_BYTES};
 use crate::scene::stencil::Table;
 use crate::vk::{
-    memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation,
-    Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
+    Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
+    PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 /// One frame slot's inputs.
@@ -452,7 +452,10 @@ impl AnimGpu {
         s.deformers.write(ctx, 0, &deformers)?;
         s.records.write(ctx, 0, records)?;
         s.inputs.write(ctx, 0, &inputs)?;
-        memory_barrier(ctx, cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
+        // The frame before may still read the patches; the steps read each
+        // other's results all over the model buffers: all memory.
+        let mut rec = Recorder::new(ctx, cmd);
+        rec.after(Res::Memory, Access::ALL);
         self.pipeline.bind(cmd);
         s.set.bind(
             ctx,
@@ -471,10 +474,7 @@ impl AnimGpu {
                 self.shading_rows + self.patches + self.keyed,
             ),
         ];
-        for (k, (pass, count)) in steps.into_iter().enumerate() {
-            if k > 0 {
-                memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-            }
+        for (pass, count) in steps {
             let push = AnimPush {
                 pass,
                 count,
@@ -485,9 +485,10 @@ impl AnimGpu {
             };
             self.layout.push_block(cmd, &push)?;
             let groups = count.div_ceil(ANIM_GROUP_SIZE).clamp(1, max);
-            unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
+            let step = Pass::new("anim step").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+            rec.dispatch(&step, [groups, 1, 1]);
         }
-        memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::ALL);
+        rec.hand_off(Res::Memory, Access::ALL);
         Ok(())
     }
 }

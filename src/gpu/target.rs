@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use ash::vk;
 use image::ImageEncoder;
 
-use crate::vk::{image_barrier, Access, Context, Image, ImageDesc, VkError, VkResult};
+use crate::vk::{Access, Context, Image, ImageDesc, Pass, Recorder, Res, VkError, VkResult};
 
 /// Errors of saving images (drawing itself reports [`VkError`]).
 #[derive(Debug, thiserror::Error)]
@@ -271,27 +271,19 @@ impl DrawTarget {
         } else {
             (Self::FINAL_LAYOUT, color_layout, depth_layout)
         };
-        image_barrier(
-            ctx,
-            cmd,
-            &self.color,
-            color_from,
-            color_layout,
-            Access::ALL,
-            attach,
-        );
+        let mut rec = Recorder::new(ctx, cmd);
+        let color = |layout| Res::Image(&self.color, layout);
+        let depth = |layout| Res::Image(&self.depth, layout);
+        rec.after(color(color_from), Access::ALL);
+        rec.after(depth(depth_from), Access::ALL);
+        let mut pass = Pass::new("attachments")
+            .write(color(color_layout), attach)
+            .write(depth(depth_layout), Access::DEPTH_ATTACHMENT);
         if let Some(ms) = &self.msaa {
-            image_barrier(ctx, cmd, ms, msaa_from, color_layout, Access::ALL, attach);
+            rec.after(Res::Image(ms, msaa_from), Access::ALL);
+            pass = pass.write(Res::Image(ms, color_layout), attach);
         }
-        image_barrier(
-            ctx,
-            cmd,
-            &self.depth,
-            depth_from,
-            depth_layout,
-            Access::ALL,
-            Access::DEPTH_ATTACHMENT,
-        );
+        rec.run(&pass, |_| ());
     }
 
     /// The colour attachment of a part: cleared to `clear` or loaded, and,
@@ -347,13 +339,14 @@ impl DrawTarget {
     /// [`DrawTarget::FINAL_LAYOUT`], its writes visible to transfers.
     pub fn end(&self, ctx: &Context, cmd: vk::CommandBuffer) {
         unsafe { ctx.device().cmd_end_rendering(cmd) };
-        image_barrier(
-            ctx,
-            cmd,
-            &self.color,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            Self::FINAL_LAYOUT,
+        let mut rec = Recorder::new(ctx, cmd);
+        let attached = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+        rec.after(
+            Res::Image(&self.color, attached),
             Access::COLOR_ATTACHMENT_WRITE,
+        );
+        rec.hand_off(
+            Res::Image(&self.color, Self::FINAL_LAYOUT),
             Access::TRANSFER_READ,
         );
         self.rendered.store(true, Ordering::Relaxed);

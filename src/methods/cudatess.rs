@@ -53,8 +53,8 @@ use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{CtPush, DrawPush};
 use crate::scene::pn::PnScene;
 use crate::vk::{
-    fill_buffer, memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet,
-    MemoryLocation, Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
+    fill_buffer, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass,
+    Pipeline, PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 use scan::ScanPlan;
 
@@ -437,18 +437,17 @@ impl CudaTess {
         fill_buffer(ctx, cmd, &s.edge_factors, 0);
         // Also orders the scene uploads (earlier submissions) before the
         // passes, and the last frame's draw before this frame's writes.
-        memory_barrier(ctx, cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
+        let mut rec = Recorder::new(ctx, cmd);
+        rec.after(Res::Memory, Access::ALL);
         let passes = ComputePasses {
             method: self,
             set,
             push: self.frame_push(s),
             tris: s.tris,
         };
-        passes.record(f, s)?;
-        memory_barrier(
-            ctx,
-            cmd,
-            Access::COMPUTE_WRITE,
+        passes.record(f, &mut rec, s)?;
+        rec.hand_off(
+            Res::Memory,
             Access::new(
                 vk::PipelineStageFlags2::DRAW_INDIRECT
                     | vk::PipelineStageFlags2::INDEX_INPUT
@@ -596,33 +595,46 @@ struct ComputePasses<'a> {
     tris: u32,
 }
 
+/// A compute stage of the frame: its passes (patches, PN triangles) read
+/// and write the method's buffers all over, each stage what the last wrote.
+fn compute_stage(name: &str) -> Pass<'_> {
+    Pass::new(name).write(Res::Memory, Access::COMPUTE_READ_WRITE)
+}
+
 impl ComputePasses<'_> {
     /// Records the four compute stages over `s` (factors, scan, vertices,
     /// indices), each in its timing scope, with a barrier after the first
     /// two.
-    fn record(&self, f: &mut FrameRec<'_>, s: &SceneBuffers) -> VkResult<()> {
-        let (ctx, cmd) = (f.ctx, f.cmd);
+    fn record(
+        &self,
+        f: &mut FrameRec<'_>,
+        rec: &mut Recorder<'_>,
+        s: &SceneBuffers,
+    ) -> VkResult<()> {
+        let ctx = f.ctx;
         let m = self.method;
         let per_patch = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE);
         let per_tri = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE);
-        let between =
-            || memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
         f.scoped("factors", |f| {
-            self.dispatch(f, &m.factors, per_patch)?;
-            self.pn_pass(f, &m.pn.factors, per_tri)
+            rec.run(&compute_stage("factors"), |_| {
+                self.dispatch(f, &m.factors, per_patch)?;
+                self.pn_pass(f, &m.pn.factors, per_tri)
+            })
         })?;
-        between();
-        f.scoped("scan", |f| self.record_scan(f, s, per_patch, per_tri))?;
-        between();
+        f.scoped("scan", |f| self.record_scan(f, rec, s, per_patch, per_tri))?;
         let vertex_groups = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE / CT_VERTEX_THREADS);
         let tri_vertex_groups = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE / CT_VERTEX_THREADS);
-        f.scoped("vertices", |f| {
-            self.dispatch(f, &m.vertices, vertex_groups)?;
-            self.pn_pass(f, &m.pn.vertices, tri_vertex_groups)
-        })?;
-        f.scoped("indices", |f| {
-            self.dispatch(f, &m.indices, per_patch)?;
-            self.pn_pass(f, &m.pn.indices, per_tri)
+        // Neither stage reads what the other writes: one pass, so no
+        // barrier between them.
+        rec.run(&compute_stage("vertices and indices"), |_| {
+            f.scoped("vertices", |f| {
+                self.dispatch(f, &m.vertices, vertex_groups)?;
+                self.pn_pass(f, &m.pn.vertices, tri_vertex_groups)
+            })?;
+            f.scoped("indices", |f| {
+                self.dispatch(f, &m.indices, per_patch)?;
+                self.pn_pass(f, &m.pn.indices, per_tri)
+            })
         })
     }
 
@@ -631,22 +643,21 @@ impl ComputePasses<'_> {
     fn record_scan(
         &self,
         f: &mut FrameRec<'_>,
+        rec: &mut Recorder<'_>,
         s: &SceneBuffers,
         per_patch: u32,
         per_tri: u32,
     ) -> VkResult<()> {
         let m = self.method;
-        self.dispatch(f, &m.counts, per_patch)?;
-        self.pn_pass(f, &m.pn.counts, per_tri)?;
+        rec.run(&compute_stage("counts"), |_| {
+            self.dispatch(f, &m.counts, per_patch)?;
+            self.pn_pass(f, &m.pn.counts, per_tri)
+        })?;
         m.bind_compute(f, &m.scan, self.set)?;
-        s.plan.record(f.ctx, f.cmd, &m.compute_layout, self.push)?;
-        memory_barrier(
-            f.ctx,
-            f.cmd,
-            Access::COMPUTE_WRITE,
-            Access::COMPUTE_READ_WRITE,
-        );
-        self.dispatch(f, &m.args, 1)
+        s.plan.record(rec, &m.compute_layout, self.push)?;
+        rec.run(&compute_stage("draw arguments"), |_| {
+            self.dispatch(f, &m.args, 1)
+        })
     }
 
     /// Binds `pipeline` with sets 0 and 1, pushes the frame's block and

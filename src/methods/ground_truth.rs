@@ -44,8 +44,8 @@ use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, GridPush};
 use crate::vk::{
-    buffer_barrier, fill_buffer, memory_barrier, Access, Buffer, Context, DescriptorSet,
-    MemoryLocation, Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
+    fill_buffer, Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
+    PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 /// The registry entry.
@@ -308,21 +308,18 @@ impl GroundTruth {
         let args: Vec<u32> = (0..plan.patch_parts.max(1))
             .flat_map(|k| [per_patch, 0, 0, 0, k * plan.patches_per_part])
             .collect();
-        unsafe {
+        let mut rec = Recorder::new(ctx, cmd);
+        let counters = Res::Buffer(&self.counters);
+        let update = Pass::new("draw arguments").write(counters, Access::TRANSFER_WRITE);
+        rec.run(&update, |cmd| unsafe {
             ctx.device().cmd_update_buffer(
                 cmd,
                 self.counters.handle(),
                 u64::from(G_DRAW_ARGS) * 4,
                 bytemuck::cast_slice(&args),
             );
-        }
-        buffer_barrier(
-            ctx,
-            cmd,
-            &self.counters,
-            Access::TRANSFER_WRITE,
-            Access::ALL,
-        );
+        });
+        rec.hand_off(counters, Access::ALL);
         let bind = vk::PipelineBindPoint::COMPUTE;
         self.cull.bind(cmd);
         f.bind_scene(bind, &self.cull_layout);
@@ -337,14 +334,14 @@ impl GroundTruth {
         };
         self.cull_layout.push_block(cmd, &pc)?;
         let groups = f.scene.count.div_ceil(GRID_CULL_GROUP_SIZE);
-        f.scoped("cull", |f| {
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
+        // The cull writes the draw's arguments and the visible list.
+        let cull = Pass::new("cull").write(Res::Memory, Access::COMPUTE_WRITE);
+        f.scoped("cull", |_| {
+            rec.dispatch(&cull, [groups, 1, 1]);
             Ok(())
         })?;
-        memory_barrier(
-            ctx,
-            cmd,
-            Access::COMPUTE_WRITE,
+        rec.hand_off(
+            Res::Memory,
             Access::new(
                 vk::PipelineStageFlags2::DRAW_INDIRECT | vk::PipelineStageFlags2::VERTEX_SHADER,
                 vk::AccessFlags2::INDIRECT_COMMAND_READ | vk::AccessFlags2::SHADER_STORAGE_READ,

@@ -30,8 +30,8 @@ use crate::patch::rational::Weights;
 use crate::patch::view::ViewParams;
 use crate::scene::instances::Instance;
 use crate::vk::{
-    memory_barrier, Access, Buffer, Context, DescriptorSet, MemoryLocation, Pipeline,
-    PipelineLayout, SetLayout, VkResult,
+    Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline, PipelineLayout,
+    Recorder, Res, SetLayout, VkResult,
 };
 
 /// Node memory of the level kernels unless asked otherwise: under the
@@ -338,8 +338,6 @@ impl Levels {
         if phase != PHASE_LATE {
             stage.record_reset(f);
         }
-        // The previous frame's rounds and copy-out are done with the memory.
-        memory_barrier(f.ctx, f.cmd, Access::ALL, Access::COMPUTE_READ_WRITE);
         let bind = vk::PipelineBindPoint::COMPUTE;
         stage.bind_sets(f, bind, &self.layout);
         self.memory
@@ -349,9 +347,15 @@ impl Levels {
         self.push(f, stage, run, phase)
     }
 
-    fn init_dispatch(&self, f: &FrameRec<'_>) {
-        unsafe { f.ctx.device().cmd_dispatch(f.cmd, 1, 1, 1) };
-        memory_barrier(f.ctx, f.cmd, Access::COMPUTE_WRITE, round_access());
+    /// Records the first step, after the previous frame's rounds and
+    /// copy-out are done with the memory, in a new recorder that the
+    /// rounds continue.
+    fn init_dispatch<'c>(&self, f: &FrameRec<'c>) -> Recorder<'c> {
+        let mut rec = Recorder::new(f.ctx, f.cmd);
+        rec.after(Res::Memory, Access::ALL);
+        let init = Pass::new("level init").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+        rec.dispatch(&init, [1, 1, 1]);
+        rec
     }
 
     /// Records `rounds` per-depth rounds of pass `phase` (`PHASE_*`; scope
@@ -366,18 +370,17 @@ impl Levels {
         phase: u32,
     ) -> VkResult<()> {
         self.record_start(f, stage, None, phase)?;
-        let state = self.memory.state.handle();
-        f.scoped("subdivide", |f| {
-            self.init_dispatch(f);
+        let state = &self.memory.state;
+        let mut rec = f.scoped("subdivide", |f| {
+            let mut rec = self.init_dispatch(f);
             self.round.bind(f.cmd);
             for _ in 0..rounds {
                 let offset = u64::from(S_ARGS) * 4;
-                unsafe { f.ctx.device().cmd_dispatch_indirect(f.cmd, state, offset) };
-                memory_barrier(f.ctx, f.cmd, Access::COMPUTE_WRITE, round_access());
+                rec.dispatch_indirect(&round_pass("level round"), state, offset);
             }
-            Ok(())
+            Ok(rec)
         })?;
-        memory_barrier(f.ctx, f.cmd, Access::COMPUTE_READ_WRITE, Access::ALL);
+        rec.hand_off(Res::Memory, Access::ALL);
         Ok(())
     }
 
@@ -397,13 +400,13 @@ impl Levels {
             ));
         };
         self.record_start(f, stage, Some(run), phase)?;
-        f.scoped("subdivide", |f| {
-            self.init_dispatch(f);
+        let mut rec = f.scoped("subdivide", |f| {
+            let mut rec = self.init_dispatch(f);
             pipeline.bind(f.cmd);
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, run.groups, 1, 1) };
-            Ok(())
+            rec.dispatch(&round_pass("level kernel"), [run.groups, 1, 1]);
+            Ok(rec)
         })?;
-        memory_barrier(f.ctx, f.cmd, Access::COMPUTE_READ_WRITE, Access::ALL);
+        rec.hand_off(Res::Memory, Access::ALL);
         Ok(())
     }
 
@@ -444,14 +447,14 @@ pub fn record_phases(
     stage.record_draw_part(f, false, false, true)
 }
 
-/// What a round reads after the previous one: its arguments and storage.
-fn round_access() -> Access {
-    Access::new(
-        vk::PipelineStageFlags2::DRAW_INDIRECT | vk::PipelineStageFlags2::COMPUTE_SHADER,
-        vk::AccessFlags2::INDIRECT_COMMAND_READ
-            | vk::AccessFlags2::SHADER_STORAGE_READ
-            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-    )
+/// A round (or the persistent kernel): it reads and writes the node pool,
+/// queues and state all over, so all memory, and the state's arguments of
+/// the next round (the kernel declares them too, as the barrier before the
+/// pass layer did).
+fn round_pass(name: &str) -> Pass<'_> {
+    Pass::new(name)
+        .write(Res::Memory, Access::COMPUTE_READ_WRITE)
+        .read(Res::Memory, Access::INDIRECT_READ)
 }
 
 /// The schedule's state at the end of a frame (the state words).

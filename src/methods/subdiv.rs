@@ -35,8 +35,8 @@ use crate::draw::{DrawPath, ReadyCaps, ReadyStage};
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::SubdivPush;
 use crate::vk::{
-    buffer_barrier, memory_barrier, Access, Buffer, Context, DescriptorSet, MemoryLocation,
-    Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
+    Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline, PipelineLayout,
+    Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 /// The registry entry.
@@ -289,21 +289,18 @@ impl QueueKernel {
         let list = stage.list();
         stage.record_reset(f);
         let in_flight = count + self.plant_endless_loop as u32;
-        unsafe {
+        let counters = Res::Buffer(&list.counters);
+        let mut rec = Recorder::new(f.ctx, f.cmd);
+        let update = Pass::new("in-flight count").write(counters, Access::TRANSFER_WRITE);
+        rec.run(&update, |cmd| unsafe {
             f.ctx.device().cmd_update_buffer(
-                f.cmd,
+                cmd,
                 list.counters.handle(),
                 u64::from(C_IN_FLIGHT) * 4,
                 &in_flight.to_le_bytes(),
             )
-        };
-        buffer_barrier(
-            f.ctx,
-            f.cmd,
-            &list.counters,
-            Access::TRANSFER_WRITE,
-            Access::ALL,
-        );
+        });
+        rec.hand_off(counters, Access::ALL);
         let pc = SubdivPush {
             ready_capacity: list.caps.ready,
             queue_capacity: self.queue.capacity,
@@ -314,6 +311,7 @@ impl QueueKernel {
             pad: [0; 2],
         };
         let bind = vk::PipelineBindPoint::COMPUTE;
+        let rw = Access::COMPUTE_READ_WRITE;
         stage.bind_sets(f, bind, &self.layout);
         self.queue
             .set
@@ -322,33 +320,20 @@ impl QueueKernel {
         if self.queue.needs_reset {
             self.reset.bind(f.cmd);
             let groups = self.queue.capacity.div_ceil(64);
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
-            memory_barrier(
-                f.ctx,
-                f.cmd,
-                Access::COMPUTE_WRITE,
-                Access::COMPUTE_READ_WRITE,
+            rec.dispatch(
+                &Pass::new("queue reset").write(Res::Memory, rw),
+                [groups, 1, 1],
             );
         }
         self.pipeline.bind(f.cmd);
-        f.scoped("subdivide", |f| {
-            unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
+        // The kernel reads and writes the queue, the node pool and the list.
+        let kernel = Pass::new("queue kernel").write(Res::Memory, rw);
+        f.scoped("subdivide", |_| {
+            rec.dispatch(&kernel, [groups, 1, 1]);
             Ok(())
         })?;
-        buffer_barrier(
-            f.ctx,
-            f.cmd,
-            &list.counters,
-            Access::COMPUTE_READ_WRITE,
-            Access::ALL,
-        );
-        buffer_barrier(
-            f.ctx,
-            f.cmd,
-            &list.ready,
-            Access::COMPUTE_READ_WRITE,
-            Access::ALL,
-        );
+        rec.hand_off(counters, Access::ALL);
+        rec.hand_off(Res::Buffer(&list.ready), Access::ALL);
         Ok(())
     }
 }

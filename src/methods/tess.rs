@@ -31,8 +31,8 @@ use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::vk::{
-    fill_buffer, memory_barrier, Access, Buffer, Context, DescriptorSet, GraphicsDesc,
-    MemoryLocation, Pipeline, PipelineLayout, SetLayout, VkError, VkResult,
+    fill_buffer, Access, Buffer, Context, DescriptorSet, GraphicsDesc, MemoryLocation, Pass,
+    Pipeline, PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 /// The registry entry of the uniform metric.
@@ -295,10 +295,13 @@ impl Tess {
     /// Records the counters' reset and the draw.
     fn record_draw(&self, f: &mut FrameRec<'_>, b: &Buffers) -> VkResult<()> {
         fill_buffer(f.ctx, f.cmd, &self.counters, 0);
-        memory_barrier(
-            f.ctx,
-            f.cmd,
-            Access::TRANSFER_WRITE,
+        // The draw's tessellation stages count culled patches and capture
+        // edges: all memory, after the counters' reset (and any transfer
+        // before it).
+        let mut rec = Recorder::new(f.ctx, f.cmd);
+        rec.after(Res::Memory, Access::TRANSFER_WRITE);
+        let draw = Pass::new("tessellated draw").write(
+            Res::Memory,
             Access::new(
                 vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER
                     | vk::PipelineStageFlags2::TESSELLATION_EVALUATION_SHADER,
@@ -307,19 +310,21 @@ impl Tess {
         );
         let pc = f.view.draw_push(b.edge_capacity, f.capture, 0);
         let patches = f.scene.count;
-        f.scoped("draw", |f| {
-            let (ctx, cmd) = (f.ctx, f.cmd);
-            f.target.begin(ctx, cmd);
-            let bind = vk::PipelineBindPoint::GRAPHICS;
-            self.pipeline.bind(cmd);
-            f.bind_scene(bind, &self.layout);
-            b.set.bind(ctx, cmd, bind, &self.layout, SET_PASS, &[]);
-            let pushed = self.layout.push_block(cmd, &pc);
-            if pushed.is_ok() {
-                unsafe { ctx.device().cmd_draw(cmd, 16 * patches, 1, 0, 0) };
-            }
-            f.target.end(ctx, cmd);
-            pushed
+        rec.run(&draw, |_| {
+            f.scoped("draw", |f| {
+                let (ctx, cmd) = (f.ctx, f.cmd);
+                f.target.begin(ctx, cmd);
+                let bind = vk::PipelineBindPoint::GRAPHICS;
+                self.pipeline.bind(cmd);
+                f.bind_scene(bind, &self.layout);
+                b.set.bind(ctx, cmd, bind, &self.layout, SET_PASS, &[]);
+                let pushed = self.layout.push_block(cmd, &pc);
+                if pushed.is_ok() {
+                    unsafe { ctx.device().cmd_draw(cmd, 16 * patches, 1, 0, 0) };
+                }
+                f.target.end(ctx, cmd);
+                pushed
+            })
         })
     }
 }

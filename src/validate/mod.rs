@@ -193,13 +193,17 @@ impl ReorderCheck {
             .div_ceil(EXPAND_GROUP_SIZE)
             .max(1);
         ctx.one_shot(|cmd| {
-            crate::vk::memory_barrier(ctx, cmd, crate::vk::Access::ALL, crate::vk::Access::ALL);
+            use crate::vk::{Access, Pass, Recorder, Res};
+            // After everything the renderer recorded, before anything later.
+            let mut rec = Recorder::new(ctx, cmd);
+            rec.after(Res::Memory, Access::ALL);
             self.pipeline.bind(cmd);
             let bind = vk::PipelineBindPoint::COMPUTE;
             renderer.scene().bind(ctx, cmd, bind, layout, 0);
             list.bind(ctx, cmd, bind, layout);
             layout.push_block(cmd, &pc)?;
-            unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
+            let pass = Pass::new("expand for validation").write(Res::Memory, Access::ALL);
+            rec.dispatch(&pass, [groups, 1, 1]);
             Ok(())
         })?;
         let c = list.read_counters(ctx)?;

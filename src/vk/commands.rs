@@ -87,6 +87,27 @@ impl Access {
     pub const fn new(stage: vk::PipelineStageFlags2, access: vk::AccessFlags2) -> Self {
         Self { stage, access }
     }
+
+    /// Both scopes together.
+    pub fn union(self, other: Self) -> Self {
+        Self::new(self.stage | other.stage, self.access | other.access)
+    }
+
+    /// Neither a stage nor an access.
+    pub fn is_none(self) -> bool {
+        self.stage.is_empty() && self.access.is_empty()
+    }
+
+    /// Whether this scope includes all of `other`'s (all commands cover
+    /// every stage; memory read and write together cover every access).
+    /// Conservative: answers no where unsure, which costs a barrier.
+    pub fn covers(self, other: Self) -> bool {
+        let stage = self.stage.contains(vk::PipelineStageFlags2::ALL_COMMANDS)
+            || self.stage.contains(other.stage);
+        let any = vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE;
+        let access = self.access.contains(any) || self.access.contains(other.access);
+        stage && access
+    }
 }
 
 /// Records a barrier on a whole buffer.

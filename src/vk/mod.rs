@@ -10,6 +10,7 @@ pub mod frames;
 pub mod info;
 pub mod layout;
 pub mod memory;
+pub mod pass;
 pub mod pipeline;
 pub mod query;
 pub mod shader;
@@ -28,6 +29,7 @@ pub use frames::{FrameRing, Progress, ProgressSink, MAX_FRAME_PARTS};
 pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, OptionalFeatures};
 pub use layout::{Binding, BufferBinding, DescriptorSet, PipelineLayout, Sampler, SetLayout};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
+pub use pass::{Pass, Recorder, Res};
 pub use pipeline::{DepthState, GraphicsDesc, Pipeline, Specialization};
 pub use query::{GpuTimer, PrimitiveCounter, PrimitiveQuery};
 pub use shader::{

@@ -13,8 +13,8 @@ use ash::vk;
 use crate::constants::*;
 use crate::gpu::{CtPush, SceneLayout};
 use crate::vk::{
-    memory_barrier, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation,
-    Pipeline, PipelineLayout, SetLayout, ShaderModule, VkResult,
+    Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
+    PipelineLayout, Recorder, Res, SetLayout, ShaderModule, VkResult,
 };
 
 /// "No next level" in `CtPush::scan_sums`.
@@ -69,19 +69,19 @@ impl ScanPlan {
     /// compute writes).
     pub fn record(
         &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         layout: &PipelineLayout,
         push: CtPush,
     ) -> VkResult<()> {
         let n = self.levels.len();
-        let pass = |level: Level, sums: u32, kind: u32| -> VkResult<()> {
+        // Each pass reads the sums the one before wrote, in place.
+        let scan = Pass::new("scan level").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+        let mut pass = |level: Level, sums: u32, kind: u32| -> VkResult<()> {
             if level.count == 0 {
                 return Ok(());
             }
-            memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
             layout.push_block(
-                cmd,
+                rec.cmd(),
                 &CtPush {
                     scan_offset: level.offset,
                     scan_count: level.count,
@@ -91,7 +91,7 @@ impl ScanPlan {
                 },
             )?;
             let groups = level.count.div_ceil(CT_SCAN_BLOCK);
-            unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
+            rec.dispatch(&scan, [groups, 1, 1]);
             Ok(())
         };
         for k in 0..n {
@@ -146,7 +146,8 @@ pub fn scan_on_gpu(ctx: &Context, input: &[[u32; 2]]) -> VkResult<Vec<[u32; 2]>>
     let set = DescriptorSet::new(ctx, "cudatess scan (test)", &set_layout, &bound)?;
     ctx.one_shot(|cmd| {
         // The upload was an earlier submission: order it before the scan.
-        memory_barrier(ctx, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+        let mut rec = Recorder::new(ctx, cmd);
+        rec.after(Res::Memory, Access::TRANSFER_WRITE);
         pipeline.bind(cmd);
         set.bind(
             ctx,
@@ -156,8 +157,9 @@ pub fn scan_on_gpu(ctx: &Context, input: &[[u32; 2]]) -> VkResult<Vec<[u32; 2]>>
             SET_PASS,
             &[],
         );
-        plan.record(ctx, cmd, &layout, bytemuck::Zeroable::zeroed())?;
-        memory_barrier(ctx, cmd, Access::COMPUTE_WRITE, Access::TRANSFER_READ);
+        plan.record(&mut rec, &layout, bytemuck::Zeroable::zeroed())?;
+        // For the read-back copy.
+        rec.hand_off(Res::Memory, Access::TRANSFER_READ);
         Ok(())
     })?;
     let out: Vec<[u32; 2]> = buffer.read(ctx)?;

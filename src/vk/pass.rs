@@ -1,0 +1,538 @@
+//! Passes that declare what they read and write; a [`Recorder`] per command
+//! buffer derives the barriers between them.
+//!
+//! A pass names each resource it touches ([`Res`]: a buffer, an image in a
+//! layout, or all memory where a global barrier is meant) with the
+//! [`Access`] of the use. The recorder remembers, per resource, the writes
+//! not yet made visible and the reads since the last write, and before each
+//! pass records one `vkCmdPipelineBarrier2` holding what the pass needs: a
+//! write waits for earlier reads and writes, a read waits for an earlier
+//! write it has not been made visible to, an image in another layout is
+//! transitioned. Two reads never get a barrier between them.
+//!
+//! What happened before the recorder (earlier in the command buffer, or in
+//! an earlier submission) is declared with [`Recorder::after`]; what later,
+//! undeclared work needs is given with [`Recorder::hand_off`].
+
+use super::commands::Access;
+use super::context::Context;
+use super::memory::{Buffer, Image};
+use ash::vk;
+use std::ffi::CString;
+
+/// A resource a pass uses.
+#[derive(Clone, Copy)]
+pub enum Res<'a> {
+    /// Every resource: the barrier is a global memory barrier. For passes
+    /// whose buffers are too many or too dynamic to list (a kernel that
+    /// reads and writes the whole node pool), as the code before the pass
+    /// layer deliberately did.
+    Memory,
+    /// A whole buffer.
+    Buffer(&'a Buffer),
+    /// A whole image, used in this layout.
+    Image(&'a Image, vk::ImageLayout),
+    /// A swapchain image (owned by the swapchain, one mip and layer of
+    /// colour), used in this layout.
+    Swapchain(vk::Image, vk::ImageLayout),
+}
+
+/// What identifies a resource's tracked state.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Key {
+    Memory,
+    Buffer(vk::Buffer),
+    Image(vk::Image),
+}
+
+impl Res<'_> {
+    fn key(&self) -> Key {
+        match self {
+            Res::Memory => Key::Memory,
+            Res::Buffer(b) => Key::Buffer(b.handle()),
+            Res::Image(i, _) => Key::Image(i.handle()),
+            Res::Swapchain(i, _) => Key::Image(*i),
+        }
+    }
+
+    /// The layout an image is used in.
+    fn layout(&self) -> Option<vk::ImageLayout> {
+        match self {
+            Res::Image(_, layout) | Res::Swapchain(_, layout) => Some(*layout),
+            _ => None,
+        }
+    }
+}
+
+/// One declared use.
+#[derive(Clone, Copy)]
+struct Use<'a> {
+    res: Res<'a>,
+    access: Access,
+    write: bool,
+}
+
+/// A pass: a name (its debug label) and the uses it declares.
+pub struct Pass<'a> {
+    name: &'a str,
+    uses: Vec<Use<'a>>,
+}
+
+impl<'a> Pass<'a> {
+    /// A pass with no uses yet.
+    pub fn new(name: &'a str) -> Self {
+        Self {
+            name,
+            uses: Vec::new(),
+        }
+    }
+
+    /// Declares that the pass reads `res` with `access`.
+    pub fn read(mut self, res: Res<'a>, access: Access) -> Self {
+        self.uses.push(Use {
+            res,
+            access,
+            write: false,
+        });
+        self
+    }
+
+    /// Declares that the pass writes `res` (and may read it) with `access`.
+    pub fn write(mut self, res: Res<'a>, access: Access) -> Self {
+        self.uses.push(Use {
+            res,
+            access,
+            write: true,
+        });
+        self
+    }
+}
+
+/// The tracked state of one resource.
+#[derive(Clone, Copy, Debug)]
+struct State {
+    key: Key,
+    /// The last writes, not yet visible to everything.
+    writes: Access,
+    /// The scope the last writes were made visible to.
+    visible: Access,
+    /// Reads since the last write (a later write waits for them).
+    reads: Access,
+    /// Writes before the last ones: already available, kept so that a
+    /// hand-off to undeclared work names them in its source too.
+    carried: Access,
+    layout: vk::ImageLayout,
+}
+
+impl State {
+    fn new(key: Key) -> Self {
+        Self {
+            key,
+            writes: Access::NONE,
+            visible: Access::NONE,
+            reads: Access::NONE,
+            carried: Access::NONE,
+            layout: vk::ImageLayout::UNDEFINED,
+        }
+    }
+
+    /// The source scope `u` must wait for, if any: the last writes unless
+    /// a barrier already made them visible to `u`'s scope (which also
+    /// orders a write after them), and for a write the reads since.
+    fn source(&self, u: &Use<'_>) -> Access {
+        let writes = if self.visible.covers(u.access) {
+            Access::NONE
+        } else {
+            self.writes
+        };
+        if u.write {
+            writes.union(self.reads)
+        } else {
+            writes
+        }
+    }
+
+    /// The state after a pass that wrote `w` and read `r` of it, behind
+    /// a barrier from [`State::source`] of each use. The pass's own reads
+    /// stay in `reads` so that a later write waits for them, but are not
+    /// made visible: its writes are not visible to anything yet.
+    fn apply(&mut self, w: Access, r: Access) {
+        if !w.is_none() {
+            self.carried = self.carried.union(self.writes);
+            self.writes = w;
+            self.visible = Access::NONE;
+            self.reads = r;
+        } else {
+            if !self.writes.is_none() {
+                self.visible = self.visible.union(r);
+            }
+            self.reads = self.reads.union(r);
+        }
+    }
+}
+
+/// The barriers of one pass, gathered so they go in one call.
+#[derive(Default)]
+struct Barriers {
+    memory: Option<(Access, Access)>,
+    buffers: Vec<vk::BufferMemoryBarrier2<'static>>,
+    images: Vec<vk::ImageMemoryBarrier2<'static>>,
+}
+
+impl Barriers {
+    fn is_empty(&self) -> bool {
+        self.memory.is_none() && self.buffers.is_empty() && self.images.is_empty()
+    }
+
+    fn global(&mut self, src: Access, dst: Access) {
+        let (s, d) = self.memory.unwrap_or((Access::NONE, Access::NONE));
+        self.memory = Some((s.union(src), d.union(dst)));
+    }
+
+    fn record(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        let memory: Vec<vk::MemoryBarrier2> = self
+            .memory
+            .iter()
+            .map(|(src, dst)| {
+                vk::MemoryBarrier2::default()
+                    .src_stage_mask(src.stage)
+                    .src_access_mask(src.access)
+                    .dst_stage_mask(dst.stage)
+                    .dst_access_mask(dst.access)
+            })
+            .collect();
+        let dep = vk::DependencyInfo::default()
+            .memory_barriers(&memory)
+            .buffer_memory_barriers(&self.buffers)
+            .image_memory_barriers(&self.images);
+        unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
+    }
+}
+
+/// Records passes into one command buffer, with the barriers their
+/// declarations call for.
+pub struct Recorder<'c> {
+    ctx: &'c Context,
+    cmd: vk::CommandBuffer,
+    states: Vec<State>,
+}
+
+impl<'c> Recorder<'c> {
+    /// A recorder that knows of no earlier use of anything.
+    pub fn new(ctx: &'c Context, cmd: vk::CommandBuffer) -> Self {
+        Self {
+            ctx,
+            cmd,
+            states: vec![State::new(Key::Memory)],
+        }
+    }
+
+    /// The command buffer recorded into.
+    pub fn cmd(&self) -> vk::CommandBuffer {
+        self.cmd
+    }
+
+    /// Continues in another command buffer of the same queue (a frame
+    /// split into parts): the tracked state still holds, since only a
+    /// barrier, not a submission boundary, makes writes visible.
+    pub fn set_cmd(&mut self, cmd: vk::CommandBuffer) {
+        self.cmd = cmd;
+    }
+
+    /// Declares that work before the recorder (earlier in the command
+    /// buffer or an earlier submission) may have written `res` with
+    /// `access`, leaving an image in the layout `res` names.
+    pub fn after(&mut self, res: Res<'_>, access: Access) -> &mut Self {
+        let state = self.state(res.key());
+        state.carried = state.carried.union(state.writes);
+        state.writes = access;
+        state.visible = Access::NONE;
+        state.reads = Access::NONE;
+        if let Some(layout) = res.layout() {
+            state.layout = layout;
+        }
+        self
+    }
+
+    /// Records `pass`: its barriers, then `work`, inside its debug label.
+    pub fn run<R>(&mut self, pass: &Pass<'_>, work: impl FnOnce(vk::CommandBuffer) -> R) -> R {
+        begin_label(self.ctx, self.cmd, pass.name);
+        let barriers = self.derive(pass);
+        if !barriers.is_empty() {
+            barriers.record(self.ctx, self.cmd);
+        }
+        let out = work(self.cmd);
+        end_label(self.ctx, self.cmd);
+        out
+    }
+
+    /// Records `pass` with a dispatch of `groups` workgroups as its work.
+    pub fn dispatch(&mut self, pass: &Pass<'_>, groups: [u32; 3]) {
+        let device = self.ctx.device();
+        self.run(pass, |cmd| unsafe {
+            device.cmd_dispatch(cmd, groups[0], groups[1], groups[2])
+        });
+    }
+
+    /// Records `pass` with an indirect dispatch whose arguments are at
+    /// `offset` in `args` (the pass should declare reading them).
+    pub fn dispatch_indirect(&mut self, pass: &Pass<'_>, args: &Buffer, offset: u64) {
+        let device = self.ctx.device();
+        self.run(pass, |cmd| unsafe {
+            device.cmd_dispatch_indirect(cmd, args.handle(), offset)
+        });
+    }
+
+    /// Records filling the whole of `buffer` with `value`, as a pass that
+    /// writes it in the transfer stage.
+    pub fn fill(&mut self, name: &str, buffer: &Buffer, value: u32) {
+        let pass = Pass::new(name).write(Res::Buffer(buffer), Access::TRANSFER_WRITE);
+        let device = self.ctx.device();
+        self.run(&pass, |cmd| unsafe {
+            device.cmd_fill_buffer(cmd, buffer.handle(), 0, vk::WHOLE_SIZE, value)
+        });
+    }
+
+    /// Records the barrier that lets later work the recorder does not see
+    /// (another recorder, the host after the fence, the next frame) use
+    /// `res` with `dst`: from every tracked write and read of it. That
+    /// work's own accesses are not tracked: a pass after a hand-off that
+    /// may race with it declares them with [`Recorder::after`].
+    pub fn hand_off(&mut self, res: Res<'_>, dst: Access) {
+        let key = res.key();
+        let mut src = Access::NONE;
+        for s in self.states.iter().filter(|s| overlaps(key, s.key)) {
+            src = src.union(s.writes).union(s.reads).union(s.carried);
+        }
+        if src.is_none() {
+            return;
+        }
+        let mut barriers = Barriers::default();
+        let layout = self.state(key).layout;
+        push_barrier(&mut barriers, res, layout, src, dst);
+        barriers.record(self.ctx, self.cmd);
+        if let Some(new_layout) = res.layout() {
+            self.state(key).layout = new_layout;
+        }
+        for s in self.states.iter_mut().filter(|s| overlaps(key, s.key)) {
+            s.visible = s.visible.union(dst);
+            if dst.covers(Access::ALL) {
+                // Everything before is now ordered before everything after.
+                s.reads = Access::NONE;
+                s.carried = Access::NONE;
+            }
+        }
+    }
+
+    /// Makes every device write visible to host reads after the fence.
+    pub fn host_read(&mut self) {
+        self.hand_off(Res::Memory, Access::HOST_READ);
+    }
+
+    /// The barriers `pass` needs, and the states after it. Every use is
+    /// checked against the state before the pass (a pass's uses are not
+    /// ordered among themselves), then the state is moved on.
+    fn derive(&mut self, pass: &Pass<'_>) -> Barriers {
+        let mut barriers = Barriers::default();
+        for u in &pass.uses {
+            let key = u.res.key();
+            let mut src = Access::NONE;
+            for s in self.states.iter().filter(|s| overlaps(key, s.key)) {
+                src = src.union(s.source(u));
+            }
+            let old_layout = self.state(key).layout;
+            let transition = u.res.layout().is_some_and(|layout| layout != old_layout);
+            if transition {
+                // A layout transition writes the image: it waits for every
+                // earlier use.
+                let s = self.state(key);
+                src = src.union(s.writes).union(s.reads).union(s.carried);
+            }
+            if !src.is_none() || transition {
+                push_barrier(&mut barriers, u.res, old_layout, src, u.access);
+            }
+        }
+        // Register every used key first, so that a use of all memory moves
+        // them all on, each once.
+        for u in &pass.uses {
+            self.state(u.res.key());
+        }
+        let touched = |key: Key, write: bool| {
+            pass.uses
+                .iter()
+                .filter(|u| u.write == write && (u.res.key() == key || u.res.key() == Key::Memory))
+                .fold(Access::NONE, |a, u| a.union(u.access))
+        };
+        for s in &mut self.states {
+            let (w, r) = (touched(s.key, true), touched(s.key, false));
+            if !w.is_none() || !r.is_none() {
+                s.apply(w, r);
+            }
+        }
+        for u in &pass.uses {
+            if let Some(layout) = u.res.layout() {
+                self.state(u.res.key()).layout = layout;
+            }
+        }
+        barriers
+    }
+
+    fn state(&mut self, key: Key) -> &mut State {
+        let i = match self.states.iter().position(|s| s.key == key) {
+            Some(i) => i,
+            None => {
+                self.states.push(State::new(key));
+                self.states.len() - 1
+            }
+        };
+        &mut self.states[i]
+    }
+}
+
+/// Whether a use of `used` must look at the state of `tracked`: its own,
+/// and all memory's (a global use looks at everything).
+fn overlaps(used: Key, tracked: Key) -> bool {
+    used == tracked || used == Key::Memory || tracked == Key::Memory
+}
+
+/// Adds the barrier for one use of `res`: global, buffer or image (with
+/// the transition from `old_layout`).
+fn push_barrier(
+    b: &mut Barriers,
+    res: Res<'_>,
+    old_layout: vk::ImageLayout,
+    src: Access,
+    dst: Access,
+) {
+    match res {
+        Res::Memory => b.global(src, dst),
+        Res::Buffer(buffer) => b.buffers.push(
+            vk::BufferMemoryBarrier2::default()
+                .src_stage_mask(src.stage)
+                .src_access_mask(src.access)
+                .dst_stage_mask(dst.stage)
+                .dst_access_mask(dst.access)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .buffer(buffer.handle())
+                .offset(0)
+                .size(vk::WHOLE_SIZE),
+        ),
+        Res::Image(image, layout) => b.images.push(
+            image_barrier(src, dst, old_layout, layout)
+                .image(image.handle())
+                .subresource_range(image.full_range()),
+        ),
+        Res::Swapchain(image, layout) => b.images.push(
+            image_barrier(src, dst, old_layout, layout)
+                .image(image)
+                .subresource_range(super::swapchain::color_range()),
+        ),
+    }
+}
+
+/// An image barrier without its image.
+fn image_barrier(
+    src: Access,
+    dst: Access,
+    old_layout: vk::ImageLayout,
+    layout: vk::ImageLayout,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(src.stage)
+        .src_access_mask(src.access)
+        .dst_stage_mask(dst.stage)
+        .dst_access_mask(dst.access)
+        .old_layout(old_layout)
+        .new_layout(layout)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+}
+
+/// Opens a debug label named `name` (no-op without debug utils), so
+/// captures and validation messages show which pass a command is in.
+fn begin_label(ctx: &Context, cmd: vk::CommandBuffer, name: &str) {
+    let Some(loader) = ctx.debug_utils() else {
+        return;
+    };
+    let name = CString::new(name.replace('\0', " ")).unwrap_or_default();
+    let label = vk::DebugUtilsLabelEXT::default().label_name(&name);
+    unsafe { loader.cmd_begin_debug_utils_label(cmd, &label) };
+}
+
+/// Closes the label [`begin_label`] opened.
+fn end_label(ctx: &Context, cmd: vk::CommandBuffer) {
+    if let Some(loader) = ctx.debug_utils() {
+        unsafe { loader.cmd_end_debug_utils_label(cmd) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(access: Access) -> Use<'static> {
+        Use {
+            res: Res::Memory,
+            access,
+            write: true,
+        }
+    }
+
+    fn read(access: Access) -> Use<'static> {
+        Use {
+            res: Res::Memory,
+            access,
+            write: false,
+        }
+    }
+
+    #[test]
+    fn a_read_after_a_write_waits_once_and_a_second_read_does_not() {
+        let mut s = State::new(Key::Memory);
+        s.apply(Access::COMPUTE_WRITE, Access::NONE);
+        let r = read(Access::INDIRECT_READ);
+        assert_eq!(s.source(&r), Access::COMPUTE_WRITE);
+        s.apply(Access::NONE, r.access);
+        assert!(s.source(&r).is_none());
+    }
+
+    #[test]
+    fn a_write_waits_for_the_reads_and_writes_before_it() {
+        let mut s = State::new(Key::Memory);
+        s.apply(Access::COMPUTE_WRITE, Access::NONE);
+        s.apply(Access::NONE, Access::TRANSFER_READ);
+        let w = write(Access::COMPUTE_READ_WRITE);
+        // The write was made visible to transfers only: the compute write
+        // still waits for it, and for the copy's read.
+        assert_eq!(
+            s.source(&w),
+            Access::COMPUTE_WRITE.union(Access::TRANSFER_READ)
+        );
+    }
+
+    #[test]
+    fn nothing_before_means_no_barrier() {
+        let s = State::new(Key::Memory);
+        assert!(s.source(&write(Access::ALL)).is_none());
+        assert!(s.source(&read(Access::ALL)).is_none());
+    }
+
+    #[test]
+    fn a_pass_s_own_reads_are_not_visible_to_the_next() {
+        let mut s = State::new(Key::Memory);
+        s.apply(Access::COMPUTE_WRITE, Access::INDIRECT_READ);
+        assert_eq!(
+            s.source(&read(Access::INDIRECT_READ)),
+            Access::COMPUTE_WRITE
+        );
+    }
+
+    #[test]
+    fn all_commands_and_memory_access_cover_any_scope() {
+        assert!(Access::ALL.covers(Access::COMPUTE_READ_WRITE));
+        assert!(Access::ALL.covers(Access::HOST_READ));
+        assert!(!Access::COMPUTE_READ.covers(Access::COMPUTE_WRITE));
+        assert!(!Access::COMPUTE_WRITE.covers(Access::INDIRECT_READ));
+    }
+}
