@@ -23,6 +23,7 @@
 //! Adding a method means a new file here with a [`MethodInfo`] and one line
 //! in [`METHODS`].
 
+pub mod corners;
 pub mod cudatess;
 pub mod ground_truth;
 pub mod levels;
@@ -321,6 +322,7 @@ pub const METHODS: &[MethodInfo] = &[
     tess::INFO,
     tess::INFO_REPARAM,
     cudatess::INFO,
+    corners::INFO,
 ];
 
 /// The view settings a method reads, beyond ε and culling by the frustum,
