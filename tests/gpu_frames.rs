@@ -18,7 +18,6 @@ use bezier_subdiv::patch::wedge::node_mesh;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::geometry::SceneGeometry;
-use bezier_subdiv::validate::{compare_capture, compare_ready, compare_vertices};
 use common::scene;
 
 const SIZE: (u32, u32) = (320, 180);

@@ -18,7 +18,6 @@ use bezier_subdiv::patch::ops::affine_row;
 use bezier_subdiv::patch::oracle::{subdivide, subdivide_parallel, triangulate, Outcome, Triangle};
 use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
-use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::geometry::load_model;
 use common::cameras;
 use common::edges::{segments, sides, SharedEdge};

@@ -22,7 +22,6 @@ use bezier_subdiv::patch::oracle::{
 use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
 use bezier_subdiv::patch::rational::{is_polynomial, RationalPatch, Weights, UNIT_WEIGHTS};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
-use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::geometry::load_model;
 use common::cameras;
 use common::edges::{segments, sides, SharedEdge};

@@ -18,7 +18,6 @@ use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::geometry::SceneGeometry;
-use bezier_subdiv::validate::{compare_capture, compare_ready, compare_vertices};
 
 const SIZE: (u32, u32) = (320, 180);
 
