@@ -287,7 +287,7 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
     // A method that ignores λ is measured once per ε.
     let mut configs = Vec::new();
     for m in &methods {
-        let lambdas: Vec<Option<f64>> = if methods::find(m)?.reads_lambda {
+        let lambdas: Vec<Option<f64>> = if methods::find(m)?.reads.lambda {
             args.lambda.iter().copied().map(Some).collect()
         } else {
             vec![None]

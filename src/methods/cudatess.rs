@@ -65,7 +65,6 @@ pub const INFO: MethodInfo = MethodInfo {
             vertex and index buffers, one indexed indirect draw (rational patches too)",
     rational: true,
     pn: true,
-    reads_lambda: false,
     reads: Reads::TESSELLATES,
     checks: Some(checks::make),
     build: |setup| Ok(Box::new(CudaTess::new(setup)?)),

@@ -54,7 +54,6 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "every patch as a uniform grid (64x64 quads by default, the paper's reference)",
     rational: true,
     pn: true,
-    reads_lambda: false,
     // A fixed grid per patch, nothing back-face culled.
     reads: Reads {
         eps: false,

@@ -302,9 +302,6 @@ pub struct MethodInfo {
     pub rational: bool,
     /// Whether it draws PN-triangle models (`surface = "pn-triangles"`).
     pub pn: bool,
-    /// Whether λ changes what it draws (`bench` runs a method that ignores
-    /// λ once per ε, not once per λ).
-    pub reads_lambda: bool,
     /// The view settings it reads.
     pub reads: Reads,
     /// Its own `validate` checks, beyond those every method gets (the
@@ -498,7 +495,7 @@ mod tests {
 
     /// Every built method says what it reads (none reads everything, as an
     /// unknown name does), only the subdivision methods read λ, l_max and
-    /// wedges, and `reads_lambda` agrees with `reads`.
+    /// wedges.
     #[test]
     fn every_method_says_what_it_reads() {
         let unknown = reads("no such method");
@@ -510,7 +507,6 @@ mod tests {
             let subdivides = m.name.starts_with("subdiv");
             assert_eq!(r.lambda && r.l_max && r.wedges, subdivides, "{}", m.name);
             assert_eq!(r.grid, m.name == ground_truth::INFO.name, "{}", m.name);
-            assert_eq!(m.reads_lambda, r.lambda, "{}", m.name);
         }
     }
 

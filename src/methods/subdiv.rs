@@ -46,7 +46,6 @@ pub const INFO: MethodInfo = MethodInfo {
             stand-in for the paper's work graph)",
     rational: true,
     pn: false,
-    reads_lambda: true,
     reads: Reads::SUBDIVIDES,
     checks: None,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),

@@ -31,7 +31,6 @@ pub const INFO: MethodInfo = MethodInfo {
             execute-indirect variant), in bounded node memory",
     rational: true,
     pn: false,
-    reads_lambda: true,
     reads: Reads::SUBDIVIDES,
     checks: None,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),

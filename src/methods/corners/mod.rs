@@ -17,7 +17,6 @@ pub const INFO: MethodInfo = MethodInfo {
     about: "every patch as the two triangles of its corners (the worked example of a method)",
     rational: false,
     pn: false,
-    reads_lambda: false,
     // Two triangles per patch whatever the view: no setting changes them.
     reads: Reads {
         draw_path: false,
