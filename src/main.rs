@@ -335,13 +335,8 @@ struct FrameArgs {
     /// (validate: every keyframe when not given).
     #[arg(long)]
     frame: Option<usize>,
-    /// Method: subdiv (recursive subdivision, persistent threads),
-    /// subdiv-indirect (the same, one indirect dispatch per depth),
-    /// ground-truth (a dense grid per patch, the reference images are
-    /// compared with), tess (hardware tessellation, Buchenau-Guthe uniform
-    /// levels), tess-reparam (their re-parameterised samples) or cudatess
-    /// (Schwarz-Stamminger compute tessellation; rational patches too).
-    #[arg(long, default_value = "subdiv")]
+    // The help lists the registry, so a new method appears by its entry.
+    #[arg(long, default_value = "subdiv", help = method_help(false), long_help = method_help(true))]
     method: String,
     /// Draw path of the subdivision methods: auto (mesh shaders where
     /// available), mesh, fallback (compute expansion + vertex shader).
@@ -432,6 +427,19 @@ impl FrameArgs {
             occlusion: self.occlusion,
         }
     }
+}
+
+/// `--method`'s help: every registered method by name, or (`about`) each
+/// with its one line.
+fn method_help(about: bool) -> String {
+    let each = bezier_subdiv::methods::METHODS.iter().map(|m| {
+        if about {
+            format!("{} ({})", m.name, m.about)
+        } else {
+            m.name.to_string()
+        }
+    });
+    format!("Method: {}", each.collect::<Vec<_>>().join(", "))
 }
 
 fn parse_timeout(s: &str) -> Result<std::time::Duration, String> {
