@@ -429,17 +429,19 @@ impl FrameArgs {
     }
 }
 
-/// `--method`'s help: every registered method by name, or (`about`) each
-/// with its one line.
+/// `--method`'s help: every registered method by name, or (`about`) one
+/// line each with what it draws.
 fn method_help(about: bool) -> String {
-    let each = bezier_subdiv::methods::METHODS.iter().map(|m| {
-        if about {
-            format!("{} ({})", m.name, m.about)
-        } else {
-            m.name.to_string()
-        }
-    });
-    format!("Method: {}", each.collect::<Vec<_>>().join(", "))
+    let methods = bezier_subdiv::methods::METHODS.iter();
+    if about {
+        let lines: Vec<String> = methods
+            .map(|m| format!("  {}: {}", m.name, m.about))
+            .collect();
+        format!("Method, one of:\n{}", lines.join("\n"))
+    } else {
+        let names: Vec<&str> = methods.map(|m| m.name).collect();
+        format!("Method: {}", names.join(", "))
+    }
 }
 
 fn parse_timeout(s: &str) -> Result<std::time::Duration, String> {

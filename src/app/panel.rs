@@ -375,16 +375,10 @@ impl Controls {
     }
 }
 
-/// What the heat map's colours of `method` mean: depth 0..10 (QuadNode
-/// depth; the tessellators' log2 level or factor; the ground truth's
-/// log2 grid), the wedges' colour, or the normal's axes.
+/// What the heat map's colours of `method` mean (its registry entry's
+/// `heat_map`), the wedges' colour, or the normal's axes.
 fn legend_ui(ui: &mut egui::Ui, shade: Shade, method: &str) {
-    let what = match method {
-        "tess" | "tess-reparam" => "log2 of the inner tessellation level",
-        "cudatess" => "log2 of the patch's larger factor",
-        "ground-truth" => "log2 of the grid",
-        _ => "subdivision depth",
-    };
+    let what = methods::find(method).map_or("subdivision depth", |m| m.heat_map);
     match shade {
         Shade::Depth | Shade::Wedges => {
             ui.label(format!("colour: {what}"));

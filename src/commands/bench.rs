@@ -263,7 +263,7 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
         }
         None => methods::METHODS
             .iter()
-            .filter(|m| m.name != ground_truth::INFO.name)
+            .filter(|m| m.benched)
             .map(|m| m.name.to_string())
             .collect(),
     };

@@ -66,6 +66,8 @@ pub const INFO: MethodInfo = MethodInfo {
     rational: true,
     pn: true,
     reads: Reads::TESSELLATES,
+    benched: true,
+    heat_map: "log2 of the patch's larger factor",
     checks: Some(checks::make),
     build: |setup| Ok(Box::new(CudaTess::new(setup)?)),
 };

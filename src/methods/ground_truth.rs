@@ -61,6 +61,8 @@ pub const INFO: MethodInfo = MethodInfo {
         grid: true,
         ..Reads::TESSELLATES
     },
+    benched: false,
+    heat_map: "log2 of the grid",
     checks: None,
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };

@@ -304,6 +304,12 @@ pub struct MethodInfo {
     pub pn: bool,
     /// The view settings it reads.
     pub reads: Reads,
+    /// Whether `bench` measures it when `--methods` is not given (the
+    /// methods the paper compares; not the reference it compares them
+    /// with, nor the worked example).
+    pub benched: bool,
+    /// What the depth heat map's colours mean for it (the window's legend).
+    pub heat_map: &'static str,
     /// Its own `validate` checks, beyond those every method gets (the
     /// oracle comparisons of a ready list, occlusion culling, the hole test).
     pub checks: Option<MakeCheck>,

@@ -47,6 +47,8 @@ pub const INFO: MethodInfo = MethodInfo {
     rational: true,
     pn: false,
     reads: Reads::SUBDIVIDES,
+    benched: true,
+    heat_map: "subdivision depth",
     checks: None,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };

@@ -32,6 +32,8 @@ pub const INFO: MethodInfo = MethodInfo {
     rational: true,
     pn: false,
     reads: Reads::SUBDIVIDES,
+    benched: true,
+    heat_map: "subdivision depth",
     checks: None,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };

@@ -42,6 +42,8 @@ pub const INFO: MethodInfo = MethodInfo {
     rational: false,
     pn: false,
     reads: Reads::TESSELLATES,
+    benched: true,
+    heat_map: "log2 of the inner tessellation level",
     checks: Some(checks::make),
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Uniform)?)),
 };
@@ -53,6 +55,8 @@ pub const INFO_REPARAM: MethodInfo = MethodInfo {
     rational: false,
     pn: false,
     reads: Reads::TESSELLATES,
+    benched: true,
+    heat_map: "log2 of the inner tessellation level",
     checks: Some(checks::make),
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Reparam)?)),
 };

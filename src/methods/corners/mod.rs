@@ -29,6 +29,8 @@ pub const INFO: MethodInfo = MethodInfo {
         occlusion: false,
         grid: false,
     },
+    benched: false,
+    heat_map: "nothing (depth 0 everywhere)",
     checks: None,
     build: |setup| Ok(Box::new(Corners::new(setup)?)),
 };
