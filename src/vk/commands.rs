@@ -110,6 +110,53 @@ impl Access {
     }
 }
 
+/// A barrier on a whole buffer, not yet recorded (the one builder the
+/// immediate helpers here and the pass layer share).
+pub(crate) fn buffer_barrier_info(
+    buffer: vk::Buffer,
+    src: Access,
+    dst: Access,
+) -> vk::BufferMemoryBarrier2<'static> {
+    vk::BufferMemoryBarrier2::default()
+        .src_stage_mask(src.stage)
+        .src_access_mask(src.access)
+        .dst_stage_mask(dst.stage)
+        .dst_access_mask(dst.access)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .buffer(buffer)
+        .offset(0)
+        .size(vk::WHOLE_SIZE)
+}
+
+/// An image layout transition without its image and range, not yet
+/// recorded.
+pub(crate) fn image_barrier_info(
+    src: Access,
+    dst: Access,
+    old_layout: vk::ImageLayout,
+    new_layout: vk::ImageLayout,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(src.stage)
+        .src_access_mask(src.access)
+        .dst_stage_mask(dst.stage)
+        .dst_access_mask(dst.access)
+        .old_layout(old_layout)
+        .new_layout(new_layout)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+}
+
+/// A global memory barrier, not yet recorded.
+pub(crate) fn memory_barrier_info(src: Access, dst: Access) -> vk::MemoryBarrier2<'static> {
+    vk::MemoryBarrier2::default()
+        .src_stage_mask(src.stage)
+        .src_access_mask(src.access)
+        .dst_stage_mask(dst.stage)
+        .dst_access_mask(dst.access)
+}
+
 /// Records a barrier on a whole buffer.
 pub fn buffer_barrier(
     ctx: &Context,
@@ -118,16 +165,7 @@ pub fn buffer_barrier(
     src: Access,
     dst: Access,
 ) {
-    let barrier = [vk::BufferMemoryBarrier2::default()
-        .src_stage_mask(src.stage)
-        .src_access_mask(src.access)
-        .dst_stage_mask(dst.stage)
-        .dst_access_mask(dst.access)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .buffer(buffer.handle())
-        .offset(0)
-        .size(vk::WHOLE_SIZE)];
+    let barrier = [buffer_barrier_info(buffer.handle(), src, dst)];
     let dep = vk::DependencyInfo::default().buffer_memory_barriers(&barrier);
     unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
 }
@@ -145,11 +183,7 @@ pub fn fill_buffer(ctx: &Context, cmd: vk::CommandBuffer, buffer: &Buffer, value
 
 /// Records a global memory barrier (all resources).
 pub fn memory_barrier(ctx: &Context, cmd: vk::CommandBuffer, src: Access, dst: Access) {
-    let barrier = [vk::MemoryBarrier2::default()
-        .src_stage_mask(src.stage)
-        .src_access_mask(src.access)
-        .dst_stage_mask(dst.stage)
-        .dst_access_mask(dst.access)];
+    let barrier = [memory_barrier_info(src, dst)];
     let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
     unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
 }
@@ -169,15 +203,7 @@ pub fn image_barrier(
     src: Access,
     dst: Access,
 ) {
-    let barrier = [vk::ImageMemoryBarrier2::default()
-        .src_stage_mask(src.stage)
-        .src_access_mask(src.access)
-        .dst_stage_mask(dst.stage)
-        .dst_access_mask(dst.access)
-        .old_layout(old_layout)
-        .new_layout(new_layout)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+    let barrier = [image_barrier_info(src, dst, old_layout, new_layout)
         .image(image.handle())
         .subresource_range(image.full_range())];
     let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);

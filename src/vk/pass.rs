@@ -14,7 +14,7 @@
 //! an earlier submission) is declared with [`Recorder::after`]; what later,
 //! undeclared work needs is given with [`Recorder::hand_off`].
 
-use super::commands::Access;
+use super::commands::{buffer_barrier_info, image_barrier_info, memory_barrier_info, Access};
 use super::context::Context;
 use super::memory::{Buffer, Image};
 use ash::vk;
@@ -189,17 +189,33 @@ impl Barriers {
         self.memory = Some((s.union(src), d.union(dst)));
     }
 
+    /// Adds the barrier for one use of `res`: global, buffer or image (with
+    /// the transition from `old_layout`).
+    fn push(&mut self, res: Res<'_>, old_layout: vk::ImageLayout, src: Access, dst: Access) {
+        match res {
+            Res::Memory => self.global(src, dst),
+            Res::Buffer(buffer) => {
+                self.buffers
+                    .push(buffer_barrier_info(buffer.handle(), src, dst))
+            }
+            Res::Image(image, layout) => self.images.push(
+                image_barrier_info(src, dst, old_layout, layout)
+                    .image(image.handle())
+                    .subresource_range(image.full_range()),
+            ),
+            Res::Swapchain(image, layout) => self.images.push(
+                image_barrier_info(src, dst, old_layout, layout)
+                    .image(image)
+                    .subresource_range(super::swapchain::color_range()),
+            ),
+        }
+    }
+
     fn record(&self, ctx: &Context, cmd: vk::CommandBuffer) {
         let memory: Vec<vk::MemoryBarrier2> = self
             .memory
             .iter()
-            .map(|(src, dst)| {
-                vk::MemoryBarrier2::default()
-                    .src_stage_mask(src.stage)
-                    .src_access_mask(src.access)
-                    .dst_stage_mask(dst.stage)
-                    .dst_access_mask(dst.access)
-            })
+            .map(|&(src, dst)| memory_barrier_info(src, dst))
             .collect();
         let dep = vk::DependencyInfo::default()
             .memory_barriers(&memory)
@@ -209,12 +225,138 @@ impl Barriers {
     }
 }
 
+/// The tracked state of every resource one recorder has seen, and the
+/// barriers it calls for. Knows no device, so its rules are tested alone.
+///
+/// The first state is all memory's. A resource seen for the first time
+/// starts as a copy of it (every global use so far touched it too), and
+/// from then on every global use moves it on along with its own uses; so
+/// a use of one resource looks at that resource's state only, and a
+/// barrier on one resource makes nothing else visible.
+struct Tracker {
+    states: Vec<State>,
+}
+
+impl Tracker {
+    fn new() -> Self {
+        Self {
+            states: vec![State::new(Key::Memory)],
+        }
+    }
+
+    fn state(&mut self, key: Key) -> &mut State {
+        let i = match self.states.iter().position(|s| s.key == key) {
+            Some(i) => i,
+            None => {
+                let global = self.states[0];
+                self.states.push(State {
+                    key,
+                    layout: vk::ImageLayout::UNDEFINED,
+                    ..global
+                });
+                self.states.len() - 1
+            }
+        };
+        &mut self.states[i]
+    }
+
+    /// The states a use of `key` looks at and moves on: its own, or for
+    /// all memory every one.
+    fn moved_by(&mut self, key: Key) -> impl Iterator<Item = &mut State> {
+        self.state(key);
+        self.states
+            .iter_mut()
+            .filter(move |s| key == Key::Memory || s.key == key)
+    }
+
+    /// See [`Recorder::after`].
+    fn after(&mut self, res: Res<'_>, access: Access) {
+        for s in self.moved_by(res.key()) {
+            s.carried = s.carried.union(s.writes);
+            s.writes = access;
+            s.visible = Access::NONE;
+            s.reads = Access::NONE;
+        }
+        if let Some(layout) = res.layout() {
+            self.state(res.key()).layout = layout;
+        }
+    }
+
+    /// The barriers `pass` needs, and the states after it. Every use is
+    /// checked against the state before the pass (a pass's uses are not
+    /// ordered among themselves), then the state is moved on.
+    fn derive(&mut self, pass: &Pass<'_>) -> Barriers {
+        let mut barriers = Barriers::default();
+        for u in &pass.uses {
+            let key = u.res.key();
+            let mut src = self
+                .moved_by(key)
+                .fold(Access::NONE, |a, s| a.union(s.source(u)));
+            let s = self.state(key);
+            let old_layout = s.layout;
+            let transition = u.res.layout().is_some_and(|layout| layout != old_layout);
+            if transition {
+                // A layout transition writes the image: it waits for every
+                // earlier use.
+                src = src.union(s.writes).union(s.reads).union(s.carried);
+            }
+            if !src.is_none() || transition {
+                barriers.push(u.res, old_layout, src, u.access);
+            }
+        }
+        let touched = |key: Key, write: bool| {
+            pass.uses
+                .iter()
+                .filter(|u| u.write == write && (u.res.key() == key || u.res.key() == Key::Memory))
+                .fold(Access::NONE, |a, u| a.union(u.access))
+        };
+        for s in &mut self.states {
+            let (w, r) = (touched(s.key, true), touched(s.key, false));
+            if !w.is_none() || !r.is_none() {
+                s.apply(w, r);
+            }
+        }
+        for u in &pass.uses {
+            if let Some(layout) = u.res.layout() {
+                self.state(u.res.key()).layout = layout;
+            }
+        }
+        barriers
+    }
+
+    /// The barrier of [`Recorder::hand_off`], and the states after it.
+    fn hand_off(&mut self, res: Res<'_>, dst: Access) -> Barriers {
+        let key = res.key();
+        let src = self.moved_by(key).fold(Access::NONE, |a, s| {
+            a.union(s.writes).union(s.reads).union(s.carried)
+        });
+        let mut barriers = Barriers::default();
+        if src.is_none() {
+            return barriers;
+        }
+        let layout = self.state(key).layout;
+        barriers.push(res, layout, src, dst);
+        if let Some(new_layout) = res.layout() {
+            self.state(key).layout = new_layout;
+        }
+        for s in self.moved_by(key) {
+            s.visible = s.visible.union(dst);
+            if dst.covers(Access::ALL) {
+                // Everything before is now ordered before everything after.
+                s.reads = Access::NONE;
+                s.carried = Access::NONE;
+            }
+        }
+        barriers
+    }
+}
+
 /// Records passes into one command buffer, with the barriers their
 /// declarations call for.
 pub struct Recorder<'c> {
     ctx: &'c Context,
     cmd: vk::CommandBuffer,
-    states: Vec<State>,
+    tracker: Tracker,
 }
 
 impl<'c> Recorder<'c> {
@@ -223,7 +365,7 @@ impl<'c> Recorder<'c> {
         Self {
             ctx,
             cmd,
-            states: vec![State::new(Key::Memory)],
+            tracker: Tracker::new(),
         }
     }
 
@@ -243,27 +385,24 @@ impl<'c> Recorder<'c> {
     /// buffer or an earlier submission) may have written `res` with
     /// `access`, leaving an image in the layout `res` names.
     pub fn after(&mut self, res: Res<'_>, access: Access) -> &mut Self {
-        let state = self.state(res.key());
-        state.carried = state.carried.union(state.writes);
-        state.writes = access;
-        state.visible = Access::NONE;
-        state.reads = Access::NONE;
-        if let Some(layout) = res.layout() {
-            state.layout = layout;
-        }
+        self.tracker.after(res, access);
         self
     }
 
     /// Records `pass`: its barriers, then `work`, inside its debug label.
     pub fn run<R>(&mut self, pass: &Pass<'_>, work: impl FnOnce(vk::CommandBuffer) -> R) -> R {
         begin_label(self.ctx, self.cmd, pass.name);
-        let barriers = self.derive(pass);
-        if !barriers.is_empty() {
-            barriers.record(self.ctx, self.cmd);
-        }
+        let barriers = self.tracker.derive(pass);
+        self.record(barriers);
         let out = work(self.cmd);
         end_label(self.ctx, self.cmd);
         out
+    }
+
+    fn record(&self, barriers: Barriers) {
+        if !barriers.is_empty() {
+            barriers.record(self.ctx, self.cmd);
+        }
     }
 
     /// Records `pass` with a dispatch of `groups` workgroups as its work.
@@ -299,154 +438,14 @@ impl<'c> Recorder<'c> {
     /// work's own accesses are not tracked: a pass after a hand-off that
     /// may race with it declares them with [`Recorder::after`].
     pub fn hand_off(&mut self, res: Res<'_>, dst: Access) {
-        let key = res.key();
-        let mut src = Access::NONE;
-        for s in self.states.iter().filter(|s| overlaps(key, s.key)) {
-            src = src.union(s.writes).union(s.reads).union(s.carried);
-        }
-        if src.is_none() {
-            return;
-        }
-        let mut barriers = Barriers::default();
-        let layout = self.state(key).layout;
-        push_barrier(&mut barriers, res, layout, src, dst);
-        barriers.record(self.ctx, self.cmd);
-        if let Some(new_layout) = res.layout() {
-            self.state(key).layout = new_layout;
-        }
-        for s in self.states.iter_mut().filter(|s| overlaps(key, s.key)) {
-            s.visible = s.visible.union(dst);
-            if dst.covers(Access::ALL) {
-                // Everything before is now ordered before everything after.
-                s.reads = Access::NONE;
-                s.carried = Access::NONE;
-            }
-        }
+        let barriers = self.tracker.hand_off(res, dst);
+        self.record(barriers);
     }
 
     /// Makes every device write visible to host reads after the fence.
     pub fn host_read(&mut self) {
         self.hand_off(Res::Memory, Access::HOST_READ);
     }
-
-    /// The barriers `pass` needs, and the states after it. Every use is
-    /// checked against the state before the pass (a pass's uses are not
-    /// ordered among themselves), then the state is moved on.
-    fn derive(&mut self, pass: &Pass<'_>) -> Barriers {
-        let mut barriers = Barriers::default();
-        for u in &pass.uses {
-            let key = u.res.key();
-            let mut src = Access::NONE;
-            for s in self.states.iter().filter(|s| overlaps(key, s.key)) {
-                src = src.union(s.source(u));
-            }
-            let old_layout = self.state(key).layout;
-            let transition = u.res.layout().is_some_and(|layout| layout != old_layout);
-            if transition {
-                // A layout transition writes the image: it waits for every
-                // earlier use.
-                let s = self.state(key);
-                src = src.union(s.writes).union(s.reads).union(s.carried);
-            }
-            if !src.is_none() || transition {
-                push_barrier(&mut barriers, u.res, old_layout, src, u.access);
-            }
-        }
-        // Register every used key first, so that a use of all memory moves
-        // them all on, each once.
-        for u in &pass.uses {
-            self.state(u.res.key());
-        }
-        let touched = |key: Key, write: bool| {
-            pass.uses
-                .iter()
-                .filter(|u| u.write == write && (u.res.key() == key || u.res.key() == Key::Memory))
-                .fold(Access::NONE, |a, u| a.union(u.access))
-        };
-        for s in &mut self.states {
-            let (w, r) = (touched(s.key, true), touched(s.key, false));
-            if !w.is_none() || !r.is_none() {
-                s.apply(w, r);
-            }
-        }
-        for u in &pass.uses {
-            if let Some(layout) = u.res.layout() {
-                self.state(u.res.key()).layout = layout;
-            }
-        }
-        barriers
-    }
-
-    fn state(&mut self, key: Key) -> &mut State {
-        let i = match self.states.iter().position(|s| s.key == key) {
-            Some(i) => i,
-            None => {
-                self.states.push(State::new(key));
-                self.states.len() - 1
-            }
-        };
-        &mut self.states[i]
-    }
-}
-
-/// Whether a use of `used` must look at the state of `tracked`: its own,
-/// and all memory's (a global use looks at everything).
-fn overlaps(used: Key, tracked: Key) -> bool {
-    used == tracked || used == Key::Memory || tracked == Key::Memory
-}
-
-/// Adds the barrier for one use of `res`: global, buffer or image (with
-/// the transition from `old_layout`).
-fn push_barrier(
-    b: &mut Barriers,
-    res: Res<'_>,
-    old_layout: vk::ImageLayout,
-    src: Access,
-    dst: Access,
-) {
-    match res {
-        Res::Memory => b.global(src, dst),
-        Res::Buffer(buffer) => b.buffers.push(
-            vk::BufferMemoryBarrier2::default()
-                .src_stage_mask(src.stage)
-                .src_access_mask(src.access)
-                .dst_stage_mask(dst.stage)
-                .dst_access_mask(dst.access)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .buffer(buffer.handle())
-                .offset(0)
-                .size(vk::WHOLE_SIZE),
-        ),
-        Res::Image(image, layout) => b.images.push(
-            image_barrier(src, dst, old_layout, layout)
-                .image(image.handle())
-                .subresource_range(image.full_range()),
-        ),
-        Res::Swapchain(image, layout) => b.images.push(
-            image_barrier(src, dst, old_layout, layout)
-                .image(image)
-                .subresource_range(super::swapchain::color_range()),
-        ),
-    }
-}
-
-/// An image barrier without its image.
-fn image_barrier(
-    src: Access,
-    dst: Access,
-    old_layout: vk::ImageLayout,
-    layout: vk::ImageLayout,
-) -> vk::ImageMemoryBarrier2<'static> {
-    vk::ImageMemoryBarrier2::default()
-        .src_stage_mask(src.stage)
-        .src_access_mask(src.access)
-        .dst_stage_mask(dst.stage)
-        .dst_access_mask(dst.access)
-        .old_layout(old_layout)
-        .new_layout(layout)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
 }
 
 /// Opens a debug label named `name` (no-op without debug utils), so
@@ -470,6 +469,7 @@ fn end_label(ctx: &Context, cmd: vk::CommandBuffer) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ash::vk::Handle;
 
     fn write(access: Access) -> Use<'static> {
         Use {
@@ -534,5 +534,61 @@ mod tests {
         assert!(Access::ALL.covers(Access::HOST_READ));
         assert!(!Access::COMPUTE_READ.covers(Access::COMPUTE_WRITE));
         assert!(!Access::COMPUTE_WRITE.covers(Access::INDIRECT_READ));
+    }
+
+    /// A swapchain image in the general layout: a per-resource key the
+    /// tracker can be tested with without a device.
+    fn image(raw: u64) -> Res<'static> {
+        Res::Swapchain(vk::Image::from_raw(raw), vk::ImageLayout::GENERAL)
+    }
+
+    fn global_write() -> Pass<'static> {
+        Pass::new("kernel").write(Res::Memory, Access::COMPUTE_READ_WRITE)
+    }
+
+    #[test]
+    fn a_second_read_of_one_resource_after_a_global_write_waits_no_more() {
+        // Whether the resource was seen before the global write or not.
+        for seen_before in [true, false] {
+            let mut t = Tracker::new();
+            if seen_before {
+                t.after(image(1), Access::NONE);
+            }
+            assert!(t.derive(&global_write()).is_empty());
+            if !seen_before {
+                t.after(image(1), Access::NONE);
+                t.derive(&global_write());
+            }
+            let read = Pass::new("draw").read(image(1), Access::COMPUTE_READ);
+            let first = t.derive(&read);
+            assert_eq!(first.images.len(), 1, "seen before: {seen_before}");
+            assert!(first.memory.is_none());
+            assert!(t.derive(&read).is_empty(), "seen before: {seen_before}");
+        }
+    }
+
+    #[test]
+    fn a_hand_off_of_one_resource_makes_no_other_visible() {
+        let mut t = Tracker::new();
+        t.derive(&global_write());
+        assert_eq!(t.hand_off(image(1), Access::ALL).images.len(), 1);
+        // Image 2, first seen now, was written by the global write too.
+        let read = t.derive(&Pass::new("draw").read(image(2), Access::COMPUTE_READ));
+        assert_eq!(read.images.len(), 1);
+        let src = read.images[0].src_access_mask;
+        assert!(
+            src.contains(vk::AccessFlags2::SHADER_STORAGE_WRITE),
+            "{src:?}"
+        );
+    }
+
+    #[test]
+    fn a_global_read_waits_for_a_write_of_one_resource() {
+        let mut t = Tracker::new();
+        t.after(image(1), Access::NONE);
+        t.derive(&Pass::new("copy").write(image(1), Access::TRANSFER_WRITE));
+        let read = t.derive(&Pass::new("kernel").read(Res::Memory, Access::COMPUTE_READ));
+        let (src, _) = read.memory.expect("a global barrier");
+        assert_eq!(src, Access::TRANSFER_WRITE);
     }
 }
