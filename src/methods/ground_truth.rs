@@ -44,8 +44,8 @@ use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, GridPush};
 use crate::vk::{
-    fill_buffer, Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
-    PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
+    Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline, PipelineLayout,
+    Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 /// The registry entry.
@@ -305,12 +305,14 @@ impl GroundTruth {
     ) -> VkResult<()> {
         let (ctx, cmd) = (f.ctx, f.cmd);
         let per_patch = 6 * self.grid * self.grid;
-        fill_buffer(ctx, cmd, &self.counters, 0);
         let args: Vec<u32> = (0..plan.patch_parts.max(1))
             .flat_map(|k| [per_patch, 0, 0, 0, k * plan.patches_per_part])
             .collect();
         let mut rec = Recorder::new(ctx, cmd);
         let counters = Res::Buffer(&self.counters);
+        // The reset waits for every earlier use (the last frame's readback).
+        rec.after(counters, Access::ALL);
+        rec.fill("grid counters reset", &self.counters, 0);
         let update = Pass::new("draw arguments").write(counters, Access::TRANSFER_WRITE);
         rec.run(&update, |cmd| unsafe {
             ctx.device().cmd_update_buffer(

@@ -31,8 +31,8 @@ use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::vk::{
-    fill_buffer, Access, Buffer, Context, DescriptorSet, GraphicsDesc, MemoryLocation, Pass,
-    Pipeline, PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
+    Access, Buffer, Context, DescriptorSet, GraphicsDesc, MemoryLocation, Pass, Pipeline,
+    PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 /// The registry entry of the uniform metric.
@@ -296,12 +296,14 @@ impl Tess {
 
     /// Records the counters' reset and the draw.
     fn record_draw(&self, f: &mut FrameRec<'_>, b: &Buffers) -> VkResult<()> {
-        fill_buffer(f.ctx, f.cmd, &self.counters, 0);
         // The draw's tessellation stages count culled patches and capture
         // edges: all memory, after the counters' reset (and any transfer
-        // before it).
+        // before it). The reset waits for every earlier use of the
+        // counters (the last frame's readback).
         let mut rec = Recorder::new(f.ctx, f.cmd);
-        rec.after(Res::Memory, Access::TRANSFER_WRITE);
+        rec.after(Res::Memory, Access::TRANSFER_WRITE)
+            .after(Res::Buffer(&self.counters), Access::ALL);
+        rec.fill("tess counters reset", &self.counters, 0);
         let draw = Pass::new("tessellated draw").write(
             Res::Memory,
             Access::new(
