@@ -67,6 +67,17 @@ pub struct GpuDeformer {
     pub p: [f32; 4],
 }
 
+/// The points `ps` moved by each of `deformers` in turn (a model's cage
+/// vertices in a frame: the CPU twin of the deform pass).
+pub fn apply_all(deformers: &[GpuDeformer], ps: &[glam::Vec3]) -> Vec<glam::Vec3> {
+    ps.iter()
+        .map(|p| {
+            let q = deformers.iter().fold(p.to_array(), |q, d| apply(d, q));
+            glam::Vec3::from_array(q)
+        })
+        .collect()
+}
+
 /// Applies `d` to the point `p` (the twin of `anim_deform`).
 pub fn apply(d: &GpuDeformer, p: [f32; 3]) -> [f32; 3] {
     let c = d.center;

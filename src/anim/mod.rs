@@ -289,15 +289,7 @@ impl Animation {
         } else {
             &frame.inputs[m]
         };
-        let verts: Vec<Vec3> = input
-            .iter()
-            .map(|p| {
-                let q = frame.deformers[m]
-                    .iter()
-                    .fold(p.to_array(), |q, d| deform::apply(d, q));
-                Vec3::from_array(q)
-            })
-            .collect();
+        let verts = deform::apply_all(&frame.deformers[m], input);
         model.cage.stencils.evaluate(&verts)
     }
 

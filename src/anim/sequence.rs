@@ -74,7 +74,7 @@ pub fn frames(pattern: &Path) -> Result<Vec<PathBuf>, SceneError> {
 /// `cage`: its `v` statements in cage order. Refused where its faces (`f`
 /// statements, by vertex) differ from the first frame's.
 pub fn read_frame(path: &Path, cage: &CageModel) -> Result<Vec<Vec3>, SceneError> {
-    let text = crate::scene::read_text(path)?;
+    let text = crate::scene::text::read_text(path)?;
     let mut positions: Vec<Vec3> = Vec::with_capacity(cage.file_vertices);
     let mut face = 0usize;
     let mut last_line = 0;

@@ -25,23 +25,8 @@
 
 use crate::validate::holes::{depth_edges, CONTOUR_JUMP};
 
-/// Coded background of `SHADE_DISTANCE` and `SHADE_PATCH_ID` images (drawn
-/// over white).
+/// Coded background of `SHADE_PATCH_ID` images (drawn over white).
 const WHITE: [u8; 4] = [255, 255, 255, 255];
-
-/// A `SHADE_DISTANCE` image as distances (background: infinity).
-pub fn decode_distances(rgba: &[u8], scale: f32) -> Vec<f32> {
-    rgba.chunks_exact(4)
-        .map(|p| {
-            if p == WHITE {
-                f32::INFINITY
-            } else {
-                let code = (p[0] as u32) << 16 | (p[1] as u32) << 8 | p[2] as u32;
-                code as f32 / 16_777_214.0 * scale
-            }
-        })
-        .collect()
-}
 
 /// A `SHADE_PATCH_ID` image as patch ids (background: `None`).
 pub fn decode_patch_ids(rgba: &[u8]) -> Vec<Option<u32>> {

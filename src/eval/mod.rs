@@ -53,7 +53,7 @@ pub fn distance_image(
         distance_scale: far,
         ..*view
     };
-    Ok(geometry::decode_distances(
+    Ok(crate::validate::holes::decode_distances(
         &coded_image(renderer, &v, SHADE_DISTANCE)?,
         far,
     ))

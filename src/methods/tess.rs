@@ -48,17 +48,13 @@ pub const INFO: MethodInfo = MethodInfo {
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Uniform)?)),
 };
 
-/// The registry entry of the re-parameterised metric.
+/// The registry entry of the re-parameterised metric: the uniform one's
+/// but for its name and variant.
 pub const INFO_REPARAM: MethodInfo = MethodInfo {
     name: "tess-reparam",
     about: "hardware tessellation with Buchenau-Guthe's curvature re-parameterisation (§4, §5.2)",
-    rational: false,
-    pn: false,
-    reads: Reads::TESSELLATES,
-    benched: true,
-    heat_map: "log2 of the inner tessellation level",
-    checks: Some(checks::make),
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Reparam)?)),
+    ..INFO
 };
 
 /// Specialization constant ids of `glsl/common/tess.glsl` (glslang takes

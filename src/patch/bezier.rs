@@ -138,15 +138,7 @@ impl BezierPatch {
     /// collapses to a point (the teapot's lid and bottom) the cross product
     /// vanishes; the normal is then taken a little way into the domain.
     pub fn normal(&self, u: f32, v: f32) -> Vec3 {
-        let (su, sv) = self.partials(u, v);
-        let n = cross3(su, sv);
-        let scale = dot3(su, su) * dot3(sv, sv);
-        if dot3(n, n) > 1e-12 * scale && scale > 0.0 {
-            return n;
-        }
-        let nudge = |t: f32| t + (0.5 - t) * 1e-3;
-        let (su, sv) = self.partials(nudge(u), nudge(v));
-        cross3(su, sv)
+        normal_from_partials(|u, v| self.partials(u, v), u, v)
     }
 
     /// Axis-aligned bounding box of the control points.
@@ -205,19 +197,31 @@ impl BezierPatch {
     }
 }
 
+/// The unnormalised normal ∂S/∂u × ∂S/∂v at (u, v) of the surface whose
+/// partial derivatives `partials` gives, taken a little way into the domain
+/// where it vanishes ([`BezierPatch::normal`], `RationalPatch::normal`).
+pub fn normal_from_partials(partials: impl Fn(f32, f32) -> (Vec3, Vec3), u: f32, v: f32) -> Vec3 {
+    let (su, sv) = partials(u, v);
+    let n = cross3(su, sv);
+    let scale = dot3(su, su) * dot3(sv, sv);
+    if dot3(n, n) > 1e-12 * scale && scale > 0.0 {
+        return n;
+    }
+    let nudge = |t: f32| t + (0.5 - t) * 1e-3;
+    let (su, sv) = partials(nudge(u), nudge(v));
+    cross3(su, sv)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::patch::fixtures::grid;
 
     fn sample_patch() -> BezierPatch {
-        let mut pts = [Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                let (x, y) = (i as f32 / 3.0, j as f32 / 3.0);
-                pts[4 * j + i] = Vec3::new(x, y, (x * 3.1).sin() * (y * 2.3).cos() * 0.7);
-            }
-        }
-        BezierPatch { pts }
+        grid(|i, j| {
+            let (x, y) = (i / 3.0, j / 3.0);
+            Vec3::new(x, y, (x * 3.1).sin() * (y * 2.3).cos() * 0.7)
+        })
     }
 
     #[test]

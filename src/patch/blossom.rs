@@ -79,18 +79,7 @@ pub fn reconstruct_points<T: BlossomPoint>(p: &[T; 16], a: f32, b: f32, c: f32, 
     let mut d_net = [[[T::ZERO; 9]; 2]; 2];
     for l in 0..2 {
         for k in 0..2 {
-            for j in 0..3 {
-                for i in 0..3 {
-                    d_net[l][k][3 * j + i] = bilerp_points(
-                        us[k],
-                        vs[l],
-                        p[4 * j + i],
-                        p[4 * j + i + 1],
-                        p[4 * (j + 1) + i],
-                        p[4 * (j + 1) + i + 1],
-                    );
-                }
-            }
+            d_net[l][k] = blossom_round(p, 4, us[k], vs[l]);
         }
     }
 
@@ -98,19 +87,7 @@ pub fn reconstruct_points<T: BlossomPoint>(p: &[T; 16], a: f32, b: f32, c: f32, 
     let mut e_net = [[[T::ZERO; 4]; 2]; 2];
     for l in 0..2 {
         for k in 0..2 {
-            let dn = &d_net[l][k];
-            for j in 0..2 {
-                for i in 0..2 {
-                    e_net[l][k][2 * j + i] = bilerp_points(
-                        us[k],
-                        vs[l],
-                        dn[3 * j + i],
-                        dn[3 * j + i + 1],
-                        dn[3 * (j + 1) + i],
-                        dn[3 * (j + 1) + i + 1],
-                    );
-                }
-            }
+            e_net[l][k] = blossom_round(&d_net[l][k], 3, us[k], vs[l]);
         }
     }
 
@@ -131,20 +108,35 @@ pub fn reconstruct_points<T: BlossomPoint>(p: &[T; 16], a: f32, b: f32, c: f32, 
     out
 }
 
+/// One of the first two rounds: the (n−1)×(n−1) net (`M` = (n−1)² points)
+/// that inserts (u, v) into every 2×2 cell of the n×n net `net` (rows of n
+/// points along u, indexed `[v][u]` like the patch).
+fn blossom_round<T: BlossomPoint, const M: usize>(net: &[T], n: usize, u: f32, v: f32) -> [T; M] {
+    debug_assert_eq!((net.len(), M), (n * n, (n - 1) * (n - 1)));
+    let mut out = [T::ZERO; M];
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            out[(n - 1) * j + i] = bilerp_points(
+                u,
+                v,
+                net[n * j + i],
+                net[n * j + i + 1],
+                net[n * (j + 1) + i],
+                net[n * (j + 1) + i + 1],
+            );
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::patch::bezier::curve;
+    use crate::patch::fixtures::grid;
 
     fn wavy() -> BezierPatch {
-        let mut pts = [Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                let (x, y) = (i as f32, j as f32);
-                pts[4 * j + i] = Vec3::new(x + 0.3 * y, y - 0.2 * x * x, (x * 1.7 + y * 0.9).sin());
-            }
-        }
-        BezierPatch { pts }
+        grid(|x, y| Vec3::new(x + 0.3 * y, y - 0.2 * x * x, (x * 1.7 + y * 0.9).sin()))
     }
 
     #[test]

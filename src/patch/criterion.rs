@@ -190,7 +190,13 @@ pub fn edge_tolerance2(p: &[Vec3; 4], vp: &ViewParams) -> f32 {
 /// Edge tier for one boundary curve `p` (either direction).
 pub fn edge_flat(p: &[Vec3; 4], vp: &ViewParams) -> bool {
     let t2 = edge_tolerance2(p, vp);
-    let [f, b] = edge_samples(p);
+    edge_samples_flat(edge_samples(p), t2, vp)
+}
+
+/// The edge tier's verdict on its two samples (polynomial or projected
+/// rational ones) at tolerance `t2`: both are evaluated, no short circuit,
+/// as on the GPU.
+pub fn edge_samples_flat([f, b]: [EdgeSample; 2], t2: f32, vp: &ViewParams) -> bool {
     let fwd = line_sample_flat(f.point, f.from, f.to, THIRD, t2, vp);
     let bwd = line_sample_flat(b.point, b.from, b.to, THIRD, t2, vp);
     fwd & bwd

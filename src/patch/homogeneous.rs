@@ -12,7 +12,7 @@
 //! - edge tier: the end points are the projected end control points, the
 //!   samples are the projected homogeneous curve at 1/3 from either end
 //!   ([`curve4`], reversal-symmetric); the line test is the polynomial one
-//!   ([`line_sample_flat`]) on those Cartesian points;
+//!   ([`criterion::line_sample_flat`]) on those Cartesian points;
 //! - inner tier: the corners and the four samples of the polynomial inner
 //!   tier, each a projected homogeneous point;
 //! - frustum culling: the box of the projected (Cartesian) control points.
@@ -35,7 +35,7 @@ use glam::{Vec3, Vec4};
 use super::bezier::BezierPatch;
 use super::bezier::{EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
 use super::blossom::reconstruct_points;
-use super::criterion::{self, line_sample_flat, tolerance2, EdgeSample};
+use super::criterion::{self, tolerance2, EdgeSample};
 use super::cull;
 use super::ops::{max3, min3, THIRD};
 use super::rational::{curve4, homogeneous, project, RationalPatch};
@@ -139,10 +139,7 @@ pub fn edge_tolerance2(h: &[Vec4; 4], vp: &ViewParams) -> f32 {
 /// Edge tier for one homogeneous boundary curve (either direction).
 pub fn edge_flat(h: &[Vec4; 4], vp: &ViewParams) -> bool {
     let t2 = edge_tolerance2(h, vp);
-    let [f, b] = edge_samples(h);
-    let fwd = line_sample_flat(f.point, f.from, f.to, THIRD, t2, vp);
-    let bwd = line_sample_flat(b.point, b.from, b.to, THIRD, t2, vp);
-    fwd & bwd
+    criterion::edge_samples_flat(edge_samples(h), t2, vp)
 }
 
 /// Inner tier, as [`super::criterion::inner_flat`] on the projected
@@ -173,17 +170,7 @@ pub fn back_facing(s: &HomPatch, eye: Vec3) -> bool {
 mod tests {
     use super::*;
     use crate::patch::blossom::reconstruct;
-
-    fn wavy() -> BezierPatch {
-        let mut pts = [Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                let (x, y) = (i as f32 / 3.0, j as f32 / 3.0);
-                pts[4 * j + i] = Vec3::new(x, y, (x * 2.7).sin() * (y * 1.9).cos() * 0.6);
-            }
-        }
-        BezierPatch { pts }
-    }
+    use crate::patch::fixtures::wavy;
 
     fn weights() -> [f32; 16] {
         std::array::from_fn(|k| 0.4 + (k as f32 * 0.61).sin().abs() * 1.7)

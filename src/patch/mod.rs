@@ -5,6 +5,8 @@ pub mod bezier;
 pub mod blossom;
 pub mod criterion;
 pub mod cull;
+#[cfg(test)]
+pub(crate) mod fixtures;
 pub mod homogeneous;
 pub mod ops;
 pub mod oracle;

@@ -19,7 +19,6 @@
 use glam::{Vec3, Vec4};
 
 use super::bezier::BezierPatch;
-use super::ops::{cross3, dot3};
 
 /// The 16 weights of a patch, stored like its control points
 /// (`w[4 * j + i]` belongs to `pts[4 * j + i]`).
@@ -162,15 +161,7 @@ impl RationalPatch {
     /// (a sphere's poles) it is taken a little way into the domain, as
     /// [`BezierPatch::normal`] does.
     pub fn normal(&self, u: f32, v: f32) -> Vec3 {
-        let (su, sv) = self.partials(u, v);
-        let n = cross3(su, sv);
-        let scale = dot3(su, su) * dot3(sv, sv);
-        if dot3(n, n) > 1e-12 * scale && scale > 0.0 {
-            return n;
-        }
-        let nudge = |t: f32| t + (0.5 - t) * 1e-3;
-        let (su, sv) = self.partials(nudge(u), nudge(v));
-        cross3(su, sv)
+        super::bezier::normal_from_partials(|u, v| self.partials(u, v), u, v)
     }
 
     /// Edge curve `k` numbered as the tessellation methods number them
@@ -281,17 +272,7 @@ pub fn edge_param(k: u32, e: u32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn wavy() -> BezierPatch {
-        let mut pts = [Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                let (x, y) = (i as f32 / 3.0, j as f32 / 3.0);
-                pts[4 * j + i] = Vec3::new(x, y, (x * 2.7).sin() * (y * 1.9).cos() * 0.6);
-            }
-        }
-        BezierPatch { pts }
-    }
+    use crate::patch::fixtures::wavy;
 
     fn weights() -> Weights {
         std::array::from_fn(|k| 0.5 + (k as f32 * 0.37).sin().abs())

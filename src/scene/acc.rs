@@ -16,8 +16,8 @@ use std::path::Path;
 use glam::{DVec3, Vec3};
 
 use super::cage::{Cage, Topology};
+use super::error::SceneError;
 use super::sharpness::{self, Config, VertexRule};
-use super::SceneError;
 use crate::patch::bezier::BezierPatch;
 
 /// Rounds once to f32; +0.0 replaces -0.0.

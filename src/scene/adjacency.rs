@@ -73,23 +73,13 @@ pub fn edge_table(patches: &[BezierPatch], weights: &[Weights]) -> EdgeTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
-
-    fn patch(offset: f32) -> BezierPatch {
-        let mut pts = [Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                pts[4 * j + i] = Vec3::new(i as f32 + offset, j as f32, (i * j) as f32 * 0.1);
-            }
-        }
-        BezierPatch { pts }
-    }
+    use crate::patch::fixtures::ramp;
 
     #[test]
     fn shared_sides_get_one_id_and_weights_count() {
         // Patch 1 starts where patch 0 ends: side 2 of 0 is side 0 of 1.
-        let a = patch(0.0);
-        let mut b = patch(3.0);
+        let a = ramp(0.0);
+        let mut b = ramp(3.0);
         for j in 0..4 {
             b.pts[4 * j] = a.pts[4 * j + 3];
         }

@@ -68,11 +68,11 @@ use serde::Deserialize;
 
 use super::camera::Camera;
 use super::desc::{ModelAnim, ModelDesc, Scene, Surface, ViewDefaults};
+use super::error::SceneError;
 use super::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES};
 use super::obj::CageOptions;
 use super::orbit::Orbit;
 use super::sharpness::BoundaryRule;
-use super::SceneError;
 use crate::figures::{bytes_text, thousands};
 
 #[derive(Deserialize)]
@@ -161,7 +161,7 @@ fn line_of(text: &str, offset: usize) -> usize {
 impl Scene {
     /// Reads and checks a scene file (models are loaded by [`Scene::geometry`]).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = super::read_text(path)?;
+        let text = super::text::read_text(path)?;
         Self::parse(path, &text)
     }
 

@@ -32,9 +32,9 @@ use glam::{DVec3, Vec3};
 
 use super::acc::{self, Conversion};
 use super::cage::{Cage, Topology};
+use super::error::SceneError;
 use super::refine::refine;
 use super::sharpness;
-use super::SceneError;
 
 /// The most refinement steps the fine surface takes (each quarters the
 /// faces: 256 fine patches per face at 4).

@@ -7,12 +7,14 @@ use std::path::{Path, PathBuf};
 use glam::DMat4;
 
 use super::desc::{ModelDesc, Scene, Surface};
+use super::error::SceneError;
 use super::instances::{Instance, InstanceTable};
 use super::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES, MAX_COORD};
+use super::model::ImportedModel;
 use super::obj::CageOptions;
 use super::pn::{self, PnMesh, PnScene};
 use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
-use super::{bpt, obj, ImportedModel, SceneError};
+use super::{bpt, obj};
 use crate::constants::{PATCH_MODEL_SHIFT, PATCH_RATIONAL};
 use crate::figures::{bytes_text, thousands};
 use crate::patch::bezier::BezierPatch;

@@ -33,10 +33,12 @@ use std::path::Path;
 
 use super::acc::{self, Conversion};
 use super::cage::{Cage, Topology};
+use super::error::SceneError;
+use super::model::PatchOrigin;
 use super::refine::{refine, sub_quad_uv, SubFace, QUAD_UV};
 use super::shading::ShadingPatch;
 use super::stencil::{self, CageStencils};
-use super::{fit, tangent, PatchOrigin, SceneError};
+use super::{fit, tangent};
 use crate::patch::bezier::BezierPatch;
 
 /// The most refinement steps `isolate` may ask for: each step quarters

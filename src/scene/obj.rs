@@ -110,9 +110,11 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::cage::{Cage, Scheme, Topology};
+use super::error::SceneError;
+use super::model::{CageInfo, ImportedModel, RuleSource};
 use super::sharpness::{self, BoundaryRule, INFINITE};
 use super::tags::Tags;
-use super::{isolate, orient, CageInfo, ImportedModel, RuleSource, SceneError};
+use super::{isolate, orient};
 
 /// Choices for cages that the file itself does not make.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -132,7 +134,7 @@ pub fn read(path: &Path) -> Result<ImportedModel, SceneError> {
 
 /// [`read`] with options.
 pub fn read_with(path: &Path, options: &CageOptions) -> Result<ImportedModel, SceneError> {
-    let text = super::read_text(path)?;
+    let text = super::text::read_text(path)?;
     parse_with(path, &text, options)
 }
 

@@ -20,7 +20,7 @@ use std::path::Path;
 
 use glam::{DMat4, Vec3};
 
-use super::SceneError;
+use super::error::SceneError;
 
 /// One triangle mesh, in object or (after [`PnMesh::transformed`]) world
 /// space.
@@ -168,7 +168,7 @@ impl PnMesh {
 
 /// Reads an OBJ file as a PN-triangle mesh.
 pub fn read(path: &Path) -> Result<PnMesh, SceneError> {
-    let text = super::read_text(path)?;
+    let text = super::text::read_text(path)?;
     parse(path, &text)
 }
 

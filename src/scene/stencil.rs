@@ -59,9 +59,10 @@ use glam::{DVec3, Vec3};
 
 use super::acc::Conversion;
 use super::cage::{Cage, Topology};
+use super::error::SceneError;
 use super::linear::Comb;
 use super::shading::ShadingPatch;
-use super::{tangent, SceneError};
+use super::tangent;
 use crate::patch::bezier::BezierPatch;
 
 /// Rows of combinations in the reference form, compressed.

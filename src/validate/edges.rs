@@ -241,16 +241,7 @@ pub fn check_edge_vertices(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn patch(offset: f32) -> BezierPatch {
-        let mut pts = [Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                pts[4 * j + i] = Vec3::new(i as f32 + offset, j as f32, (i * j) as f32 * 0.1);
-            }
-        }
-        BezierPatch { pts }
-    }
+    use crate::patch::fixtures::ramp;
 
     fn levels(outer: [f32; 4]) -> PatchLevels {
         PatchLevels {
@@ -264,11 +255,11 @@ mod tests {
     #[test]
     fn finds_shared_edges_and_unequal_levels() {
         // Patch 1 starts where patch 0 ends: edge 2 of 0 is edge 0 of 1.
-        let mut b = patch(3.0);
+        let mut b = ramp(3.0);
         for j in 0..4 {
-            b.pts[4 * j] = patch(0.0).pts[4 * j + 3];
+            b.pts[4 * j] = ramp(0.0).pts[4 * j + 3];
         }
-        let shared = shared_edges(&[patch(0.0), b]);
+        let shared = shared_edges(&[ramp(0.0), b]);
         assert_eq!(shared.len(), 1);
         let sides = shared.values().next().unwrap();
         assert_eq!((sides[0].patch, sides[0].edge), (0, 2));

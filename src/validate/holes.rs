@@ -202,8 +202,9 @@ struct Shots {
     distance: Vec<f32>,
 }
 
-/// Decodes a `SHADE_DISTANCE` image (background white = infinitely far).
-fn distances(rgba: &[u8], scale: f32) -> Vec<f32> {
+/// Decodes a `SHADE_DISTANCE` image (background white = infinitely far);
+/// `eval` reads its distance images with it too.
+pub fn decode_distances(rgba: &[u8], scale: f32) -> Vec<f32> {
     pixels(rgba)
         .map(|p| {
             if p == WHITE {
@@ -473,7 +474,7 @@ fn shots(renderer: &mut Renderer, view: &View, background: [f32; 4]) -> Result<S
         ..*view
     };
     renderer.render(&coded)?;
-    let distance = distances(&renderer.read_image()?, view.distance_scale);
+    let distance = decode_distances(&renderer.read_image()?, view.distance_scale);
     Ok(Shots { key, distance })
 }
 

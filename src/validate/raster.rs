@@ -629,13 +629,34 @@ mod tests {
     }
 
     fn flat_patch() -> BezierPatch {
-        let mut pts = [Vec3::ZERO; 16];
-        for j in 0..4 {
-            for i in 0..4 {
-                pts[4 * j + i] = Vec3::new(i as f32 / 3.0, j as f32 / 3.0, 0.0);
-            }
-        }
-        BezierPatch { pts }
+        crate::patch::fixtures::grid(|i, j| Vec3::new(i / 3.0, j / 3.0, 0.0))
+    }
+
+    /// The view-projection of a `w`×`h` image seen by a 60° camera (z up)
+    /// at `eye` looking at `target`.
+    fn view_proj(eye: Vec3, target: Vec3, w: u32, h: u32) -> DMat4 {
+        let cam = Camera {
+            position: eye.as_dvec3().to_array(),
+            target: target.as_dvec3().to_array(),
+            up: [0.0, 0.0, 1.0],
+            fov_y_deg: 60.0,
+            near: 0.1,
+            far: 100.0,
+        };
+        cam.view_proj(w, h)
+    }
+
+    /// `tris` (of model 0, over `patches`) drawn on a black `w`×`h` raster.
+    fn draw(
+        (w, h): (u32, u32),
+        tris: &[Triangle],
+        patches: &[BezierPatch],
+        (vp, eye): (&DMat4, Vec3),
+        shade: PreviewShade,
+    ) -> Raster {
+        let mut r = Raster::new(w, h, [0, 0, 0, 255]);
+        r.draw_triangles(tris, patches, &[0], None, vp, eye, shade);
+        r
     }
 
     fn tri(v: [Vec3; 3], depth: u32) -> Triangle {
@@ -649,16 +670,8 @@ mod tests {
 
     #[test]
     fn near_plane_clipping_is_finite_and_bounded() {
-        let cam = Camera {
-            position: [0.0, -5.0, 1.0],
-            target: [0.0, 0.0, 1.0],
-            up: [0.0, 0.0, 1.0],
-            fov_y_deg: 60.0,
-            near: 0.1,
-            far: 100.0,
-        };
-        let vp = cam.view_proj(64, 48);
         let eye = Vec3::new(0.0, -5.0, 1.0);
+        let vp = view_proj(eye, Vec3::new(0.0, 0.0, 1.0), 64, 48);
         let patches = [flat_patch()];
         let crossing = [
             // Through the camera plane, one vertex behind the eye.
@@ -686,8 +699,7 @@ mod tests {
             ),
         ];
         for shade in PreviewShade::ALL.map(|x| x.0) {
-            let mut r = Raster::new(64, 48, [0, 0, 0, 255]);
-            r.draw_triangles(&crossing, &patches, &[0], None, &vp, eye, shade);
+            let r = draw((64, 48), &crossing, &patches, (&vp, eye), shade);
             assert!(r
                 .depth
                 .iter()
@@ -696,14 +708,11 @@ mod tests {
             assert!(drawn > 0, "the crossing triangles draw something");
         }
         // The one behind the camera alone draws nothing.
-        let mut r = Raster::new(64, 48, [0, 0, 0, 255]);
-        r.draw_triangles(
+        let r = draw(
+            (64, 48),
             &crossing[2..],
             &patches,
-            &[0],
-            None,
-            &vp,
-            eye,
+            (&vp, eye),
             PreviewShade::Depth,
         );
         assert!(r.depth.iter().all(|&z| z == 1.0));
@@ -723,16 +732,8 @@ mod tests {
 
     #[test]
     fn depth_test_keeps_the_nearer_triangle() {
-        let cam = Camera {
-            position: [0.0, -5.0, 0.0],
-            target: [0.0, 0.0, 0.0],
-            up: [0.0, 0.0, 1.0],
-            fov_y_deg: 60.0,
-            near: 0.1,
-            far: 100.0,
-        };
-        let vp = cam.view_proj(32, 32);
         let eye = Vec3::new(0.0, -5.0, 0.0);
+        let vp = view_proj(eye, Vec3::ZERO, 32, 32);
         let big = |y: f32, depth: u32| {
             tri(
                 [
@@ -745,24 +746,18 @@ mod tests {
         };
         let (near, far) = (big(-1.0, 2), big(1.0, 8));
         let patches = [flat_patch()];
-        let mut a = Raster::new(32, 32, [0, 0, 0, 255]);
-        a.draw_triangles(
+        let a = draw(
+            (32, 32),
             &[near, far],
             &patches,
-            &[0],
-            None,
-            &vp,
-            eye,
+            (&vp, eye),
             PreviewShade::Depth,
         );
-        let mut b = Raster::new(32, 32, [0, 0, 0, 255]);
-        b.draw_triangles(
+        let b = draw(
+            (32, 32),
             &[far, near],
             &patches,
-            &[0],
-            None,
-            &vp,
-            eye,
+            (&vp, eye),
             PreviewShade::Depth,
         );
         assert_eq!(a.color, b.color);

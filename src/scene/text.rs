@@ -1,0 +1,18 @@
+//! Reading model and scene files as text.
+
+use super::error::SceneError;
+
+/// Reads a text file. A file that is not UTF-8 text is refused at the line
+/// of its first invalid byte (a binary file named `.bpt` or `.obj`).
+pub fn read_text(path: &std::path::Path) -> Result<String, SceneError> {
+    let bytes = std::fs::read(path).map_err(|e| SceneError::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let line = e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+        SceneError::at(
+            path,
+            line,
+            format!("not a text file: byte {at} is not UTF-8 (model files are plain text)"),
+        )
+    })
+}
