@@ -644,3 +644,15 @@ fn run_bench(args: &BenchArgs) -> anyhow::Result<()> {
         )),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// clap's own checks of the flags (names given twice, groups, headings),
+    /// which it otherwise runs only in debug builds.
+    #[test]
+    fn the_flags_are_well_formed() {
+        super::Cli::command().debug_assert();
+    }
+}
