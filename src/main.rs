@@ -342,43 +342,17 @@ struct FrameArgs {
     /// available), mesh, fallback (compute expansion + vertex shader).
     #[arg(long, default_value = "auto")]
     draw: DrawRequest,
-    /// ground-truth: grid cells per patch side, a power of two up to 256
-    /// (64, the paper's tessellation factor, costs 8,192 triangles per
-    /// patch; lower it for quick references on a CPU device).
-    #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
-    grid: u32,
-    /// subdiv-indirect: the deepest level, at most 10 (the default; the
-    /// paper's variant stops at 6).
-    #[arg(long, value_name = "D", default_value_t = bezier_subdiv::methods::subdiv_indirect::DEFAULT_MAX_DEPTH)]
-    max_depth: u32,
-    /// subdiv: the persistent kernel, levels (depth-synchronous: the
-    /// per-depth schedule in one dispatch, a grid barrier between rounds;
-    /// the default) or queue (the work-queue kernel, kept for comparison).
-    #[arg(long, value_name = "K", default_value = "levels")]
-    kernel: bezier_subdiv::methods::subdiv::Kernel,
-    /// subdiv and subdiv-indirect: node memory of the level schedule in MiB
-    /// (default 24); a depth that does not fit is taken in parts.
-    #[arg(long, value_name = "MIB")]
-    node_memory: Option<f64>,
     /// Samples per pixel: 1 (no anti-aliasing), 2, 4 or 8 (default 1;
     /// view: 4). validate's oracle comparisons and hole test run
     /// single-sampled whatever this is.
     #[arg(long, value_name = "N")]
     msaa: Option<u32>,
-    /// subdiv: persistent workgroups to launch (default: about what the
-    /// device keeps resident), for profiling.
-    #[arg(long, value_name = "N")]
-    groups: Option<u32>,
     /// Vulkan device: an index from `info`, or part of its name.
     #[arg(long, value_name = "ID", default_value = "auto")]
     device: DeviceSelector,
     /// Enable the Khronos validation layer; any error fails the run.
     #[arg(long)]
     vk_validation: bool,
-    /// cudatess: interior vertices by forward differences along each row
-    /// (the paper's option) instead of evaluating every one.
-    #[arg(long)]
-    forward_diff: bool,
     /// subdiv and subdiv-indirect: occlusion culling, on or off. On, a
     /// frame draws the instances the last frame saw first, builds a depth
     /// pyramid from them, then tests every other instance, base patch and
@@ -388,7 +362,19 @@ struct FrameArgs {
     /// and checks that it changes no pixel.
     #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
     occlusion: Option<bool>,
+    // Each method's own flags, declared with its knobs in its file, under
+    // a heading per method.
+    #[command(flatten)]
+    per_method: bezier_subdiv::methods::PerMethod,
+    // clap carries the last heading on to the flags flattened after it
+    // (the command's own): this puts them back under the default one.
+    #[command(flatten, next_help_heading = None::<&str>)]
+    _heading: DefaultHeading,
 }
+
+/// No flags: see `FrameArgs::_heading`.
+#[derive(clap::Args)]
+struct DefaultHeading {}
 
 /// Image size of render, validate and stats when --size is not given.
 const IMAGE_SIZE: (u32, u32) = (1920, 1080);
@@ -405,19 +391,10 @@ impl FrameArgs {
             lambda: self.view.lambda,
             size: self.view.size.unwrap_or(size),
             draw: self.draw,
-            grid: self.grid,
-            max_depth: self.max_depth,
-            groups: self.groups,
-            kernel: self.kernel,
-            node_memory: self
-                .node_memory
-                .map_or(bezier_subdiv::methods::levels::DEFAULT_NODE_MEMORY, |m| {
-                    (m * f64::from(1u32 << 20)) as u64
-                }),
+            per_method: self.per_method.clone(),
             msaa: self.msaa.unwrap_or(msaa),
             device: self.device.clone(),
             validation: self.vk_validation,
-            forward_differencing: self.forward_diff,
             split: self.view.split,
             time: match (self.time, self.anim_frame) {
                 (Some(t), _) => Some(commands::AnimTime::Seconds(t)),
@@ -665,5 +642,17 @@ fn run_bench(args: &BenchArgs) -> anyhow::Result<()> {
         Some(why) => Err(anyhow::anyhow!(
             "the run stopped early ({why}); the reports cover what was measured"
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// clap's own checks of the flags (names given twice, groups, headings),
+    /// which it otherwise runs only in debug builds.
+    #[test]
+    fn the_flags_are_well_formed() {
+        super::Cli::command().debug_assert();
     }
 }

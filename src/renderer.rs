@@ -172,6 +172,11 @@ impl Renderer {
         method: &str,
         options: RendererOptions,
     ) -> Result<Self, RenderError> {
+        options
+            .methods
+            .per_method
+            .check()
+            .map_err(RenderError::Request)?;
         let n = options.frames_in_flight.max(1);
         let scene_layout = SceneLayout::new(&ctx)?;
         let scene = SceneGpu::for_geometry(&ctx, &scene_layout, geo, shading, n)?;
@@ -261,13 +266,15 @@ impl Renderer {
         &self.options
     }
 
-    /// Changes the methods' knobs. Each method made so far applies them in
+    /// Changes the methods' knobs (refused, with nothing changed, where a
+    /// method's check refuses them). Each method made so far applies them in
     /// place where it can and is made again otherwise (the active one right
     /// away, the others on use).
     pub fn set_options(&mut self, options: MethodOptions) -> Result<(), RenderError> {
         if options == self.options {
             return Ok(());
         }
+        options.per_method.check().map_err(RenderError::Request)?;
         // Methods are remade below, so frames in flight can no longer be
         // finished by the method that recorded them, and their first
         // frames compile again.

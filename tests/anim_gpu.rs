@@ -39,9 +39,10 @@ fn options(draw: DrawPath) -> RendererOptions {
         size: SIZE,
         background: [0.1, 0.1, 0.1, 1.0],
         frames_in_flight: 2,
-        methods: MethodOptions {
-            grid: 8,
-            ..MethodOptions::new(draw)
+        methods: {
+            let mut o = MethodOptions::new(draw);
+            o.per_method.ground_truth.grid = 8;
+            o
         },
     }
 }
@@ -201,7 +202,7 @@ fn animated_frames_validate_on_both_kernels_and_paths() {
     }
     // The work-queue kernel too.
     let mut a = validate_args(DrawRequest::Mesh, "subdiv", 2.0, false);
-    a.gpu.kernel = Kernel::Queue;
+    a.gpu.per_method.subdiv.kernel = Kernel::Queue;
     let report = run(&a).unwrap();
     assert!(report.ok(), "{}", report.table);
 }

@@ -201,7 +201,7 @@ fn the_ground_truth_against_itself_is_zero() {
     let size = (160, 90);
     let mut options =
         bezier_subdiv::methods::MethodOptions::new(bezier_subdiv::draw::DrawPath::Fallback);
-    options.grid = 8;
+    options.per_method.ground_truth.grid = 8;
     let mut r = common::renderer(&gpu, &geo, "subdiv", size, options);
     let view = View::new(
         &scene.camera,

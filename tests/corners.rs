@@ -19,10 +19,8 @@ const SIZE: (u32, u32) = (320, 180);
 /// patch side for the ground truth): the image and the triangles drawn.
 fn draw(gpu: &common::Gpu, scene: &str, method: &str, grid: u32) -> (Vec<u8>, u64) {
     let (s, geo) = common::scene(scene);
-    let options = MethodOptions {
-        grid,
-        ..MethodOptions::new(DrawPath::Mesh)
-    };
+    let mut options = MethodOptions::new(DrawPath::Mesh);
+    options.per_method.ground_truth.grid = grid;
     let mut r = common::renderer(gpu, &geo, method, SIZE, options);
     let cam = s.frame_camera(0).expect("keyframe 0");
     let report = r

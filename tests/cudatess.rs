@@ -216,11 +216,9 @@ fn forward_differences_stay_within_1e4_of_evaluation() {
         let v = view(&s, k, eps, false);
         r.render(&v).unwrap();
         let direct = frame(&r);
-        r.set_options(MethodOptions {
-            forward_differencing: true,
-            ..options()
-        })
-        .unwrap();
+        let mut forward = options();
+        forward.per_method.cudatess.forward_differencing = true;
+        r.set_options(forward).unwrap();
         r.render(&v).unwrap();
         let fd = frame(&r);
         assert_eq!(direct.records, fd.records, "{name}: the same pattern");
@@ -279,14 +277,11 @@ fn overflowing_frames_are_redone_with_grown_buffers() {
         (nv - 1, ni - 1),
         (nv, ni),
     ] {
-        let mut small = ct_renderer(
-            &gpu,
-            &geo,
-            MethodOptions {
-                cudatess_capacity: Some(first),
-                ..options()
-            },
-        );
+        let mut small = ct_renderer(&gpu, &geo, {
+            let mut o = options();
+            o.per_method.cudatess.capacity = Some(first);
+            o
+        });
         let report = small.render(&v).unwrap();
         let fits = first.0 >= nv && first.1 >= ni;
         assert_eq!(

@@ -139,10 +139,8 @@ fn determinism_and_tiny_queue() {
         "the methods' images differ"
     );
 
-    let small = MethodOptions {
-        node_memory: 64 << 10,
-        ..MethodOptions::new(DrawPath::Mesh)
-    };
+    let mut small = MethodOptions::new(DrawPath::Mesh);
+    small.per_method.levels.node_memory = 64 << 10;
     let mut parts = common::renderer(&gpu, &geo, "subdiv", SIZE, small);
     parts.capture = true;
     let (mut ready_p, img_p) = check_frame(&mut parts, &geo, &v, "small node memory");
@@ -156,10 +154,11 @@ fn determinism_and_tiny_queue() {
     sb.sort();
     assert!(sa == sb);
 
-    let queue = |capacity: u32| MethodOptions {
-        kernel: Kernel::Queue,
-        queue_capacity: capacity,
-        ..MethodOptions::new(DrawPath::Mesh)
+    let queue = |capacity: u32| {
+        let mut o = MethodOptions::new(DrawPath::Mesh);
+        o.per_method.subdiv.kernel = Kernel::Queue;
+        o.per_method.subdiv.queue_capacity = capacity;
+        o
     };
     let mut big = common::renderer(&gpu, &geo, "subdiv", SIZE, queue(1 << 19));
     big.capture = true;

@@ -77,7 +77,7 @@ fn args(scene: &Path, method: &str, draw: DrawRequest) -> ValidateArgs {
     gpu.draw = draw;
     gpu.method = method.into();
     gpu.validation = true;
-    gpu.grid = 16;
+    gpu.per_method.ground_truth.grid = 16;
     ValidateArgs {
         gpu,
         frame: None,

@@ -218,10 +218,8 @@ fn image(r: &mut Renderer, cam: &Camera, eps: f64) -> Vec<[u8; 4]> {
 fn closed_pn_models_have_no_holes() {
     let gpu = common::gpu();
     let geo = pn_geometry(None);
-    let options = MethodOptions {
-        grid: REFERENCE_GRID,
-        ..options()
-    };
+    let mut options = options();
+    options.per_method.ground_truth.grid = REFERENCE_GRID;
     let mut r = common::renderer(&gpu, &geo, "cudatess", SIZE, options);
     for name in ["icosphere", "torus", "pawn"] {
         let g = pn_geometry(Some(name));

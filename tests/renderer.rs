@@ -81,10 +81,8 @@ fn frames_in_flight_keep_their_own_figures() {
 /// A `subdiv` renderer on the mesh path with the ground truth's grid at
 /// 8, and those options (for changing one knob).
 fn grid8_subdiv(gpu: &common::Gpu, geo: &SceneGeometry) -> (Renderer, MethodOptions) {
-    let options = MethodOptions {
-        grid: 8,
-        ..MethodOptions::new(DrawPath::Mesh)
-    };
+    let mut options = MethodOptions::new(DrawPath::Mesh);
+    options.per_method.ground_truth.grid = 8;
     let r = common::renderer(gpu, geo, "subdiv", SIZE, options.clone());
     (r, options)
 }
@@ -115,7 +113,9 @@ fn switching_reuses_scene_shaders_and_methods() {
         r.render(&v).unwrap();
     }
     // A changed grid is applied in place.
-    r.set_options(MethodOptions { grid: 4, ..options }).unwrap();
+    let mut grid4 = options;
+    grid4.per_method.ground_truth.grid = 4;
+    r.set_options(grid4.clone()).unwrap();
     r.set_method("ground-truth").unwrap();
     assert_eq!(r.render(&views[0]).unwrap().stats.triangles, 32 * 2 * 16);
     assert_eq!(r.shaders_loaded(), loaded, "shaders were loaded again");
@@ -132,8 +132,7 @@ fn switching_reuses_scene_shaders_and_methods() {
     let t = r.submit(&views[0]).unwrap();
     r.set_options(MethodOptions {
         draw: DrawPath::Fallback,
-        grid: 4,
-        ..options
+        ..grid4
     })
     .unwrap();
     let err = r.collect(t).err().unwrap();
@@ -245,17 +244,14 @@ fn failed_scene_replacement_leaves_the_old_one() {
 /// The queue kernel (whose planted phantom item keeps it running until its
 /// iteration cap), with no barriers that a loaded CPU could stretch.
 fn queue_options() -> MethodOptions {
-    MethodOptions {
-        kernel: bezier_subdiv::methods::subdiv::Kernel::Queue,
-        ..MethodOptions::new(DrawPath::Mesh)
-    }
+    let mut o = MethodOptions::new(DrawPath::Mesh);
+    o.per_method.subdiv.kernel = bezier_subdiv::methods::subdiv::Kernel::Queue;
+    o
 }
 
 fn short_timeout_renderer(ctx: &Arc<Context>, geo: &SceneGeometry) -> Renderer {
-    let methods = MethodOptions {
-        plant_endless_loop: true,
-        ..queue_options()
-    };
+    let mut methods = queue_options();
+    methods.per_method.subdiv.plant_endless_loop = true;
     Renderer::new(
         Arc::clone(ctx),
         geo,
@@ -355,9 +351,9 @@ fn ground_truth_in_parts_draws_what_one_submission_draws() {
     for samples in [1, 4] {
         let draw = |part_triangles: u64| {
             let mut options = MethodOptions::new(DrawPath::Mesh);
-            options.grid = 8;
+            options.per_method.ground_truth.grid = 8;
             options.samples = samples;
-            options.part_triangles = part_triangles;
+            options.per_method.ground_truth.part_triangles = part_triangles;
             let mut r = common::renderer(&gpu, &geo, "ground-truth", SIZE, options);
             let seen = Rc::new(RefCell::new(Vec::new()));
             let sink = Rc::clone(&seen);

@@ -224,10 +224,8 @@ fn every_draw_path_shades_with_the_tangent_patches() {
         ("ground-truth", DrawPath::Mesh),
     ];
     for (method, path) in runs {
-        let options = MethodOptions {
-            grid: 16,
-            ..MethodOptions::new(path)
-        };
+        let mut options = MethodOptions::new(path);
+        options.per_method.ground_truth.grid = 16;
         let mut r = common::renderer(&gpu, &geo, method, SIZE, options);
         let what = format!("{method} ({path:?})");
         // The renderer starts with the own derivatives; the scene's

@@ -159,7 +159,7 @@ fn level_kernels_write_the_canonical_list_with_8_and_more_workgroups() {
         let mut persistent: Vec<(u32, Renderer)> = [8, 16]
             .into_iter()
             .map(|g| {
-                let o = options(|o| o.groups = Some(g));
+                let o = options(|o| o.per_method.subdiv.groups = Some(g));
                 (g, common::renderer(&gpu, &geo, "subdiv", size, o))
             })
             .collect();
@@ -209,10 +209,15 @@ fn aniso_splits_equal_the_oracle_on_every_kernel() {
     for (name, size) in cases {
         let (s, geo) = common::scene(name);
         let mut indirect = common::renderer(&gpu, &geo, "subdiv-indirect", size, options(|_| {}));
-        let o = options(|o| o.groups = Some(8));
+        let o = options(|o| o.per_method.subdiv.groups = Some(8));
         let mut persistent = common::renderer(&gpu, &geo, "subdiv", size, o);
-        let mut queued =
-            common::renderer(&gpu, &geo, "subdiv", size, queue(|o| o.groups = Some(8)));
+        let mut queued = common::renderer(
+            &gpu,
+            &geo,
+            "subdiv",
+            size,
+            queue(|o| o.per_method.subdiv.groups = Some(8)),
+        );
         for frame in 0..s.frame_count().min(2) {
             let cam = s.frame_camera(frame).unwrap();
             for (eps, lambda) in [(1.0, 0.5), (0.5, 0.0)] {
@@ -244,7 +249,7 @@ fn workgroups_beyond_the_resident_ones_leave() {
     let gpu = gpu();
     let (s, geo) = common::scene("kitchen.toml");
     let size = (320, 180);
-    let o = options(|o| o.groups = Some(64));
+    let o = options(|o| o.per_method.subdiv.groups = Some(64));
     let mut r = common::renderer(&gpu, &geo, "subdiv", size, o);
     let v = view(&s.camera, size, 1.0, 0.5);
     let run = check_canonical(&mut r, &geo, &v, "64 groups");
@@ -274,7 +279,7 @@ fn depths_too_large_for_one_chunk_are_taken_in_parts_at_any_depth() {
     let v = view(&inside, size, 0.5, 0.5);
     let budget = 100_003;
     for method in ["subdiv-indirect", "subdiv"] {
-        let o = options(|o| o.node_memory = budget);
+        let o = options(|o| o.per_method.levels.node_memory = budget);
         let mut r = common::renderer(&gpu, &geo, method, size, o);
         let run = check_canonical(&mut r, &geo, &v, method);
         let memory = r.method().memory();
@@ -298,7 +303,7 @@ fn depths_too_large_for_one_chunk_are_taken_in_parts_at_any_depth() {
         assert_eq!(run.own("node_memory_bytes"), node_memory);
     }
     // The paper's depth limit is still there on request.
-    let o = options(|o| o.max_depth = 6);
+    let o = options(|o| o.per_method.subdiv_indirect.max_depth = 6);
     let mut r = common::renderer(&gpu, &geo, "subdiv-indirect", size, o);
     let run = check_canonical(&mut r, &geo, &v, "max depth 6");
     assert_eq!(run.stats.max_depth, 6);
@@ -319,7 +324,7 @@ fn instances_outside_the_frustum_are_culled_whole() {
     let size = (320, 180);
     let v = view(&s.frame_camera(2).unwrap(), size, 1.0, 0.5);
     for (method, budget) in [("subdiv-indirect", 200_000), ("subdiv", 300_001)] {
-        let o = options(|o| o.node_memory = budget);
+        let o = options(|o| o.per_method.levels.node_memory = budget);
         let mut r = common::renderer(&gpu, &geo, method, size, o);
         let run = check_canonical(&mut r, &geo, &v, method);
         let (culled, patches) = (
@@ -349,8 +354,8 @@ fn a_tripped_watchdog_sends_the_frame_to_the_per_depth_rounds() {
     let (s, geo) = common::scene("teapot.toml");
     let size = (320, 180);
     let o = options(|o| {
-        o.level_faults = FAULT_PHANTOM;
-        o.watchdog_polls = 1 << 12;
+        o.per_method.subdiv.level_faults = FAULT_PHANTOM;
+        o.per_method.subdiv.watchdog_polls = 1 << 12;
     });
     let mut r = common::renderer(&gpu, &geo, "subdiv", size, o);
     let v = view(&s.camera, size, 1.0, 0.5);
@@ -383,9 +388,9 @@ fn without_discovery_more_workgroups_than_threads_deadlock_into_the_watchdog() {
     let (s, geo) = common::scene("teapot.toml");
     let size = (320, 180);
     let o = options(|o| {
-        o.groups = Some(64);
-        o.level_faults = FAULT_NO_DISCOVERY;
-        o.watchdog_polls = 1 << 12;
+        o.per_method.subdiv.groups = Some(64);
+        o.per_method.subdiv.level_faults = FAULT_NO_DISCOVERY;
+        o.per_method.subdiv.watchdog_polls = 1 << 12;
     });
     let mut r = common::renderer(&gpu, &geo, "subdiv", size, o);
     let v = view(&s.camera, size, 1.0, 0.5);
@@ -402,8 +407,8 @@ fn workgroup_and_in_flight_limits_are_refused_with_a_sentence() {
     let max = gpu.info().limits.max_compute_work_group_count[0];
     for kernel in [Kernel::Levels, Kernel::Queue] {
         let o = options(|o| {
-            o.kernel = kernel;
-            o.groups = Some(max + 1);
+            o.per_method.subdiv.kernel = kernel;
+            o.per_method.subdiv.groups = Some(max + 1);
         });
         let err = bezier_subdiv::renderer::Renderer::new(
             gpu.arc(),
@@ -425,8 +430,8 @@ fn workgroup_and_in_flight_limits_are_refused_with_a_sentence() {
     }
     // 8192 workgroups x 2048 deque entries alone pass the 24-bit count.
     let o = options(|o| {
-        o.kernel = Kernel::Queue;
-        o.groups = Some(8192);
+        o.per_method.subdiv.kernel = Kernel::Queue;
+        o.per_method.subdiv.groups = Some(8192);
     });
     let mut r = common::renderer(&gpu, &geo, "subdiv", size, o);
     let err = r.render(&view(&s.camera, size, 1.0, 0.5)).unwrap_err();
@@ -441,7 +446,7 @@ fn workgroup_and_in_flight_limits_are_refused_with_a_sentence() {
 
 fn queue(f: impl FnOnce(&mut MethodOptions)) -> MethodOptions {
     options(|o| {
-        o.kernel = Kernel::Queue;
+        o.per_method.subdiv.kernel = Kernel::Queue;
         f(o)
     })
 }
@@ -451,7 +456,7 @@ fn queue_kernel_equals_the_oracle() {
     let gpu = gpu();
     for (name, size) in [("teapot.toml", (640, 360)), ("kitchen.toml", (320, 180))] {
         let (s, geo) = common::scene(name);
-        let o = queue(|o| o.groups = Some(8));
+        let o = queue(|o| o.per_method.subdiv.groups = Some(8));
         let mut r = common::renderer(&gpu, &geo, "subdiv", size, o);
         for frame in 0..s.frame_count().min(2) {
             let cam = s.frame_camera(frame).unwrap();
@@ -486,7 +491,7 @@ fn tiny_queue_terminates_with_the_same_result() {
     v.params.flags |= FLAG_QUEUE_STRESS;
     let mut spills = Vec::new();
     for capacity in [32, 65536] {
-        let o = queue(|o| o.queue_capacity = capacity);
+        let o = queue(|o| o.per_method.subdiv.queue_capacity = capacity);
         let mut r = common::renderer(&gpu, &geo, "subdiv", (640, 360), o);
         let run = run_gpu(&mut r, &v).unwrap();
         check_against_oracle(&r, &geo, &v, &run);
@@ -516,8 +521,8 @@ fn a_deque_one_slot_from_full_takes_no_split_it_cannot_hold() {
     let (s, geo) = common::scene("kitchen.toml");
     let size = (640, 360);
     let o = queue(|o| {
-        o.groups = Some(8);
-        o.base_batch = SUBDIV_LOCAL_CAP - 1;
+        o.per_method.subdiv.groups = Some(8);
+        o.per_method.subdiv.base_batch = SUBDIV_LOCAL_CAP - 1;
     });
     let mut r = common::renderer(&gpu, &geo, "subdiv", size, o);
     let v = view(&s.camera, size, 0.5, 0.5);
@@ -542,8 +547,8 @@ fn planted_endless_loop_falls_back_to_the_per_depth_rounds() {
     let gpu = gpu();
     let (s, geo) = common::scene("teapot.toml");
     let o = queue(|o| {
-        o.plant_endless_loop = true;
-        o.idle_poll_cap = 1 << 14;
+        o.per_method.subdiv.plant_endless_loop = true;
+        o.per_method.subdiv.idle_poll_cap = 1 << 14;
     });
     let mut r = common::renderer(&gpu, &geo, "subdiv", (320, 180), o);
     let v = view(&s.camera, (320, 180), 1.0, 0.5);

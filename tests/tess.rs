@@ -189,10 +189,8 @@ fn flip_orders_coarse_and_fine_renders() {
     let gpu = common::gpu();
     let (s, geo) = common::scene("teapot.toml");
     let size = (256, 192);
-    let options = MethodOptions {
-        grid: 32,
-        ..MethodOptions::new(DrawPath::Mesh)
-    };
+    let mut options = MethodOptions::new(DrawPath::Mesh);
+    options.per_method.ground_truth.grid = 32;
     for method in ["tess", "tess-reparam"] {
         let mut r = common::renderer(&gpu, &geo, method, size, options.clone());
         let view = |eps| View::new(&s.camera, size, eps, 0.5, SHADE_NORMAL);

@@ -31,7 +31,7 @@ fn every_model_keeps_its_own_tint() {
     ];
     for (method, draw) in cases {
         let mut options = MethodOptions::new(draw);
-        options.grid = 8;
+        options.per_method.ground_truth.grid = 8;
         let mut r = common::renderer(&gpu, &geo, method, SIZE, options);
         r.set_background([1.0; 4]);
         let mut image = |shade: u32| {

@@ -118,7 +118,7 @@ fn ground_truth_gets_the_hole_test() {
     let _gpu = common::gpu();
     let mut a = args("teapot.toml", DrawRequest::Auto);
     a.gpu.method = "ground-truth".into();
-    a.gpu.grid = 16;
+    a.gpu.per_method.ground_truth.grid = 16;
     let report = run(&a).unwrap();
     println!("{}", report.table);
     assert!(report.ok(), "{}", report.table);

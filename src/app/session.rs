@@ -162,7 +162,7 @@ impl Session {
             occlusion: renderer.options().occlusion,
             shade: args.shade,
             msaa: args.gpu.msaa,
-            grid: args.gpu.grid,
+            grid: args.gpu.per_method.ground_truth.grid,
             anim,
         };
         let stats = LiveStats {
@@ -329,13 +329,13 @@ impl Session {
     /// the session.
     fn apply_controls(&mut self, size: (u32, u32)) -> anyhow::Result<()> {
         let c = &self.controls;
-        let wanted = MethodOptions {
+        let mut wanted = MethodOptions {
             draw: c.draw,
-            grid: c.grid,
             samples: c.msaa,
             occlusion: c.occlusion,
             ..self.renderer.options().clone()
         };
+        wanted.per_method.ground_truth.grid = c.grid;
         let resize = self.renderer.target().size() != size;
         let reconfigure = wanted != *self.renderer.options();
         let switch = c.method != self.renderer.method().name();
@@ -364,7 +364,7 @@ impl Session {
             self.stats.notice = Some(e.to_string());
             let o = self.renderer.options();
             self.controls.draw = o.draw;
-            self.controls.grid = o.grid;
+            self.controls.grid = o.per_method.ground_truth.grid;
             self.controls.msaa = o.samples;
             self.controls.method = self.renderer.method().name().to_string();
         }
@@ -538,7 +538,7 @@ impl Session {
         gpu.eps = Some(c.eps);
         gpu.lambda = Some(c.lambda);
         gpu.size = size;
-        gpu.grid = c.grid;
+        gpu.per_method.ground_truth.grid = c.grid;
         gpu.msaa = c.msaa;
         RenderArgs {
             gpu,

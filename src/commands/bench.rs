@@ -271,7 +271,7 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
     // Off unless asked: the paper's comparison culls by frustum and back
     // faces alone, like the tessellators.
     request.occlusion = Some(args.occlusion);
-    request.grid = args.grid;
+    request.per_method.ground_truth.grid = args.grid;
     request.method_info()?;
     if args.frames == Some(0) {
         return Err(anyhow!("--frames must be at least 1"));
@@ -452,7 +452,7 @@ fn bench_renderer(
     // Off unless asked: the paper's comparison culls by frustum and back
     // faces alone, like the tessellators.
     request.occlusion = Some(args.occlusion);
-    request.grid = args.grid;
+    request.per_method.ground_truth.grid = args.grid;
     request.size = args.size;
     request.method = plan.configs[0].method.clone();
     let mut renderer = request.renderer(ctx, &loaded.geometry, &loaded.shading)?;

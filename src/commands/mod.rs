@@ -51,24 +51,14 @@ pub struct GpuRequest {
     pub size: (u32, u32),
     /// Draw path request.
     pub draw: crate::draw::DrawRequest,
-    /// `ground-truth`: grid cells per patch side.
-    pub grid: u32,
-    /// `subdiv-indirect`: the deepest level.
-    pub max_depth: u32,
-    /// `subdiv`: persistent workgroups (`None`: the device's default).
-    pub groups: Option<u32>,
-    /// `subdiv`: which persistent kernel.
-    pub kernel: crate::methods::subdiv::Kernel,
-    /// `subdiv`, `subdiv-indirect`: bytes of node memory.
-    pub node_memory: u64,
+    /// Each method's own knobs, as the renderer takes them.
+    pub per_method: crate::methods::PerMethod,
     /// Samples per pixel of the image.
     pub msaa: u32,
     /// Device choice.
     pub device: crate::vk::DeviceSelector,
     /// Khronos validation layer on (any error fails the run).
     pub validation: bool,
-    /// `cudatess`: interior vertices by forward differencing.
-    pub forward_differencing: bool,
     /// `subdiv`, `subdiv-indirect`: how a node splits (`None`: the
     /// scene's `[view] split`).
     pub split: Option<crate::patch::view::Split>,
@@ -99,15 +89,10 @@ impl GpuRequest {
             lambda: None,
             size: (1920, 1080),
             draw: crate::draw::DrawRequest::Auto,
-            grid: crate::methods::ground_truth::DEFAULT_GRID,
-            max_depth: crate::methods::subdiv_indirect::DEFAULT_MAX_DEPTH,
-            groups: None,
-            kernel: crate::methods::subdiv::Kernel::Levels,
-            node_memory: crate::methods::levels::DEFAULT_NODE_MEMORY,
+            per_method: crate::methods::PerMethod::default(),
             msaa: 1,
             device: crate::vk::DeviceSelector::Auto,
             validation: false,
-            forward_differencing: false,
             split: None,
             time: None,
             occlusion: None,
@@ -153,22 +138,9 @@ impl GpuRequest {
     /// The method's registry entry, or the sentence why there is none
     /// (checked before any GPU work).
     pub fn method_info(&self) -> anyhow::Result<&'static crate::methods::MethodInfo> {
-        crate::methods::ground_truth::check_grid(self.grid).map_err(|e| anyhow!("--grid: {e}"))?;
+        self.per_method.check().map_err(|e| anyhow!(e))?;
         if crate::gpu::sample_count(self.msaa).is_none() {
             return Err(anyhow!("--msaa must be 1, 2, 4 or 8 (got {})", self.msaa));
-        }
-        if self.groups == Some(0) {
-            return Err(anyhow!("--groups must be at least 1"));
-        }
-        if self.node_memory == 0 {
-            return Err(anyhow!("--node-memory must be positive"));
-        }
-        if self.max_depth > crate::constants::L_MAX {
-            return Err(anyhow!(
-                "--max-depth {} is beyond l_max = {}",
-                self.max_depth,
-                crate::constants::L_MAX
-            ));
         }
         Ok(crate::methods::find(&self.method)?)
     }
@@ -184,14 +156,9 @@ impl GpuRequest {
     ) -> anyhow::Result<Renderer> {
         let draw = crate::draw::choose(ctx, self.draw)?;
         let methods = crate::methods::MethodOptions {
-            grid: self.grid,
-            max_depth: self.max_depth,
-            groups: self.groups,
-            kernel: self.kernel,
-            node_memory: self.node_memory,
             samples: self.msaa,
-            forward_differencing: self.forward_differencing,
             occlusion: self.occlusion.unwrap_or(true),
+            per_method: self.per_method.clone(),
             ..crate::methods::MethodOptions::new(draw)
         };
         let options = RendererOptions {

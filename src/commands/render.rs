@@ -264,7 +264,7 @@ fn compare_with_ground_truth(
     let geometry = geometric_error(renderer, view, camera, &result)?;
     Ok(FlipOutput {
         result,
-        grid: renderer.options().grid,
+        grid: renderer.options().per_method.ground_truth.grid,
         geometry,
     })
 }

@@ -18,7 +18,7 @@
 //!    patch): corners, edge vertices from the edge's own control points in a
 //!    reversal-symmetric order (both patches of an edge write the same bits),
 //!    interior vertices by evaluation or, with
-//!    [`MethodOptions::forward_differencing`](super::MethodOptions), by
+//!    [`Options::forward_differencing`], by
 //!    forward differences along rows.
 //! 4. **indices** (`ct_indices.comp`, one invocation per patch): the uniform
 //!    core and Bresenham-like transition strips ([`pattern`]).
@@ -138,6 +138,22 @@ pub const INITIAL_VERTICES: u32 = 1 << 18;
 /// Indices the index buffer holds at first (grown on demand).
 pub const INITIAL_INDICES: u32 = 1 << 20;
 
+/// `cudatess`'s knobs ([`super::PerMethod::cudatess`]) and its flag, under
+/// its own heading in `--help`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, clap::Args)]
+#[command(next_help_heading = "cudatess")]
+pub struct Options {
+    /// cudatess: interior vertices by forward differences along each row
+    /// (the paper's option) instead of evaluating every one.
+    #[arg(long = "forward-diff")]
+    pub forward_differencing: bool,
+    /// The vertex and index buffers' first capacities instead of
+    /// [`INITIAL_VERTICES`] and [`INITIAL_INDICES`] (small ones make the
+    /// first frames grow them; tests set them, no flag).
+    #[arg(skip)]
+    pub capacity: Option<(u32, u32)>,
+}
+
 /// The buffers that follow the scene: its edge table, the edge factors,
 /// the per-patch records and the scan.
 struct SceneBuffers {
@@ -243,7 +259,7 @@ pub struct CudaTess {
     outputs: Outputs,
     set: Option<DescriptorSet>,
     forward_differencing: bool,
-    /// The first capacities asked for (`MethodOptions::cudatess_capacity`).
+    /// The first capacities asked for ([`Options::capacity`]).
     first_capacity: Option<(u32, u32)>,
     copied: Option<CopyRange>,
 }
@@ -297,10 +313,8 @@ impl CudaTess {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
-        let (v, i) = setup
-            .options
-            .cudatess_capacity
-            .unwrap_or((INITIAL_VERTICES, INITIAL_INDICES));
+        let o = &setup.options.per_method.cudatess;
+        let (v, i) = o.capacity.unwrap_or((INITIAL_VERTICES, INITIAL_INDICES));
         let outputs = Outputs::new(ctx, v.max(1), i.max(1))?;
         Ok(Self {
             set_layout,
@@ -318,8 +332,8 @@ impl CudaTess {
             scene: None,
             outputs,
             set: None,
-            forward_differencing: setup.options.forward_differencing,
-            first_capacity: setup.options.cudatess_capacity,
+            forward_differencing: o.forward_differencing,
+            first_capacity: o.capacity,
             copied: None,
         })
     }
@@ -823,9 +837,10 @@ impl Method for CudaTess {
         setup: &mut MethodSetup<'_>,
         _retired: &mut Retired,
     ) -> Result<bool, RenderError> {
-        self.forward_differencing = setup.options.forward_differencing;
+        let o = &setup.options.per_method.cudatess;
+        self.forward_differencing = o.forward_differencing;
         // Other first capacities: made again, with the buffers they ask for.
-        Ok(setup.options.cudatess_capacity == self.first_capacity)
+        Ok(o.capacity == self.first_capacity)
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {

@@ -150,6 +150,35 @@ pub fn check_grid(grid: u32) -> Result<(), String> {
     }
 }
 
+/// `ground-truth`'s knobs ([`super::PerMethod::ground_truth`]) and its
+/// flags, under their own heading in `--help`.
+#[derive(Clone, Debug, PartialEq, Eq, clap::Args)]
+#[command(next_help_heading = "ground-truth")]
+pub struct Options {
+    /// ground-truth: grid cells per patch side, a power of two up to 256
+    /// (64, the paper's tessellation factor, costs 8,192 triangles per
+    /// patch; lower it for quick references on a CPU device).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_GRID)]
+    pub grid: u32,
+    /// The most triangles one part of a frame (one submission, one bounded
+    /// fence wait) draws; see [`plan_parts`]. Tests lower it; no flag.
+    #[arg(skip = PART_TRIANGLES)]
+    pub part_triangles: u64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        super::cli_defaults()
+    }
+}
+
+impl Options {
+    /// Refuses a grid [`check_grid`] refuses, naming the flag.
+    pub fn check(&self) -> Result<(), String> {
+        check_grid(self.grid).map_err(|e| format!("--grid: {e}"))
+    }
+}
+
 /// The indices of a `grid`×`grid` lattice of quads over (grid+1)² vertices
 /// (vertex `j·(grid+1) + i` at (i, j)), two triangles per cell wound like
 /// the subdivision's quads: (00, 10, 11), (00, 11, 01).
@@ -205,8 +234,8 @@ impl GroundTruth {
     /// Creates the pipelines and the index buffer for the options' grid.
     pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
         let ctx = setup.ctx;
-        let grid = setup.options.grid;
-        check_grid(grid).map_err(RenderError::Request)?;
+        // Checked with every knob where the renderer takes them.
+        let grid = setup.options.per_method.ground_truth.grid;
         let scene = setup.scene_layout;
         let set_layout = SetLayout::storage(
             ctx,
@@ -260,7 +289,7 @@ impl GroundTruth {
             pn,
             copied: None,
             plan: None,
-            part_triangles: setup.options.part_triangles,
+            part_triangles: setup.options.per_method.ground_truth.part_triangles,
         })
     }
 
@@ -454,10 +483,10 @@ impl Method for GroundTruth {
         setup: &mut MethodSetup<'_>,
         retired: &mut Retired,
     ) -> Result<bool, RenderError> {
-        self.part_triangles = setup.options.part_triangles;
-        let grid = setup.options.grid;
+        let o = &setup.options.per_method.ground_truth;
+        self.part_triangles = o.part_triangles;
+        let grid = o.grid;
         if grid != self.grid {
-            check_grid(grid).map_err(RenderError::Request)?;
             let indices = grid_index_buffer(setup.ctx, grid)?;
             retired.push(std::mem::replace(&mut self.indices, indices));
             if let Some(old) = self.pn.set_grid(setup.ctx, grid)? {

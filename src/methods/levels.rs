@@ -39,6 +39,46 @@ use crate::vk::{
 /// and enough that no kitchen keyframe at ε = 1 needs a depth in parts.
 pub const DEFAULT_NODE_MEMORY: u64 = 24 << 20;
 
+/// The level schedule's knob, which `subdiv` and `subdiv-indirect` share
+/// ([`super::PerMethod::levels`]), and its flag, under their heading in
+/// `--help`.
+#[derive(Clone, Debug, PartialEq, Eq, clap::Args)]
+#[command(next_help_heading = "subdiv and subdiv-indirect")]
+pub struct Options {
+    /// subdiv and subdiv-indirect: node memory of the level schedule in MiB
+    /// (default 24); a depth that does not fit is taken in parts.
+    // In bytes once parsed; "24" is DEFAULT_NODE_MEMORY in MiB (a test
+    // holds them together).
+    #[arg(long, value_name = "MIB", value_parser = parse_mib,
+          default_value = "24", hide_default_value = true)]
+    pub node_memory: u64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        super::cli_defaults()
+    }
+}
+
+impl Options {
+    /// Refuses a budget with no room for a node.
+    pub fn check(&self) -> Result<(), String> {
+        if self.node_memory == 0 {
+            return Err("--node-memory must be positive".into());
+        }
+        Ok(())
+    }
+}
+
+/// A number of MiB (fractions too) as bytes; a negative one is 0, which
+/// [`Options::check`] refuses in its own words.
+fn parse_mib(s: &str) -> Result<u64, String> {
+    let mib: f64 = s
+        .parse()
+        .map_err(|e: std::num::ParseFloatError| e.to_string())?;
+    Ok((mib * f64::from(1u32 << 20)) as u64)
+}
+
 /// Depths with a region: every depth a node can reach.
 pub const LEVELS: u32 = L_MAX;
 

@@ -21,7 +21,9 @@
 //! folder, which reach its concrete type through [`Method::downcast`]).
 //!
 //! Adding a method means a new file here with a [`MethodInfo`] and one line
-//! in [`METHODS`].
+//! in [`METHODS`]. Its knobs, if it has any, are an `Options` section in
+//! the same file (fields, flags, defaults, one check), and a field of
+//! [`PerMethod`].
 
 pub mod corners;
 pub mod cudatess;
@@ -64,65 +66,23 @@ pub enum RenderError {
 }
 
 /// Knobs of the methods, fixed when a method is made (changing them makes
-/// the renderer rebuild its methods). Each method reads the ones it has.
+/// the renderer rebuild its methods or reconfigure them): the ones several
+/// methods read, then each method's own section ([`PerMethod`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MethodOptions {
     /// Draw path of the ready-list methods.
     pub draw: DrawPath,
     /// Initial ready-list entries (grown on overflow).
     pub ready_capacity: u32,
-    /// `subdiv`: which persistent kernel (`--kernel`).
-    pub kernel: subdiv::Kernel,
-    /// `subdiv`: persistent workgroups (`None`: the device's default).
-    pub groups: Option<u32>,
-    /// `subdiv` and `subdiv-indirect`: bytes of node memory of the level
-    /// schedule (rounds take chunks of a depth that fit it).
-    pub node_memory: u64,
-    /// `subdiv`: polls without progress before the level kernel's watchdog
-    /// sends the frame to the per-depth rounds.
-    pub watchdog_polls: u32,
-    /// `subdiv`: polls of an unchanged join count before the occupancy
-    /// window closes (`None`: the device's default).
-    pub join_polls: Option<u32>,
-    /// Test-only faults of the persistent level kernel (`FAULT_*`).
-    pub level_faults: u32,
-    /// `subdiv --kernel queue`: work-queue entries.
-    pub queue_capacity: u32,
-    /// `subdiv --kernel queue`: polls without progress before it gives up.
-    pub idle_poll_cap: u32,
-    /// `subdiv --kernel queue`: deque entries per workgroup (tests lower it).
-    pub deque_capacity: u32,
-    /// `subdiv --kernel queue`: base patches per claim (0: spread over the
-    /// workgroups; tests fill the deque with it).
-    pub base_batch: u32,
-    /// `subdiv --kernel queue`: sort the ready list before drawing
-    /// (deterministic images; the level kernels need no sort).
-    pub sort: bool,
-    /// `ground-truth`: grid cells per patch side.
-    pub grid: u32,
-    /// `ground-truth`: the most triangles one part of a frame (one
-    /// submission, one bounded fence wait) draws; see
-    /// `ground_truth::plan_parts`.
-    pub part_triangles: u64,
-    /// `subdiv-indirect`: the deepest level (at most l_max = 10).
-    pub max_depth: u32,
-    /// Test-only fault for `subdiv --kernel queue`: one phantom item in
-    /// flight that never completes, so the kernel can only end through its
-    /// iteration cap.
-    pub plant_endless_loop: bool,
     /// Samples per pixel of the draw target (1: no multisampling). The
     /// draw pipelines are made for it.
     pub samples: u32,
-    /// `cudatess`: interior vertices by forward differencing along rows
-    /// instead of evaluating each one.
-    pub forward_differencing: bool,
-    /// `cudatess`: the vertex and index buffers' first capacities instead
-    /// of the defaults (small ones make the first frames grow them).
-    pub cudatess_capacity: Option<(u32, u32)>,
     /// `subdiv` (level kernels) and `subdiv-indirect`: occlusion culling in
     /// two phases against a depth pyramid (off here, so the oracle
     /// comparisons see every node; the command line turns it on).
     pub occlusion: bool,
+    /// Each method's own knobs.
+    pub per_method: PerMethod,
 }
 
 impl MethodOptions {
@@ -131,27 +91,60 @@ impl MethodOptions {
         Self {
             draw,
             ready_capacity: 1 << 18,
-            kernel: subdiv::Kernel::Levels,
-            groups: None,
-            node_memory: levels::DEFAULT_NODE_MEMORY,
-            watchdog_polls: levels::DEFAULT_WATCHDOG_POLLS,
-            join_polls: None,
-            level_faults: 0,
-            queue_capacity: 1 << 19,
-            idle_poll_cap: subdiv::DEFAULT_IDLE_POLL_CAP,
-            deque_capacity: crate::constants::SUBDIV_LOCAL_CAP,
-            base_batch: 0,
-            sort: true,
-            grid: ground_truth::DEFAULT_GRID,
-            part_triangles: ground_truth::PART_TRIANGLES,
-            max_depth: subdiv_indirect::DEFAULT_MAX_DEPTH,
             samples: 1,
-            plant_endless_loop: false,
-            forward_differencing: false,
-            cudatess_capacity: None,
             occlusion: false,
+            per_method: PerMethod::default(),
         }
     }
+}
+
+/// The methods' own knobs, one typed section per method that has any,
+/// each declared in the method's file as its `Options`: the fields, their
+/// flags (a clap group under the method's heading in `--help`; knobs that
+/// only tests and profiling set have none), the defaults (the flags', see
+/// [`cli_defaults`]) and one `check`. The command line flattens this into
+/// the flags of the commands that render, `GpuRequest` carries it, and
+/// [`PerMethod::check`] refuses bad values, in the flag's words, before any
+/// GPU work and wherever the renderer takes new knobs.
+#[derive(Clone, Debug, Default, PartialEq, Eq, clap::Args)]
+pub struct PerMethod {
+    /// The level schedule's, which `subdiv` and `subdiv-indirect` share.
+    #[command(flatten)]
+    pub levels: levels::Options,
+    /// `subdiv`'s.
+    #[command(flatten)]
+    pub subdiv: subdiv::Options,
+    /// `subdiv-indirect`'s.
+    #[command(flatten)]
+    pub subdiv_indirect: subdiv_indirect::Options,
+    /// `ground-truth`'s.
+    #[command(flatten)]
+    pub ground_truth: ground_truth::Options,
+    /// `cudatess`'s.
+    #[command(flatten)]
+    pub cudatess: cudatess::Options,
+}
+
+impl PerMethod {
+    /// Every section's check: the first sentence that refuses a value.
+    pub fn check(&self) -> Result<(), String> {
+        self.ground_truth.check()?;
+        self.subdiv.check()?;
+        self.levels.check()?;
+        self.subdiv_indirect.check()
+    }
+}
+
+/// A section's defaults: what the command line gives it when none of its
+/// flags is given. Its `Default` is this, so the defaults are written once,
+/// in the section's attributes, and the library's cannot drift from the
+/// command line's.
+pub(crate) fn cli_defaults<T: clap::Args + clap::FromArgMatches>() -> T {
+    let command = T::augment_args(clap::Command::new("defaults"));
+    command
+        .try_get_matches_from(["defaults"])
+        .and_then(|m| T::from_arg_matches(&m))
+        .expect("every flag of a method's section has a default")
 }
 
 /// What a method is made with.
@@ -514,6 +507,83 @@ mod tests {
             assert_eq!(r.lambda && r.l_max && r.wedges, subdivides, "{}", m.name);
             assert_eq!(r.grid, m.name == ground_truth::INFO.name, "{}", m.name);
         }
+    }
+
+    /// Each section's defaults (the flags') are the knobs' long-standing
+    /// values, and the flags parse into the sections.
+    #[test]
+    fn sections_default_to_their_flags() {
+        let d = PerMethod::default();
+        assert_eq!(d.levels.node_memory, levels::DEFAULT_NODE_MEMORY);
+        let s = &d.subdiv;
+        assert_eq!((s.kernel, s.groups), (subdiv::Kernel::Levels, None));
+        assert_eq!(s.watchdog_polls, levels::DEFAULT_WATCHDOG_POLLS);
+        assert_eq!((s.join_polls, s.level_faults), (None, 0));
+        assert_eq!(s.queue_capacity, 1 << 19);
+        assert_eq!(s.idle_poll_cap, subdiv::DEFAULT_IDLE_POLL_CAP);
+        assert_eq!(s.deque_capacity, crate::constants::SUBDIV_LOCAL_CAP);
+        assert_eq!(s.base_batch, 0);
+        assert!(s.sort && !s.plant_endless_loop);
+        assert_eq!(
+            d.subdiv_indirect.max_depth,
+            subdiv_indirect::DEFAULT_MAX_DEPTH
+        );
+        assert_eq!(d.ground_truth.grid, ground_truth::DEFAULT_GRID);
+        assert_eq!(d.ground_truth.part_triangles, ground_truth::PART_TRIANGLES);
+        assert_eq!(d.cudatess, cudatess::Options::default());
+        assert!(!d.cudatess.forward_differencing && d.cudatess.capacity.is_none());
+        assert_eq!(d.check(), Ok(()));
+
+        let parse = |args: &[&str]| {
+            use clap::{Args, FromArgMatches};
+            let cmd = PerMethod::augment_args(clap::Command::new("t"));
+            let m = cmd.try_get_matches_from([&["t"], args].concat()).unwrap();
+            PerMethod::from_arg_matches(&m).unwrap()
+        };
+        assert_eq!(parse(&[]), d);
+        let p = parse(&[
+            "--grid=16",
+            "--max-depth=6",
+            "--kernel=queue",
+            "--groups=8",
+            "--node-memory=0.5",
+            "--forward-diff",
+        ]);
+        assert_eq!(p.ground_truth.grid, 16);
+        assert_eq!(p.subdiv_indirect.max_depth, 6);
+        assert_eq!(
+            (p.subdiv.kernel, p.subdiv.groups),
+            (subdiv::Kernel::Queue, Some(8))
+        );
+        assert_eq!(p.levels.node_memory, 1 << 19);
+        assert!(p.cudatess.forward_differencing);
+    }
+
+    /// One check per section refuses what it must, in the flag's words.
+    #[test]
+    fn sections_refuse_in_their_flags_words() {
+        let refused = |f: fn(&mut PerMethod)| {
+            let mut o = PerMethod::default();
+            f(&mut o);
+            o.check().unwrap_err()
+        };
+        let e = refused(|o| o.ground_truth.grid = 48);
+        assert!(
+            e.starts_with("--grid: ") && e.contains("power of two"),
+            "{e}"
+        );
+        let e = refused(|o| o.subdiv_indirect.max_depth = 11);
+        assert_eq!(e, "--max-depth 11 is beyond l_max = 10");
+        assert_eq!(
+            refused(|o| o.subdiv.groups = Some(0)),
+            "--groups must be at least 1"
+        );
+        assert_eq!(
+            refused(|o| o.levels.node_memory = 0),
+            "--node-memory must be positive"
+        );
+        let e = refused(|o| o.subdiv.deque_capacity = 0);
+        assert!(e.starts_with("a deque of 0 entries"), "{e}");
     }
 
     /// The PN refusal names the methods that declare PN triangles, in the

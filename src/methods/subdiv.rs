@@ -27,7 +27,7 @@ use ash::vk;
 use serde_json::json;
 
 use super::levels::{self, LevelState, Levels, PersistentRun};
-use super::subdiv_indirect::{base_rounds, finish_rounds, level_memory, recorded};
+use super::subdiv_indirect::{base_rounds, finish_rounds, level_memory, must_remake, recorded};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
@@ -100,6 +100,79 @@ impl FromStr for Kernel {
                 "unknown kernel `{other}`: expected levels (depth-synchronous) or queue"
             )),
         }
+    }
+}
+
+/// `subdiv`'s knobs ([`super::PerMethod::subdiv`]): its flags, under their
+/// own heading in `--help`, and the tuning and test faults that have none.
+#[derive(Clone, Debug, PartialEq, Eq, clap::Args)]
+#[command(next_help_heading = "subdiv")]
+pub struct Options {
+    /// subdiv: the persistent kernel, levels (depth-synchronous: the
+    /// per-depth schedule in one dispatch, a grid barrier between rounds;
+    /// the default) or queue (the work-queue kernel, kept for comparison).
+    #[arg(long, value_name = "K", default_value = "levels")]
+    pub kernel: Kernel,
+    /// subdiv: persistent workgroups to launch (default: about what the
+    /// device keeps resident), for profiling.
+    #[arg(long, value_name = "N")]
+    pub groups: Option<u32>,
+    /// Polls without progress before the level kernel's watchdog sends the
+    /// frame to the per-depth rounds.
+    #[arg(skip = levels::DEFAULT_WATCHDOG_POLLS)]
+    pub watchdog_polls: u32,
+    /// Polls of an unchanged join count before the occupancy window closes
+    /// (`None`: the device's default).
+    #[arg(skip)]
+    pub join_polls: Option<u32>,
+    /// Test-only faults of the persistent level kernel (`FAULT_*`).
+    #[arg(skip)]
+    pub level_faults: u32,
+    /// `--kernel queue`: work-queue entries.
+    #[arg(skip = 1u32 << 19)]
+    pub queue_capacity: u32,
+    /// `--kernel queue`: polls without progress before it gives up.
+    #[arg(skip = DEFAULT_IDLE_POLL_CAP)]
+    pub idle_poll_cap: u32,
+    /// `--kernel queue`: deque entries per workgroup (tests lower it).
+    #[arg(skip = SUBDIV_LOCAL_CAP)]
+    pub deque_capacity: u32,
+    /// `--kernel queue`: base patches per claim (0: spread over the
+    /// workgroups; tests fill the deque with it).
+    #[arg(skip)]
+    pub base_batch: u32,
+    /// `--kernel queue`: sort the ready list before drawing (deterministic
+    /// images; the level kernels need no sort).
+    #[arg(skip = true)]
+    pub sort: bool,
+    /// Test-only fault for `--kernel queue`: one phantom item in flight
+    /// that never completes, so the kernel can only end through its
+    /// iteration cap.
+    #[arg(skip)]
+    pub plant_endless_loop: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        super::cli_defaults()
+    }
+}
+
+impl Options {
+    /// Refuses what no device could run: no workgroups, a deque the
+    /// kernel's workgroups cannot hold. (How many workgroups one dispatch
+    /// may launch depends on the device: [`check_groups`].)
+    pub fn check(&self) -> Result<(), String> {
+        if self.groups == Some(0) {
+            return Err("--groups must be at least 1".into());
+        }
+        if self.deque_capacity == 0 || self.deque_capacity > SUBDIV_LOCAL_CAP {
+            return Err(format!(
+                "a deque of {} entries: the queue kernel's workgroups hold 1 to {SUBDIV_LOCAL_CAP}",
+                self.deque_capacity
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -236,13 +309,7 @@ struct QueueKernel {
 
 impl QueueKernel {
     fn new(setup: &mut MethodSetup<'_>, stage: &ReadyStage) -> Result<Self, RenderError> {
-        let (ctx, o) = (setup.ctx, setup.options);
-        if o.deque_capacity == 0 || o.deque_capacity > SUBDIV_LOCAL_CAP {
-            return Err(RenderError::Request(format!(
-                "a deque of {} entries: the queue kernel's workgroups hold 1 to {SUBDIV_LOCAL_CAP}",
-                o.deque_capacity
-            )));
-        }
+        let (ctx, o) = (setup.ctx, &setup.options.per_method.subdiv);
         let queue_layout = SetLayout::storage(
             ctx,
             "queue set",
@@ -367,8 +434,9 @@ impl Subdiv {
     /// (and the queue, for the queue kernel).
     pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
         let (ctx, o) = (setup.ctx, setup.options);
-        let groups = check_groups(ctx, o.groups, o.kernel)?;
-        let sort = o.kernel == Kernel::Queue && o.sort;
+        let s = &o.per_method.subdiv;
+        let groups = check_groups(ctx, s.groups, s.kernel)?;
+        let sort = s.kernel == Kernel::Queue && s.sort;
         let caps = ReadyCaps {
             ready: o.ready_capacity,
             vertices: false,
@@ -381,15 +449,15 @@ impl Subdiv {
             setup.shaders,
             setup.scene_layout,
             &stage,
-            o.node_memory,
+            o.per_method.levels.node_memory,
             true,
         )?;
-        let queue = match o.kernel {
+        let queue = match s.kernel {
             Kernel::Queue => Some(QueueKernel::new(setup, &stage)?),
             Kernel::Levels => None,
         };
         // The queue kernel has no phases: it draws everything it keeps.
-        let occlusion = if o.occlusion && o.kernel == Kernel::Levels {
+        let occlusion = if o.occlusion && s.kernel == Kernel::Levels {
             Some(Hiz::new(ctx, setup.shaders, setup.scene_layout)?)
         } else {
             None
@@ -399,14 +467,14 @@ impl Subdiv {
             levels,
             occlusion,
             queue,
-            kernel: o.kernel,
+            kernel: s.kernel,
             groups,
-            watchdog_polls: o.watchdog_polls,
-            join_polls: o
+            watchdog_polls: s.watchdog_polls,
+            join_polls: s
                 .join_polls
                 .unwrap_or_else(|| levels::default_join_polls(setup.ctx)),
-            faults: o.level_faults,
-            node_memory: o.node_memory,
+            faults: s.level_faults,
+            node_memory: o.per_method.levels.node_memory,
             sort,
             fallback: None,
             rounds: base_rounds(L_MAX),
@@ -593,33 +661,34 @@ impl Method for Subdiv {
         setup: &mut MethodSetup<'_>,
         _retired: &mut Retired,
     ) -> Result<bool, RenderError> {
-        let o = setup.options;
+        let (o, s) = (setup.options, &setup.options.per_method.subdiv);
         // Buffer sizes, the kernel and the draw path need a new method; the
         // rest are values recorded per frame.
         let queue_changed = self.queue.as_ref().is_some_and(|q| {
-            o.queue_capacity.next_power_of_two() != q.queue.capacity
-                || o.deque_capacity != q.deque
-                || o.base_batch != q.base_batch
+            s.queue_capacity.next_power_of_two() != q.queue.capacity
+                || s.deque_capacity != q.deque
+                || s.base_batch != q.base_batch
         });
-        if o.draw != self.stage.path()
-            || o.kernel != self.kernel
-            || o.node_memory != self.node_memory
+        let culls = (
+            o.occlusion && s.kernel == Kernel::Levels,
+            self.occlusion.is_some(),
+        );
+        if must_remake(o, &self.stage, self.node_memory, culls)
+            || s.kernel != self.kernel
             || queue_changed
-            || (o.kernel == Kernel::Queue && o.sort) != self.sort
-            || o.ready_capacity > self.stage.list().caps.ready
-            || (o.occlusion && o.kernel == Kernel::Levels) != self.occlusion.is_some()
+            || (s.kernel == Kernel::Queue && s.sort) != self.sort
         {
             return Ok(false);
         }
-        self.groups = check_groups(setup.ctx, o.groups, o.kernel)?;
-        self.watchdog_polls = o.watchdog_polls;
-        self.join_polls = o
+        self.groups = check_groups(setup.ctx, s.groups, s.kernel)?;
+        self.watchdog_polls = s.watchdog_polls;
+        self.join_polls = s
             .join_polls
             .unwrap_or_else(|| levels::default_join_polls(setup.ctx));
-        self.faults = o.level_faults;
+        self.faults = s.level_faults;
         if let Some(q) = self.queue.as_mut() {
-            q.idle_poll_cap = o.idle_poll_cap;
-            q.plant_endless_loop = o.plant_endless_loop;
+            q.idle_poll_cap = s.idle_poll_cap;
+            q.plant_endless_loop = s.plant_endless_loop;
         }
         Ok(true)
     }

@@ -17,7 +17,7 @@ use serde_json::json;
 
 use super::levels::{self, LevelState, Levels, DEFAULT_NODE_MEMORY};
 use super::subdiv::GpuSubdivStats;
-use super::{Finished, Method, MethodInfo, MethodSetup, Reads, RenderError};
+use super::{Finished, Method, MethodInfo, MethodOptions, MethodSetup, Reads, RenderError};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
 use crate::draw::{ReadyCaps, ReadyStage};
@@ -40,6 +40,36 @@ pub const INFO: MethodInfo = MethodInfo {
 
 /// The depth limit unless asked otherwise: the node's own, l_max = 10.
 pub const DEFAULT_MAX_DEPTH: u32 = L_MAX;
+
+/// `subdiv-indirect`'s knobs ([`super::PerMethod::subdiv_indirect`]) and
+/// its flag, under its own heading in `--help`.
+#[derive(Clone, Debug, PartialEq, Eq, clap::Args)]
+#[command(next_help_heading = "subdiv-indirect")]
+pub struct Options {
+    /// subdiv-indirect: the deepest level, at most 10 (the default; the
+    /// paper's variant stops at 6).
+    #[arg(long, value_name = "D", default_value_t = DEFAULT_MAX_DEPTH)]
+    pub max_depth: u32,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        super::cli_defaults()
+    }
+}
+
+impl Options {
+    /// Refuses a depth limit beyond the nodes' own.
+    pub fn check(&self) -> Result<(), String> {
+        if self.max_depth > L_MAX {
+            return Err(format!(
+                "--max-depth {} is beyond l_max = {L_MAX}",
+                self.max_depth
+            ));
+        }
+        Ok(())
+    }
+}
 
 /// Most rounds one frame may be given (a frame needing more is refused:
 /// raise the node memory or ε).
@@ -68,12 +98,7 @@ impl SubdivIndirect {
     /// Creates the ready stage, the node memory and the pipelines.
     pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
         let (ctx, o) = (setup.ctx, setup.options);
-        if o.max_depth > L_MAX {
-            return Err(RenderError::Request(format!(
-                "--max-depth {} is beyond l_max = {L_MAX}",
-                o.max_depth
-            )));
-        }
+        let max_depth = o.per_method.subdiv_indirect.max_depth;
         let caps = ReadyCaps {
             ready: o.ready_capacity,
             vertices: false,
@@ -86,7 +111,7 @@ impl SubdivIndirect {
             setup.shaders,
             setup.scene_layout,
             &stage,
-            o.node_memory,
+            o.per_method.levels.node_memory,
             false,
         )?;
         let occlusion = if o.occlusion {
@@ -98,9 +123,9 @@ impl SubdivIndirect {
             stage,
             levels,
             occlusion,
-            max_depth: o.max_depth,
-            node_memory: o.node_memory,
-            rounds: base_rounds(o.max_depth),
+            max_depth,
+            node_memory: o.per_method.levels.node_memory,
+            rounds: base_rounds(max_depth),
             counters: None,
             state: None,
         })
@@ -239,15 +264,9 @@ impl Method for SubdivIndirect {
         _retired: &mut Retired,
     ) -> Result<bool, RenderError> {
         let o = setup.options;
-        if o.draw != self.stage.path()
-            || o.max_depth != self.max_depth
-            || o.node_memory != self.node_memory
-            || o.ready_capacity > self.stage.list().caps.ready
-            || o.occlusion != self.occlusion.is_some()
-        {
-            return Ok(false);
-        }
-        Ok(true)
+        let culls = (o.occlusion, self.occlusion.is_some());
+        Ok(!must_remake(o, &self.stage, self.node_memory, culls)
+            && o.per_method.subdiv_indirect.max_depth == self.max_depth)
     }
 
     fn memory(&self) -> Vec<(&'static str, u64)> {
@@ -261,6 +280,23 @@ impl Method for SubdivIndirect {
     fn culls_occluded(&self) -> bool {
         true
     }
+}
+
+/// Whether knobs `o` need a method of the level schedule made again rather
+/// than reconfigured (shared with `subdiv`): another draw path or node
+/// memory than its ready `stage` and `node_memory` were made with, a larger
+/// ready list, or occlusion culling turned on or off (`culls`: whether it
+/// would cull with `o`, whether it does now).
+pub(crate) fn must_remake(
+    o: &MethodOptions,
+    stage: &ReadyStage,
+    node_memory: u64,
+    culls: (bool, bool),
+) -> bool {
+    o.draw != stage.path()
+        || o.per_method.levels.node_memory != node_memory
+        || o.ready_capacity > stage.list().caps.ready
+        || culls.0 != culls.1
 }
 
 /// The default node memory, for `--help` texts.

@@ -28,7 +28,7 @@
 
 use crate::constants::*;
 use crate::frame::View;
-use crate::methods::{ground_truth, MethodOptions, RenderError};
+use crate::methods::{ground_truth, RenderError};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::RationalPatch;
 use crate::patch::view::{Split, FLAG_WEDGES};
@@ -549,10 +549,9 @@ fn reference_shots(
         renderer.set_geometry(reference, &SceneShading::own_derivatives(reference))?;
     }
     let options = renderer.options().clone();
-    renderer.set_options(MethodOptions {
-        grid,
-        ..options.clone()
-    })?;
+    let mut reference_options = options.clone();
+    reference_options.per_method.ground_truth.grid = grid;
+    renderer.set_options(reference_options)?;
     renderer.set_method(ground_truth::INFO.name)?;
     let shot = shots(renderer, view, REFERENCE_BACKGROUND);
     renderer.set_options(options)?;
