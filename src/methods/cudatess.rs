@@ -228,8 +228,8 @@ pub struct FrameData {
 /// The method.
 pub struct CudaTess {
     set_layout: SetLayout,
-    compute_layout: PipelineLayout,
-    draw_layout: PipelineLayout,
+    compute_layout: PipelineLayout<CtPush>,
+    draw_layout: PipelineLayout<DrawPush>,
     factors: Pipeline,
     counts: Pipeline,
     scan: Pipeline,
@@ -492,26 +492,24 @@ impl CudaTess {
             self.draw.bind(cmd);
             f.bind_scene(bind, &self.draw_layout);
             set.bind(ctx, cmd, bind, &self.draw_layout, SET_PASS, &[]);
-            let pushed = self.draw_layout.push_block(cmd, &pc);
-            if pushed.is_ok() {
-                unsafe {
-                    ctx.device().cmd_bind_index_buffer(
-                        cmd,
-                        self.outputs.indices.handle(),
-                        0,
-                        vk::IndexType::UINT32,
-                    );
-                    ctx.device().cmd_draw_indexed_indirect(
-                        cmd,
-                        self.counters.handle(),
-                        u64::from(CT_DRAW_ARGS) * 4,
-                        1,
-                        20,
-                    );
-                }
+            self.draw_layout.push(cmd, &pc);
+            unsafe {
+                ctx.device().cmd_bind_index_buffer(
+                    cmd,
+                    self.outputs.indices.handle(),
+                    0,
+                    vk::IndexType::UINT32,
+                );
+                ctx.device().cmd_draw_indexed_indirect(
+                    cmd,
+                    self.counters.handle(),
+                    u64::from(CT_DRAW_ARGS) * 4,
+                    1,
+                    std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u32,
+                );
             }
             f.target.end(ctx, cmd);
-            pushed
+            Ok(())
         })
     }
 
@@ -665,7 +663,7 @@ impl ComputePasses<'_> {
     /// dispatches `groups` workgroups.
     fn dispatch(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
         self.method.bind_compute(f, pipeline, self.set)?;
-        self.method.compute_layout.push_block(f.cmd, &self.push)?;
+        self.method.compute_layout.push(f.cmd, &self.push);
         unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
         Ok(())
     }
