@@ -15,22 +15,9 @@ use bezier_subdiv::constants::*;
 use bezier_subdiv::vk::{
     embedded_shaders, load_spirv, reflect, reflect_shader, set_bindings, undynamic,
 };
+use common::spirv::{id, lit};
 use rspirv::dr::{Instruction, Operand};
 use rspirv::spirv::{Decoration, ExecutionModel, Op, StorageClass};
-
-fn id(op: &Operand) -> u32 {
-    match op {
-        Operand::IdRef(i) => *i,
-        other => panic!("expected an id, got {other:?}"),
-    }
-}
-
-fn lit(op: &Operand) -> u32 {
-    match op {
-        Operand::LiteralBit32(v) => *v,
-        other => panic!("expected a literal, got {other:?}"),
-    }
-}
 
 /// What rspirv's parse says a layout needs of one module.
 struct Truth {

@@ -616,8 +616,7 @@ impl ComputePasses<'_> {
         let per_tri = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE);
         f.scoped("factors", |f| {
             rec.run(&compute_stage("factors"), |_| {
-                self.dispatch(f, &m.factors, per_patch)?;
-                self.pn_pass(f, &m.pn.factors, per_tri)
+                self.both(f, [&m.factors, &m.pn.factors], [per_patch, per_tri])
             })
         })?;
         f.scoped("scan", |f| self.record_scan(f, rec, s, per_patch, per_tri))?;
@@ -627,12 +626,11 @@ impl ComputePasses<'_> {
         // barrier between them.
         rec.run(&compute_stage("vertices and indices"), |_| {
             f.scoped("vertices", |f| {
-                self.dispatch(f, &m.vertices, vertex_groups)?;
-                self.pn_pass(f, &m.pn.vertices, tri_vertex_groups)
+                let groups = [vertex_groups, tri_vertex_groups];
+                self.both(f, [&m.vertices, &m.pn.vertices], groups)
             })?;
             f.scoped("indices", |f| {
-                self.dispatch(f, &m.indices, per_patch)?;
-                self.pn_pass(f, &m.pn.indices, per_tri)
+                self.both(f, [&m.indices, &m.pn.indices], [per_patch, per_tri])
             })
         })
     }
@@ -649,8 +647,7 @@ impl ComputePasses<'_> {
     ) -> VkResult<()> {
         let m = self.method;
         rec.run(&compute_stage("counts"), |_| {
-            self.dispatch(f, &m.counts, per_patch)?;
-            self.pn_pass(f, &m.pn.counts, per_tri)
+            self.both(f, [&m.counts, &m.pn.counts], [per_patch, per_tri])
         })?;
         m.bind_compute(f, &m.scan, self.set)?;
         s.plan.record(rec, &m.compute_layout, self.push)?;
@@ -668,11 +665,13 @@ impl ComputePasses<'_> {
         Ok(())
     }
 
-    /// The PN pass `pipeline` after a patch pass, where there are
-    /// triangles (a scene without them records exactly what it did).
-    fn pn_pass(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
+    /// A stage's patch pass then its PN-triangle pass (`groups` each),
+    /// the latter only where there are triangles (a scene without them
+    /// records exactly what it did before PN triangles).
+    fn both(&self, f: &FrameRec<'_>, pipelines: [&Pipeline; 2], groups: [u32; 2]) -> VkResult<()> {
+        self.dispatch(f, pipelines[0], groups[0])?;
         if self.tris > 0 {
-            self.dispatch(f, pipeline, groups)?;
+            self.dispatch(f, pipelines[1], groups[1])?;
         }
         Ok(())
     }
