@@ -223,7 +223,11 @@ impl<'a> FrameRec<'a> {
     }
 
     /// Records binding set 0 (the scene with this slot's view) for `layout`.
-    pub fn bind_scene(&self, bind_point: vk::PipelineBindPoint, layout: &PipelineLayout) {
+    pub fn bind_scene(
+        &self,
+        bind_point: vk::PipelineBindPoint,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
+    ) {
         self.scene
             .bind(self.ctx, self.cmd, bind_point, layout, self.slot);
     }

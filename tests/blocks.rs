@@ -12,6 +12,7 @@ use std::collections::HashMap;
 
 use bezier_subdiv::gpu::blocks::{all_blocks, BlockField};
 use bezier_subdiv::vk::{embedded_shaders, load_spirv};
+use common::spirv::{id, lit};
 use rspirv::dr::{Instruction, Operand};
 use rspirv::spirv::{Decoration, Op, StorageClass};
 
@@ -27,20 +28,6 @@ struct Reflected {
     array_strides: HashMap<u32, u32>,
     types: HashMap<u32, Instruction>,
     constants: HashMap<u32, u32>,
-}
-
-fn id(op: &Operand) -> u32 {
-    match op {
-        Operand::IdRef(i) => *i,
-        other => panic!("expected an id, got {other:?}"),
-    }
-}
-
-fn lit(op: &Operand) -> u32 {
-    match op {
-        Operand::LiteralBit32(v) => *v,
-        other => panic!("expected a literal, got {other:?}"),
-    }
 }
 
 fn reflect(shader: &str) -> Reflected {

@@ -254,7 +254,7 @@ fn image_clear_and_read_pixels() {
 /// The buffers and pipeline of `glsl/selftest.comp`.
 struct SelfTest {
     pipeline: Pipeline,
-    layout: PipelineLayout,
+    layout: PipelineLayout<[u32; 3]>,
     _set_layout: SetLayout,
     set: DescriptorSet,
     data: Buffer,
@@ -269,19 +269,8 @@ impl SelfTest {
     fn new(ctx: &Context, count: u32) -> Self {
         let shader = ShaderModule::load(ctx, "selftest.comp").unwrap();
         let stage = vk::ShaderStageFlags::COMPUTE;
-        let set_layout = SetLayout::new(
-            ctx,
-            "selftest set",
-            &[
-                vk::DescriptorType::STORAGE_BUFFER,
-                vk::DescriptorType::STORAGE_BUFFER,
-                vk::DescriptorType::UNIFORM_BUFFER,
-            ],
-            stage,
-        )
-        .unwrap();
-        let layout =
-            PipelineLayout::new(ctx, "selftest layout", &[&set_layout], 12, stage).unwrap();
+        let set_layout = SetLayout::reflect(ctx, "selftest set", 0, &["selftest.comp"]).unwrap();
+        let layout = PipelineLayout::new(ctx, "selftest layout", &[&set_layout], stage).unwrap();
         let pipeline =
             Pipeline::compute(ctx, "selftest", &layout, &shader, &[(0, LOCAL_SIZE)]).unwrap();
         let data = Buffer::new(
@@ -338,10 +327,7 @@ impl SelfTest {
             Access::ALL,
             Access::COMPUTE_READ_WRITE,
         );
-        let push: Vec<u8> = [mul, self.count, spin]
-            .iter()
-            .flat_map(|v| v.to_ne_bytes())
-            .collect();
+        let push = [mul, self.count, spin];
         let groups = self.count.div_ceil(LOCAL_SIZE);
         self.pipeline.bind(cmd);
         self.set.bind(
@@ -352,7 +338,7 @@ impl SelfTest {
             0,
             &[],
         );
-        self.layout.push(cmd, &push).unwrap();
+        self.layout.push(cmd, &push);
         unsafe { ctx.device().cmd_dispatch(cmd, groups, 1, 1) };
     }
 

@@ -50,7 +50,7 @@ impl FallbackDraw {
     pub(super) fn new(
         ctx: &Context,
         shaders: &mut Shaders,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
     ) -> VkResult<Self> {
         let expand = shaders.compute(ctx, layout, "expand", "expand.comp")?;
         let draw = shaders.draw_pipeline(

@@ -12,7 +12,7 @@
 
 use ash::vk;
 
-use crate::constants::{BIND_HIZ_DEPTH, BIND_HIZ_PYRAMID, HIZ_BINDINGS, HIZ_GROUP};
+use crate::constants::{BIND_HIZ_DEPTH, BIND_HIZ_PYRAMID, HIZ_BINDINGS, HIZ_GROUP, SET_PASS};
 use crate::frame::{FrameRec, Retired};
 use crate::gpu::{DrawTarget, HizPush, SceneLayout, Shaders};
 use crate::vk::{
@@ -45,7 +45,7 @@ pub fn pyramid_floats(width: u32, height: u32) -> u64 {
 /// The pyramid for the current draw target, its set and its passes.
 pub struct Hiz {
     set_layout: SetLayout,
-    layout: PipelineLayout,
+    layout: PipelineLayout<HizPush>,
     init: Pipeline,
     init_ms: Pipeline,
     reduce: Pipeline,
@@ -61,18 +61,14 @@ struct Pyramid {
     depth: vk::ImageView,
 }
 
+/// The depth-pyramid passes' shaders, which share set 1.
+pub const HIZ_SHADERS: &[&str] = &["hiz_init.comp", "hiz_init_ms.comp", "hiz_reduce.comp"];
+
 impl Hiz {
     /// The passes' layout, pipelines and sampler (the pyramid is made for
     /// the first target it is built from).
     pub fn new(ctx: &Context, shaders: &mut Shaders, scene: &SceneLayout) -> VkResult<Self> {
-        let mut types = [vk::DescriptorType::STORAGE_BUFFER; HIZ_BINDINGS as usize];
-        types[BIND_HIZ_DEPTH as usize] = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let set_layout = SetLayout::new(
-            ctx,
-            "depth pyramid set",
-            &types,
-            vk::ShaderStageFlags::COMPUTE,
-        )?;
+        let set_layout = SetLayout::reflect(ctx, "depth pyramid set", SET_PASS, HIZ_SHADERS)?;
         let layout = scene.pipeline_layout::<HizPush>(
             ctx,
             "depth pyramid layout",
@@ -187,7 +183,7 @@ impl Hiz {
                     _ => &self.reduce,
                 };
                 pipeline.bind(cmd);
-                self.layout.push_block(
+                self.layout.push(
                     cmd,
                     &HizPush {
                         src_offset,
@@ -199,7 +195,7 @@ impl Hiz {
                         samples,
                         pad: 0,
                     },
-                )?;
+                );
                 // Each level reads the last (the pyramid is in memory the
                 // set names, declared as all memory).
                 let mut pass =

@@ -30,7 +30,7 @@ impl MeshDraw {
     pub(super) fn new(
         ctx: &Context,
         shaders: &mut Shaders,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
     ) -> VkResult<Self> {
         let pipeline = shaders.draw_pipeline(
             ctx,

@@ -144,8 +144,8 @@ enum PathPipelines {
 pub struct ReadyStage {
     set_layout: SetLayout,
     list: ReadyList,
-    draw_layout: PipelineLayout,
-    list_layout: PipelineLayout,
+    draw_layout: PipelineLayout<DrawPush>,
+    list_layout: PipelineLayout<ListPush>,
     sort: sort::ReadySort,
     path: PathPipelines,
 }
@@ -210,7 +210,7 @@ impl ReadyStage {
 
     /// The pipeline layout of the non-draw ready-list passes (scene set,
     /// ready set, [`ListPush`]).
-    pub fn list_layout(&self) -> &PipelineLayout {
+    pub fn list_layout(&self) -> &PipelineLayout<ListPush> {
         &self.list_layout
     }
 
@@ -326,7 +326,7 @@ impl ReadyStage {
         &self,
         f: &FrameRec<'_>,
         bind_point: vk::PipelineBindPoint,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
     ) {
         f.bind_scene(bind_point, layout);
         self.list.bind(f.ctx, f.cmd, bind_point, layout);
@@ -341,7 +341,8 @@ impl ReadyStage {
         pc: &DrawPush,
     ) -> VkResult<()> {
         self.bind_sets(f, bind_point, &self.draw_layout);
-        self.draw_layout.push_block(f.cmd, pc)
+        self.draw_layout.push(f.cmd, pc);
+        Ok(())
     }
 
     /// Records the draw of the list into the frame's target: the barrier

@@ -102,14 +102,26 @@ impl ReadyCaps {
     }
 }
 
-/// The layout of set 1 for ready-list passes: ready, counters, vertices,
-/// capture, visible to compute and the geometry stages.
+/// Every shader whose pipelines bind the ready set as set 1: the
+/// ready-list passes, both draw paths and the producers that fill it.
+pub const READY_SHADERS: &[&str] = &[
+    "sort.comp",
+    "expand.comp",
+    "draw.vert",
+    "draw.task",
+    "draw.mesh",
+    "level_init.comp",
+    "subdivide_level.comp",
+    "subdivide.comp",
+    "subdivide_queue.comp",
+    "queue_reset.comp",
+    "reorder_check.comp",
+];
+
+/// The layout of set 1 for ready-list passes (ready, counters, vertices,
+/// capture, sort scratch), as [`READY_SHADERS`] declare it.
 pub fn ready_set_layout(ctx: &Context) -> VkResult<SetLayout> {
-    let mut stages = vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::VERTEX;
-    if ctx.info().has_mesh_shader() {
-        stages |= vk::ShaderStageFlags::TASK_EXT | vk::ShaderStageFlags::MESH_EXT;
-    }
-    SetLayout::storage(ctx, "ready-list set", READY_BINDINGS as usize, stages)
+    SetLayout::reflect(ctx, "ready-list set", SET_PASS, READY_SHADERS)
 }
 
 /// The ready-list buffers and set 1 pointing at them.
@@ -176,7 +188,7 @@ impl ReadyList {
         ctx: &Context,
         cmd: vk::CommandBuffer,
         bind_point: vk::PipelineBindPoint,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
     ) {
         self.set.bind(ctx, cmd, bind_point, layout, SET_PASS, &[]);
     }

@@ -39,7 +39,11 @@ pub struct ReadySort {
 
 impl ReadySort {
     /// Creates the pipeline with the ready-list pass layout.
-    pub fn new(ctx: &Context, shaders: &mut Shaders, layout: &PipelineLayout) -> VkResult<Self> {
+    pub fn new(
+        ctx: &Context,
+        shaders: &mut Shaders,
+        layout: &PipelineLayout<ListPush>,
+    ) -> VkResult<Self> {
         Ok(Self {
             pipeline: shaders.compute(ctx, layout, "sort ready list", "sort.comp")?,
         })
@@ -68,7 +72,7 @@ impl ReadySort {
                 k,
                 j: 0,
             };
-            layout.push_block(f.cmd, &pc)?;
+            layout.push(f.cmd, &pc);
             let pass = Pass::new(name)
                 .write(Res::Memory, Access::COMPUTE_READ_WRITE)
                 .read(Res::Memory, Access::INDIRECT_READ);

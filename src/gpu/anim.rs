@@ -38,7 +38,7 @@ struct SlotBuffers {
 
 /// The update pass of one animation on one uploaded scene.
 pub struct AnimGpu {
-    layout: PipelineLayout,
+    layout: PipelineLayout<AnimPush>,
     pipeline: Pipeline,
     statics: Vec<Buffer>,
     scratch: Vec<Buffer>,
@@ -109,6 +109,9 @@ fn by_terms(rows: &mut [[u32; 4]]) {
 
 /// Rows per window of [`by_terms`].
 const SORT_WINDOW: u32 = 1024;
+
+/// The update's shader, whose set 0 is the animation set.
+pub const ANIM_SHADER: &str = "anim_update.comp";
 
 impl Layout {
     fn new(anim: &Animation) -> Self {
@@ -351,20 +354,14 @@ impl AnimGpu {
     ) -> VkResult<Self> {
         check_fits(anim, scene)?;
         let l = Layout::new(anim);
-        let set_layout = SetLayout::storage(
-            ctx,
-            "animation set",
-            ANIM_BINDINGS as usize,
-            vk::ShaderStageFlags::COMPUTE,
-        )?;
-        let layout = PipelineLayout::new(
+        let set_layout = SetLayout::reflect(ctx, "animation set", 0, &[ANIM_SHADER])?;
+        let layout = PipelineLayout::<AnimPush>::new(
             ctx,
             "animation layout",
             &[&set_layout],
-            std::mem::size_of::<AnimPush>() as u32,
             vk::ShaderStageFlags::COMPUTE,
         )?;
-        let pipeline = shaders.compute(ctx, &layout, "animation update", "anim_update.comp")?;
+        let pipeline = shaders.compute(ctx, &layout, "animation update", ANIM_SHADER)?;
         let statics = upload_tables(ctx, &l)?;
         let vertices = l.vertex_model.len() as u32;
         let point_rows = l.point_rows.len() as u32;
@@ -483,7 +480,7 @@ impl AnimGpu {
                 patches: self.patches,
                 pad: [0; 3],
             };
-            self.layout.push_block(cmd, &push)?;
+            self.layout.push(cmd, &push);
             let groups = count.div_ceil(ANIM_GROUP_SIZE).clamp(1, max);
             let step = Pass::new("anim step").write(Res::Memory, Access::COMPUTE_READ_WRITE);
             rec.dispatch(&step, [groups, 1, 1]);

@@ -15,10 +15,11 @@ use ash::vk;
 
 use crate::vk::{Context, GraphicsDesc, Pipeline, PipelineLayout, ShaderModule, VkResult};
 
+pub use crate::vk::all_stages;
 pub use blocks::{
     AnimPush, CtPush, DrawPush, GpuBlock, GridPush, HizPush, LevelPush, ListPush, SubdivPush,
 };
-pub use scene::{all_stages, SceneGpu, SceneLayout};
+pub use scene::{scene_set_types, SceneGpu, SceneLayout};
 pub use target::{sample_count, write_png, DrawTarget, ImageError, COLOR_FORMAT, DEPTH_FORMAT};
 
 /// Shader modules by name, loaded once per renderer: switching methods
@@ -54,7 +55,7 @@ impl Shaders {
     pub fn compute(
         &mut self,
         ctx: &Context,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
         name: &str,
         file: &str,
     ) -> VkResult<Pipeline> {
@@ -70,7 +71,7 @@ impl Shaders {
     pub fn draw_pipeline(
         &mut self,
         ctx: &Context,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
         name: &str,
         stages: &[(vk::ShaderStageFlags, &str)],
     ) -> VkResult<Pipeline> {

@@ -25,26 +25,9 @@ use crate::scene::instances::{cluster_set_words, Instance, InstanceTable, INSTAN
 use crate::scene::pn::PnScene;
 use crate::scene::shading::ShadingPatch;
 use crate::vk::{
-    Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout, SetLayout,
-    VkError, VkResult,
+    all_stages, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout,
+    SetLayout, VkError, VkResult,
 };
-
-/// Every shader stage the device has: set 0 and the push blocks are
-/// visible to all of them.
-pub fn all_stages(ctx: &Context) -> vk::ShaderStageFlags {
-    let info = ctx.info();
-    let mut s = vk::ShaderStageFlags::COMPUTE
-        | vk::ShaderStageFlags::VERTEX
-        | vk::ShaderStageFlags::FRAGMENT;
-    if info.has_mesh_shader() {
-        s |= vk::ShaderStageFlags::TASK_EXT | vk::ShaderStageFlags::MESH_EXT;
-    }
-    if info.features.tessellation_shader {
-        s |= vk::ShaderStageFlags::TESSELLATION_CONTROL
-            | vk::ShaderStageFlags::TESSELLATION_EVALUATION;
-    }
-    s
-}
 
 /// The layout of set 0: the view (a uniform buffer with a dynamic offset
 /// per frame slot), the patches, their flags, their shading patches. Made
@@ -55,14 +38,22 @@ pub struct SceneLayout {
     stages: vk::ShaderStageFlags,
 }
 
+/// Set 0's descriptor types, binding by binding. Declared rather than
+/// reflected: the view is a dynamic uniform buffer (one offset per frame
+/// slot), which SPIR-V cannot say; `tests/reflect.rs` checks every
+/// shader's set 0 against it.
+pub fn scene_set_types() -> [vk::DescriptorType; SCENE_BINDINGS as usize] {
+    let mut types = [vk::DescriptorType::STORAGE_BUFFER; SCENE_BINDINGS as usize];
+    types[BIND_VIEW as usize] = vk::DescriptorType::UNIFORM_BUFFER_DYNAMIC;
+    types
+}
+
 impl SceneLayout {
     /// Creates the set layout.
     pub fn new(ctx: &Context) -> VkResult<Self> {
-        let mut types = [vk::DescriptorType::STORAGE_BUFFER; SCENE_BINDINGS as usize];
-        types[BIND_VIEW as usize] = vk::DescriptorType::UNIFORM_BUFFER_DYNAMIC;
         let stages = all_stages(ctx);
         Ok(Self {
-            set: SetLayout::new(ctx, "scene set", &types, stages)?,
+            set: SetLayout::new(ctx, "scene set", &scene_set_types(), stages)?,
             stages,
         })
     }
@@ -85,16 +76,10 @@ impl SceneLayout {
         name: &str,
         sets: &[&SetLayout],
         push_stages: vk::ShaderStageFlags,
-    ) -> VkResult<PipelineLayout> {
+    ) -> VkResult<PipelineLayout<P>> {
         let mut all = vec![&self.set];
         all.extend_from_slice(sets);
-        PipelineLayout::new(
-            ctx,
-            name,
-            &all,
-            std::mem::size_of::<P>() as u32,
-            push_stages,
-        )
+        PipelineLayout::new(ctx, name, &all, push_stages)
     }
 }
 
@@ -318,7 +303,7 @@ impl SceneGpu {
         ctx: &Context,
         cmd: vk::CommandBuffer,
         bind_point: vk::PipelineBindPoint,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
         slot: usize,
     ) {
         let offset = (slot.min(self.slots - 1) as u64 * self.view_stride) as u32;

@@ -244,8 +244,8 @@ pub struct FrameData {
 /// The method.
 pub struct CudaTess {
     set_layout: SetLayout,
-    compute_layout: PipelineLayout,
-    draw_layout: PipelineLayout,
+    compute_layout: PipelineLayout<CtPush>,
+    draw_layout: PipelineLayout<DrawPush>,
     factors: Pipeline,
     counts: Pipeline,
     scan: Pipeline,
@@ -506,26 +506,24 @@ impl CudaTess {
             self.draw.bind(cmd);
             f.bind_scene(bind, &self.draw_layout);
             set.bind(ctx, cmd, bind, &self.draw_layout, SET_PASS, &[]);
-            let pushed = self.draw_layout.push_block(cmd, &pc);
-            if pushed.is_ok() {
-                unsafe {
-                    ctx.device().cmd_bind_index_buffer(
-                        cmd,
-                        self.outputs.indices.handle(),
-                        0,
-                        vk::IndexType::UINT32,
-                    );
-                    ctx.device().cmd_draw_indexed_indirect(
-                        cmd,
-                        self.counters.handle(),
-                        u64::from(CT_DRAW_ARGS) * 4,
-                        1,
-                        20,
-                    );
-                }
+            self.draw_layout.push(cmd, &pc);
+            unsafe {
+                ctx.device().cmd_bind_index_buffer(
+                    cmd,
+                    self.outputs.indices.handle(),
+                    0,
+                    vk::IndexType::UINT32,
+                );
+                ctx.device().cmd_draw_indexed_indirect(
+                    cmd,
+                    self.counters.handle(),
+                    u64::from(CT_DRAW_ARGS) * 4,
+                    1,
+                    std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u32,
+                );
             }
             f.target.end(ctx, cmd);
-            pushed
+            Ok(())
         })
     }
 
@@ -632,8 +630,7 @@ impl ComputePasses<'_> {
         let per_tri = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE);
         f.scoped("factors", |f| {
             rec.run(&compute_stage("factors"), |_| {
-                self.dispatch(f, &m.factors, per_patch)?;
-                self.pn_pass(f, &m.pn.factors, per_tri)
+                self.both(f, [&m.factors, &m.pn.factors], [per_patch, per_tri])
             })
         })?;
         f.scoped("scan", |f| self.record_scan(f, rec, s, per_patch, per_tri))?;
@@ -643,12 +640,11 @@ impl ComputePasses<'_> {
         // barrier between them.
         rec.run(&compute_stage("vertices and indices"), |_| {
             f.scoped("vertices", |f| {
-                self.dispatch(f, &m.vertices, vertex_groups)?;
-                self.pn_pass(f, &m.pn.vertices, tri_vertex_groups)
+                let groups = [vertex_groups, tri_vertex_groups];
+                self.both(f, [&m.vertices, &m.pn.vertices], groups)
             })?;
             f.scoped("indices", |f| {
-                self.dispatch(f, &m.indices, per_patch)?;
-                self.pn_pass(f, &m.pn.indices, per_tri)
+                self.both(f, [&m.indices, &m.pn.indices], [per_patch, per_tri])
             })
         })
     }
@@ -665,8 +661,7 @@ impl ComputePasses<'_> {
     ) -> VkResult<()> {
         let m = self.method;
         rec.run(&compute_stage("counts"), |_| {
-            self.dispatch(f, &m.counts, per_patch)?;
-            self.pn_pass(f, &m.pn.counts, per_tri)
+            self.both(f, [&m.counts, &m.pn.counts], [per_patch, per_tri])
         })?;
         m.bind_compute(f, &m.scan, self.set)?;
         s.plan.record(rec, &m.compute_layout, self.push)?;
@@ -679,16 +674,18 @@ impl ComputePasses<'_> {
     /// dispatches `groups` workgroups.
     fn dispatch(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
         self.method.bind_compute(f, pipeline, self.set)?;
-        self.method.compute_layout.push_block(f.cmd, &self.push)?;
+        self.method.compute_layout.push(f.cmd, &self.push);
         unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
         Ok(())
     }
 
-    /// The PN pass `pipeline` after a patch pass, where there are
-    /// triangles (a scene without them records exactly what it did).
-    fn pn_pass(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
+    /// A stage's patch pass then its PN-triangle pass (`groups` each),
+    /// the latter only where there are triangles (a scene without them
+    /// records exactly what it did before PN triangles).
+    fn both(&self, f: &FrameRec<'_>, pipelines: [&Pipeline; 2], groups: [u32; 2]) -> VkResult<()> {
+        self.dispatch(f, pipelines[0], groups[0])?;
         if self.tris > 0 {
-            self.dispatch(f, pipeline, groups)?;
+            self.dispatch(f, pipelines[1], groups[1])?;
         }
         Ok(())
     }

@@ -212,6 +212,9 @@ struct Visible {
     set: DescriptorSet,
 }
 
+/// The grid's shaders, which share set 1.
+pub const GRID_SHADERS: &[&str] = &["grid_cull.comp", "grid.vert", "grid.frag"];
+
 /// The ground-truth method.
 pub struct GroundTruth {
     grid: u32,
@@ -219,8 +222,8 @@ pub struct GroundTruth {
     counters: Buffer,
     visible: Option<Visible>,
     set_layout: SetLayout,
-    cull_layout: PipelineLayout,
-    draw_layout: PipelineLayout,
+    cull_layout: PipelineLayout<GridPush>,
+    draw_layout: PipelineLayout<DrawPush>,
     cull: Pipeline,
     draw: Pipeline,
     pn: pn::GroundTruthPn,
@@ -237,12 +240,7 @@ impl GroundTruth {
         // Checked with every knob where the renderer takes them.
         let grid = setup.options.per_method.ground_truth.grid;
         let scene = setup.scene_layout;
-        let set_layout = SetLayout::storage(
-            ctx,
-            "grid set",
-            GRID_BINDINGS as usize,
-            vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::VERTEX,
-        )?;
+        let set_layout = SetLayout::reflect(ctx, "grid set", SET_PASS, GRID_SHADERS)?;
         let cull_layout = scene.pipeline_layout::<GridPush>(
             ctx,
             "grid cull layout",
@@ -364,7 +362,7 @@ impl GroundTruth {
             patches_per_part: plan.patches_per_part,
             pad: 0,
         };
-        self.cull_layout.push_block(cmd, &pc)?;
+        self.cull_layout.push(cmd, &pc);
         let groups = f.scene.count.div_ceil(GRID_CULL_GROUP_SIZE);
         // The cull writes the draw's arguments and the visible list.
         let cull = Pass::new("cull").write(Res::Memory, Access::COMPUTE_WRITE);
@@ -423,7 +421,7 @@ impl GroundTruth {
         visible
             .set
             .bind(ctx, cmd, bind, &self.draw_layout, SET_PASS, &[]);
-        self.draw_layout.push_block(cmd, pc)?;
+        self.draw_layout.push(cmd, pc);
         unsafe {
             ctx.device().cmd_bind_index_buffer(
                 cmd,

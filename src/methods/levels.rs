@@ -249,10 +249,13 @@ pub struct PersistentRun {
     pub faults: u32,
 }
 
+/// The level kernels' shaders, which share set 2.
+pub const LEVEL_SHADERS: &[&str] = &["level_init.comp", "subdivide_level.comp", "subdivide.comp"];
+
 /// The level kernels' memory, set 2 and pipelines.
 pub struct Levels {
     memory: LevelMemory,
-    layout: PipelineLayout,
+    layout: PipelineLayout<LevelPush>,
     init: Pipeline,
     round: Pipeline,
     persistent: Option<Pipeline>,
@@ -281,12 +284,7 @@ impl Levels {
         }
         let max_buffer = u64::from(ctx.info().limits.max_storage_buffer_range);
         let plan = LevelPlan::for_budget(budget, max_buffer).map_err(RenderError::Request)?;
-        let set_layout = SetLayout::storage(
-            ctx,
-            "level set",
-            LEVEL_BINDINGS as usize,
-            vk::ShaderStageFlags::COMPUTE,
-        )?;
+        let set_layout = SetLayout::reflect(ctx, "level set", SET_PRODUCER, LEVEL_SHADERS)?;
         let memory = LevelMemory::new(ctx, &set_layout, plan)?;
         let layout = scene_layout.pipeline_layout::<LevelPush>(
             ctx,
@@ -362,7 +360,8 @@ impl Levels {
             phase,
             pad: [0; 2],
         };
-        self.layout.push_block(f.cmd, &pc)
+        self.layout.push(f.cmd, &pc);
+        Ok(())
     }
 
     /// Records the counters' reset (not for the late phase, which adds to

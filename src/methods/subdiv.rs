@@ -239,6 +239,9 @@ pub fn check_in_flight(patches: u32, queue: u32, groups: u32, deque: u32) -> Res
     Ok(())
 }
 
+/// The queue kernel's shaders, which share set 2.
+pub const QUEUE_SHADERS: &[&str] = &["subdivide_queue.comp", "queue_reset.comp"];
+
 /// The work queue (set 2 of the queue kernel, `glsl/common/queue.glsl`):
 /// nodes, a sequence number per slot, and the head and tail. It is put in
 /// its empty state when made and after a frame that ended abnormally; a
@@ -296,7 +299,7 @@ impl Queue {
 /// The queue kernel: its queue, pipelines and knobs.
 struct QueueKernel {
     queue: Queue,
-    layout: PipelineLayout,
+    layout: PipelineLayout<SubdivPush>,
     pipeline: Pipeline,
     reset: Pipeline,
     idle_poll_cap: u32,
@@ -310,12 +313,7 @@ struct QueueKernel {
 impl QueueKernel {
     fn new(setup: &mut MethodSetup<'_>, stage: &ReadyStage) -> Result<Self, RenderError> {
         let (ctx, o) = (setup.ctx, &setup.options.per_method.subdiv);
-        let queue_layout = SetLayout::storage(
-            ctx,
-            "queue set",
-            QUEUE_BINDINGS as usize,
-            vk::ShaderStageFlags::COMPUTE,
-        )?;
+        let queue_layout = SetLayout::reflect(ctx, "queue set", SET_PRODUCER, QUEUE_SHADERS)?;
         let queue = Queue::new(ctx, &queue_layout, o.queue_capacity)?;
         let layout = setup.scene_layout.pipeline_layout::<SubdivPush>(
             ctx,
@@ -384,7 +382,7 @@ impl QueueKernel {
         self.queue
             .set
             .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
-        self.layout.push_block(f.cmd, &pc)?;
+        self.layout.push(f.cmd, &pc);
         if self.queue.needs_reset {
             self.reset.bind(f.cmd);
             let groups = self.queue.capacity.div_ceil(64);

@@ -114,6 +114,10 @@ struct Buffers {
     set: DescriptorSet,
 }
 
+/// The tessellation stages, which read set 1 (the vertex and fragment
+/// stages do not).
+pub const TESS_SHADERS: &[&str] = &["tess.tesc", "tess.tese"];
+
 /// A tessellation method.
 pub struct Tess {
     variant: Variant,
@@ -121,7 +125,7 @@ pub struct Tess {
     counters: Buffer,
     buffers: Option<Buffers>,
     set_layout: SetLayout,
-    layout: PipelineLayout,
+    layout: PipelineLayout<DrawPush>,
     pipeline: Pipeline,
     copied: Option<CopyRange>,
     captured: bool,
@@ -139,9 +143,7 @@ impl Tess {
         };
         check_device(ctx, name)?;
         let max_level = ctx.info().limits.max_tessellation_generation_level;
-        let stages = vk::ShaderStageFlags::TESSELLATION_CONTROL
-            | vk::ShaderStageFlags::TESSELLATION_EVALUATION;
-        let set_layout = SetLayout::storage(ctx, "tess set", TESS_BINDINGS as usize, stages)?;
+        let set_layout = SetLayout::reflect(ctx, "tess set", SET_PASS, TESS_SHADERS)?;
         let scene = setup.scene_layout;
         let layout = scene.pipeline_layout::<DrawPush>(
             ctx,
@@ -318,12 +320,10 @@ impl Tess {
                 self.pipeline.bind(cmd);
                 f.bind_scene(bind, &self.layout);
                 b.set.bind(ctx, cmd, bind, &self.layout, SET_PASS, &[]);
-                let pushed = self.layout.push_block(cmd, &pc);
-                if pushed.is_ok() {
-                    unsafe { ctx.device().cmd_draw(cmd, 16 * patches, 1, 0, 0) };
-                }
+                self.layout.push(cmd, &pc);
+                unsafe { ctx.device().cmd_draw(cmd, 16 * patches, 1, 0, 0) };
                 f.target.end(ctx, cmd);
-                pushed
+                Ok(())
             })
         })
     }

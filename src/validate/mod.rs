@@ -201,7 +201,7 @@ impl ReorderCheck {
             let bind = vk::PipelineBindPoint::COMPUTE;
             renderer.scene().bind(ctx, cmd, bind, layout, 0);
             list.bind(ctx, cmd, bind, layout);
-            layout.push_block(cmd, &pc)?;
+            layout.push(cmd, &pc);
             let pass = Pass::new("expand for validation").write(Res::Memory, Access::ALL);
             rec.dispatch(&pass, [groups, 1, 1]);
             Ok(())

@@ -8,20 +8,51 @@
 use super::context::{Context, Core};
 use super::error::{VkError, VkResult, VkResultExt};
 use super::memory::Buffer;
+use super::reflect::{reflect, Reflection};
+use super::shader::load_spirv;
 use ash::vk;
+use std::marker::PhantomData;
 use std::sync::Arc;
 
-/// A descriptor set layout whose binding `i` is `types[i]` (one descriptor
-/// each), all visible to the same stages.
+/// Every shader stage the device has: a layout's stage flags never name
+/// one it lacks (the validation layer refuses mesh stages on a device
+/// without mesh shaders).
+pub fn all_stages(ctx: &Context) -> vk::ShaderStageFlags {
+    let info = ctx.info();
+    let mut s = vk::ShaderStageFlags::COMPUTE
+        | vk::ShaderStageFlags::VERTEX
+        | vk::ShaderStageFlags::FRAGMENT;
+    if info.has_mesh_shader() {
+        s |= vk::ShaderStageFlags::TASK_EXT | vk::ShaderStageFlags::MESH_EXT;
+    }
+    if info.features.tessellation_shader {
+        s |= vk::ShaderStageFlags::TESSELLATION_CONTROL
+            | vk::ShaderStageFlags::TESSELLATION_EVALUATION;
+    }
+    s
+}
+
+/// One binding of a set layout.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LayoutBinding {
+    /// Its descriptor type.
+    pub ty: vk::DescriptorType,
+    /// The stages that may read it.
+    pub stages: vk::ShaderStageFlags,
+}
+
+/// A descriptor set layout whose binding `i` is `bindings[i]` (one
+/// descriptor each).
 pub struct SetLayout {
     core: Arc<Core>,
     handle: vk::DescriptorSetLayout,
     types: Vec<vk::DescriptorType>,
+    bindings: Vec<LayoutBinding>,
     name: String,
 }
 
 impl SetLayout {
-    /// Creates the layout, visible to `stages`.
+    /// Creates the layout, every binding visible to `stages`.
     pub fn new(
         ctx: &Context,
         name: &str,
@@ -30,40 +61,54 @@ impl SetLayout {
     ) -> VkResult<Self> {
         let bindings: Vec<_> = types
             .iter()
+            .map(|&ty| LayoutBinding { ty, stages })
+            .collect();
+        Self::with_bindings(ctx, name, &bindings)
+    }
+
+    /// Set `set` of the shaders `shaders` (GLSL file names, loaded with
+    /// [`load_spirv`]): each binding any of them declares, visible to the
+    /// stages that declare it (those the device has). Every pipeline that
+    /// uses the layout must be made from shaders in the list. Refuses
+    /// shaders that disagree on a binding's type, arrays of descriptors and
+    /// gaps (binding `i` of a set is element `i` of what
+    /// [`DescriptorSet::new`] is given).
+    pub fn reflect(ctx: &Context, name: &str, set: u32, shaders: &[&str]) -> VkResult<Self> {
+        let reflected = shaders
+            .iter()
+            .map(|s| Ok((*s, reflect_shader(s)?)))
+            .collect::<VkResult<Vec<_>>>()?;
+        let refs: Vec<_> = reflected.iter().map(|(s, r)| (*s, r)).collect();
+        let mut bindings = set_bindings(name, set, &refs)?;
+        for b in &mut bindings {
+            b.stages &= all_stages(ctx);
+        }
+        Self::with_bindings(ctx, name, &bindings)
+    }
+
+    fn with_bindings(ctx: &Context, name: &str, bindings: &[LayoutBinding]) -> VkResult<Self> {
+        let info: Vec<_> = bindings
+            .iter()
             .enumerate()
-            .map(|(i, &ty)| {
+            .map(|(i, b)| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(i as u32)
-                    .descriptor_type(ty)
+                    .descriptor_type(b.ty)
                     .descriptor_count(1)
-                    .stage_flags(stages)
+                    .stage_flags(b.stages)
             })
             .collect();
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&info);
         let handle = unsafe { ctx.device().create_descriptor_set_layout(&info, None) }
             .ctx(&format!("vkCreateDescriptorSetLayout({name})"))?;
         ctx.set_name(handle, name);
         Ok(Self {
             core: ctx.core.clone(),
             handle,
-            types: types.to_vec(),
+            types: bindings.iter().map(|b| b.ty).collect(),
+            bindings: bindings.to_vec(),
             name: name.to_owned(),
         })
-    }
-
-    /// A layout of `count` storage buffers (bindings 0..count).
-    pub fn storage(
-        ctx: &Context,
-        name: &str,
-        count: usize,
-        stages: vk::ShaderStageFlags,
-    ) -> VkResult<Self> {
-        Self::new(
-            ctx,
-            name,
-            &vec![vk::DescriptorType::STORAGE_BUFFER; count],
-            stages,
-        )
     }
 
     /// The Vulkan handle.
@@ -87,23 +132,107 @@ impl Drop for SetLayout {
     }
 }
 
-/// A pipeline layout: set layouts plus one push-constant range at offset 0.
-pub struct PipelineLayout {
-    core: Arc<Core>,
-    handle: vk::PipelineLayout,
-    push_size: u32,
-    push_stages: vk::ShaderStageFlags,
+/// The reflection of shader `name` (a GLSL file name).
+pub fn reflect_shader(name: &str) -> VkResult<Reflection> {
+    let words = load_spirv(name)?;
+    reflect(&words).map_err(|reason| VkError::Spirv {
+        path: format!("spirv/{name}.spv").into(),
+        reason,
+    })
 }
 
-impl PipelineLayout {
-    /// Creates the layout; `push_size` 0 means no push constants.
+/// Set `set`'s bindings as the union over `shaders` (name, reflection):
+/// binding `i` of the result is binding `i` of the set, visible to the
+/// stages of every shader that declares it. `layout` names the set in
+/// errors: two shaders giving one binding different types, an array of
+/// descriptors, a binding no shader declares below the highest one.
+pub fn set_bindings(
+    layout: &str,
+    set: u32,
+    shaders: &[(&str, &Reflection)],
+) -> VkResult<Vec<LayoutBinding>> {
+    let mut out: Vec<Option<(LayoutBinding, &str)>> = Vec::new();
+    for &(shader, r) in shaders {
+        for (&(s, binding), &(ty, count)) in &r.bindings {
+            if s != set {
+                continue;
+            }
+            if count != 1 {
+                return Err(VkError::Usage(format!(
+                    "{shader} declares binding {binding} of set {set} (`{layout}`) as an array \
+                     of {count} descriptors; sets here hold one descriptor per binding"
+                )));
+            }
+            let i = binding as usize;
+            if out.len() <= i {
+                out.resize(i + 1, None);
+            }
+            match &mut out[i] {
+                Some((b, _)) if b.ty == ty => b.stages |= r.stages,
+                Some((b, first)) => {
+                    return Err(VkError::Usage(format!(
+                        "binding {binding} of set {set} (`{layout}`) is {:?} in {first} but \
+                         {ty:?} in {shader}",
+                        b.ty
+                    )))
+                }
+                slot @ None => {
+                    let stages = r.stages;
+                    *slot = Some((LayoutBinding { ty, stages }, shader));
+                }
+            }
+        }
+    }
+    out.into_iter()
+        .enumerate()
+        .map(|(i, b)| {
+            b.map(|(b, _)| b).ok_or_else(|| {
+                let names: Vec<_> = shaders.iter().map(|(s, _)| *s).collect();
+                VkError::Usage(format!(
+                    "no shader of `{layout}` ({}) declares binding {i} of set {set}",
+                    names.join(", ")
+                ))
+            })
+        })
+        .collect()
+}
+
+/// The type a shader declares for a binding of type `ty`: dynamic offsets
+/// are the host's choice, invisible in SPIR-V.
+pub fn undynamic(ty: vk::DescriptorType) -> vk::DescriptorType {
+    match ty {
+        vk::DescriptorType::UNIFORM_BUFFER_DYNAMIC => vk::DescriptorType::UNIFORM_BUFFER,
+        vk::DescriptorType::STORAGE_BUFFER_DYNAMIC => vk::DescriptorType::STORAGE_BUFFER,
+        t => t,
+    }
+}
+
+/// The push block of a pipeline layout that pushes nothing.
+pub type NoPush = ();
+
+/// A pipeline layout: set layouts plus one push-constant range at offset
+/// 0 holding a `P` (none for [`NoPush`]). Pushing takes a `P`, so a pass
+/// cannot push a block of another type; pipelines check at creation that
+/// their shaders declare a push block of `P`'s size.
+pub struct PipelineLayout<P: bytemuck::Pod = NoPush> {
+    core: Arc<Core>,
+    handle: vk::PipelineLayout,
+    push_stages: vk::ShaderStageFlags,
+    name: String,
+    /// The bindings of each set, to check shaders against.
+    sets: Vec<Vec<LayoutBinding>>,
+    push: PhantomData<fn(&P)>,
+}
+
+impl<P: bytemuck::Pod> PipelineLayout<P> {
+    /// Creates the layout of `sets`, with `P` visible to `push_stages`.
     pub fn new(
         ctx: &Context,
         name: &str,
         sets: &[&SetLayout],
-        push_size: u32,
         push_stages: vk::ShaderStageFlags,
     ) -> VkResult<Self> {
+        let push_size = Self::push_size();
         let limit = ctx.info().limits.max_push_constants_size;
         if push_size % 4 != 0 || push_size > limit {
             return Err(VkError::Usage(format!(
@@ -125,8 +254,10 @@ impl PipelineLayout {
         Ok(Self {
             core: ctx.core.clone(),
             handle,
-            push_size,
             push_stages,
+            name: name.to_owned(),
+            sets: sets.iter().map(|s| s.bindings.clone()).collect(),
+            push: PhantomData,
         })
     }
 
@@ -135,20 +266,48 @@ impl PipelineLayout {
         self.handle
     }
 
-    /// Bytes of the push-constant range.
-    pub fn push_size(&self) -> u32 {
-        self.push_size
+    /// Bytes of the push-constant range: the size of `P`.
+    pub fn push_size() -> u32 {
+        std::mem::size_of::<P>() as u32
     }
 
-    /// Records push constants; `data` must be exactly the declared size.
-    pub fn push(&self, cmd: vk::CommandBuffer, data: &[u8]) -> VkResult<()> {
-        if data.len() != self.push_size as usize {
+    /// Refuses a shader that does not fit the layout: a push block that is
+    /// not a `P` (a shader without one may share the layout), or a
+    /// binding the layout lacks, gives another type or hides from the
+    /// shader's stage. Pipelines call it at creation, so a shader and its
+    /// layout that drift apart fail there, naming both.
+    pub fn check_shader(&self, shader: &str, reflected: &Reflection) -> VkResult<()> {
+        let want = Self::push_size();
+        if reflected.push_size != 0 && reflected.push_size != want {
             return Err(VkError::Usage(format!(
-                "pushing {} bytes into a {}-byte push-constant range",
-                data.len(),
-                self.push_size
+                "{shader} declares a {}-byte push-constant block but the layout `{}` pushes \
+                 {want} bytes ({})",
+                reflected.push_size,
+                self.name,
+                std::any::type_name::<P>()
             )));
         }
+        for (&(set, binding), &(ty, _)) in &reflected.bindings {
+            let have = self
+                .sets
+                .get(set as usize)
+                .and_then(|s| s.get(binding as usize));
+            let fits =
+                have.is_some_and(|b| undynamic(b.ty) == ty && b.stages.contains(reflected.stages));
+            if !fits {
+                return Err(VkError::Usage(format!(
+                    "{shader} reads binding {binding} of set {set} as {ty:?} from {:?}, but the \
+                     layout `{}` has {have:?} there",
+                    reflected.stages, self.name
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Records pushing `block`.
+    pub fn push(&self, cmd: vk::CommandBuffer, block: &P) {
+        let data = bytemuck::bytes_of(block);
         if !data.is_empty() {
             unsafe {
                 self.core
@@ -156,16 +315,10 @@ impl PipelineLayout {
                     .cmd_push_constants(cmd, self.handle, self.push_stages, 0, data)
             };
         }
-        Ok(())
-    }
-
-    /// Records a typed push-constant block.
-    pub fn push_block<T: bytemuck::Pod>(&self, cmd: vk::CommandBuffer, block: &T) -> VkResult<()> {
-        self.push(cmd, bytemuck::bytes_of(block))
     }
 }
 
-impl Drop for PipelineLayout {
+impl<P: bytemuck::Pod> Drop for PipelineLayout<P> {
     fn drop(&mut self) {
         unsafe { self.core.device.destroy_pipeline_layout(self.handle, None) };
     }
@@ -333,7 +486,7 @@ impl DescriptorSet {
         ctx: &Context,
         cmd: vk::CommandBuffer,
         bind_point: vk::PipelineBindPoint,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<impl bytemuck::Pod>,
         index: u32,
         dynamic_offsets: &[u32],
     ) {

@@ -13,6 +13,7 @@ pub mod memory;
 pub mod pass;
 pub mod pipeline;
 pub mod query;
+pub mod reflect;
 pub mod shader;
 pub mod swapchain;
 
@@ -27,11 +28,15 @@ pub use device::DeviceSelector;
 pub use error::{seconds_text, VkError, VkResult, TIMEOUT_ENV};
 pub use frames::{FrameRing, Progress, ProgressSink, MAX_FRAME_PARTS};
 pub use info::{describe, DeviceInfo, DeviceKind, DeviceLimits, MeshShaderInfo, OptionalFeatures};
-pub use layout::{Binding, BufferBinding, DescriptorSet, PipelineLayout, Sampler, SetLayout};
+pub use layout::{
+    all_stages, reflect_shader, set_bindings, undynamic, Binding, BufferBinding, DescriptorSet,
+    LayoutBinding, NoPush, PipelineLayout, Sampler, SetLayout,
+};
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
 pub use pass::{Pass, Recorder, Res};
 pub use pipeline::{DepthState, GraphicsDesc, Pipeline, Specialization};
 pub use query::{GpuTimer, PrimitiveCounter, PrimitiveQuery};
+pub use reflect::{reflect, Reflection};
 pub use shader::{
     embedded_shaders, load_spirv, load_spirv_file, spirv_override_dir, spirv_words, ShaderModule,
     SPIRV_DIR_ENV,

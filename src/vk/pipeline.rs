@@ -246,13 +246,14 @@ impl Pipeline {
     }
 
     /// A compute pipeline from `shader`'s `main` with `layout`.
-    pub fn compute(
+    pub fn compute<P: bytemuck::Pod>(
         ctx: &Context,
         name: &str,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<P>,
         shader: &ShaderModule,
         specialization: &[(u32, u32)],
     ) -> VkResult<Self> {
+        layout.check_shader(shader.name(), shader.reflection())?;
         let spec = Specialization::new(specialization);
         let spec_info = spec.info();
         let stage = stage_info(
@@ -281,12 +282,15 @@ impl Pipeline {
     }
 
     /// A graphics pipeline as `desc` describes it, with `layout`.
-    pub fn graphics(
+    pub fn graphics<P: bytemuck::Pod>(
         ctx: &Context,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<P>,
         desc: &GraphicsDesc<'_>,
     ) -> VkResult<Self> {
         desc.check()?;
+        for (_, module) in &desc.stages {
+            layout.check_shader(module.name(), module.reflection())?;
+        }
         let spec = Specialization::new(&desc.specialization);
         let spec_info = spec.info();
         let stages: Vec<_> = desc

@@ -8,6 +8,7 @@
 
 use super::context::{Context, Core};
 use super::error::{VkError, VkResult, VkResultExt};
+use super::reflect::{reflect, Reflection};
 use ash::vk;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -105,6 +106,7 @@ pub struct ShaderModule {
     core: Arc<Core>,
     handle: vk::ShaderModule,
     name: String,
+    reflection: Reflection,
 }
 
 impl ShaderModule {
@@ -116,6 +118,10 @@ impl ShaderModule {
 
     /// Creates a module from checked SPIR-V words.
     pub fn from_words(ctx: &Context, name: &str, words: &[u32]) -> VkResult<Self> {
+        let reflection = reflect(words).map_err(|reason| VkError::Spirv {
+            path: PathBuf::from(format!("spirv/{name}.spv")),
+            reason,
+        })?;
         let info = vk::ShaderModuleCreateInfo::default().code(words);
         let handle = unsafe { ctx.device().create_shader_module(&info, None) }
             .ctx(&format!("vkCreateShaderModule({name})"))?;
@@ -124,6 +130,7 @@ impl ShaderModule {
             core: ctx.core.clone(),
             handle,
             name: name.to_owned(),
+            reflection,
         })
     }
 
@@ -135,6 +142,11 @@ impl ShaderModule {
     /// The shader's name (its GLSL file name).
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// What its SPIR-V says a layout must hold.
+    pub fn reflection(&self) -> &Reflection {
+        &self.reflection
     }
 }
 

@@ -37,7 +37,7 @@ pub const INFO: MethodInfo = MethodInfo {
 
 /// The pipeline; the method holds no buffer of its own.
 pub struct Corners {
-    layout: PipelineLayout,
+    layout: PipelineLayout<DrawPush>,
     pipeline: Pipeline,
 }
 
@@ -85,12 +85,10 @@ impl Method for Corners {
             f.target.begin(ctx, cmd);
             self.pipeline.bind(cmd);
             f.bind_scene(vk::PipelineBindPoint::GRAPHICS, &self.layout);
-            let pushed = self.layout.push_block(cmd, &pc);
-            if pushed.is_ok() {
-                unsafe { ctx.device().cmd_draw(cmd, vertices, 1, 0, 0) };
-            }
+            self.layout.push(cmd, &pc);
+            unsafe { ctx.device().cmd_draw(cmd, vertices, 1, 0, 0) };
             f.target.end(ctx, cmd);
-            pushed
+            Ok(())
         })?;
         Ok(())
     }

@@ -70,7 +70,7 @@ impl ScanPlan {
     pub fn record(
         &self,
         rec: &mut Recorder<'_>,
-        layout: &PipelineLayout,
+        layout: &PipelineLayout<CtPush>,
         push: CtPush,
     ) -> VkResult<()> {
         let n = self.levels.len();
@@ -80,7 +80,7 @@ impl ScanPlan {
             if level.count == 0 {
                 return Ok(());
             }
-            layout.push_block(
+            layout.push(
                 rec.cmd(),
                 &CtPush {
                     scan_offset: level.offset,
@@ -89,7 +89,7 @@ impl ScanPlan {
                     pass: kind,
                     ..push
                 },
-            )?;
+            );
             let groups = level.count.div_ceil(CT_SCAN_BLOCK);
             rec.dispatch(&scan, [groups, 1, 1]);
             Ok(())
@@ -105,18 +105,28 @@ impl ScanPlan {
     }
 }
 
-/// The set layout of cudatess's set 1 (every binding a storage buffer,
-/// seen by the compute passes and the draw's vertex stage).
+/// Every shader whose pipelines bind cudatess's set 1: its passes, its
+/// draw, and ground truth's PN draw, which reads the PN buffers.
+pub const CT_SHADERS: &[&str] = &[
+    "ct_factors.comp",
+    "ct_counts.comp",
+    "ct_scan.comp",
+    "ct_args.comp",
+    "ct_vertices.comp",
+    "ct_indices.comp",
+    "ct_pn_factors.comp",
+    "ct_pn_counts.comp",
+    "ct_pn_vertices.comp",
+    "ct_pn_indices.comp",
+    "ct_draw.vert",
+    "ct_draw.frag",
+    "gt_pn.vert",
+];
+
+/// The set layout of cudatess's set 1 (storage buffers), as
+/// [`CT_SHADERS`] declare it.
 pub fn set_layout(ctx: &Context) -> VkResult<SetLayout> {
-    SetLayout::storage(
-        ctx,
-        "cudatess set",
-        CT_BINDINGS as usize,
-        // The fragment stage reads the PN triangles' normal fields.
-        vk::ShaderStageFlags::COMPUTE
-            | vk::ShaderStageFlags::VERTEX
-            | vk::ShaderStageFlags::FRAGMENT,
-    )
+    SetLayout::reflect(ctx, "cudatess set", SET_PASS, CT_SHADERS)
 }
 
 /// The exclusive scan of `input` on the GPU with the method's own shader

@@ -47,7 +47,7 @@ struct Uploaded {
 /// The PN part of the ground truth.
 pub struct GroundTruthPn {
     set_layout: SetLayout,
-    layout: PipelineLayout,
+    layout: PipelineLayout<DrawPush>,
     draw: Pipeline,
     indices: Buffer,
     grid: u32,
@@ -168,7 +168,7 @@ impl GroundTruthPn {
         self.draw.bind(cmd);
         f.bind_scene(bind, &self.layout);
         s.set.bind(ctx, cmd, bind, &self.layout, SET_PASS, &[]);
-        self.layout.push_block(cmd, pc)?;
+        self.layout.push(cmd, pc);
         unsafe {
             ctx.device().cmd_bind_index_buffer(
                 cmd,
