@@ -59,27 +59,11 @@ void load_homogeneous(uint id, out vec4 H[16]) {
     load_homogeneous_in(instances[instance_of(id)], id, H);
 }
 
-// Cubic curve of homogeneous points, the order of curve() in patch.glsl:
-// reversal-symmetric for exact complements u0 and 1 - u0.
-precise vec4 curve4(float u0, vec4 p0, vec4 p1, vec4 p2, vec4 p3) {
-    precise float u1 = 1.0 - u0;
-    precise float b0 = u1 * u1 * u1;
-    precise float b1 = 3.0 * u1 * u0 * u1;
-    precise float b2 = 3.0 * u0 * u1 * u0;
-    precise float b3 = u0 * u0 * u0;
-    precise vec4 r = (p0 * b0 + p1 * b1) + (p2 * b2 + p3 * b3);
-    return r;
-}
-
-// b(u, v): rows at u, then the column at v.
-precise vec4 eval_patch4(vec4 H[16], float u, float v) {
-    precise vec4 c0 = curve4(u, H[0], H[1], H[2], H[3]);
-    precise vec4 c1 = curve4(u, H[4], H[5], H[6], H[7]);
-    precise vec4 c2 = curve4(u, H[8], H[9], H[10], H[11]);
-    precise vec4 c3 = curve4(u, H[12], H[13], H[14], H[15]);
-    precise vec4 r = curve4(v, c0, c1, c2, c3);
-    return r;
-}
+// curve4(), eval_patch4(): curve() and eval_patch() of patch.glsl on
+// homogeneous points (bezier_template.glsl).
+#define BEZ_T vec4
+#define BEZ_FN(name) name##4
+#include "bezier_template.glsl"
 
 // The Cartesian point xyz / w.
 precise vec3 project(vec4 h) {
