@@ -1,4 +1,4 @@
-// curve() and eval_patch() written once for both kinds of control point:
+// curve(), eval_patch() and curve_derivative() written once for both kinds of control point:
 // Cartesian vec3 (patch.glsl) and homogeneous vec4 (rational.glsl), so the
 // two cannot drift apart in their operation order. A template, not a
 // header: no include guard; the includer defines BEZ_T (the point type) and
@@ -25,6 +25,12 @@ precise BEZ_T BEZ_FN(eval_patch)(BEZ_T P[16], float u, float v) {
     precise BEZ_T c3 = BEZ_FN(curve)(u, P[12], P[13], P[14], P[15]);
     precise BEZ_T r = BEZ_FN(curve)(v, c0, c1, c2, c3);
     return r;
+}
+
+// Curve derivative (shading only).
+BEZ_T BEZ_FN(curve_derivative)(float u0, BEZ_T p0, BEZ_T p1, BEZ_T p2, BEZ_T p3) {
+    float u1 = 1.0 - u0;
+    return ((p1 - p0) * (u1 * u1) + (p2 - p1) * (2.0 * u1 * u0) + (p3 - p2) * (u0 * u0)) * 3.0;
 }
 
 #undef BEZ_T

@@ -31,39 +31,23 @@ struct ViewParams {
 
 // ---------------------------------------------------------------- Bézier
 
-// curve(), eval_patch() (bezier_template.glsl) on Cartesian points.
+// curve(), eval_patch(), curve_derivative() (bezier_template.glsl) on
+// Cartesian points.
 #define BEZ_T vec3
 #define BEZ_FN(name) name
 #include "bezier_template.glsl"
 
-// Curve derivative (shading only).
-vec3 curve_derivative(float u0, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
-    float u1 = 1.0 - u0;
-    return ((p1 - p0) * (u1 * u1) + (p2 - p1) * (2.0 * u1 * u0) + (p3 - p2) * (u0 * u0)) * 3.0;
+// The tangents dS/du and dS/dv at v from the rows' points pu and
+// u-derivatives du at u (shading only).
+void column_tangents(vec3 pu[4], vec3 du[4], float v, out vec3 su, out vec3 sv) {
+    su = curve(v, du[0], du[1], du[2], du[3]);
+    sv = curve_derivative(v, pu[0], pu[1], pu[2], pu[3]);
 }
 
-// Unnormalised normal dS/du x dS/dv (shading only); where a boundary curve
-// collapses to a point the normal is taken a little way into the domain.
-vec3 patch_normal(vec3 P[16], float u, float v) {
-    vec3 n = vec3(0.0);
-    for (int attempt = 0; attempt < 2; ++attempt) {
-        vec3 du[4];
-        vec3 pu[4];
-        for (int j = 0; j < 4; ++j) {
-            du[j] = curve_derivative(u, P[4 * j], P[4 * j + 1], P[4 * j + 2], P[4 * j + 3]);
-            pu[j] = curve(u, P[4 * j], P[4 * j + 1], P[4 * j + 2], P[4 * j + 3]);
-        }
-        vec3 su = curve(v, du[0], du[1], du[2], du[3]);
-        vec3 sv = curve_derivative(v, pu[0], pu[1], pu[2], pu[3]);
-        n = cross(su, sv);
-        if (dot(n, n) > 1e-12 * dot(su, su) * dot(sv, sv) && dot(su, su) * dot(sv, sv) > 0.0) {
-            return n;
-        }
-        u += (0.5 - u) * 1e-3;
-        v += (0.5 - v) * 1e-3;
-    }
-    return n;
-}
+// patch_normal() (normal_template.glsl): dS/du x dS/dv.
+#define BEZ_T vec3
+#define BEZ_FN(name) name
+#include "normal_template.glsl"
 
 // ---------------------------------------------------------------- blossoms
 
@@ -426,23 +410,10 @@ uint wedge_count(NodeMesh mesh) {
         + (mesh.wedge.w ? 1u : 0u);
 }
 
-// Twin of cull::wedges_face_away: every wedge triangle of the ready node
-// faces away from the eye (positions as drawn, from the base patch P).
-bool wedges_face_away(vec3 P[16], uvec2 q, vec3 eye, bool with_wedges) {
-    NodeMesh mesh = node_mesh(q, with_wedges);
-    bool away = true;
-    for (uint e = 0u; e < 4u; ++e) {
-        if (!mesh.wedge[e]) {
-            continue;
-        }
-        uvec3 k = mesh.tris[2u + e];
-        precise vec3 a = eval_patch(P, mesh.uv[k.x].x, mesh.uv[k.x].y);
-        precise vec3 b = eval_patch(P, mesh.uv[k.y].x, mesh.uv[k.y].y);
-        precise vec3 c = eval_patch(P, mesh.uv[k.z].x, mesh.uv[k.z].y);
-        precise vec3 n = cross3(b - a, c - a);
-        away = away && dot3(n, a - eye) > 0.0;
-    }
-    return away;
-}
+// wedges_face_away() (wedges_template.glsl) on Cartesian points.
+#define BEZ_T vec3
+#define BEZ_FN(name) name
+#define BEZ_POINT(P, u, v) eval_patch(P, u, v)
+#include "wedges_template.glsl"
 
 #endif

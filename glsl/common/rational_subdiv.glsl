@@ -79,22 +79,11 @@ bool back_facing4(vec4 S[16], vec3 eye) {
     return back_facing(Q, lo, hi, vec3(0.0));
 }
 
-// wedges_face_away of patch.glsl with the rational positions.
-bool wedges_face_away4(vec4 H[16], uvec2 q, vec3 eye, bool with_wedges) {
-    NodeMesh mesh = node_mesh(q, with_wedges);
-    bool away = true;
-    for (uint e = 0u; e < 4u; ++e) {
-        if (!mesh.wedge[e]) {
-            continue;
-        }
-        uvec3 k = mesh.tris[2u + e];
-        precise vec3 a = eval_rational(H, mesh.uv[k.x].x, mesh.uv[k.x].y);
-        precise vec3 b = eval_rational(H, mesh.uv[k.y].x, mesh.uv[k.y].y);
-        precise vec3 c = eval_rational(H, mesh.uv[k.z].x, mesh.uv[k.z].y);
-        precise vec3 n = cross3(b - a, c - a);
-        away = away && dot3(n, a - eye) > 0.0;
-    }
-    return away;
-}
+// wedges_face_away4(): wedges_face_away() of patch.glsl with the rational
+// positions (wedges_template.glsl).
+#define BEZ_T vec4
+#define BEZ_FN(name) name##4
+#define BEZ_POINT(P, u, v) eval_rational(P, u, v)
+#include "wedges_template.glsl"
 
 #endif
