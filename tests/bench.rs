@@ -332,15 +332,8 @@ fn bad_requests_are_refused_before_gpu_work() {
 fn ctrl_c_stops_the_binary_with_its_reports_written() {
     let out = out_dir("ctrl-c");
     let child = bin()
-        .args([
-            "bench",
-            "--methods",
-            "subdiv",
-            "--eps",
-            "1",
-            "--lambda",
-            "0.5",
-        ])
+        .arg("bench")
+        .args(common::cli::BENCH_ONE_POINT)
         .args([
             "--frames",
             "100000",

@@ -10,6 +10,8 @@
 //! One case also closes stderr, for an error that must still be reported
 //! without a panic.
 
+mod common;
+
 use std::os::fd::{FromRawFd, OwnedFd};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -142,27 +144,25 @@ fn bench_survives_a_closed_stdout() {
     let out = dir.join("bench");
     let teapot = root().join("scenes/teapot.toml");
     let run = run_closed(
-        command(&[
-            "bench",
-            "--scene",
-            teapot.to_str().unwrap(),
-            "--methods",
-            "subdiv",
-            "--eps",
-            "1",
-            "--lambda",
-            "0.5",
-            "--frames",
-            "1",
-            "--warmup",
-            "0",
-            "--flip-frames",
-            "0",
-            "--size",
-            "64x36",
-            "--out",
-            out.to_str().unwrap(),
-        ]),
+        command(
+            &[
+                &["bench", "--scene", teapot.to_str().unwrap()][..],
+                &common::cli::BENCH_ONE_POINT,
+                &[
+                    "--frames",
+                    "1",
+                    "--warmup",
+                    "0",
+                    "--flip-frames",
+                    "0",
+                    "--size",
+                    "64x36",
+                    "--out",
+                    out.to_str().unwrap(),
+                ],
+            ]
+            .concat(),
+        ),
         false,
     );
     assert_quiet_success("bench", &run);

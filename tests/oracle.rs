@@ -5,7 +5,7 @@
 
 mod common;
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -20,7 +20,7 @@ use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING, L_MAX};
 use bezier_subdiv::patch::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::geometry::load_model;
 use common::cameras;
-use common::edges::{segments, sides, SharedEdge};
+use common::edges::{assert_sides_agree, segments, sides, SharedEdge};
 
 const MODELS: &[&str] = &[
     "teapot.bpt",
@@ -269,21 +269,10 @@ fn shared_edges_decide_identically() {
                     let terms = |c: &[Vec3; 4], vp: &ViewParams| {
                         common::edges::edge_terms(&edge_samples(c), edge_tolerance2(c, vp), vp)
                     };
-                    for vp in &views {
-                        assert_eq!(
-                            terms(&ca, vp),
-                            terms(&cb, vp),
-                            "{name}: samples differ for {na:?} vs {nb:?}"
-                        );
-                        let fa = edge_flat(&ca, vp);
-                        assert_eq!(
-                            fa,
-                            edge_flat(&cb, vp),
-                            "{name}: decision differs for {na:?} vs {nb:?}"
-                        );
-                        flat_count += fa as u64;
-                        checked += 1;
-                    }
+                    flat_count += assert_sides_agree(&ca, &cb, &views, terms, edge_flat, || {
+                        format!("{name}: {na:?} vs {nb:?}")
+                    });
+                    checked += views.len() as u64;
                 }
             }
         }
@@ -336,37 +325,7 @@ fn unmatched_edges(patches: &[BezierPatch], tris: &[Triangle]) -> Vec<(Vec3, Vec
         ];
         (0..4).any(|e| sides[e] && !shared.contains(&(t.node.patch(), e)))
     };
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let mut points: Vec<Vec3> = Vec::new();
-    let mut id = |p: Vec3| {
-        let n = ids.len() as u32;
-        let k = *ids.entry(p.to_array().map(f32::to_bits)).or_insert(n);
-        if k == n {
-            points.push(p);
-        }
-        k
-    };
-    let mut balance: HashMap<(u32, u32), i64> = HashMap::new();
-    for t in tris {
-        let v = t.v.map(&mut id);
-        if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] {
-            continue;
-        }
-        for i in 0..3 {
-            let j = (i + 1) % 3;
-            if on_model_boundary(t, i, j) {
-                continue;
-            }
-            let (a, b) = (v[i], v[j]);
-            let (key, s) = if a < b { ((a, b), 1) } else { ((b, a), -1) };
-            *balance.entry(key).or_default() += s;
-        }
-    }
-    balance
-        .iter()
-        .filter(|(_, &b)| b != 0)
-        .map(|(&(a, b), _)| (points[a as usize], points[b as usize]))
-        .collect()
+    common::edges::unmatched_edges(tris, on_model_boundary)
 }
 
 fn open_edges(patches: &[BezierPatch], tris: &[Triangle]) -> usize {

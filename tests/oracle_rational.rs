@@ -8,8 +8,6 @@
 
 mod common;
 
-use std::collections::HashMap;
-
 use glam::{Vec3, Vec4};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 
@@ -24,7 +22,7 @@ use bezier_subdiv::patch::rational::{is_polynomial, RationalPatch, Weights, UNIT
 use bezier_subdiv::patch::view::{ViewParams, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::geometry::load_model;
 use common::cameras;
-use common::edges::{segments, sides, SharedEdge};
+use common::edges::{assert_sides_agree, segments, sides, SharedEdge};
 
 const MODELS: &[&str] = &["rational_torus.rbpt", "rational_sphere.rbpt"];
 
@@ -116,17 +114,11 @@ fn shared_edges_decide_identically() {
                         m.hom(q.patch() as usize).sub(a, b, c, d).edge(e)
                     });
                     assert_eq!(bits4(&ca), bits4(&cb_aligned), "{name}: {na:?} vs {nb:?}");
-                    for vp in &views {
-                        assert_eq!(
-                            edge_terms(&ca, vp),
-                            edge_terms(&cb, vp),
-                            "{name}: samples differ for {na:?} vs {nb:?}"
-                        );
-                        let fa = edge_flat(&ca, vp);
-                        assert_eq!(fa, edge_flat(&cb, vp), "{name}: {na:?} vs {nb:?}");
-                        flat_count += fa as u64;
-                        checked += 1;
-                    }
+                    flat_count +=
+                        assert_sides_agree(&ca, &cb, &views, edge_terms, edge_flat, || {
+                            format!("{name}: {na:?} vs {nb:?}")
+                        });
+                    checked += views.len() as u64;
                 }
             }
         }
@@ -140,24 +132,7 @@ fn shared_edges_decide_identically() {
 /// Directed edges of the welded (bitwise-equal positions) triangles not
 /// matched by an opposite use; degenerate triangles (at the poles) skipped.
 fn open_edges(tris: &[Triangle]) -> usize {
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let mut id = |p: Vec3| {
-        let n = ids.len() as u32;
-        *ids.entry(p.to_array().map(f32::to_bits)).or_insert(n)
-    };
-    let mut balance: HashMap<(u32, u32), i64> = HashMap::new();
-    for t in tris {
-        let v = t.v.map(&mut id);
-        if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] {
-            continue;
-        }
-        for i in 0..3 {
-            let (a, b) = (v[i], v[(i + 1) % 3]);
-            let (key, s) = if a < b { ((a, b), 1) } else { ((b, a), -1) };
-            *balance.entry(key).or_default() += s;
-        }
-    }
-    balance.values().filter(|&&b| b != 0).count()
+    common::edges::unmatched_edges(tris, |_, _, _| false).len()
 }
 
 /// The closed rational models triangulate to watertight, consistently

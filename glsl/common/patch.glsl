@@ -31,99 +31,30 @@ struct ViewParams {
 
 // ---------------------------------------------------------------- Bézier
 
-// Cubic curve, the paper's operation order (§3.4): reversal-symmetric.
-precise vec3 curve(float u0, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
-    precise float u1 = 1.0 - u0;
-    precise float b0 = u1 * u1 * u1;
-    precise float b1 = 3.0 * u1 * u0 * u1;
-    precise float b2 = 3.0 * u0 * u1 * u0;
-    precise float b3 = u0 * u0 * u0;
-    precise vec3 r = (p0 * b0 + p1 * b1) + (p2 * b2 + p3 * b3);
-    return r;
+// curve(), eval_patch(), curve_derivative() (bezier_template.glsl) on
+// Cartesian points.
+#define BEZ_T vec3
+#define BEZ_FN(name) name
+#include "bezier_template.glsl"
+
+// The tangents dS/du and dS/dv at v from the rows' points pu and
+// u-derivatives du at u (shading only).
+void column_tangents(vec3 pu[4], vec3 du[4], float v, out vec3 su, out vec3 sv) {
+    su = curve(v, du[0], du[1], du[2], du[3]);
+    sv = curve_derivative(v, pu[0], pu[1], pu[2], pu[3]);
 }
 
-// Surface point, curve of curves: rows at u, then the column curve at v.
-precise vec3 eval_patch(vec3 P[16], float u, float v) {
-    precise vec3 c0 = curve(u, P[0], P[1], P[2], P[3]);
-    precise vec3 c1 = curve(u, P[4], P[5], P[6], P[7]);
-    precise vec3 c2 = curve(u, P[8], P[9], P[10], P[11]);
-    precise vec3 c3 = curve(u, P[12], P[13], P[14], P[15]);
-    precise vec3 r = curve(v, c0, c1, c2, c3);
-    return r;
-}
-
-// Curve derivative (shading only).
-vec3 curve_derivative(float u0, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
-    float u1 = 1.0 - u0;
-    return ((p1 - p0) * (u1 * u1) + (p2 - p1) * (2.0 * u1 * u0) + (p3 - p2) * (u0 * u0)) * 3.0;
-}
-
-// Unnormalised normal dS/du x dS/dv (shading only); where a boundary curve
-// collapses to a point the normal is taken a little way into the domain.
-vec3 patch_normal(vec3 P[16], float u, float v) {
-    vec3 n = vec3(0.0);
-    for (int attempt = 0; attempt < 2; ++attempt) {
-        vec3 du[4];
-        vec3 pu[4];
-        for (int j = 0; j < 4; ++j) {
-            du[j] = curve_derivative(u, P[4 * j], P[4 * j + 1], P[4 * j + 2], P[4 * j + 3]);
-            pu[j] = curve(u, P[4 * j], P[4 * j + 1], P[4 * j + 2], P[4 * j + 3]);
-        }
-        vec3 su = curve(v, du[0], du[1], du[2], du[3]);
-        vec3 sv = curve_derivative(v, pu[0], pu[1], pu[2], pu[3]);
-        n = cross(su, sv);
-        if (dot(n, n) > 1e-12 * dot(su, su) * dot(sv, sv) && dot(su, su) * dot(sv, sv) > 0.0) {
-            return n;
-        }
-        u += (0.5 - u) * 1e-3;
-        v += (0.5 - v) * 1e-3;
-    }
-    return n;
-}
+// patch_normal() (normal_template.glsl): dS/du x dS/dv.
+#define BEZ_T vec3
+#define BEZ_FN(name) name
+#include "normal_template.glsl"
 
 // ---------------------------------------------------------------- blossoms
 
-// Bilinear interpolation, pairwise: (P00 + P11) + (P10 + P01).
-precise vec3 bilerp(float u0, float v0, vec3 p00, vec3 p10, vec3 p01, vec3 p11) {
-    precise float u1 = 1.0 - u0;
-    precise float v1 = 1.0 - v0;
-    precise vec3 w00 = p00 * (u1 * v1);
-    precise vec3 w10 = p10 * (u0 * v1);
-    precise vec3 w01 = p01 * (u1 * v0);
-    precise vec3 w11 = p11 * (u0 * v0);
-    precise vec3 r = (w00 + w11) + (w10 + w01);
-    return r;
-}
-
-// Sub-patch of P over [a,b]x[c,d] from tensor-product blossoms (§3.3.2):
-// output point (u 2j+i, v 2l+k) = s(U[j], U[j], U[i] | V[l], V[l], V[k]).
-void reconstruct(vec3 P[16], float a, float b, float c, float d, out vec3 S[16]) {
-    float U[2] = float[2](a, b);
-    float V[2] = float[2](c, d);
-    precise vec3 D[36];  // [l][k][3x3]
-    for (int l = 0; l < 2; ++l)
-        for (int k = 0; k < 2; ++k)
-            for (int j = 0; j < 3; ++j)
-                for (int i = 0; i < 3; ++i)
-                    D[(2 * l + k) * 9 + 3 * j + i] = bilerp(U[k], V[l],
-                        P[4 * j + i], P[4 * j + i + 1], P[4 * (j + 1) + i], P[4 * (j + 1) + i + 1]);
-    precise vec3 E[16];  // [l][k][2x2]
-    for (int l = 0; l < 2; ++l)
-        for (int k = 0; k < 2; ++k)
-            for (int j = 0; j < 2; ++j)
-                for (int i = 0; i < 2; ++i) {
-                    int o = (2 * l + k) * 9;
-                    E[(2 * l + k) * 4 + 2 * j + i] = bilerp(U[k], V[l],
-                        D[o + 3 * j + i], D[o + 3 * j + i + 1], D[o + 3 * (j + 1) + i], D[o + 3 * (j + 1) + i + 1]);
-                }
-    for (int l = 0; l < 2; ++l)
-        for (int k = 0; k < 2; ++k)
-            for (int j = 0; j < 2; ++j)
-                for (int i = 0; i < 2; ++i) {
-                    int o = (2 * l + j) * 4;
-                    S[4 * (2 * l + k) + 2 * j + i] = bilerp(U[i], V[k], E[o], E[o + 1], E[o + 2], E[o + 3]);
-                }
-}
+// bilerp(), reconstruct() (blossom_template.glsl) on Cartesian points.
+#define BEZ_T vec3
+#define BEZ_FN(name) name
+#include "blossom_template.glsl"
 
 // ---------------------------------------------------------------- QuadNode
 
@@ -479,23 +410,10 @@ uint wedge_count(NodeMesh mesh) {
         + (mesh.wedge.w ? 1u : 0u);
 }
 
-// Twin of cull::wedges_face_away: every wedge triangle of the ready node
-// faces away from the eye (positions as drawn, from the base patch P).
-bool wedges_face_away(vec3 P[16], uvec2 q, vec3 eye, bool with_wedges) {
-    NodeMesh mesh = node_mesh(q, with_wedges);
-    bool away = true;
-    for (uint e = 0u; e < 4u; ++e) {
-        if (!mesh.wedge[e]) {
-            continue;
-        }
-        uvec3 k = mesh.tris[2u + e];
-        precise vec3 a = eval_patch(P, mesh.uv[k.x].x, mesh.uv[k.x].y);
-        precise vec3 b = eval_patch(P, mesh.uv[k.y].x, mesh.uv[k.y].y);
-        precise vec3 c = eval_patch(P, mesh.uv[k.z].x, mesh.uv[k.z].y);
-        precise vec3 n = cross3(b - a, c - a);
-        away = away && dot3(n, a - eye) > 0.0;
-    }
-    return away;
-}
+// wedges_face_away() (wedges_template.glsl) on Cartesian points.
+#define BEZ_T vec3
+#define BEZ_FN(name) name
+#define BEZ_POINT(P, u, v) eval_patch(P, u, v)
+#include "wedges_template.glsl"
 
 #endif

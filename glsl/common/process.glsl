@@ -81,139 +81,37 @@ void grow_box(inout vec3 lo, inout vec3 hi, vec3 p) {
     hi = max3(hi, p);
 }
 
-// One work item of a rational patch: the twin of oracle::process_rational.
-// The homogeneous sub-patch, the box of its Cartesian control points (and
-// the pivots) for the frustum, the criterion on projected points, and the
-// polynomial back-face bound on w (p - eye) (see src/patch/homogeneous.rs).
-// `t` is the patch's instance, `flags` its flags word.
-uint process_rational(uvec2 q, Instance t, uint flags, out uvec2 kids[4], out uint nkids) {
-    kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
-    nkids = 0u;
-    vec4 H[16];
-    load_homogeneous_in(t, node_patch(q), H);
-    vec4 dom = node_domain(q);
-    vec4 S[16];
-    reconstruct4(H, dom.x, dom.y, dom.z, dom.w, S);
-    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
-        vec3 lo, hi;
-        patch_bbox4(S, lo, hi);
-        vec2 pivots[4];
-        bvec4 has = wedge_pivots(q, pivots);
-        for (uint e = 0u; e < 4u; ++e) {
-            if (has[e]) {
-                grow_box(lo, hi, eval_rational(H, pivots[e].x, pivots[e].y));
-            }
-        }
-        if (outside_frustum(lo, hi, view)) {
-            return OUT_CULLED;
-        }
-        if (node_occluded(lo, hi)) {
-            return OUT_OCCLUDED;
-        }
-    }
-    if (box_test_only()) {
-        return OUT_READY;
-    }
-    bvec2 can = can_split(q);
-    if (can.x || can.y) {
-        uvec4 states = edge_states(q);
-        bvec4 flat_now = bvec4(true);
-        bool edges_flat = true;
-        for (uint e = 0u; e < 4u; ++e) {
-            if (states[e] == NODE_EDGE_PENDING) {
-                vec4 c[4];
-                patch_edge4(S, e, c);
-                flat_now[e] = edge_flat4(c, view);
-                edges_flat = edges_flat && flat_now[e];
-            }
-        }
-        bool inner_fails = edges_flat && !inner_flat4(S, view);
-        bvec2 split = split_of(q, flat_now, inner_fails);
-        if (split.x || split.y) {
-            nkids = node_children(q, split, resolve_states(q, flat_now), kids);
-            return OUT_SPLIT;
-        }
-    }
-    bool one_sided = (flags & PATCH_TWO_SIDED) == 0u;
-    bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
-    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing4(S, view.eye.xyz)
-        && wedges_face_away4(H, q, view.eye.xyz, with_wedges)) {
-        return OUT_BACKFACE;
-    }
-    return OUT_READY;
-}
+// process_points() (process_template.glsl) on Cartesian control points.
+#define BEZ_T vec3
+#define BEZ_FN(name) name
+#define BEZ_POINT(P, u, v) eval_patch(P, u, v)
+#define BEZ_BACK_FACING(S, lo, hi, eye) back_facing(S, lo, hi, eye)
+#include "process_template.glsl"
 
-// One work item: the GPU twin of oracle::process. Returns OUT_*; for
-// OUT_SPLIT the children are kids[0..nkids), in the order (0,0), (1,0),
-// (0,1), (1,1) of those the split makes (4 for 1:4, 2 for 1:2).
-// Rational patches take process_rational; polynomial ones the code below.
+// process_points4(): the twin of oracle::process_rational, on the
+// homogeneous control points. The sub-patch is the homogeneous one, the
+// box that of its Cartesian control points (and the pivots), the criterion
+// runs on projected points, and the back-face bound is the polynomial one
+// on w (p - eye) (see src/patch/homogeneous.rs), which makes its own box.
+#define BEZ_T vec4
+#define BEZ_FN(name) name##4
+#define BEZ_POINT(P, u, v) eval_rational(P, u, v)
+#define BEZ_BACK_FACING(S, lo, hi, eye) back_facing4(S, eye)
+#include "process_template.glsl"
+
+// One work item: the GPU twin of oracle::process_any (see process_points).
 // The patch's instance is looked up once for the whole item.
 uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
     Instance t = instances[instance_of(node_patch(q))];
     uint flags = patch_flags_in(t, node_patch(q));
     if ((flags & PATCH_RATIONAL) != 0u) {
-        return process_rational(q, t, flags, kids, nkids);
+        vec4 H[16];
+        load_homogeneous_in(t, node_patch(q), H);
+        return process_points4(q, H, flags, kids, nkids);
     }
-    kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
-    nkids = 0u;
     vec3 P[16];
     load_patch_in(t, node_patch(q), P);
-    vec4 dom = node_domain(q);
-    vec3 S[16];
-    reconstruct(P, dom.x, dom.y, dom.z, dom.w, S);
-    vec3 lo, hi;
-    patch_bbox(S, lo, hi);
-    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
-        // The box must also hold the wedge pivots of the node's edges: its
-        // wedges and its descendants' reach them (see oracle::process).
-        vec2 pivots[4];
-        bvec4 has = wedge_pivots(q, pivots);
-        vec3 clo = lo, chi = hi;
-        for (uint e = 0u; e < 4u; ++e) {
-            if (has[e]) {
-                grow_box(clo, chi, eval_patch(P, pivots[e].x, pivots[e].y));
-            }
-        }
-        if (outside_frustum(clo, chi, view)) {
-            return OUT_CULLED;
-        }
-        if (node_occluded(clo, chi)) {
-            return OUT_OCCLUDED;
-        }
-    }
-    if (box_test_only()) {
-        return OUT_READY;
-    }
-    bvec2 can = can_split(q);
-    if (can.x || can.y) {
-        uvec4 states = edge_states(q);
-        bvec4 flat_now = bvec4(true);
-        bool edges_flat = true;
-        // Every pending edge is tested, no early exit: children inherit them.
-        for (uint e = 0u; e < 4u; ++e) {
-            if (states[e] == NODE_EDGE_PENDING) {
-                vec3 c[4];
-                patch_edge(S, e, c);
-                flat_now[e] = edge_flat(c, view);
-                edges_flat = edges_flat && flat_now[e];
-            }
-        }
-        bool inner_fails = edges_flat && !inner_flat(S, view);
-        bvec2 split = split_of(q, flat_now, inner_fails);
-        if (split.x || split.y) {
-            nkids = node_children(q, split, resolve_states(q, flat_now), kids);
-            return OUT_SPLIT;
-        }
-    }
-    // A back-facing node goes only if its wedges face away too (see
-    // cull::wedges_face_away).
-    bool one_sided = (flags & PATCH_TWO_SIDED) == 0u;
-    bool with_wedges = (view.flags & FLAG_WEDGES) != 0u;
-    if ((view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided && back_facing(S, lo, hi, view.eye.xyz)
-        && wedges_face_away(P, q, view.eye.xyz, with_wedges)) {
-        return OUT_BACKFACE;
-    }
-    return OUT_READY;
+    return process_points(q, P, flags, kids, nkids);
 }
 
 // The triangles a ready node draws (2 for the quad plus its wedges) and

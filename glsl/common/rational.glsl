@@ -28,17 +28,23 @@ float patch_weight(uint id, uint k) {
     return patch_weight_in(instances[instance_of(id)], id, k);
 }
 
-// The homogeneous control points (w p, w) of patch `id` of instance `t`;
-// weights 1 where the patch is polynomial (then w p = p exactly).
-void load_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
-    vec3 P[16];
-    load_patch_in(t, id, P);
+// The homogeneous control points (w p, w) of the points P of patch `id` of
+// instance `t`; weights 1 where the patch is polynomial (then w p = p
+// exactly). The loaders below differ only in the space P is in.
+void weigh_points_in(Instance t, uint id, vec3 P[16], out vec4 H[16]) {
     bool rational = (patch_flags_in(t, id) & PATCH_RATIONAL) != 0u;
     for (uint i = 0u; i < 16u; ++i) {
         float w = rational ? patch_weight_in(t, id, i) : 1.0;
         precise vec4 h = vec4(P[i].x * w, P[i].y * w, P[i].z * w, w);
         H[i] = h;
     }
+}
+
+// The homogeneous control points (w p, w) of patch `id` of instance `t`.
+void load_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
+    vec3 P[16];
+    load_patch_in(t, id, P);
+    weigh_points_in(t, id, P, H);
 }
 
 // The homogeneous control points (w p, w) of patch `id` of instance `t`
@@ -46,12 +52,7 @@ void load_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
 void load_model_homogeneous_in(Instance t, uint id, out vec4 H[16]) {
     vec3 P[16];
     load_model_patch_in(t, id, P);
-    bool rational = (patch_flags_in(t, id) & PATCH_RATIONAL) != 0u;
-    for (uint i = 0u; i < 16u; ++i) {
-        float w = rational ? patch_weight_in(t, id, i) : 1.0;
-        precise vec4 h = vec4(P[i].x * w, P[i].y * w, P[i].z * w, w);
-        H[i] = h;
-    }
+    weigh_points_in(t, id, P, H);
 }
 
 // The homogeneous control points of patch `id`.
@@ -59,27 +60,12 @@ void load_homogeneous(uint id, out vec4 H[16]) {
     load_homogeneous_in(instances[instance_of(id)], id, H);
 }
 
-// Cubic curve of homogeneous points, the order of curve() in patch.glsl:
-// reversal-symmetric for exact complements u0 and 1 - u0.
-precise vec4 curve4(float u0, vec4 p0, vec4 p1, vec4 p2, vec4 p3) {
-    precise float u1 = 1.0 - u0;
-    precise float b0 = u1 * u1 * u1;
-    precise float b1 = 3.0 * u1 * u0 * u1;
-    precise float b2 = 3.0 * u0 * u1 * u0;
-    precise float b3 = u0 * u0 * u0;
-    precise vec4 r = (p0 * b0 + p1 * b1) + (p2 * b2 + p3 * b3);
-    return r;
-}
-
-// b(u, v): rows at u, then the column at v.
-precise vec4 eval_patch4(vec4 H[16], float u, float v) {
-    precise vec4 c0 = curve4(u, H[0], H[1], H[2], H[3]);
-    precise vec4 c1 = curve4(u, H[4], H[5], H[6], H[7]);
-    precise vec4 c2 = curve4(u, H[8], H[9], H[10], H[11]);
-    precise vec4 c3 = curve4(u, H[12], H[13], H[14], H[15]);
-    precise vec4 r = curve4(v, c0, c1, c2, c3);
-    return r;
-}
+// curve4(), eval_patch4(), curve_derivative4(): curve(), eval_patch() and
+// curve_derivative() of patch.glsl on homogeneous points
+// (bezier_template.glsl).
+#define BEZ_T vec4
+#define BEZ_FN(name) name##4
+#include "bezier_template.glsl"
 
 // The Cartesian point xyz / w.
 precise vec3 project(vec4 h) {
@@ -87,46 +73,31 @@ precise vec3 project(vec4 h) {
     return r;
 }
 
-// Derivative of a homogeneous cubic (shading only).
-vec4 curve4_derivative(float u0, vec4 p0, vec4 p1, vec4 p2, vec4 p3) {
-    float u1 = 1.0 - u0;
-    return ((p1 - p0) * (u1 * u1) + (p2 - p1) * (2.0 * u1 * u0) + (p3 - p2) * (u0 * u0)) * 3.0;
+// The tangents t_u, t_v at v from the rows' homogeneous points pu and
+// u-derivatives du at u, times b.w: t_u = (b_u.xyz - b_u.w p) / b.w (the
+// paper's §3; the positive 1 / b.w is left out, it does not turn the
+// normal). Shading only.
+void column_tangents4(vec4 pu[4], vec4 du[4], float v, out vec3 su, out vec3 sv) {
+    vec4 b = curve4(v, pu[0], pu[1], pu[2], pu[3]);
+    vec4 bu = curve4(v, du[0], du[1], du[2], du[3]);
+    vec4 bv = curve_derivative4(v, pu[0], pu[1], pu[2], pu[3]);
+    vec3 p = b.xyz / b.w;
+    su = bu.xyz - p * bu.w;
+    sv = bv.xyz - p * bv.w;
 }
 
-// Unnormalised normal t_u x t_v with t_u = (b_u.xyz - b_u.w p) / b.w (the
-// paper's §3; the positive 1 / b.w is left out, it does not turn the
-// normal); where a boundary collapses to a point it is taken a little way
-// into the domain, as patch_normal does.
-vec3 rational_normal(vec4 H[16], float u, float v) {
-    vec3 n = vec3(0.0);
-    for (int attempt = 0; attempt < 2; ++attempt) {
-        vec4 du[4];
-        vec4 pu[4];
-        for (int j = 0; j < 4; ++j) {
-            du[j] = curve4_derivative(u, H[4 * j], H[4 * j + 1], H[4 * j + 2], H[4 * j + 3]);
-            pu[j] = curve4(u, H[4 * j], H[4 * j + 1], H[4 * j + 2], H[4 * j + 3]);
-        }
-        vec4 b = curve4(v, pu[0], pu[1], pu[2], pu[3]);
-        vec4 bu = curve4(v, du[0], du[1], du[2], du[3]);
-        vec4 bv = curve4_derivative(v, pu[0], pu[1], pu[2], pu[3]);
-        vec3 p = b.xyz / b.w;
-        vec3 su = bu.xyz - p * bu.w;
-        vec3 sv = bv.xyz - p * bv.w;
-        n = cross(su, sv);
-        if (dot(n, n) > 1e-12 * dot(su, su) * dot(sv, sv) && dot(su, su) * dot(sv, sv) > 0.0) {
-            return n;
-        }
-        u += (0.5 - u) * 1e-3;
-        v += (0.5 - v) * 1e-3;
-    }
-    return n;
-}
+// patch_normal4(): the rational normal t_u x t_v, taken a little way into
+// the domain where a boundary collapses, as patch_normal does
+// (normal_template.glsl).
+#define BEZ_T vec4
+#define BEZ_FN(name) name##4
+#include "normal_template.glsl"
 
 // The rational normal of base patch `id` at (u, v).
 vec3 rational_patch_normal(uint id, float u, float v) {
     vec4 H[16];
     load_homogeneous(id, H);
-    return rational_normal(H, u, v);
+    return patch_normal4(H, u, v);
 }
 
 #endif

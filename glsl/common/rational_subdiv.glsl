@@ -8,46 +8,11 @@
 
 #include "rational.glsl"
 
-// bilerp() of patch.glsl on homogeneous points, component by component.
-precise vec4 bilerp4(float u0, float v0, vec4 p00, vec4 p10, vec4 p01, vec4 p11) {
-    precise float u1 = 1.0 - u0;
-    precise float v1 = 1.0 - v0;
-    precise vec4 w00 = p00 * (u1 * v1);
-    precise vec4 w10 = p10 * (u0 * v1);
-    precise vec4 w01 = p01 * (u1 * v0);
-    precise vec4 w11 = p11 * (u0 * v0);
-    precise vec4 r = (w00 + w11) + (w10 + w01);
-    return r;
-}
-
-// reconstruct() of patch.glsl on homogeneous control points.
-void reconstruct4(vec4 P[16], float a, float b, float c, float d, out vec4 S[16]) {
-    float U[2] = float[2](a, b);
-    float V[2] = float[2](c, d);
-    precise vec4 D[36];  // [l][k][3x3]
-    for (int l = 0; l < 2; ++l)
-        for (int k = 0; k < 2; ++k)
-            for (int j = 0; j < 3; ++j)
-                for (int i = 0; i < 3; ++i)
-                    D[(2 * l + k) * 9 + 3 * j + i] = bilerp4(U[k], V[l],
-                        P[4 * j + i], P[4 * j + i + 1], P[4 * (j + 1) + i], P[4 * (j + 1) + i + 1]);
-    precise vec4 E[16];  // [l][k][2x2]
-    for (int l = 0; l < 2; ++l)
-        for (int k = 0; k < 2; ++k)
-            for (int j = 0; j < 2; ++j)
-                for (int i = 0; i < 2; ++i) {
-                    int o = (2 * l + k) * 9;
-                    E[(2 * l + k) * 4 + 2 * j + i] = bilerp4(U[k], V[l],
-                        D[o + 3 * j + i], D[o + 3 * j + i + 1], D[o + 3 * (j + 1) + i], D[o + 3 * (j + 1) + i + 1]);
-                }
-    for (int l = 0; l < 2; ++l)
-        for (int k = 0; k < 2; ++k)
-            for (int j = 0; j < 2; ++j)
-                for (int i = 0; i < 2; ++i) {
-                    int o = (2 * l + j) * 4;
-                    S[4 * (2 * l + k) + 2 * j + i] = bilerp4(U[i], V[k], E[o], E[o + 1], E[o + 2], E[o + 3]);
-                }
-}
+// bilerp4(), reconstruct4(): bilerp() and reconstruct() of patch.glsl on
+// homogeneous control points (blossom_template.glsl).
+#define BEZ_T vec4
+#define BEZ_FN(name) name##4
+#include "blossom_template.glsl"
 
 // The projected surface point (HomPatch::eval).
 precise vec3 eval_rational(vec4 H[16], float u, float v) {
@@ -114,22 +79,11 @@ bool back_facing4(vec4 S[16], vec3 eye) {
     return back_facing(Q, lo, hi, vec3(0.0));
 }
 
-// wedges_face_away of patch.glsl with the rational positions.
-bool wedges_face_away4(vec4 H[16], uvec2 q, vec3 eye, bool with_wedges) {
-    NodeMesh mesh = node_mesh(q, with_wedges);
-    bool away = true;
-    for (uint e = 0u; e < 4u; ++e) {
-        if (!mesh.wedge[e]) {
-            continue;
-        }
-        uvec3 k = mesh.tris[2u + e];
-        precise vec3 a = eval_rational(H, mesh.uv[k.x].x, mesh.uv[k.x].y);
-        precise vec3 b = eval_rational(H, mesh.uv[k.y].x, mesh.uv[k.y].y);
-        precise vec3 c = eval_rational(H, mesh.uv[k.z].x, mesh.uv[k.z].y);
-        precise vec3 n = cross3(b - a, c - a);
-        away = away && dot3(n, a - eye) > 0.0;
-    }
-    return away;
-}
+// wedges_face_away4(): wedges_face_away() of patch.glsl with the rational
+// positions (wedges_template.glsl).
+#define BEZ_T vec4
+#define BEZ_FN(name) name##4
+#define BEZ_POINT(P, u, v) eval_rational(P, u, v)
+#include "wedges_template.glsl"
 
 #endif

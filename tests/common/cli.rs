@@ -2,6 +2,10 @@
 
 use std::process::{Command, Output};
 
+/// `bench`'s smallest sweep: one method at one (eps, lambda) point, for the
+/// tests that need a bench run but not a measurement.
+pub const BENCH_ONE_POINT: [&str; 6] = ["--methods", "subdiv", "--eps", "1", "--lambda", "0.5"];
+
 /// The crate's binary, ready for arguments.
 pub fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_bezier-subdiv"))

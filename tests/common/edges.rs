@@ -5,8 +5,10 @@ use std::hash::Hash;
 
 use bezier_subdiv::patch::criterion::{line_sample_terms, EdgeSample};
 use bezier_subdiv::patch::ops::THIRD;
+use bezier_subdiv::patch::oracle::Triangle;
 use bezier_subdiv::patch::quadnode::{QuadNode, EDGE_PENDING};
 use bezier_subdiv::patch::view::ViewParams;
+use glam::Vec3;
 use rand::rngs::SmallRng;
 use rand::Rng;
 
@@ -109,6 +111,31 @@ pub fn sides<T: Copy>(
     (na, nb, ca, cb, cb_aligned)
 }
 
+/// Checks that the two sides `ca`, `cb` of one shared-edge segment give
+/// the edge tier the same samples and comparisons (`terms`, as bits) and
+/// the same decision (`flat`) under every view: the property that keeps a
+/// shared edge crack-free, for either kind of boundary curve (Cartesian or
+/// homogeneous). `what` names the pair in failure messages (made only on
+/// failure: this runs for every segment). Returns how
+/// many of the decisions were flat.
+pub fn assert_sides_agree<C, T: PartialEq + std::fmt::Debug>(
+    ca: &C,
+    cb: &C,
+    views: &[ViewParams],
+    terms: impl Fn(&C, &ViewParams) -> T,
+    flat: impl Fn(&C, &ViewParams) -> bool,
+    what: impl Fn() -> String,
+) -> u64 {
+    let mut flat_count = 0;
+    for vp in views {
+        assert_eq!(terms(ca, vp), terms(cb, vp), "{}: samples differ", what());
+        let fa = flat(ca, vp);
+        assert_eq!(fa, flat(cb, vp), "{}: decision differs", what());
+        flat_count += fa as u64;
+    }
+    flat_count
+}
+
 /// The edge tier's `samples` and both sides of both comparisons at the
 /// squared tolerance `t2`, as bits, sorted (the two sides of an edge run
 /// the curve in opposite directions).
@@ -127,4 +154,46 @@ pub fn edge_terms(samples: &[EdgeSample], t2: f32, vp: &ViewParams) -> Vec<[u32;
         .collect();
     v.sort();
     v
+}
+
+/// Welds the bitwise-identical positions of `tris` and returns the directed
+/// edge uses not matched by an opposite use (a crack, or a model's own
+/// boundary), as their welded end points. Degenerate triangles (at a pole)
+/// are skipped, and so is each edge i -> j of a triangle t that
+/// `skip(t, i, j)` says lies on a boundary no other patch shares.
+pub fn unmatched_edges(
+    tris: &[Triangle],
+    skip: impl Fn(&Triangle, usize, usize) -> bool,
+) -> Vec<(Vec3, Vec3)> {
+    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut points: Vec<Vec3> = Vec::new();
+    let mut id = |p: Vec3| {
+        let n = ids.len() as u32;
+        let k = *ids.entry(p.to_array().map(f32::to_bits)).or_insert(n);
+        if k == n {
+            points.push(p);
+        }
+        k
+    };
+    let mut balance: HashMap<(u32, u32), i64> = HashMap::new();
+    for t in tris {
+        let v = t.v.map(&mut id);
+        if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] {
+            continue;
+        }
+        for i in 0..3 {
+            let j = (i + 1) % 3;
+            if skip(t, i, j) {
+                continue;
+            }
+            let (a, b) = (v[i], v[j]);
+            let (key, s) = if a < b { ((a, b), 1) } else { ((b, a), -1) };
+            *balance.entry(key).or_default() += s;
+        }
+    }
+    balance
+        .iter()
+        .filter(|(_, &b)| b != 0)
+        .map(|(&(a, b), _)| (points[a as usize], points[b as usize]))
+        .collect()
 }
