@@ -38,17 +38,7 @@ fn a_deformed_frame_is_the_import_of_the_deformed_cage() {
         let frame = anim.frame(t);
         for (m, model) in anim.models.iter().enumerate() {
             let desc = &scene.models[model.scene_model];
-            let verts: Vec<Vec3> = model
-                .cage
-                .rest
-                .iter()
-                .map(|p| {
-                    let q = frame.deformers[m]
-                        .iter()
-                        .fold(p.to_array(), |q, d| deform::apply(d, q));
-                    Vec3::from_array(q)
-                })
-                .collect();
+            let verts = deform::apply_all(&frame.deformers[m], &model.cage.rest);
             let (patches, shading) = anim.model_pose(&frame, m);
             let text = std::fs::read_to_string(&desc.file).unwrap();
             let again = obj::parse_with(
