@@ -27,11 +27,13 @@ use ash::vk;
 use serde_json::json;
 
 use super::levels::{self, LevelState, Levels, PersistentRun};
-use super::subdiv_indirect::{base_rounds, finish_rounds, level_memory, must_remake, recorded};
+use super::subdiv_indirect::{
+    base_rounds, finish_rounds, level_memory, level_parts, must_remake, recorded,
+};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
-use crate::draw::{DrawPath, ReadyCaps, ReadyStage};
+use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::SubdivPush;
 use crate::vk::{
@@ -49,6 +51,7 @@ pub const INFO: MethodInfo = MethodInfo {
     reads: Reads::SUBDIVIDES,
     benched: true,
     heat_map: "subdivision depth",
+    seams: "wedges (crack-closing triangles)",
     checks: None,
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
@@ -435,21 +438,7 @@ impl Subdiv {
         let s = &o.per_method.subdiv;
         let groups = check_groups(ctx, s.groups, s.kernel)?;
         let sort = s.kernel == Kernel::Queue && s.sort;
-        let caps = ReadyCaps {
-            ready: o.ready_capacity,
-            vertices: false,
-            capture: false,
-            sort,
-        };
-        let stage = ReadyStage::new(ctx, setup.shaders, setup.scene_layout, o.draw, caps)?;
-        let levels = Levels::new(
-            ctx,
-            setup.shaders,
-            setup.scene_layout,
-            &stage,
-            o.per_method.levels.node_memory,
-            true,
-        )?;
+        let (stage, levels) = level_parts(setup, sort, true)?;
         let queue = match s.kernel {
             Kernel::Queue => Some(QueueKernel::new(setup, &stage)?),
             Kernel::Levels => None,

@@ -15,7 +15,7 @@
 
 use serde_json::json;
 
-use super::levels::{self, LevelState, Levels, DEFAULT_NODE_MEMORY};
+use super::levels::{self, LevelState, Levels};
 use super::subdiv::GpuSubdivStats;
 use super::{Finished, Method, MethodInfo, MethodOptions, MethodSetup, Reads, RenderError};
 use crate::constants::*;
@@ -34,6 +34,7 @@ pub const INFO: MethodInfo = MethodInfo {
     reads: Reads::SUBDIVIDES,
     benched: true,
     heat_map: "subdivision depth",
+    seams: "wedges (crack-closing triangles)",
     checks: None,
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
@@ -99,21 +100,7 @@ impl SubdivIndirect {
     pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
         let (ctx, o) = (setup.ctx, setup.options);
         let max_depth = o.per_method.subdiv_indirect.max_depth;
-        let caps = ReadyCaps {
-            ready: o.ready_capacity,
-            vertices: false,
-            capture: false,
-            sort: false,
-        };
-        let stage = ReadyStage::new(ctx, setup.shaders, setup.scene_layout, o.draw, caps)?;
-        let levels = Levels::new(
-            ctx,
-            setup.shaders,
-            setup.scene_layout,
-            &stage,
-            o.per_method.levels.node_memory,
-            false,
-        )?;
+        let (stage, levels) = level_parts(setup, false, false)?;
         let occlusion = if o.occlusion {
             Some(Hiz::new(ctx, setup.shaders, setup.scene_layout)?)
         } else {
@@ -299,7 +286,31 @@ pub(crate) fn must_remake(
         || culls.0 != culls.1
 }
 
-/// The default node memory, for `--help` texts.
-pub const fn default_node_memory() -> u64 {
-    DEFAULT_NODE_MEMORY
+/// The ready stage and the level schedule a method of the level schedule
+/// is made of (shared with `subdiv`): the ready list sorted before drawing
+/// or not (`sort`), the persistent level kernel's pipelines or only the
+/// per-depth rounds' (`persistent`).
+pub(crate) fn level_parts(
+    setup: &mut MethodSetup<'_>,
+    sort: bool,
+    persistent: bool,
+) -> Result<(ReadyStage, Levels), RenderError> {
+    let (ctx, o) = (setup.ctx, setup.options);
+    let caps = ReadyCaps {
+        ready: o.ready_capacity,
+        vertices: false,
+        capture: false,
+        sort,
+    };
+    let stage = ReadyStage::new(ctx, setup.shaders, setup.scene_layout, o.draw, caps)?;
+    let node_memory = o.per_method.levels.node_memory;
+    let levels = Levels::new(
+        ctx,
+        setup.shaders,
+        setup.scene_layout,
+        &stage,
+        node_memory,
+        persistent,
+    )?;
+    Ok((stage, levels))
 }
