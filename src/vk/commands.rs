@@ -283,14 +283,16 @@ impl Context {
             Err(vk::Result::TIMEOUT) => {
                 // Still executing: its command buffer, fence and resources
                 // must survive until it ends; later calls reclaim them.
-                self.note_unfinished(fence, timeout);
-                self.lock_submit().pending.push(Pending {
-                    label: label.to_owned(),
-                    fence,
-                    cmd,
-                    keep_alive: keep,
-                    submitted,
-                });
+                self.park(
+                    Pending {
+                        label: label.to_owned(),
+                        fence,
+                        cmd,
+                        keep_alive: keep,
+                        submitted,
+                    },
+                    timeout,
+                );
                 Err(VkError::FenceTimeout {
                     label: label.to_owned(),
                     timeout,
@@ -306,14 +308,16 @@ impl Context {
             }
             Err(e) => {
                 // Unknown state: keep everything alive as if it still ran.
-                self.note_unfinished(fence, timeout);
-                self.lock_submit().pending.push(Pending {
-                    label: label.to_owned(),
-                    fence,
-                    cmd,
-                    keep_alive: keep,
-                    submitted,
-                });
+                self.park(
+                    Pending {
+                        label: label.to_owned(),
+                        fence,
+                        cmd,
+                        keep_alive: keep,
+                        submitted,
+                    },
+                    timeout,
+                );
                 Err(VkError::Call {
                     context: format!("vkWaitForFences({label})"),
                     result: e,
@@ -359,15 +363,18 @@ impl Context {
         }
     }
 
-    /// Tells every resource that a timed-out submission may still use it
-    /// (see [`Core::may_free`]).
-    fn note_unfinished(&self, fence: vk::Fence, timeout: Duration) {
+    /// Keeps a submission whose wait did not end alive (its command buffer,
+    /// fence and resources) until a later call sees it finish, and tells
+    /// every resource that it may still use it (see [`Core::may_free`]).
+    fn park(&self, pending: Pending, timeout: Duration) {
         let mut unfinished = self
             .core
             .unfinished
             .lock()
             .unwrap_or_else(|e| e.into_inner());
-        unfinished.push((fence, timeout));
+        unfinished.push((pending.fence, timeout));
+        drop(unfinished);
+        self.lock_submit().pending.push(pending);
     }
 
     /// Number of timed-out submissions not yet known to have finished.
