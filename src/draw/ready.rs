@@ -8,8 +8,8 @@ use ash::vk;
 use crate::constants::*;
 use crate::patch::quadnode::QuadNode;
 use crate::vk::{
-    fill_buffer, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout,
-    SetLayout, VkError, VkResult,
+    Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout,
+    Recorder, Res, SetLayout, VkError, VkResult,
 };
 
 /// Sizes of the ready-list buffers.
@@ -194,9 +194,13 @@ impl ReadyList {
     }
 
     /// Records zeroing the counters, with barriers from any earlier use and
-    /// towards every later one.
+    /// towards every later one (the passes after it are other recorders').
     pub fn record_reset(&self, ctx: &Context, cmd: vk::CommandBuffer) {
-        fill_buffer(ctx, cmd, &self.counters, 0);
+        let mut rec = Recorder::new(ctx, cmd);
+        let counters = Res::Buffer(&self.counters);
+        rec.after(counters, Access::ALL);
+        rec.fill("ready list reset", &self.counters, 0);
+        rec.hand_off(counters, Access::ALL);
     }
 
     /// The counters (waits for all submitted work).

@@ -53,8 +53,8 @@ use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{CtPush, DrawPush};
 use crate::scene::pn::PnScene;
 use crate::vk::{
-    fill_buffer, Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass,
-    Pipeline, PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
+    Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
+    PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 use scan::ScanPlan;
 
@@ -68,6 +68,7 @@ pub const INFO: MethodInfo = MethodInfo {
     reads: Reads::TESSELLATES,
     benched: true,
     heat_map: "log2 of the patch's larger factor",
+    seams: "transition strips",
     checks: Some(checks::make),
     build: |setup| Ok(Box::new(CudaTess::new(setup)?)),
 };
@@ -448,12 +449,13 @@ impl CudaTess {
             return Err(VkError::Usage("cudatess: nothing to record with".into()));
         };
         let (ctx, cmd) = (f.ctx, f.cmd);
-        fill_buffer(ctx, cmd, &self.counters, 0);
-        fill_buffer(ctx, cmd, &s.edge_factors, 0);
-        // Also orders the scene uploads (earlier submissions) before the
-        // passes, and the last frame's draw before this frame's writes.
+        // Orders the scene uploads (earlier submissions) before the passes,
+        // and the last frame's draw and readback before this frame's
+        // writes, the counters' and edge factors' resets first.
         let mut rec = Recorder::new(ctx, cmd);
         rec.after(Res::Memory, Access::ALL);
+        rec.fill("cudatess counters reset", &self.counters, 0);
+        rec.fill("edge factors reset", &s.edge_factors, 0);
         let passes = ComputePasses {
             method: self,
             set,
