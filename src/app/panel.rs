@@ -376,21 +376,17 @@ impl Controls {
 }
 
 /// What the heat map's colours of `method` mean (its registry entry's
-/// `heat_map`), the wedges' colour, or the normal's axes.
+/// `heat_map`), what the wedges' colour marks (its `seams`), or the
+/// normal's axes.
 fn legend_ui(ui: &mut egui::Ui, shade: Shade, method: &str) {
-    let what = methods::find(method).map_or("subdivision depth", |m| m.heat_map);
+    let info = methods::find(method).ok();
+    let what = info.map_or("subdivision depth", |m| m.heat_map);
     match shade {
         Shade::Depth | Shade::Wedges => {
             ui.label(format!("colour: {what}"));
             ramp_ui(ui);
             if shade == Shade::Wedges {
-                let label = if method.starts_with("subdiv") {
-                    "wedges (crack-closing triangles)"
-                } else if method == "cudatess" {
-                    "transition strips"
-                } else {
-                    "wedges (none for this method)"
-                };
+                let label = info.map_or("wedges", |m| m.seams);
                 ui.horizontal(|ui| {
                     swatch(ui, palette::wedge_color());
                     ui.label(label);

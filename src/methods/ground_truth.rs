@@ -63,6 +63,7 @@ pub const INFO: MethodInfo = MethodInfo {
     },
     benched: false,
     heat_map: "log2 of the grid",
+    seams: "wedges (none for this method)",
     checks: None,
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };

@@ -303,6 +303,9 @@ pub struct MethodInfo {
     pub benched: bool,
     /// What the depth heat map's colours mean for it (the window's legend).
     pub heat_map: &'static str,
+    /// What the wedge colour marks in its drawing (the window's legend):
+    /// the triangles that close cracks, or that nothing does.
+    pub seams: &'static str,
     /// Its own `validate` checks, beyond those every method gets (the
     /// oracle comparisons of a ready list, occlusion culling, the hole test).
     pub checks: Option<MakeCheck>,

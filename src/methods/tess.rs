@@ -44,6 +44,7 @@ pub const INFO: MethodInfo = MethodInfo {
     reads: Reads::TESSELLATES,
     benched: true,
     heat_map: "log2 of the inner tessellation level",
+    seams: "wedges (none for this method)",
     checks: Some(checks::make),
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Uniform)?)),
 };

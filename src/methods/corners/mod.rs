@@ -31,6 +31,7 @@ pub const INFO: MethodInfo = MethodInfo {
     },
     benched: false,
     heat_map: "nothing (depth 0 everywhere)",
+    seams: "wedges (none for this method)",
     checks: None,
     build: |setup| Ok(Box::new(Corners::new(setup)?)),
 };
