@@ -438,16 +438,12 @@ impl Subdiv {
         let s = &o.per_method.subdiv;
         let groups = check_groups(ctx, s.groups, s.kernel)?;
         let sort = s.kernel == Kernel::Queue && s.sort;
-        let (stage, levels) = level_parts(setup, sort, true)?;
+        // The queue kernel has no phases: it draws everything it keeps.
+        let culls = o.occlusion && s.kernel == Kernel::Levels;
+        let (stage, levels, occlusion) = level_parts(setup, sort, true, culls)?;
         let queue = match s.kernel {
             Kernel::Queue => Some(QueueKernel::new(setup, &stage)?),
             Kernel::Levels => None,
-        };
-        // The queue kernel has no phases: it draws everything it keeps.
-        let occlusion = if o.occlusion && s.kernel == Kernel::Levels {
-            Some(Hiz::new(ctx, setup.shaders, setup.scene_layout)?)
-        } else {
-            None
         };
         Ok(Self {
             stage,

@@ -98,14 +98,9 @@ pub struct SubdivIndirect {
 impl SubdivIndirect {
     /// Creates the ready stage, the node memory and the pipelines.
     pub fn new(setup: &mut MethodSetup<'_>) -> Result<Self, RenderError> {
-        let (ctx, o) = (setup.ctx, setup.options);
+        let o = setup.options;
         let max_depth = o.per_method.subdiv_indirect.max_depth;
-        let (stage, levels) = level_parts(setup, false, false)?;
-        let occlusion = if o.occlusion {
-            Some(Hiz::new(ctx, setup.shaders, setup.scene_layout)?)
-        } else {
-            None
-        };
+        let (stage, levels, occlusion) = level_parts(setup, false, false, o.occlusion)?;
         Ok(Self {
             stage,
             levels,
@@ -286,15 +281,17 @@ pub(crate) fn must_remake(
         || culls.0 != culls.1
 }
 
-/// The ready stage and the level schedule a method of the level schedule
-/// is made of (shared with `subdiv`): the ready list sorted before drawing
-/// or not (`sort`), the persistent level kernel's pipelines or only the
-/// per-depth rounds' (`persistent`).
+/// The ready stage, the level schedule and the occlusion culling's depth
+/// pyramid a method of the level schedule is made of (shared with
+/// `subdiv`): the ready list sorted before drawing or not (`sort`), the
+/// persistent level kernel's pipelines or only the per-depth rounds'
+/// (`persistent`), a pyramid or none (`occlusion`).
 pub(crate) fn level_parts(
     setup: &mut MethodSetup<'_>,
     sort: bool,
     persistent: bool,
-) -> Result<(ReadyStage, Levels), RenderError> {
+    occlusion: bool,
+) -> Result<(ReadyStage, Levels, Option<Hiz>), RenderError> {
     let (ctx, o) = (setup.ctx, setup.options);
     let caps = ReadyCaps {
         ready: o.ready_capacity,
@@ -312,5 +309,10 @@ pub(crate) fn level_parts(
         node_memory,
         persistent,
     )?;
-    Ok((stage, levels))
+    let hiz = if occlusion {
+        Some(Hiz::new(ctx, setup.shaders, setup.scene_layout)?)
+    } else {
+        None
+    };
+    Ok((stage, levels, hiz))
 }
