@@ -275,55 +275,43 @@ impl Context {
             (cmd, fence, out)
         };
 
-        match unsafe { device.wait_for_fences(&[fence], true, duration_ns(timeout)) } {
+        let wait = unsafe { device.wait_for_fences(&[fence], true, duration_ns(timeout)) };
+        let error = match wait {
             Ok(()) => {
                 free_one_shot(device, &self.lock_submit(), cmd, fence);
-                Ok((out, keep))
-            }
-            Err(vk::Result::TIMEOUT) => {
-                // Still executing: its command buffer, fence and resources
-                // must survive until it ends; later calls reclaim them.
-                self.park(
-                    Pending {
-                        label: label.to_owned(),
-                        fence,
-                        cmd,
-                        keep_alive: keep,
-                        submitted,
-                    },
-                    timeout,
-                );
-                Err(VkError::FenceTimeout {
-                    label: label.to_owned(),
-                    timeout,
-                    waited: submitted.elapsed(),
-                    part: None,
-                })
+                return Ok((out, keep));
             }
             Err(vk::Result::ERROR_DEVICE_LOST) => {
                 self.mark_hung();
-                Err(VkError::DeviceLost {
+                return Err(VkError::DeviceLost {
                     label: label.to_owned(),
-                })
+                });
             }
-            Err(e) => {
-                // Unknown state: keep everything alive as if it still ran.
-                self.park(
-                    Pending {
-                        label: label.to_owned(),
-                        fence,
-                        cmd,
-                        keep_alive: keep,
-                        submitted,
-                    },
-                    timeout,
-                );
-                Err(VkError::Call {
-                    context: format!("vkWaitForFences({label})"),
-                    result: e,
-                })
-            }
-        }
+            // Still executing: its command buffer, fence and resources
+            // must survive until it ends; later calls reclaim them.
+            Err(vk::Result::TIMEOUT) => VkError::FenceTimeout {
+                label: label.to_owned(),
+                timeout,
+                waited: submitted.elapsed(),
+                part: None,
+            },
+            // Unknown state: keep everything alive as if it still ran.
+            Err(e) => VkError::Call {
+                context: format!("vkWaitForFences({label})"),
+                result: e,
+            },
+        };
+        self.park(
+            Pending {
+                label: label.to_owned(),
+                fence,
+                cmd,
+                keep_alive: keep,
+                submitted,
+            },
+            timeout,
+        );
+        Err(error)
     }
 
     /// Waits up to `timeout` for submissions whose earlier wait timed out,
