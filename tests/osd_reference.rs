@@ -406,6 +406,31 @@ fn every_opensubdiv_shape_converts() {
     }
 }
 
+/// The ends of creases of sharpness 4 and more are fitted at isolate 0
+/// (`fit::wanted`): a crease of sharpness 7.5 ending inside the surface of
+/// `catmark_hole_test2` was converted as an infinitely sharp crease with
+/// dart ends, 4.1e-2 of the model from OpenSubdiv's limit, and three
+/// creases of 4.7 meeting, with a fourth ending, in `catmark_torus_creases1`
+/// 6.3e-3. Fitted: 9.0e-4 and 2.1e-3.
+#[test]
+fn ends_of_sharp_creases_follow_the_limit() {
+    let cases = cases_in("tests/data/osd/shapes");
+    for (name, bound) in [
+        ("catmark_hole_test2", 1e-3),
+        ("catmark_torus_creases1", 2.5e-3),
+    ] {
+        let case = cases
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap_or_else(|| panic!("{name}: reference missing"));
+        let model = import(case, false, 0);
+        let table = deviations(case, &model, &model);
+        let (samples, dev) = table["semi-sharp"];
+        assert!(samples > 0, "{name}: no semi-sharp samples");
+        assert!(dev <= bound, "{name}: semi-sharp {dev:.2e} > {bound:.0e}");
+    }
+}
+
 /// Distances from points to a patch set (the geometric deviation: how far
 /// a limit point lies from the drawn surface, wherever on it, as opposed
 /// to the parametric one at the same (u, v)).

@@ -2,10 +2,13 @@
 //! follow OpenSubdiv's rules: next to semi-sharp creases and corners of
 //! sharpness s below [`FIT_STEPS`] (sharp for s steps, then smooth: the
 //! surface rounds the feature off within about 2^−s of a face, where the
-//! converter's sharp rules leave a sharp crease).
+//! converter's sharp rules leave a sharp crease), and where sharper creases
+//! end or meet (there the sharp rules make a dart or a corner that the
+//! surface is not).
 //!
 //! The surface there is first made exact by refining the cage until every
-//! such feature has run out (`refine.rs`, ⌈s⌉ steps) and converting it
+//! such feature has run out (`refine.rs`, ⌈s⌉ steps; [`END_STEPS`] at the
+//! ends of sharper creases) and converting it
 //! (`acc.rs`): the fine patches.
 //! Then each such face gets the one bicubic patch that best matches the
 //! fine patches in least squares, at the same parameters:
@@ -40,21 +43,34 @@ use super::sharpness;
 /// faces: 256 fine patches per face at 4).
 pub const FIT_STEPS: u32 = 4;
 
+/// The most refinement steps the fine surface takes for the end of a
+/// crease of sharpness [`FIT_STEPS`] or more. Measured on the OpenSubdiv
+/// shapes: 3 brings `catmark_hole_test2` to 9.0e-4 (2 steps: 1.35e-3; 4:
+/// 9.0e-4 and `catmark_chaikin1` 4.6e-3 to 2.8e-3) and adds 0.9 s to the
+/// import of the car with its 24 crease ends of sharpness 6 (4 steps:
+/// 9 s; 2: 0.3 s).
+pub const END_STEPS: u32 = 3;
+
 /// Samples per patch side for the fits.
 const SAMPLES: usize = 8;
 
 /// Which patches of `conv` (of `cage`, adjacency `topo`) to fit: those
-/// with a corner at a semi-sharp feature of sharpness below [`FIT_STEPS`]
-/// (sharper ones round off within 2^−FIT_STEPS of a face, which the fine
-/// surface cannot show either, and are left as converted). Darts are not
-/// fitted: tried on the OpenSubdiv shapes, it moved their largest
-/// deviation by at most a fifth (the dart's own corner, exact since
+/// with a corner at a semi-sharp feature of sharpness below [`FIT_STEPS`],
+/// or where a sharper one ends or meets others ([`feature_end`]). Along a
+/// sharper crease the surface rounds the crease off within about
+/// 2^−FIT_STEPS of a face and the converter's sharp rules are left; where
+/// such a crease ends, its sharp conversion is a dart or corner that the
+/// limit surface is not (4.1e-2 of the model at a crease of sharpness 7.5
+/// ending inside `catmark_hole_test2`, 9.0e-4 fitted). Darts of infinitely sharp
+/// creases are not fitted: tried on the OpenSubdiv shapes, it moved their
+/// largest deviation by at most a fifth (the dart's own corner, exact since
 /// `limit.rs`, and its parameterisation dominate), at ten times the import
 /// time of the car.
 pub fn wanted(cage: &Cage, topo: &Topology, conv: &Conversion) -> Vec<bool> {
     let soft = |s: f64| sharpness::is_semi_sharp(s) && s < f64::from(FIT_STEPS);
     let near = |v: usize| {
         soft(cage.vertex_sharpness(v))
+            || feature_end(cage, topo, v)
             || topo.vertex_edges[v].iter().any(|&e| {
                 let (a, b) = topo.edges[e].ends;
                 soft(cage.edge_sharpness(a, b))
@@ -66,16 +82,55 @@ pub fn wanted(cage: &Cage, topo: &Topology, conv: &Conversion) -> Vec<bool> {
         .collect()
 }
 
+/// Whether `v` ends or joins semi-sharp creases: a semi-sharp corner, a
+/// semi-sharp edge with no other sharp edge at `v` (a crease ending inside
+/// the surface: a dart while it is sharp), or three or more sharp edges of
+/// which two are semi-sharp (creases meeting). Left out, measured on the
+/// OpenSubdiv shapes: a semi-sharp crease meeting the boundary or an
+/// infinitely sharp crease, and a change of sharpness along a crease; fitting
+/// those too made `catmark_single_crease` worse (1.0e-3 to 1.5e-3) and
+/// improved none.
+fn feature_end(cage: &Cage, topo: &Topology, v: usize) -> bool {
+    if sharpness::is_semi_sharp(cage.vertex_sharpness(v)) {
+        return true;
+    }
+    let edges: Vec<f64> = topo.vertex_edges[v]
+        .iter()
+        .map(|&e| {
+            let (a, b) = topo.edges[e].ends;
+            cage.edge_sharpness(a, b)
+        })
+        .filter(|&s| s > 0.0)
+        .collect();
+    let semi = edges
+        .iter()
+        .filter(|&&s| sharpness::is_semi_sharp(s))
+        .count();
+    (semi == 1 && edges.len() == 1) || (semi >= 2 && edges.len() >= 3)
+}
+
 /// Refinement steps the fine surface takes: until every semi-sharp
-/// feature [`wanted`] fits has run out.
-pub fn steps(cage: &Cage) -> u32 {
+/// feature [`wanted`] fits has run out, at most [`FIT_STEPS`].
+pub fn steps(cage: &Cage, topo: &Topology) -> u32 {
+    let semi = |s: &f64| sharpness::is_semi_sharp(*s);
     let soft = cage
         .edge_sharpness
         .values()
         .chain(cage.vertex_sharpness.values())
-        .filter(|&&s| sharpness::is_semi_sharp(s) && s < f64::from(FIT_STEPS))
-        .fold(0.0f64, |m, &s| m.max(s));
-    soft.ceil() as u32
+        .copied()
+        .filter(|&s| semi(&s) && s < f64::from(FIT_STEPS));
+    let ends = (0..cage.positions.len())
+        .filter(|&v| feature_end(cage, topo, v))
+        .flat_map(|v| {
+            let edges = topo.vertex_edges[v].iter().map(|&e| {
+                let (a, b) = topo.edges[e].ends;
+                cage.edge_sharpness(a, b)
+            });
+            edges.chain([cage.vertex_sharpness(v)]).filter(semi)
+        });
+    let soft = soft.fold(0.0f64, f64::max).ceil() as u32;
+    let ends = ends.fold(0.0f64, f64::max).ceil() as u32;
+    soft.max(ends.min(END_STEPS)).min(FIT_STEPS)
 }
 
 /// Where a fine face lies in a coarse face: (coarse face, its corner (0,0),

@@ -146,7 +146,7 @@ fn linear_part(
     // Next to semi-sharp features and darts, fit the patches to a finer
     // surface (`fit.rs`), within FIT_STEPS steps beyond the non-quad one.
     let budget = fit::FIT_STEPS.saturating_sub(levels.saturating_sub(base));
-    let steps = fit::steps(&fine).min(budget);
+    let steps = fit::steps(&fine, &fine_topo).min(budget);
     if steps > 0 {
         let want = fit::wanted(&fine, &fine_topo, &conv);
         fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
