@@ -376,6 +376,13 @@ fn isolation_converges_to_the_limit_surface() {
             if exact && last > 1e-5 {
                 failures.push(format!("{} {class}: {last:.2e} > 1e-5", case.name));
             }
+            // The irregular ring fitted to a finer surface (`fit.rs`,
+            // RING_STEPS): the cube's valence-3 corners meet the issue's
+            // 1e-4 at isolate 4 (2.8e-4 with Loop–Schaefer's patch alone);
+            // higher valences converge slower (docs/OPENSUBDIV.md).
+            if case.name == "iso_cube" && *class == "extraordinary" && last > 1e-4 {
+                failures.push(format!("iso_cube extraordinary: {last:.2e} > 1e-4"));
+            }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");

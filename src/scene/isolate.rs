@@ -143,12 +143,27 @@ fn linear_part(
         chain.push(subs);
     }
     let mut conv: Conversion = acc::convert(&fine, &fine_topo, path)?;
-    // Next to semi-sharp features and darts, fit the patches to a finer
-    // surface (`fit.rs`), within FIT_STEPS steps beyond the non-quad one.
+    // Next to semi-sharp features and the ends of sharper creases, fit the
+    // patches to a finer surface (`fit.rs`), within FIT_STEPS steps beyond
+    // the non-quad one.
     let budget = fit::FIT_STEPS.saturating_sub(levels.saturating_sub(base));
-    let steps = fit::steps(&fine, &fine_topo).min(budget);
+    let mut steps = fit::steps(&fine, &fine_topo).min(budget);
+    let mut want = if steps > 0 {
+        fit::wanted(&fine, &fine_topo, &conv)
+    } else {
+        vec![false; conv.faces.len()]
+    };
+    // With isolation, the patches that still approximate (the irregular
+    // ring) are fitted to the surface RING_STEPS finer: Loop and
+    // Schaefer's patch follows the limit surface's shape there far better
+    // than its parameters, and the fit follows both (`fit.rs`).
+    if levels > base && conv.rules.iter().any(|r| !r.exact()) {
+        for (w, r) in want.iter_mut().zip(&conv.rules) {
+            *w |= !r.exact();
+        }
+        steps = steps.max(fit::RING_STEPS);
+    }
     if steps > 0 {
-        let want = fit::wanted(&fine, &fine_topo, &conv);
         fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
     }
     Ok((fine, fine_topo, chain, conv))
