@@ -66,9 +66,53 @@ pub const RING_STEPS: u32 = 2;
 /// Samples per patch side for the fits.
 const SAMPLES: usize = 8;
 
+/// What to fit and how finely: the patches [`wanted`] selects next to
+/// semi-sharp features, and with isolation (`ring`) the irregular ring's
+/// patches at the last level, whose converted patch matches the surface's
+/// shape but not its parameters. Returns the selection and the refinement
+/// steps the fine surface takes: [`steps`] within `budget`, at least
+/// [`RING_STEPS`] for the ring; 0 when nothing is fitted.
+pub fn plan(
+    cage: &Cage,
+    topo: &Topology,
+    conv: &Conversion,
+    budget: u32,
+    ring: bool,
+) -> (Vec<bool>, u32) {
+    let ends: Vec<bool> = (0..cage.positions.len())
+        .map(|v| feature_end(cage, topo, v))
+        .collect();
+    let mut steps = steps(cage, topo, &ends).min(budget);
+    let mut want = if steps > 0 {
+        wanted(cage, topo, conv, &ends)
+    } else {
+        vec![false; conv.faces.len()]
+    };
+    if ring && conv.rules.iter().any(|r| !r.exact()) {
+        for (w, r) in want.iter_mut().zip(&conv.rules) {
+            *w |= !r.exact();
+        }
+        steps = steps.max(RING_STEPS);
+    }
+    (want, steps)
+}
+
+/// The sharpness of every edge at `v` (0 for smooth ones).
+fn edge_sharpnesses<'a>(
+    cage: &'a Cage,
+    topo: &'a Topology,
+    v: usize,
+) -> impl Iterator<Item = f64> + 'a {
+    topo.vertex_edges[v].iter().map(move |&e| {
+        let (a, b) = topo.edges[e].ends;
+        cage.edge_sharpness(a, b)
+    })
+}
+
 /// Which patches of `conv` (of `cage`, adjacency `topo`) to fit: those
 /// with a corner at a semi-sharp feature of sharpness below [`FIT_STEPS`],
-/// or where a sharper one ends or meets others ([`feature_end`]). Along a
+/// or where a sharper one ends or meets others (`ends`, per vertex:
+/// [`feature_end`]). Along a
 /// sharper crease the surface rounds the crease off within about
 /// 2^−FIT_STEPS of a face and the converter's sharp rules are left; where
 /// such a crease ends, its sharp conversion is a dart or corner that the
@@ -78,15 +122,10 @@ const SAMPLES: usize = 8;
 /// largest deviation by at most a fifth (the dart's own corner, exact since
 /// `limit.rs`, and its parameterisation dominate), at ten times the import
 /// time of the car.
-pub fn wanted(cage: &Cage, topo: &Topology, conv: &Conversion) -> Vec<bool> {
+fn wanted(cage: &Cage, topo: &Topology, conv: &Conversion, ends: &[bool]) -> Vec<bool> {
     let soft = |s: f64| sharpness::is_semi_sharp(s) && s < f64::from(FIT_STEPS);
     let near = |v: usize| {
-        soft(cage.vertex_sharpness(v))
-            || feature_end(cage, topo, v)
-            || topo.vertex_edges[v].iter().any(|&e| {
-                let (a, b) = topo.edges[e].ends;
-                soft(cage.edge_sharpness(a, b))
-            })
+        soft(cage.vertex_sharpness(v)) || ends[v] || edge_sharpnesses(cage, topo, v).any(soft)
     };
     conv.faces
         .iter()
@@ -106,24 +145,18 @@ fn feature_end(cage: &Cage, topo: &Topology, v: usize) -> bool {
     if sharpness::is_semi_sharp(cage.vertex_sharpness(v)) {
         return true;
     }
-    let edges: Vec<f64> = topo.vertex_edges[v]
-        .iter()
-        .map(|&e| {
-            let (a, b) = topo.edges[e].ends;
-            cage.edge_sharpness(a, b)
-        })
-        .filter(|&s| s > 0.0)
-        .collect();
-    let semi = edges
-        .iter()
-        .filter(|&&s| sharpness::is_semi_sharp(s))
-        .count();
-    (semi == 1 && edges.len() == 1) || (semi >= 2 && edges.len() >= 3)
+    let (mut sharp, mut semi) = (0, 0);
+    for s in edge_sharpnesses(cage, topo, v).filter(|&s| s > 0.0) {
+        sharp += 1;
+        semi += usize::from(sharpness::is_semi_sharp(s));
+    }
+    (semi == 1 && sharp == 1) || (semi >= 2 && sharp >= 3)
 }
 
 /// Refinement steps the fine surface takes: until every semi-sharp
-/// feature [`wanted`] fits has run out, at most [`FIT_STEPS`].
-pub fn steps(cage: &Cage, topo: &Topology) -> u32 {
+/// feature [`wanted`] fits has run out, at most [`FIT_STEPS`] (at most
+/// [`END_STEPS`] for the ends of sharper creases, `ends` per vertex).
+fn steps(cage: &Cage, topo: &Topology, ends: &[bool]) -> u32 {
     let semi = |s: &f64| sharpness::is_semi_sharp(*s);
     let soft = cage
         .edge_sharpness
@@ -132,14 +165,9 @@ pub fn steps(cage: &Cage, topo: &Topology) -> u32 {
         .copied()
         .filter(|&s| semi(&s) && s < f64::from(FIT_STEPS));
     let ends = (0..cage.positions.len())
-        .filter(|&v| feature_end(cage, topo, v))
-        .flat_map(|v| {
-            let edges = topo.vertex_edges[v].iter().map(|&e| {
-                let (a, b) = topo.edges[e].ends;
-                cage.edge_sharpness(a, b)
-            });
-            edges.chain([cage.vertex_sharpness(v)]).filter(semi)
-        });
+        .filter(|&v| ends[v])
+        .flat_map(|v| edge_sharpnesses(cage, topo, v).chain([cage.vertex_sharpness(v)]))
+        .filter(semi);
     let soft = soft.fold(0.0f64, f64::max).ceil() as u32;
     let ends = ends.fold(0.0f64, f64::max).ceil() as u32;
     soft.max(ends.min(END_STEPS)).min(FIT_STEPS)

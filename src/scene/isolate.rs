@@ -145,24 +145,12 @@ fn linear_part(
     let mut conv: Conversion = acc::convert(&fine, &fine_topo, path)?;
     // Next to semi-sharp features and the ends of sharper creases, fit the
     // patches to a finer surface (`fit.rs`), within FIT_STEPS steps beyond
-    // the non-quad one.
+    // the non-quad one. With isolation, the patches that still approximate
+    // (the irregular ring) are fitted too: Loop and Schaefer's patch
+    // follows the limit surface's shape there far better than its
+    // parameters.
     let budget = fit::FIT_STEPS.saturating_sub(levels.saturating_sub(base));
-    let mut steps = fit::steps(&fine, &fine_topo).min(budget);
-    let mut want = if steps > 0 {
-        fit::wanted(&fine, &fine_topo, &conv)
-    } else {
-        vec![false; conv.faces.len()]
-    };
-    // With isolation, the patches that still approximate (the irregular
-    // ring) are fitted to the surface RING_STEPS finer: Loop and
-    // Schaefer's patch follows the limit surface's shape there far better
-    // than its parameters, and the fit follows both (`fit.rs`).
-    if levels > base && conv.rules.iter().any(|r| !r.exact()) {
-        for (w, r) in want.iter_mut().zip(&conv.rules) {
-            *w |= !r.exact();
-        }
-        steps = steps.max(fit::RING_STEPS);
-    }
+    let (want, steps) = fit::plan(&fine, &fine_topo, &conv, budget, levels > base);
     if steps > 0 {
         fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
     }
