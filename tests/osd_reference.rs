@@ -371,8 +371,12 @@ fn isolation_converges_to_the_limit_surface() {
                     ));
                 }
             }
+            // A crease sharper than the last level is still semi-sharp
+            // there (iso_chaikin0's 5 at isolate 4): fitted, not exact.
             let last = *devs.last().unwrap();
-            let exact = matches!(*class, "regular" | "crease" | "corner" | "semi-sharp");
+            let run_out = f64::from(*case.isolate.last().unwrap()) >= sharpest(&case.model);
+            let exact = matches!(*class, "regular" | "crease" | "corner")
+                || (*class == "semi-sharp" && run_out);
             if exact && last > 1e-5 {
                 failures.push(format!("{} {class}: {last:.2e} > 1e-5", case.name));
             }
@@ -386,6 +390,24 @@ fn isolation_converges_to_the_limit_surface() {
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The largest sharpness a cage's `t crease` and `t corner` tags give.
+fn sharpest(model: &Path) -> f64 {
+    let text = std::fs::read_to_string(model).unwrap();
+    let mut most = 0.0f64;
+    for line in text.lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        if w.len() < 3 || w[0] != "t" || !matches!(w[1], "crease" | "corner") {
+            continue;
+        }
+        let counts: Vec<usize> = w[2].split('/').map(|n| n.parse().unwrap()).collect();
+        let floats = &w[3 + counts[0]..3 + counts[0] + counts[1]];
+        for f in floats {
+            most = most.max(f.parse().unwrap());
+        }
+    }
+    most
 }
 
 /// Every `catmark_*` regression shape of OpenSubdiv imports and is
@@ -610,7 +632,9 @@ fn deviations2(case: &Case, model: &ImportedModel, classes: &ImportedModel) -> T
 /// counts the irregular ring's patches sliding along the surface, which
 /// does not show in a picture). At the deepest level every class is
 /// within 1e-4 of the diagonal (the target for extraordinary
-/// faces at `isolate = 4`).
+/// faces at `isolate = 4`), but for the faces next to a crease still
+/// semi-sharp there (iso_chaikin0: 1.5e-4 at 4, falling about fivefold a
+/// level; its target is isolation to ⌈s⌉).
 #[test]
 fn isolation_geometric() {
     let cases: Vec<Case> = cases_in("tests/data/osd")
@@ -630,7 +654,10 @@ fn isolation_geometric() {
                     model.patches.len(),
                     class
                 );
-                if n == deepest && geo > 1e-4 {
+                // Not a crease sharper than the deepest level (see
+                // isolation_converges_to_the_limit_surface).
+                let fitted = class == "semi-sharp" && f64::from(deepest) < sharpest(&case.model);
+                if n == deepest && geo > 1e-4 && !fitted {
                     failures.push(format!(
                         "{} {class} at isolate {n}: geometric {geo:.2e} > 1e-4",
                         case.name

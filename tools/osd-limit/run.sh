@@ -67,6 +67,8 @@ run iso_xord_interior scenes/models/catmark_xord_interior.obj tag keep corners:4
 run iso_pole64        scenes/models/catmark_pole64.obj        tag keep corners:4 0/1/2/3/4
 run iso_cube          scenes/models/catmark_cube.obj          tag keep corners:5 0/1/2/3/4
 run iso_grid_semi     tests/data/cages/grid_semi.obj          tag keep corners:4 0/1/2/3/4
+# A Chaikin crease sharper (5) than the deepest level: still fitted there.
+run iso_chaikin0      tests/data/osd-shapes/catmark_chaikin0.obj tag keep corners:4 0/1/2/3/4
 
 shapes="$out/shapes"
 mkdir -p "$shapes"
