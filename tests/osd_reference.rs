@@ -387,6 +387,17 @@ fn isolation_converges_to_the_limit_surface() {
             if case.name == "iso_cube" && *class == "extraordinary" && last > 1e-4 {
                 failures.push(format!("iso_cube extraordinary: {last:.2e} > 1e-4"));
             }
+            // A crease sharper than the levels is fitted to the surface
+            // refined until it runs out, not held to 4 − N steps (which
+            // fitted a sharp remnant with a dart: 2.8e-3 at isolate 2,
+            // with a wavy silhouette; 1.8e-3 now).
+            let at2 = case.isolate.iter().position(|&n| n == 2).map(|k| devs[k]);
+            if case.name == "iso_chaikin0" && *class == "semi-sharp" {
+                let at2 = at2.expect("iso_chaikin0 is imported at isolate 2");
+                if at2 > 2.2e-3 {
+                    failures.push(format!("iso_chaikin0 at isolate 2: {at2:.2e} > 2.2e-3"));
+                }
+            }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");

@@ -70,19 +70,13 @@ const SAMPLES: usize = 8;
 /// semi-sharp features, and with isolation (`ring`) the irregular ring's
 /// patches at the last level, whose converted patch matches the surface's
 /// shape but not its parameters. Returns the selection and the refinement
-/// steps the fine surface takes: [`steps`] within `budget`, at least
-/// [`RING_STEPS`] for the ring; 0 when nothing is fitted.
-pub fn plan(
-    cage: &Cage,
-    topo: &Topology,
-    conv: &Conversion,
-    budget: u32,
-    ring: bool,
-) -> (Vec<bool>, u32) {
+/// steps the fine surface takes: [`steps`], at least [`RING_STEPS`] for
+/// the ring; 0 when nothing is fitted.
+pub fn plan(cage: &Cage, topo: &Topology, conv: &Conversion, ring: bool) -> (Vec<bool>, u32) {
     let ends: Vec<bool> = (0..cage.positions.len())
         .map(|v| feature_end(cage, topo, v))
         .collect();
-    let mut steps = steps(cage, topo, &ends).min(budget);
+    let mut steps = steps(cage, topo, &ends);
     let mut want = if steps > 0 {
         wanted(cage, topo, conv, &ends)
     } else {

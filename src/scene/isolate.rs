@@ -144,13 +144,14 @@ fn linear_part(
     }
     let mut conv: Conversion = acc::convert(&fine, &fine_topo, path)?;
     // Next to semi-sharp features and the ends of sharper creases, fit the
-    // patches to a finer surface (`fit.rs`), within FIT_STEPS steps beyond
-    // the non-quad one. With isolation, the patches that still approximate
-    // (the irregular ring) are fitted too: Loop and Schaefer's patch
-    // follows the limit surface's shape there far better than its
+    // patches to a finer surface (`fit.rs`). Isolation does not shorten the
+    // fit: a crease sharper than `levels` is still semi-sharp at the last
+    // level, and left to the sharp rules it would be drawn as a crease with
+    // a dart where it runs out. With isolation, the patches that still
+    // approximate (the irregular ring) are fitted too: Loop and Schaefer's
+    // patch follows the limit surface's shape there far better than its
     // parameters.
-    let budget = fit::FIT_STEPS.saturating_sub(levels.saturating_sub(base));
-    let (want, steps) = fit::plan(&fine, &fine_topo, &conv, budget, levels > base);
+    let (want, steps) = fit::plan(&fine, &fine_topo, &conv, levels > base);
     if steps > 0 {
         fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
     }
