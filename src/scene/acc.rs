@@ -10,7 +10,7 @@
 //! boundary is ever recomputed per face, so neighbours get the same bits,
 //! whatever rule made the point.
 
-use std::collections::HashMap;
+use super::hash::IndexMap;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -122,12 +122,12 @@ pub struct Conversion {
     /// The corner point of each vertex, as stored in the patches.
     pub corner: Vec<Vec3>,
     /// The edge point of each edge end `(near, far)`, as stored.
-    pub edge_point: HashMap<(usize, usize), Vec3>,
+    pub edge_point: IndexMap<(usize, usize), Vec3>,
 }
 
 impl Conversion {
     /// The patch of each cage face that has one (holes have none).
-    pub fn patch_of_face(&self) -> HashMap<usize, usize> {
+    pub fn patch_of_face(&self) -> IndexMap<usize, usize> {
         self.faces
             .iter()
             .enumerate()
@@ -175,7 +175,7 @@ fn local(cage: &Cage, topo: &Topology, v: usize, cfg: Config) -> Local {
 struct Points {
     inner: Vec<[DVec3; 4]>,
     corner: Vec<DVec3>,
-    edge: HashMap<(usize, usize), DVec3>,
+    edge: IndexMap<(usize, usize), DVec3>,
 }
 
 fn points(
@@ -232,7 +232,7 @@ fn points(
         })
         .collect();
 
-    let mut edge = HashMap::with_capacity(topo.edges.len() * 2);
+    let mut edge = IndexMap::with_capacity_and_hasher(topo.edges.len() * 2, Default::default());
     for e in &topo.edges {
         let (a, b) = e.ends;
         let sharp = cfg.sharp(cage.edge_sharpness(a, b));
@@ -286,7 +286,7 @@ pub fn convert_with(
     let corner: Vec<Vec3> = (0..nv)
         .map(|v| round(blend.point(v, &|pts| pts.corner[v])))
         .collect();
-    let edge_point: HashMap<(usize, usize), Vec3> = blend
+    let edge_point: IndexMap<(usize, usize), Vec3> = blend
         .sharp
         .edge
         .keys()
@@ -392,8 +392,8 @@ impl Blend {
 
 /// Sector sizes for the rules report, cutting fans at every sharp edge: per
 /// face corner (face, k), the faces in its sector.
-fn sector_sizes(cage: &Cage, topo: &Topology) -> HashMap<(usize, usize), u32> {
-    let mut sector_of: HashMap<(usize, usize), u32> = HashMap::new();
+fn sector_sizes(cage: &Cage, topo: &Topology) -> IndexMap<(usize, usize), u32> {
+    let mut sector_of: IndexMap<(usize, usize), u32> = IndexMap::default();
     for v in 0..cage.positions.len() {
         let is_sharp = |e: usize| {
             let (a, b) = topo.edges[e].ends;
@@ -431,7 +431,7 @@ fn patch_rule(
     cage: &Cage,
     topo: &Topology,
     locals: &[Local],
-    sector_of: &HashMap<(usize, usize), u32>,
+    sector_of: &IndexMap<(usize, usize), u32>,
     face: &[usize],
     f: usize,
 ) -> PatchRule {

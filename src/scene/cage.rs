@@ -24,7 +24,7 @@
 //! ([`Cage::face_edges`]): the two halves of a degenerate edge join the same
 //! two vertices and are still two edges, as in OpenSubdiv.
 
-use std::collections::HashMap;
+use super::hash::IndexMap;
 use std::path::Path;
 
 use glam::DVec3;
@@ -47,9 +47,9 @@ pub struct Cage {
     /// an edge not listed is smooth (0). `sharpness::INFINITE` and above is
     /// infinitely sharp. (Edges joining the same two vertices share it; all
     /// such edges are non-manifold, hence infinitely sharp.)
-    pub edge_sharpness: HashMap<(usize, usize), f64>,
+    pub edge_sharpness: IndexMap<(usize, usize), f64>,
     /// Corner sharpness of vertices; a vertex not listed has 0.
-    pub vertex_sharpness: HashMap<usize, f64>,
+    pub vertex_sharpness: IndexMap<usize, f64>,
     /// Faces that give no patch (`t hole`, the `none` boundary rule's
     /// boundary faces); empty when there are none.
     pub holes: Vec<bool>,
@@ -196,9 +196,9 @@ pub struct Topology {
     /// Per face, the edge of each corner k (from corner k to k + 1).
     pub face_edges: Vec<Vec<usize>>,
     /// (smaller, larger) vertex → the first edge between them.
-    edge_index: HashMap<(usize, usize), usize>,
+    edge_index: IndexMap<(usize, usize), usize>,
     /// Directed manifold edge (a, b) → (face, corner of a in that face).
-    half_edges: HashMap<(usize, usize), (usize, usize)>,
+    half_edges: IndexMap<(usize, usize), (usize, usize)>,
     /// The fans of each vertex (none for vertices no face uses).
     pub fans: Vec<Vec<Fan>>,
     /// The edges at each vertex, in order of first use; a degenerate edge
@@ -262,14 +262,15 @@ impl Topology {
             edges_given(cage, path)?
         };
         let mut vertex_edges: Vec<Vec<usize>> = vec![Vec::new(); nv];
-        let mut edge_index: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut edge_index: IndexMap<(usize, usize), usize> = IndexMap::default();
         for (id, e) in edges.iter().enumerate() {
             let (a, b) = e.ends;
             vertex_edges[a].push(id);
             vertex_edges[b].push(id);
             edge_index.entry((a.min(b), a.max(b))).or_insert(id);
         }
-        let mut half_edges = HashMap::with_capacity(edges.len() * 2);
+        let mut half_edges =
+            IndexMap::with_capacity_and_hasher(edges.len() * 2, Default::default());
         for e in edges.iter().filter(|e| e.is_manifold()) {
             for &(f, k) in &e.uses {
                 let face = &cage.faces[f];
@@ -438,7 +439,7 @@ fn check_faces(cage: &Cage, path: &Path) -> Result<(), SceneError> {
 /// face, or a second running the same way, makes it non-manifold.
 fn edges_from_pairs(cage: &Cage) -> (Vec<Edge>, Vec<Vec<usize>>) {
     let mut edges: Vec<Edge> = Vec::new();
-    let mut first: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut first: IndexMap<(usize, usize), usize> = IndexMap::default();
     let mut face_edges = Vec::with_capacity(cage.faces.len());
     for (f, face) in cage.faces.iter().enumerate() {
         let mut ids = Vec::with_capacity(face.len());

@@ -10,6 +10,7 @@ pub mod error;
 pub mod file;
 pub mod fit;
 pub mod geometry;
+pub mod hash;
 pub mod instances;
 pub mod isolate;
 pub mod limit;
