@@ -106,16 +106,15 @@ fn edge_sharpnesses<'a>(
 /// Which patches of `conv` (of `cage`, adjacency `topo`) to fit: those
 /// with a corner at a semi-sharp feature of sharpness below [`FIT_STEPS`],
 /// or where a sharper one ends or meets others (`ends`, per vertex:
-/// [`feature_end`]). Along a
-/// sharper crease the surface rounds the crease off within about
-/// 2^−FIT_STEPS of a face and the converter's sharp rules are left; where
-/// such a crease ends, its sharp conversion is a dart or corner that the
-/// limit surface is not (4.1e-2 of the model at a crease of sharpness 7.5
-/// ending inside `catmark_hole_test2`, 9.0e-4 fitted). Darts of infinitely sharp
-/// creases are not fitted: tried on the OpenSubdiv shapes, it moved their
-/// largest deviation by at most a fifth (the dart's own corner, exact since
-/// `limit.rs`, and its parameterisation dominate), at ten times the import
-/// time of the car.
+/// [`feature_end`]). Along a sharper crease the surface rounds the crease
+/// off within about 2^−FIT_STEPS of a face and the converter's sharp rules
+/// are left; where such a crease ends, its sharp conversion is a dart or
+/// corner that the limit surface is not (4.1e-2 of the model at a crease
+/// of sharpness 7.5 ending inside `catmark_hole_test2`, 9.0e-4 fitted).
+/// Darts of infinitely sharp creases are not fitted: tried on the
+/// OpenSubdiv shapes, it moved their largest deviation by at most a fifth
+/// (the dart's own corner, exact since `limit.rs`, and its
+/// parameterisation dominate), at ten times the import time of the car.
 fn wanted(cage: &Cage, topo: &Topology, conv: &Conversion, ends: &[bool]) -> Vec<bool> {
     let soft = |s: f64| sharpness::is_semi_sharp(s) && s < f64::from(FIT_STEPS);
     let near = |v: usize| {

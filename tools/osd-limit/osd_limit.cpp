@@ -2,7 +2,7 @@
 // control cage, as reference data for the project's cage converter.
 //
 // Usage: osd_limit CAGE.obj [--boundary none|edge-only|edge-and-corner]
-//                  [--samples grid|nine|four|corners:M]
+//                  [--samples grid|nine|four|dense|corners:M]
 //
 // Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner`,
 // `t interpolateboundary`, `t hole`, `t creasemethod` and
@@ -18,13 +18,15 @@
 // boundary rule removes.
 //
 // Sample sets: `grid` 5x5 per (sub-)face, edges included; `nine` 3x3;
-// `four` four points; `corners:M` the 5x5 grid and, at each corner whose
+// `four` four points; `dense` 17x17 (every 1/16: between the quarters,
+// where a fitted cubic's largest error lies); `corners:M` the 5x5 grid and, at each corner whose
 // vertex is not regular, the 5x5 grids of the squares of side 2^-m there,
 // m = 1..M (where isolation's irregular rings lie, down to level M).
 //
 // The points are exact: the cage is refined uniformly until every semi-sharp
 // feature has run out and every sample is a vertex of the last level (the
-// parameters are multiples of 1/4, or of 2^-(M+2) for corners:M; faces that
+// parameters are multiples of 1/4, of 1/16 for dense, or of 2^-(M+2) for
+// corners:M; faces that
 // are not quads take one level more, their sub-faces being the first), and
 // OpenSubdiv's limit masks put each on the limit surface. (A feature-adaptive patch table
 // would be cheaper but is not exact: its end caps next to an irregular
@@ -218,6 +220,10 @@ SampleSet sampleSet(std::string const &samples) {
             for (double u : {0.0, 0.5, 1.0}) uvs.push_back({u, v});
     } else if (samples == "four") {
         uvs = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.25, 0.75}};
+    } else if (samples == "dense") {
+        set.depth = 4;
+        for (int j = 0; j <= 16; ++j)
+            for (int i = 0; i <= 16; ++i) uvs.push_back({i / 16.0, j / 16.0});
     } else if (samples.rfind("corners:", 0) == 0) {
         int m = std::atoi(samples.c_str() + 8);
         if (m < 0 || m > 8) fail("--samples", "corners:M needs 0 <= M <= 8");
@@ -240,7 +246,7 @@ SampleSet sampleSet(std::string const &samples) {
                 }
         }
     } else {
-        fail("--samples", "expected grid, nine, four or corners:M");
+        fail("--samples", "expected grid, nine, four, dense or corners:M");
     }
     return set;
 }
@@ -330,7 +336,7 @@ bool iteratedLimit(Far::TopologyLevel const &lv, std::vector<Point> const &pos, 
 
 int main(int argc, char **argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four|corners:M]\n");
+        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four|dense|corners:M]\n");
         return 2;
     }
     std::string boundary = "edge-and-corner", samples = "grid";

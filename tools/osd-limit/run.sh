@@ -10,7 +10,7 @@
 #             else the converter's default, edge-and-corner)
 #   CREASES   keep, or a number every `t crease` sharpness is replaced by
 #   SAMPLES   grid (5x5 per face, edges included), nine (3x3), four,
-#             corners:M (the irregular rings of isolation down to level M;
+#             dense (17x17), corners:M (the irregular rings of isolation down to level M;
 #             see osd_limit.cpp)
 #   ISOLATE   optional: the `isolate` levels the test imports the case at,
 #             e.g. 0/2/4 (default 0)
@@ -69,6 +69,19 @@ run iso_cube          scenes/models/catmark_cube.obj          tag keep corners:5
 run iso_grid_semi     tests/data/cages/grid_semi.obj          tag keep corners:4 0/1/2/3/4
 # A Chaikin crease sharper (5) than the deepest level: still fitted there.
 run iso_chaikin0      tests/data/osd-shapes/catmark_chaikin0.obj tag keep corners:4 0/1/2/3/4
+
+# Fitted patches between the quarters: a fitted cubic's largest error lies
+# between the 5x5 grid's samples (tests/osd_reference.rs,
+# `fitted_patches_between_the_quarters`).
+dense="$out/dense"
+mkdir -p "$dense"
+# Imported at isolate 0 and at the ceiling of the sharpest crease (5 for
+# chaikin0 would take the test too long).
+for shape in catmark_dart_edgeonly:0/2 catmark_cube_corner3:0/3 \
+    catmark_pyramid_creases1:0/4 catmark_chaikin0:0; do
+    name=${shape%:*}
+    run "$name" "tests/data/osd-shapes/$name.obj" tag keep dense "${shape#*:}" "$dense"
+done
 
 shapes="$out/shapes"
 mkdir -p "$shapes"
