@@ -34,13 +34,14 @@
 //! exact.
 
 use std::path::Path;
+use std::sync::OnceLock;
 
 use glam::{DVec3, Vec3};
 
 use super::acc::{self, Conversion};
 use super::cage::{Cage, Topology};
 use super::error::SceneError;
-use super::refine::refine;
+use super::refine::StepTopologies;
 use super::sharpness;
 
 /// The most refinement steps the fine surface takes (each quarters the
@@ -62,6 +63,16 @@ pub const END_STEPS: u32 = 3;
 /// xord_interior from 2.9e-3 to 2.5e-4; 3 steps 6.4e-5, 7.3e-4, 2.2e-4, at
 /// four times the fine patches.
 pub const RING_STEPS: u32 = 2;
+
+/// The topologies of the fine surface's refinement ([`apply`]), kept for
+/// the next conversion of the same faces (see [`StepTopologies`]).
+#[derive(Default)]
+pub struct FitTopologies {
+    /// The fitted faces and their neighbours, and their topology before
+    /// refinement.
+    ring: OnceLock<(Vec<usize>, Topology)>,
+    steps: StepTopologies,
+}
 
 /// Samples per patch side for the fits.
 const SAMPLES: usize = 8;
@@ -205,6 +216,7 @@ impl Fine {
         topo: &Topology,
         want: &[usize],
         steps: u32,
+        topos: &FitTopologies,
         path: &Path,
     ) -> Result<Self, SceneError> {
         let mut faces: Vec<usize> = want.to_vec();
@@ -227,17 +239,22 @@ impl Fine {
         let (mut fine, _) = cage.extract(&faces);
         // Holes still give the fine surface its shape; every face converts.
         fine.holes.clear();
-        let mut fine_topo = Topology::build(&fine, path)?;
+        let (ring, ring_topo) = match topos.ring.get() {
+            Some(known) => known,
+            None => {
+                let t = Topology::build(&fine, path)?;
+                topos.ring.get_or_init(|| (faces.clone(), t))
+            }
+        };
+        // What is fitted follows from the tags and the topology alone.
+        assert_eq!(ring, &faces, "FitTopologies reused for other faces");
         // Per fine face: (coarse face, corner (0,0) of its square, side),
         // the square's u and v along the fine face's own.
         let mut at: Vec<Square> = faces
             .iter()
             .map(|&f| (f, [0.0, 0.0], [1.0, 0.0], [0.0, 1.0]))
             .collect();
-        for _ in 0..steps {
-            let (next, subs) = refine(&fine, &fine_topo);
-            fine_topo = Topology::build(&next, path)?;
-            fine = next;
+        let (fine, fine_topo) = topos.steps.refine(fine, ring_topo, steps, path, |subs| {
             at = subs
                 .iter()
                 .map(|s| {
@@ -256,8 +273,8 @@ impl Fine {
                     )
                 })
                 .collect();
-        }
-        let conv = acc::convert_with(&fine, &fine_topo, path, false)?;
+        })?;
+        let conv = acc::convert_with(&fine, fine_topo, path, false)?;
         let mut squares = vec![Vec::new(); cage.faces.len()];
         let mut patches = Vec::with_capacity(conv.patches.len());
         for (p, &f) in conv.faces.iter().enumerate() {
@@ -324,13 +341,15 @@ fn round(p: DVec3) -> Vec3 {
 
 /// Fits the patches of `conv` that `fit` marks (see the module doc); the
 /// conversion's corners and edge points are updated too, for the tangent
-/// patches. `cage` and `topo` are the cage `conv` converted.
+/// patches. `cage` and `topo` are the cage `conv` converted; `topos`
+/// keeps the fine surface's topologies for the next call on the same faces.
 pub fn apply(
     cage: &Cage,
     topo: &Topology,
     conv: &mut Conversion,
     fit: &[bool],
     steps: u32,
+    topos: &FitTopologies,
     path: &Path,
 ) -> Result<(), SceneError> {
     if !fit.iter().any(|&f| f) {
@@ -344,7 +363,7 @@ pub fn apply(
         .filter(|(_, &w)| w)
         .map(|(&f, _)| f)
         .collect();
-    let fine = Fine::new(cage, topo, &want, steps, path)?;
+    let fine = Fine::new(cage, topo, &want, steps, topos, path)?;
     // A hole has no patch to meet, so it does not hold a point back.
     let fitted_face = |f: usize| patch_of.get(&f).is_none_or(|&p| fit[p]);
     // Corners stay: the conversion's are the limit positions already.

@@ -35,7 +35,7 @@ use super::acc::{self, Conversion};
 use super::cage::{Cage, Topology};
 use super::error::SceneError;
 use super::model::PatchOrigin;
-use super::refine::{refine, sub_quad_uv, SubFace, QUAD_UV};
+use super::refine::{sub_quad_uv, StepTopologies, SubFace, QUAD_UV};
 use super::shading::ShadingPatch;
 use super::stencil::{self, CageStencils};
 use super::{fit, tangent};
@@ -104,11 +104,16 @@ pub fn convert(
         }
         let sub_topo = Topology::build(&sub, path)?;
         let base = u32::from(sub.faces.iter().any(|f| f.len() != 4));
-        let mut piece = convert_refined(&sub, &sub_topo, base, path)?;
-        if base > 0 || piece.origins.iter().any(|o| !o.rule.exact()) {
-            piece = convert_refined(&sub, &sub_topo, isolate.max(base), path)?;
-            isolated += 1;
-        }
+        // Whether a part of quads converts exactly is known from its
+        // rules alone (the fits change no rule), before any stencil is
+        // probed.
+        let refined = base > 0 || {
+            let rules = acc::convert(&sub, &sub_topo, path)?.rules;
+            rules.iter().any(|r| !r.exact())
+        };
+        let levels = if refined { isolate.max(base) } else { base };
+        isolated += usize::from(refined);
+        let piece = convert_refined(&sub, &sub_topo, levels, path)?;
         pieces.push((faces.clone(), vertex, piece));
     }
     let mut out = merge(cage.positions.len(), pieces);
@@ -117,32 +122,38 @@ pub fn convert(
     Ok(out)
 }
 
+/// The topologies of [`linear_part`]'s refinements, built by the
+/// conversion at rest and read by the stencil probes (same faces, other
+/// positions).
+#[derive(Default)]
+struct Topologies {
+    levels: StepTopologies,
+    fit: fit::FitTopologies,
+}
+
 /// A refined cage, its topology, where each of its faces came from, and its
 /// conversion.
-type Linear = (Cage, Topology, Vec<Vec<SubFace>>, Conversion);
+type Linear<'a> = (Cage, &'a Topology, Vec<Vec<SubFace>>, Conversion);
 
 /// The part of the conversion that is linear in the cage's vertices:
 /// `levels` refinement steps, the ACC conversion and the fits. Returns the
 /// refined cage, its topology, where each of its faces came from, and its
-/// conversion.
-fn linear_part(
+/// conversion. `topos` keeps the refinements' topologies for the next call
+/// on the same faces.
+fn linear_part<'a>(
     cage: &Cage,
-    topo: &Topology,
+    topo: &'a Topology,
     levels: u32,
+    topos: &'a Topologies,
     path: &Path,
-) -> Result<Linear, SceneError> {
+) -> Result<Linear<'a>, SceneError> {
     // The step every non-quad cage takes anyway.
     let base = u32::from(cage.faces.iter().any(|f| f.len() != 4));
     let mut chain: Vec<Vec<SubFace>> = Vec::new();
-    let mut fine = cage.clone();
-    let mut fine_topo = topo.clone();
-    for _ in 0..levels {
-        let (next, subs) = refine(&fine, &fine_topo);
-        fine_topo = Topology::build(&next, path)?;
-        fine = next;
-        chain.push(subs);
-    }
-    let mut conv: Conversion = acc::convert(&fine, &fine_topo, path)?;
+    let (fine, fine_topo) = topos
+        .levels
+        .refine(cage.clone(), topo, levels, path, |subs| chain.push(subs))?;
+    let mut conv: Conversion = acc::convert(&fine, fine_topo, path)?;
     // Next to semi-sharp features and the ends of sharper creases, fit the
     // patches to a finer surface (`fit.rs`). Isolation does not shorten the
     // fit: a crease sharper than `levels` is still semi-sharp at the last
@@ -151,9 +162,9 @@ fn linear_part(
     // approximate (the irregular ring) are fitted too: Loop and Schaefer's
     // patch follows the limit surface's shape there far better than its
     // parameters.
-    let (want, steps) = fit::plan(&fine, &fine_topo, &conv, levels > base);
+    let (want, steps) = fit::plan(&fine, fine_topo, &conv, levels > base);
     if steps > 0 {
-        fit::apply(&fine, &fine_topo, &mut conv, &want, steps, path)?;
+        fit::apply(&fine, fine_topo, &mut conv, &want, steps, &topos.fit, path)?;
     }
     Ok((fine, fine_topo, chain, conv))
 }
@@ -168,8 +179,9 @@ fn convert_refined(
     levels: u32,
     path: &Path,
 ) -> Result<Converted, SceneError> {
-    let (fine, fine_topo, chain, conv) = linear_part(cage, topo, levels, path)?;
-    let decisions = tangent::decide(&fine, &fine_topo, &conv);
+    let topos = Topologies::default();
+    let (fine, fine_topo, chain, conv) = linear_part(cage, topo, levels, &topos, path)?;
+    let decisions = tangent::decide(&fine, fine_topo, &conv);
     // The coarse face of each fine face.
     let mut coarse_face: Vec<usize> = (0..fine.faces.len()).collect();
     for subs in chain.iter().rev() {
@@ -177,12 +189,12 @@ fn convert_refined(
             *f = subs[*f].face;
         }
     }
-    let linear = |probe: &Cage| linear_part(probe, topo, levels, path).map(|r| r.3);
+    let linear = |probe: &Cage| linear_part(probe, topo, levels, &topos, path).map(|r| r.3);
     let stencils = stencil::probe(
         cage,
         topo,
         &fine,
-        &fine_topo,
+        fine_topo,
         &coarse_face,
         &conv,
         &decisions,

@@ -33,9 +33,13 @@
 //! ([`Cage::face_edges`]): each edge's two halves (non-manifold if it was),
 //! then one edge per face corner from its edge point to the face point.
 
+use std::path::Path;
+use std::sync::OnceLock;
+
 use glam::DVec3;
 
 use super::cage::{Cage, CageEdge, Topology};
+use super::error::SceneError;
 use super::sharpness::{Config, VertexRule, INFINITE};
 
 /// Face-parameter coordinates of a quad's corners 0..4.
@@ -314,6 +318,32 @@ mod tests {
         crate::scene::cage::unit_cube()
     }
 
+    /// The kept topologies give a moved cage the refinement it gets
+    /// without them: the same faces and the same positions, bit for bit.
+    #[test]
+    fn kept_topologies_refine_a_moved_cage_as_from_scratch() {
+        let path = Path::new("cube");
+        let rest = cube();
+        let topo = Topology::build(&rest, path).unwrap();
+        let kept = StepTopologies::default();
+        let mut steps = 0;
+        kept.refine(rest.clone(), &topo, 2, path, |_| steps += 1)
+            .unwrap();
+        assert_eq!(steps, 2);
+        let mut moved = rest;
+        moved.positions[3] += DVec3::new(0.25, -0.5, 0.125);
+        let (fine, fine_topo) = kept.refine(moved.clone(), &topo, 2, path, |_| {}).unwrap();
+        let (once, _) = refine(&moved, &topo);
+        let (twice, _) = refine(&once, &Topology::build(&once, path).unwrap());
+        assert_eq!(fine.faces, twice.faces);
+        assert_eq!(fine.positions, twice.positions);
+        let ends = |t: &Topology| t.edges.iter().map(|e| e.ends).collect::<Vec<_>>();
+        assert_eq!(
+            ends(fine_topo),
+            ends(&Topology::build(&twice, path).unwrap())
+        );
+    }
+
     #[test]
     fn refine_keeps_the_cube_closed_and_quad() {
         let c = cube();
@@ -365,5 +395,56 @@ mod tests {
         let smooth = (p[4] + p[5] + f(g) + f(h)) * 0.25;
         let mid = (p[4] + p[5]) * 0.5;
         assert!((r.positions[e45] - (smooth + mid) * 0.5).length() < 1e-15);
+    }
+}
+
+/// The topologies of a run of refinement steps, kept from the first run
+/// for the later ones on the same faces. A topology depends on the faces
+/// alone, and the stencil probes (`stencil.rs`) convert the same cage
+/// again and again with other positions: building the topology of every
+/// step of every probe was a quarter of an isolated import's time. One
+/// value serves one starting topology and one number of steps.
+#[derive(Default)]
+pub struct StepTopologies(OnceLock<Vec<Topology>>);
+
+impl StepTopologies {
+    /// Refines `cage` (adjacency `topo`) `steps` times, handing each step's
+    /// sub-faces to `each`; returns the refined cage and its topology
+    /// (`topo` itself after no step).
+    pub fn refine<'a>(
+        &'a self,
+        cage: Cage,
+        topo: &'a Topology,
+        steps: u32,
+        path: &Path,
+        mut each: impl FnMut(Vec<SubFace>),
+    ) -> Result<(Cage, &'a Topology), SceneError> {
+        let steps = steps as usize;
+        let known = self.0.get();
+        assert!(
+            known.is_none_or(|k| k.len() == steps),
+            "StepTopologies reused for another number of steps"
+        );
+        let mut built = Vec::new();
+        let mut fine = cage;
+        for step in 0..steps {
+            let current = match (step, known) {
+                (0, _) => topo,
+                (_, Some(k)) => &k[step - 1],
+                (_, None) => &built[step - 1],
+            };
+            let (next, subs) = refine(&fine, current);
+            if known.is_none() {
+                built.push(Topology::build(&next, path)?);
+            }
+            each(subs);
+            fine = next;
+        }
+        if steps == 0 {
+            return Ok((fine, topo));
+        }
+        // Another run may have set the same topologies meanwhile.
+        let all = self.0.get_or_init(|| built);
+        Ok((fine, &all[steps - 1]))
     }
 }
