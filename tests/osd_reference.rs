@@ -480,6 +480,8 @@ fn ends_of_sharp_creases_follow_the_limit() {
 /// shapes with fitted patches, at isolate 0 and where isolation has run
 /// their creases out (exact there, between the quarters too). The bounds
 /// hold what is measured over the whole surface, not at the quarters only.
+/// `catmark_cube_rings` samples isolation's irregular rings on 9x9 grids
+/// (iso_cube's 5x5): the rings' patches between their own quarters.
 #[test]
 fn fitted_patches_between_the_quarters() {
     let cases = cases_in("tests/data/osd/dense");
@@ -520,12 +522,16 @@ fn fitted_patches_between_the_quarters() {
                     "{:<26} {iso:>3} {class:<16} {n:>7} {:>10.2e} {dev:>10.2e}",
                     case.name, coarse[class].1
                 );
+                let deepest = iso > 0 && iso == *case.isolate.last().unwrap();
                 let bound = match *class {
                     "regular" | "crease" | "corner" => 1e-5,
                     "semi-sharp" => bounds[case.name.as_str()],
-                    // The rings left at a run-out level (3.7e-4 at most:
+                    // The target for extraordinary faces, between
+                    // the rings' quarters too (8.5e-5; 7.1e-5 at them).
+                    _ if case.name == "catmark_cube_rings" && deepest => 1e-4,
+                    // The rings left at the deepest level (3.7e-4 at most:
                     // cube_corner3's valence-3 corner at isolate 3).
-                    _ if iso > 0 => 4e-4,
+                    _ if deepest => 4e-4,
                     _ => continue,
                 };
                 if dev > bound {

@@ -2,7 +2,7 @@
 // control cage, as reference data for the project's cage converter.
 //
 // Usage: osd_limit CAGE.obj [--boundary none|edge-only|edge-and-corner]
-//                  [--samples grid|nine|four|dense|corners:M]
+//                  [--samples grid|nine|four|dense|corners:M|rings:M]
 //
 // Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner`,
 // `t interpolateboundary`, `t hole`, `t creasemethod` and
@@ -19,14 +19,16 @@
 //
 // Sample sets: `grid` 5x5 per (sub-)face, edges included; `nine` 3x3;
 // `four` four points; `dense` 17x17 (every 1/16: between the quarters,
-// where a fitted cubic's largest error lies); `corners:M` the 5x5 grid and, at each corner whose
-// vertex is not regular, the 5x5 grids of the squares of side 2^-m there,
-// m = 1..M (where isolation's irregular rings lie, down to level M).
+// where a fitted cubic's largest error lies); `corners:M` the 5x5 grid
+// and, at each corner whose vertex is not regular, the 5x5 grids of the
+// squares of side 2^-m there, m = 1..M (where isolation's irregular rings
+// lie, down to level M); `rings:M` the same with 9x9 grids (the rings'
+// patches between their quarters too).
 //
 // The points are exact: the cage is refined uniformly until every semi-sharp
 // feature has run out and every sample is a vertex of the last level (the
-// parameters are multiples of 1/4, of 1/16 for dense, or of 2^-(M+2) for
-// corners:M; faces that
+// parameters are multiples of 1/4, of 1/16 for dense, of 2^-(M+2) for
+// corners:M, of 2^-(M+3) for rings:M; faces that
 // are not quads take one level more, their sub-faces being the first), and
 // OpenSubdiv's limit masks put each on the limit surface. (A feature-adaptive patch table
 // would be cheaper but is not exact: its end caps next to an irregular
@@ -224,18 +226,21 @@ SampleSet sampleSet(std::string const &samples) {
         set.depth = 4;
         for (int j = 0; j <= 16; ++j)
             for (int i = 0; i <= 16; ++i) uvs.push_back({i / 16.0, j / 16.0});
-    } else if (samples.rfind("corners:", 0) == 0) {
-        int m = std::atoi(samples.c_str() + 8);
-        if (m < 0 || m > 8) fail("--samples", "corners:M needs 0 <= M <= 8");
-        set.depth = m + 2;
-        for (double v : {0.0, 0.25, 0.5, 0.75, 1.0})
-            for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) uvs.push_back({u, v});
+    } else if (samples.rfind("corners:", 0) == 0 || samples.rfind("rings:", 0) == 0) {
+        bool rings = samples[0] == 'r';
+        // Grid intervals per square side, and its log2.
+        int n = rings ? 8 : 4, bits = rings ? 3 : 2;
+        int m = std::atoi(samples.c_str() + (rings ? 6 : 8));
+        if (m < 0 || m > 8) fail("--samples", "corners:M and rings:M need 0 <= M <= 8");
+        set.depth = m + bits;
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) uvs.push_back({double(i) / n, double(j) / n});
         // Corner c of the square at (0,0), (1,0), (1,1), (0,1).
         for (int l = 1; l <= m; ++l) {
             double side = std::ldexp(1.0, -l);
-            for (int j = 0; j <= 4; ++j)
-                for (int i = 0; i <= 4; ++i) {
-                    double a = side * i / 4, b = side * j / 4;
+            for (int j = 0; j <= n; ++j)
+                for (int i = 0; i <= n; ++i) {
+                    double a = side * i / n, b = side * j / n;
                     std::pair<double, double> at[4] = {{a, b}, {1 - a, b}, {1 - a, 1 - b}, {a, 1 - b}};
                     for (int c = 0; c < 4; ++c) {
                         auto &r = set.ring[c];
@@ -246,7 +251,7 @@ SampleSet sampleSet(std::string const &samples) {
                 }
         }
     } else {
-        fail("--samples", "expected grid, nine, four, dense or corners:M");
+        fail("--samples", "expected grid, nine, four, dense, corners:M or rings:M");
     }
     return set;
 }
@@ -336,7 +341,7 @@ bool iteratedLimit(Far::TopologyLevel const &lv, std::vector<Point> const &pos, 
 
 int main(int argc, char **argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four|dense|corners:M]\n");
+        std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four|dense|corners:M|rings:M]\n");
         return 2;
     }
     std::string boundary = "edge-and-corner", samples = "grid";

@@ -10,7 +10,7 @@
 #             else the converter's default, edge-and-corner)
 #   CREASES   keep, or a number every `t crease` sharpness is replaced by
 #   SAMPLES   grid (5x5 per face, edges included), nine (3x3), four,
-#             dense (17x17), corners:M (the irregular rings of isolation down to level M;
+#             dense (17x17), corners:M, rings:M (the irregular rings of isolation down to level M;
 #             see osd_limit.cpp)
 #   ISOLATE   optional: the `isolate` levels the test imports the case at,
 #             e.g. 0/2/4 (default 0)
@@ -82,6 +82,8 @@ for shape in catmark_dart_edgeonly:0/2 catmark_cube_corner3:0/3 \
     name=${shape%:*}
     run "$name" "tests/data/osd-shapes/$name.obj" tag keep dense "${shape#*:}" "$dense"
 done
+# The irregular rings between their quarters (iso_cube's with 9x9 grids).
+run catmark_cube_rings scenes/models/catmark_cube.obj tag keep rings:5 0/1/2/3/4 "$dense"
 
 shapes="$out/shapes"
 mkdir -p "$shapes"
