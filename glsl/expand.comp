@@ -45,7 +45,8 @@ void main() {
     }
 
     uint depths = node_depths(q);
-    for (uint t = 0u; t < NODE_MESH_TRIS; ++t) {
+    // Not unrolled: one copy of wedge_code (see there).
+    [[dont_unroll]] for (uint t = 0u; t < NODE_MESH_TRIS; ++t) {
         uvec3 tri;
         bool present = mesh_tri(mesh, t, tri);
         if (!present) {

@@ -30,7 +30,7 @@ void main() {
     vec2 uv = vec2(float(i) * step, float(j) * step);
     Instance t = instances[instance_of(id)];
     vec3 p;
-    if ((patch_flags_in(t, id) & PATCH_RATIONAL) != 0u) {
+    if (flags_rational(patch_flags_in(t, id))) {
         vec4 H[16];
         load_model_homogeneous_in(t, id, H);
         p = place_in(t, project(eval_patch4(H, uv.x, uv.y)));

@@ -27,31 +27,6 @@
 
 layout(local_size_x = LEVEL_GROUP_SIZE) in;
 
-shared uint s_incl[2][LEVEL_GROUP_SIZE];
-
-// Inclusive sums over the workgroup of (a, b), in s_incl[0] and s_incl[1].
-void inclusive_sums(uint t, uint a, uint b) {
-    s_incl[0][t] = a;
-    s_incl[1][t] = b;
-    barrier();
-    for (uint o = 1u; o < LEVEL_GROUP_SIZE; o <<= 1u) {
-        uint x = t >= o ? s_incl[0][t - o] : 0u;
-        uint y = t >= o ? s_incl[1][t - o] : 0u;
-        barrier();
-        s_incl[0][t] += x;
-        s_incl[1][t] += y;
-        barrier();
-    }
-}
-
-// The workgroup's sums of (a, b).
-uvec2 sums(uint t, uint a, uint b) {
-    inclusive_sums(t, a, b);
-    uvec2 total = uvec2(s_incl[0][LEVEL_GROUP_SIZE - 1u], s_incl[1][LEVEL_GROUP_SIZE - 1u]);
-    barrier();
-    return total;
-}
-
 // Whether state word i is the schedule's working state (zeroed by every
 // pass) rather than a total of the frame (zeroed by its first pass only).
 bool schedule_word(uint i) {
@@ -98,8 +73,11 @@ void main() {
     uvec2 culled = uvec2(0u);    // out of view: instances, patches
     uvec2 occluded = uvec2(0u);  // hidden (late phase): instances, patches
     uint fresh = 0u;    // listed instances the early phase did not list
+    // Instances in block_lane() order, the order workgroup_scan sums in, so
+    // that depth 0 lists them in instance order.
+    uint lane = block_lane();
     for (uint first = 0u; first < n; first += LEVEL_GROUP_SIZE) {
-        uint i = first + t;
+        uint i = first + lane;
         uint count = i < n ? instances[i].count : 0u;
         bool out_of_view = count > 0u && frustum
             && outside_frustum(instances[i].lo.xyz, instances[i].hi.xyz, view);
@@ -120,18 +98,23 @@ void main() {
             early_flag = drawn ? ROOT_EARLY : 0u;
             hidden = hidden && !drawn;
         }
-        inclusive_sums(t, keep ? 1u : 0u, keep ? count : 0u);
-        if (keep) {
-            roots[listed + s_incl[0][t] - 1u] = uvec2(i | early_flag, dense + s_incl[1][t] - count);
-        }
-        uvec2 batch = uvec2(s_incl[0][LEVEL_GROUP_SIZE - 1u], s_incl[1][LEVEL_GROUP_SIZE - 1u]);
-        barrier();
-        listed += batch.x;
-        dense += batch.y;
         bool counted_out = out_of_view && !late;  // counted once a frame
-        culled += sums(t, counted_out ? 1u : 0u, counted_out ? count : 0u);
-        occluded += sums(t, hidden ? 1u : 0u, hidden ? count : 0u);
-        fresh += sums(t, keep && early_flag == 0u ? 1u : 0u, 0u).x;
+        // (listed, dense, culled instances, their patches) and (hidden
+        // instances, their patches, fresh): only the first two need their
+        // running sums.
+        uvec4 a = uvec4(keep ? 1u : 0u, keep ? count : 0u, counted_out ? 1u : 0u,
+            counted_out ? count : 0u);
+        uvec4 b = uvec4(hidden ? 1u : 0u, hidden ? count : 0u, keep && early_flag == 0u ? 1u : 0u, 0u);
+        uvec4 ia, ib, ta, tb;
+        workgroup_scan(a, b, ia, ib, ta, tb);
+        if (keep) {
+            roots[listed + ia.x - 1u] = uvec2(i | early_flag, dense + ia.y - count);
+        }
+        listed += ta.x;
+        dense += ta.y;
+        culled += ta.zw;
+        occluded += tb.xy;
+        fresh += tb.z;
     }
     if (late) {
         clear_next_visibility(t);

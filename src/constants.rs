@@ -211,6 +211,17 @@ shared_constants! {
         PATCH_MODEL_SHIFT = 16;
     }
 
+    /// Specialization constant ids that every pipeline made through
+    /// `gpu::Shaders` receives (a shader that does not declare one ignores
+    /// it): what the scene holds, so a pipeline carries no code for what the
+    /// scene cannot reach. A driver that compiles on the CPU (lavapipe)
+    /// spends minutes on code that is only dead at run time.
+    group {
+        /// Bool: the scene has patches flagged PATCH_RATIONAL (default true:
+        /// a pipeline made without it keeps the rational paths).
+        SPEC_SCENE_RATIONAL = 16;
+    }
+
     /// An instance's flags word (set 0's BIND_INSTANCES): PATCH_TWO_SIDED and
     /// the model index << PATCH_MODEL_SHIFT as in a patch's flags, and these.
     group {
@@ -395,23 +406,32 @@ shared_constants! {
         /// Occlusion culling: instances drawn in the early phase (0 for a
         /// frame of one pass).
         S_EARLY_INSTANCES = 79;
-        /// Per depth d (0..=L_MAX): nodes it holds, nodes already taken, and
-        /// the blocks of the chunk that filled it (the length of its scan).
+        /// Per depth d (0..=LEVEL_DEPTHS_MAX): nodes it holds, nodes already
+        /// taken, and the blocks of the chunk that filled it (the length of
+        /// its scan); 32 words apart.
         S_LEVEL_COUNT = 80;
-        S_LEVEL_NEXT = 96;
-        S_LEVEL_BLOCKS = 112;
+        S_LEVEL_NEXT = 112;
+        S_LEVEL_BLOCKS = 144;
         /// Per depth d: nodes processed over the frame.
-        S_DEPTH_NODES = 128;
+        S_DEPTH_NODES = 176;
         /// Occlusion culling: 1 when the early phase ran out of recorded
         /// rounds before its schedule was done (the frame is drawn again
         /// with more).
-        S_EARLY_UNFINISHED = 144;
+        S_EARLY_UNFINISHED = 208;
         /// Instances listed by the frame's last pass that no earlier pass
         /// listed (occlusion culling's late phase lists the early phase's
         /// again, for their patches not drawn yet): with S_EARLY_INSTANCES,
         /// the instances the frame drew from.
-        S_NEW_INSTANCES = 145;
-        LEVEL_STATE_WORDS = 160;
+        S_NEW_INSTANCES = 209;
+        LEVEL_STATE_WORDS = 224;
+    }
+    /// The deepest depth of the level schedule (its rounds of splits): a
+    /// 1:4 split deepens both directions at once, a 1:2 split one, so under
+    /// `--split aniso` a node can be split L_MAX times in each direction,
+    /// 2 L_MAX times in all (iso: L_MAX). The state's per-depth words hold
+    /// depths 0..=LEVEL_DEPTHS_MAX.
+    group {
+        LEVEL_DEPTHS_MAX = 20;
     }
     /// S_JOIN: the window-closed bit above the count.
     group {
@@ -659,6 +679,10 @@ shared_constants! {
         /// discovery saw no progress for its whole poll cap (the frame is
         /// redone with the per-depth rounds).
         ERR_WATCHDOG = 8;
+        /// A level round had children for a depth beyond the node memory's
+        /// regions (pc.levels): they were dropped, not written past the
+        /// region, and the frame is refused.
+        ERR_LEVEL_REGION = 16;
     }
 
     /// Workgroup sizes.

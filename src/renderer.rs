@@ -25,7 +25,7 @@ use crate::anim::Animation;
 use crate::constants::FALLBACK_MAX_CHUNKS;
 use crate::frame::{FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
 use crate::gpu::anim::AnimGpu;
-use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, Shaders};
+use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, SceneSpec, Shaders};
 use crate::methods::{
     self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
 };
@@ -38,14 +38,6 @@ use crate::vk::{
 
 /// Frames in flight unless told otherwise.
 pub const DEFAULT_FRAMES_IN_FLIGHT: usize = 2;
-
-/// How many fence timeouts the first frame of a method may wait on a CPU
-/// device: a CPU driver (lavapipe) compiles a pipeline's shaders when it
-/// first runs them, inside the frame, and no split can shorten that (the
-/// kitchen's first `subdiv` frame took 38 s on a busy 2-core machine, and
-/// over 60 s with a second render beside it). A GPU driver compiles when
-/// the pipeline is made, before any wait.
-pub const COLD_WAIT_FACTOR: u32 = 5;
 
 /// Timestamp scopes per frame: the frame, and a method's passes, some of
 /// them once per part of a frame recorded in parts, and the fallback's
@@ -147,9 +139,6 @@ pub struct Renderer {
     shaders: Shaders,
     /// Released once the slot in `.0` has finished (see `collect`).
     retired: Vec<(usize, Box<dyn Any>)>,
-    /// Methods that drew a frame since they were made (their shaders are
-    /// compiled; see [`COLD_WAIT_FACTOR`]).
-    warm: Vec<&'static str>,
     last_submitted: Option<usize>,
     serial: u64,
     /// Capture drawn positions for validation (ready-list methods).
@@ -185,6 +174,7 @@ impl Renderer {
             DrawTarget::with_samples(&ctx, w, h, options.background, options.methods.samples)?;
         let mut shaders = Shaders::default();
         shaders.samples = target.samples();
+        shaders.scene = SceneSpec::of(&scene);
         let frames = FrameRing::new(&ctx, n)?;
         let slots = (0..n)
             .map(|i| {
@@ -213,7 +203,6 @@ impl Renderer {
             scene_layout,
             shaders,
             retired: Vec::new(),
-            warm: Vec::new(),
             last_submitted: None,
             serial: 0,
             capture: false,
@@ -279,7 +268,6 @@ impl Renderer {
         // finished by the method that recorded them, and their first
         // frames compile again.
         self.forget_frames();
-        self.warm.clear();
         if options.samples != self.options.samples {
             return self.set_samples(options);
         }
@@ -316,16 +304,12 @@ impl Renderer {
     fn set_samples(&mut self, options: MethodOptions) -> Result<(), RenderError> {
         let (w, h) = self.target.size();
         let target = DrawTarget::with_samples(&self.ctx, w, h, self.target.clear, options.samples)?;
-        let name = self.method().name();
         let mut retired = Retired::default();
-        for m in std::mem::take(&mut self.methods) {
-            retired.push(m);
-        }
         retired.push(std::mem::replace(&mut self.target, target));
         self.defer(retired);
         self.shaders.samples = self.target.samples();
         self.options = options;
-        self.set_method(name)
+        self.remake_methods()
     }
 
     /// Drops the figures of the frames not yet collected: their tickets
@@ -376,7 +360,31 @@ impl Renderer {
         self.scene = scene;
         // The animation wrote into the old scene's patches.
         self.anim = None;
+        let spec = SceneSpec::of(&self.scene);
+        if spec != self.shaders.scene {
+            // The methods' pipelines were specialized for the old scene.
+            self.shaders.scene = spec;
+            self.remake_methods()?;
+        }
         Ok(())
+    }
+
+    /// Every method made again (the active one now, the others on use):
+    /// their pipelines depend on the sample count or on the scene.
+    fn remake_methods(&mut self) -> Result<(), RenderError> {
+        self.forget_frames();
+        let name = self.method().name();
+        let mut retired = Retired::default();
+        for m in std::mem::take(&mut self.methods) {
+            retired.push(m);
+        }
+        self.defer(retired);
+        self.set_method(name)
+    }
+
+    /// What the uploaded scene holds that pipelines are specialized on.
+    pub fn scene_spec(&self) -> SceneSpec {
+        self.shaders.scene
     }
 
     /// Animates the uploaded scene (`None`: it stands still, and frames
@@ -503,17 +511,11 @@ impl Renderer {
             self.frames.abandon(slot);
             return Err(e);
         }
+        // A frame that runs a pipeline for the first time may also wait
+        // for the driver's compile (Context::take_compile_allowance).
         let name = self.method().name();
-        let cold = !self.warm.contains(&name);
-        let mut timeout = self.ctx.fence_timeout();
-        if cold && self.ctx.info().is_cpu {
-            timeout *= COLD_WAIT_FACTOR;
-        }
         self.frames
-            .submit_timed(&self.ctx, slot, &format!("frame ({name})"), timeout)?;
-        if cold {
-            self.warm.push(name);
-        }
+            .submit(&self.ctx, slot, &format!("frame ({name})"))?;
         self.serial += 1;
         self.slots[slot].frame = Some((self.active, self.serial));
         self.last_submitted = Some(slot);

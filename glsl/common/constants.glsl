@@ -98,6 +98,15 @@ const uint PATCH_TWO_SIDED = 1;
 const uint PATCH_RATIONAL = 2;
 const uint PATCH_MODEL_SHIFT = 16;
 
+// Specialization constant ids that every pipeline made through
+// `gpu::Shaders` receives (a shader that does not declare one ignores
+// it): what the scene holds, so a pipeline carries no code for what the
+// scene cannot reach. A driver that compiles on the CPU (lavapipe)
+// spends minutes on code that is only dead at run time.
+// Bool: the scene has patches flagged PATCH_RATIONAL (default true:
+// a pipeline made without it keeps the rational paths).
+const uint SPEC_SCENE_RATIONAL = 16;
+
 // An instance's flags word (set 0's BIND_INSTANCES): PATCH_TWO_SIDED and
 // the model index << PATCH_MODEL_SHIFT as in a patch's flags, and these.
 // The transform mirrors (negative determinant): the instance's
@@ -267,23 +276,31 @@ const uint S_OCCLUDED_INSTANCE_PATCHES = 78;
 // Occlusion culling: instances drawn in the early phase (0 for a
 // frame of one pass).
 const uint S_EARLY_INSTANCES = 79;
-// Per depth d (0..=L_MAX): nodes it holds, nodes already taken, and
-// the blocks of the chunk that filled it (the length of its scan).
+// Per depth d (0..=LEVEL_DEPTHS_MAX): nodes it holds, nodes already
+// taken, and the blocks of the chunk that filled it (the length of
+// its scan); 32 words apart.
 const uint S_LEVEL_COUNT = 80;
-const uint S_LEVEL_NEXT = 96;
-const uint S_LEVEL_BLOCKS = 112;
+const uint S_LEVEL_NEXT = 112;
+const uint S_LEVEL_BLOCKS = 144;
 // Per depth d: nodes processed over the frame.
-const uint S_DEPTH_NODES = 128;
+const uint S_DEPTH_NODES = 176;
 // Occlusion culling: 1 when the early phase ran out of recorded
 // rounds before its schedule was done (the frame is drawn again
 // with more).
-const uint S_EARLY_UNFINISHED = 144;
+const uint S_EARLY_UNFINISHED = 208;
 // Instances listed by the frame's last pass that no earlier pass
 // listed (occlusion culling's late phase lists the early phase's
 // again, for their patches not drawn yet): with S_EARLY_INSTANCES,
 // the instances the frame drew from.
-const uint S_NEW_INSTANCES = 145;
-const uint LEVEL_STATE_WORDS = 160;
+const uint S_NEW_INSTANCES = 209;
+const uint LEVEL_STATE_WORDS = 224;
+
+// The deepest depth of the level schedule (its rounds of splits): a
+// 1:4 split deepens both directions at once, a 1:2 split one, so under
+// `--split aniso` a node can be split L_MAX times in each direction,
+// 2 L_MAX times in all (iso: L_MAX). The state's per-depth words hold
+// depths 0..=LEVEL_DEPTHS_MAX.
+const uint LEVEL_DEPTHS_MAX = 20;
 
 // S_JOIN: the window-closed bit above the count.
 const uint JOIN_CLOSED = 0x80000000u;
@@ -501,6 +518,10 @@ const uint ERR_STACK_OVERFLOW = 4;
 // discovery saw no progress for its whole poll cap (the frame is
 // redone with the per-depth rounds).
 const uint ERR_WATCHDOG = 8;
+// A level round had children for a depth beyond the node memory's
+// regions (pc.levels): they were dropped, not written past the
+// region, and the frame is refused.
+const uint ERR_LEVEL_REGION = 16;
 
 // Workgroup sizes.
 const uint SUBDIV_GROUP_SIZE = 64;

@@ -6,12 +6,14 @@
 #ifndef DRAW_RATIONAL_GLSL
 #define DRAW_RATIONAL_GLSL
 
+#extension GL_EXT_control_flow_attributes : require
+
 #include "draw.glsl"
 #include "rational_subdiv.glsl"
 
 void patch_node_positions(uint id, NodeMesh mesh, out vec3 pos[NODE_MESH_SLOTS]) {
     Instance t = instances[instance_of(id)];
-    if ((patch_flags_in(t, id) & PATCH_RATIONAL) != 0u) {
+    if (flags_rational(patch_flags_in(t, id))) {
         vec4 H[16];
         load_homogeneous_in(t, id, H);
         for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
@@ -110,11 +112,18 @@ uint wedge_code(uvec2 q, NodeMesh mesh, vec3 pos[NODE_MESH_SLOTS], uint t, vec3 
     bool inside = across.x >= 0.0 && across.x <= 1.0 && across.y >= 0.0 && across.y <= 1.0;
     uint id = node_patch(q);
     uvec3 w = mesh.tris[t];
-    bool mirror = faces_eye(pos[w.x], pos[w.y], patch_surface_point(id, across), eye);
     vec2 n[3];
     neighbour_triangle(q, e, mesh.uv[4u + e], n);
-    bool coarse = faces_eye(patch_surface_point(id, n[0]), patch_surface_point(id, n[1]),
-        patch_surface_point(id, n[2]), eye);
+    // One evaluation in a loop the compiler keeps: four inlined copies of
+    // the surface point (and its rational twin) made up most of the draw
+    // shaders' code, which lavapipe compiled for over a minute.
+    vec2 at[4] = vec2[4](across, n[0], n[1], n[2]);
+    vec3 p[4];
+    [[dont_unroll]] for (uint i = 0u; i < 4u; ++i) {
+        p[i] = patch_surface_point(id, at[i]);
+    }
+    bool mirror = faces_eye(pos[w.x], pos[w.y], p[0], eye);
+    bool coarse = faces_eye(p[1], p[2], p[3], eye);
     return (inside && (mirror || coarse)) || (mirror && coarse) ? WEDGE_LIT_FRONT : WEDGE_LIT_BACK;
 }
 

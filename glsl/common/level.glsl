@@ -194,30 +194,45 @@ uint root_cluster(uint r, uint j) {
 // Early: processed if the bit is set, else deferred. Late: deferred if the
 // early phase drew it, after its boxes are tested again; processed
 // otherwise; either way a visible root sets its cluster's bit.
-uint process_root(uint j, uvec2 q, out uvec2 kids[4], out uint nkids) {
+//
+// Split in two around the one call of process() in process_block, so that
+// a kernel holds a single copy of the work item: root_test() before it,
+// root_verdict() after.
+struct RootTest {
+    uint cluster;   // the root's cluster
+    uint parity;    // the visibility set the early phase reads
+    bool process;   // false: deferred without processing (early, bit clear)
+    bool box_only;  // late: drawn early, only its boxes are tested again
+};
+
+RootTest root_test(uint j) {
+    RootTest rt;
     uint r = root_entry(j);
-    uint c = root_cluster(r, j);
-    uint parity = visibility[visibility_parity()];
+    rt.cluster = root_cluster(r, j);
+    rt.parity = visibility[visibility_parity()];
     bool late = pc.phase == PHASE_LATE;
-    uvec2 read = cluster_bit(c, late ? parity ^ 1u : parity);
+    uvec2 read = cluster_bit(rt.cluster, late ? rt.parity ^ 1u : rt.parity);
     bool seen = (visibility[read.x] & read.y) != 0u;
-    if (!late && !seen) {
-        kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
-        nkids = 0u;
+    rt.process = late || seen;
+    rt.box_only = late && seen && (roots[r].x & ROOT_EARLY) != 0u;
+    return rt;
+}
+
+// The root's outcome after process() (or none: OUT_DEFERRED when
+// !rt.process): the late phase books a visible root's cluster and defers
+// what the early phase drew.
+uint root_verdict(RootTest rt, uint outcome, inout uint nkids) {
+    if (!rt.process) {
         return OUT_DEFERRED;
     }
-    if (!late) {
-        return process(q, kids, nkids);
+    if (pc.phase != PHASE_LATE) {
+        return outcome;
     }
-    bool drawn = seen && (roots[r].x & ROOT_EARLY) != 0u;
-    process_box_only = drawn;
-    uint outcome = process(q, kids, nkids);
-    process_box_only = false;
     if (outcome == OUT_READY || outcome == OUT_SPLIT) {
-        uvec2 write = cluster_bit(c, parity);
+        uvec2 write = cluster_bit(rt.cluster, rt.parity);
         atomicOr(visibility[write.x], write.y);
     }
-    if (drawn) {
+    if (rt.box_only) {
         nkids = 0u;
         return OUT_DEFERRED;
     }
@@ -286,6 +301,36 @@ void load_round(uint t) {
 // invocations to subgroups.
 uint block_lane() {
     return gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID;
+}
+
+// Per subgroup: the totals of workgroup_scan's two vectors.
+shared uvec4 s_scan_sub[2][BLOCK];
+
+// Whole workgroup (uniform control flow): the inclusive sums of `a` and
+// `b` over the workgroup in block_lane() order, and their totals (every
+// invocation gets them): subgroup scans, then each subgroup adds the
+// totals of the subgroups before it. Two barriers, whatever the size: a
+// scan by doubling steps took two per step, and on a CPU device every
+// barrier is a coroutine suspension that the driver compiles slowly.
+void workgroup_scan(uvec4 a, uvec4 b, out uvec4 ia, out uvec4 ib, out uvec4 ta, out uvec4 tb) {
+    ia = subgroupInclusiveAdd(a);
+    ib = subgroupInclusiveAdd(b);
+    if (gl_SubgroupInvocationID == gl_SubgroupSize - 1u) {
+        s_scan_sub[0][gl_SubgroupID] = ia;
+        s_scan_sub[1][gl_SubgroupID] = ib;
+    }
+    barrier();
+    ta = uvec4(0u);
+    tb = uvec4(0u);
+    for (uint s = 0u; s < gl_NumSubgroups; ++s) {
+        if (s == gl_SubgroupID) {
+            ia += ta;
+            ib += tb;
+        }
+        ta += s_scan_sub[0][s];
+        tb += s_scan_sub[1][s];
+    }
+    barrier();
 }
 
 // What one node adds to its block's totals: children, ready, then the
@@ -371,19 +416,34 @@ void process_block(uint b, uint t) {
     uint j = s_first + b * BLOCK + block_lane();
     bool have = j < s_first + s_count;
     uvec2 q = have ? level_node(d, j) : uvec2(0u);
-    uvec2 kids[4];
+    uvec2 kids[4] = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
     uint nkids = 0u;
     uint outcome = OUT_CULLED;
-    if (have && d == 0u && pc.phase != PHASE_ALL) {
-        outcome = process_root(j, q, kids, nkids);
-    } else if (have) {
+    bool root = have && d == 0u && pc.phase != PHASE_ALL;
+    RootTest rt = RootTest(0u, 0u, true, false);
+    if (root) {
+        rt = root_test(j);
+    }
+    // The kernel's one call of the work item (see root_test).
+    if (have && rt.process) {
+        process_box_only = rt.box_only;
         outcome = process(q, kids, nkids);
+        process_box_only = false;
+    }
+    if (root) {
+        outcome = root_verdict(rt, outcome, nkids);
     }
     uint v[VALUES];
     node_values(have, q, outcome, nkids, v);
     uint totals[VALUES];
     uvec2 at = block_reduce(v, totals);
-    if (v[V_CHILDREN] > 0u) {
+    // Depth d + 1 has a region when d < pc.levels, which the host sizes for
+    // the deepest depth the split can reach (levels::levels_for); should a
+    // node ever split beyond it, its children are dropped and the frame is
+    // refused, rather than written over the next region or past the buffer.
+    if (v[V_CHILDREN] > 0u && d >= pc.levels) {
+        atomicOr(counters[C_ERROR], ERR_LEVEL_REGION);
+    } else if (v[V_CHILDREN] > 0u) {
         uint base = level_region(d + 1u) + b * BLOCK_SLOTS + at.x;
         for (uint k = 0u; k < v[V_CHILDREN]; ++k) {
             level_nodes[base + k] = kids[k];
@@ -535,7 +595,7 @@ void finish_round(uint t) {
         state[S_READY] = found + readies;
         state[S_DEPTH_NODES + d] += n;
         counters[C_PROCESSED] += n;
-        if (children > 0u) {
+        if (children > 0u && d < pc.levels) {
             // Depth d + 1 is empty: the schedule only comes back to depth d
             // once every deeper depth is used up.
             state[S_LEVEL_COUNT + d + 1u] = children;

@@ -104,7 +104,7 @@ void grow_box(inout vec3 lo, inout vec3 hi, vec3 p) {
 uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
     Instance t = instances[instance_of(node_patch(q))];
     uint flags = patch_flags_in(t, node_patch(q));
-    if ((flags & PATCH_RATIONAL) != 0u) {
+    if (flags_rational(flags)) {
         vec4 H[16];
         load_homogeneous_in(t, node_patch(q), H);
         return process_points4(q, H, flags, kids, nkids);

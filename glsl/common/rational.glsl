@@ -14,7 +14,7 @@ layout(std430, set = SET_SCENE, binding = BIND_WEIGHTS) readonly buffer PatchWei
 };
 
 bool patch_is_rational(uint id) {
-    return (patch_flags_of(id) & PATCH_RATIONAL) != 0u;
+    return flags_rational(patch_flags_of(id));
 }
 
 // Weight k of base patch `id` of instance `t` (as its control point k:
@@ -32,7 +32,7 @@ float patch_weight(uint id, uint k) {
 // instance `t`; weights 1 where the patch is polynomial (then w p = p
 // exactly). The loaders below differ only in the space P is in.
 void weigh_points_in(Instance t, uint id, vec3 P[16], out vec4 H[16]) {
-    bool rational = (patch_flags_in(t, id) & PATCH_RATIONAL) != 0u;
+    bool rational = flags_rational(patch_flags_in(t, id));
     for (uint i = 0u; i < 16u; ++i) {
         float w = rational ? patch_weight_in(t, id, i) : 1.0;
         precise vec4 h = vec4(P[i].x * w, P[i].y * w, P[i].z * w, w);

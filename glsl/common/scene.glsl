@@ -138,6 +138,17 @@ void load_patch(uint id, out vec3 P[16]) {
     load_patch_in(instances[instance_of(id)], id, P);
 }
 
+// Whether the scene holds rational patches: false lets the compiler drop
+// every rational path of a pipeline made for a polynomial scene (see
+// SPEC_SCENE_RATIONAL; src/gpu/mod.rs Shaders sets it).
+layout(constant_id = SPEC_SCENE_RATIONAL) const bool SCENE_RATIONAL = true;
+
+// Whether a flags word marks its patch rational (always false in a
+// pipeline for a polynomial scene).
+bool flags_rational(uint flags) {
+    return SCENE_RATIONAL && (flags & PATCH_RATIONAL) != 0u;
+}
+
 // The flags word of base patch `id` of instance `t`: the instance's
 // (two-sided, model index) and its model patch's (rational).
 uint patch_flags_in(Instance t, uint id) {

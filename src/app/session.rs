@@ -126,6 +126,7 @@ impl Session {
             selector: args.gpu.device.clone(),
             validation: args.gpu.validation,
             window: Some(handles),
+            notice: Some(crate::commands::print_notice),
             ..ContextOptions::default()
         })?);
         let size = window.inner_size();

@@ -181,10 +181,17 @@ impl GpuRequest {
         crate::vk::Context::new(&crate::vk::ContextOptions {
             selector: self.device.clone(),
             validation: self.validation,
+            notice: Some(print_notice),
             ..crate::vk::ContextOptions::default()
         })
         .map(Arc::new)
     }
+}
+
+/// What the Vulkan layer tells a user of the command line while it waits
+/// (shaders compiling on their first use): one line on stderr.
+pub fn print_notice(message: &str) {
+    eprintln!("{message}");
 }
 
 /// Keyframe `k` of `scene` (read from `path`), or an error naming the

@@ -239,7 +239,7 @@ fn oracle_checks(
         ),
     ));
 
-    let reorder = ReorderCheck::new(&ctx, stage)?;
+    let reorder = ReorderCheck::new(&ctx, stage, renderer.scene_spec())?;
     let (checked, failed) = reorder.run(renderer, ready_count)?;
     out.push(CheckResult::new(
         "reorder (§4.4)",

@@ -22,13 +22,55 @@ pub use blocks::{
 pub use scene::{scene_set_types, SceneGpu, SceneLayout};
 pub use target::{sample_count, write_png, DrawTarget, ImageError, COLOR_FORMAT, DEPTH_FORMAT};
 
+/// What the uploaded scene holds that pipelines are specialized on (the
+/// `SPEC_*` constants): a pipeline for a scene without rational patches
+/// carries none of their code. Lavapipe compiles on the CPU, and the
+/// rational paths were half of the subdivision kernels' compile time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SceneSpec {
+    /// The scene has rational patches (`SPEC_SCENE_RATIONAL`).
+    pub rational: bool,
+}
+
+impl Default for SceneSpec {
+    /// Every path kept: right for any scene.
+    fn default() -> Self {
+        Self { rational: true }
+    }
+}
+
+impl SceneSpec {
+    /// What `scene` needs.
+    pub fn of(scene: &SceneGpu) -> Self {
+        Self {
+            rational: scene.rational_patches > 0,
+        }
+    }
+
+    /// `own` (a pipeline's own `(constant_id, value)` pairs) followed by
+    /// the scene's.
+    pub fn constants(self, own: &[(u32, u32)]) -> Vec<(u32, u32)> {
+        let mut all = own.to_vec();
+        all.push((
+            crate::constants::SPEC_SCENE_RATIONAL,
+            u32::from(self.rational),
+        ));
+        all
+    }
+}
+
 /// Shader modules by name, loaded once per renderer: switching methods
-/// or rebuilding one reuses them; and the draw target's sample count, which
-/// every draw pipeline made through [`Shaders::draw_pipeline`] matches.
+/// or rebuilding one reuses them; the draw target's sample count, which
+/// every draw pipeline made through [`Shaders::draw_pipeline`] matches;
+/// and what the scene holds, which every pipeline made here (or with
+/// [`Shaders::specialization`]) is specialized on.
 pub struct Shaders {
     modules: HashMap<String, Arc<ShaderModule>>,
     /// Samples per pixel of the draw target.
     pub samples: vk::SampleCountFlags,
+    /// What the scene holds (the renderer remakes its methods when a new
+    /// scene needs other pipelines).
+    pub scene: SceneSpec,
 }
 
 impl Default for Shaders {
@@ -36,6 +78,7 @@ impl Default for Shaders {
         Self {
             modules: HashMap::new(),
             samples: vk::SampleCountFlags::TYPE_1,
+            scene: SceneSpec::default(),
         }
     }
 }
@@ -60,7 +103,14 @@ impl Shaders {
         file: &str,
     ) -> VkResult<Pipeline> {
         let module = self.get(ctx, file)?;
-        Pipeline::compute(ctx, name, layout, &module, &[])
+        Pipeline::compute(ctx, name, layout, &module, &self.specialization(&[]))
+    }
+
+    /// A pipeline's own specialization constants `own` with the scene's:
+    /// for pipelines made without [`Shaders::compute`] or
+    /// [`Shaders::draw_pipeline`].
+    pub fn specialization(&self, own: &[(u32, u32)]) -> Vec<(u32, u32)> {
+        self.scene.constants(own)
     }
 
     /// A graphics pipeline drawing into the [`DrawTarget`]'s formats and
@@ -82,7 +132,8 @@ impl Shaders {
         let refs: Vec<_> = modules.iter().map(|(s, m)| (*s, m.as_ref())).collect();
         let desc = GraphicsDesc::new(name, &refs)
             .targets(&[COLOR_FORMAT], DEPTH_FORMAT)
-            .samples(self.samples);
+            .samples(self.samples)
+            .specialize(&self.specialization(&[]));
         Pipeline::graphics(ctx, layout, &desc)
     }
 

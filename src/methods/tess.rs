@@ -169,10 +169,10 @@ impl Tess {
         .targets(&[COLOR_FORMAT], DEPTH_FORMAT)
         .samples(setup.shaders.samples)
         .tessellation(16)
-        .specialize(&[
+        .specialize(&setup.shaders.specialization(&[
             (SPEC_REPARAM, u32::from(variant == Variant::Reparam)),
             (SPEC_MAX_LEVEL, (max_level as f32).to_bits()),
-        ]);
+        ]));
         let pipeline = Pipeline::graphics(ctx, &layout, &desc)?;
         let counters = Buffer::new(
             ctx,

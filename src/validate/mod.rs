@@ -14,7 +14,7 @@ use glam::Vec3;
 
 use crate::constants::*;
 use crate::draw::{DrawPath, ReadyStage};
-use crate::gpu::ListPush;
+use crate::gpu::{ListPush, SceneSpec};
 use crate::methods::RenderError;
 use crate::patch::oracle::Surfaces;
 use crate::patch::quadnode::QuadNode;
@@ -165,11 +165,13 @@ pub struct ReorderCheck {
 }
 
 impl ReorderCheck {
-    /// Creates the pipeline for `stage`'s ready-list pass layout.
-    pub fn new(ctx: &Context, stage: &ReadyStage) -> VkResult<Self> {
+    /// Creates the pipeline for `stage`'s ready-list pass layout,
+    /// specialized for a scene that holds what `scene` says.
+    pub fn new(ctx: &Context, stage: &ReadyStage, scene: SceneSpec) -> VkResult<Self> {
         let shader = ShaderModule::load(ctx, "reorder_check.comp")?;
+        let spec = scene.constants(&[]);
         Ok(Self {
-            pipeline: Pipeline::compute(ctx, "reorder check", stage.list_layout(), &shader, &[])?,
+            pipeline: Pipeline::compute(ctx, "reorder check", stage.list_layout(), &shader, &spec)?,
         })
     }
 

@@ -275,7 +275,8 @@ impl Context {
             (cmd, fence, out)
         };
 
-        let wait = unsafe { device.wait_for_fences(&[fence], true, duration_ns(timeout)) };
+        let allowance = self.take_compile_allowance();
+        let wait = self.core.wait_fence(fence, timeout, allowance, label);
         let error = match wait {
             Ok(()) => {
                 free_one_shot(device, &self.lock_submit(), cmd, fence);
@@ -292,6 +293,7 @@ impl Context {
             Err(vk::Result::TIMEOUT) => VkError::FenceTimeout {
                 label: label.to_owned(),
                 timeout,
+                allowance,
                 waited: submitted.elapsed(),
                 part: None,
             },
@@ -342,6 +344,7 @@ impl Context {
                     .map(|p| p.submitted.elapsed())
                     .max()
                     .unwrap_or(timeout),
+                allowance: Duration::ZERO,
                 part: None,
             }),
             Err(e) => Err(VkError::Call {

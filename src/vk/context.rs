@@ -16,7 +16,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 use std::mem::ManuallyDrop;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
@@ -24,6 +24,15 @@ use std::time::Duration;
 /// `--timeout` flag, [`TIMEOUT_ENV`]). Long work is submitted in parts
 /// (`FrameRec::split`), so the limit applies to a part, not to a frame.
 pub const DEFAULT_FENCE_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// What a submission that runs a pipeline for the first time may take
+/// beyond its fence timeout on a device that compiles pipelines when they
+/// first run ([`Context::take_compile_allowance`]): on this project's
+/// 2-core machine lavapipe compiles the kitchen's first `subdiv` frame in
+/// about 30 s (the persistent kernel alone took 77 s before its pipelines
+/// were specialized for the scene); ten minutes leave room for a loaded
+/// machine and a slower one.
+pub const COMPILE_ALLOWANCE: Duration = Duration::from_secs(600);
 
 /// The process-wide fence timeout set by [`set_fence_timeout`], in ns (0:
 /// none set).
@@ -108,6 +117,10 @@ pub struct ContextOptions {
     /// chosen device must be able to present to it, and the context owns
     /// the surface (the window must outlive the context).
     pub window: Option<WindowHandles>,
+    /// Told (once per wait) when a submission waits for the driver to
+    /// compile pipelines on their first use for more than a few seconds
+    /// (the command line prints it; a library user may leave it `None`).
+    pub notice: Option<fn(&str)>,
 }
 
 /// A window's raw handles, for [`ContextOptions::window`].
@@ -128,6 +141,7 @@ impl Default for ContextOptions {
             require_mesh_shader: false,
             fence_timeout: default_fence_timeout(),
             window: None,
+            notice: None,
         }
     }
 }
@@ -156,9 +170,50 @@ pub(crate) struct Core {
     /// resource dropped meanwhile may be one they use (an upload's
     /// destination), so [`Core::may_free`] waits for them first.
     pub(crate) unfinished: Mutex<Vec<(vk::Fence, Duration)>>,
+    /// Pipelines bound for the first time since the last submission took
+    /// them ([`Context::take_compile_allowance`]).
+    pub(crate) first_uses: AtomicU32,
+    /// The driver compiles a pipeline when it first runs (a CPU device),
+    /// not when it is made.
+    pub(crate) compiles_at_first_use: bool,
+    /// See [`ContextOptions::notice`].
+    notice: Option<fn(&str)>,
 }
 
+/// How long a wait that may include a first-use compile runs before the
+/// user is told that shaders are compiling.
+const COMPILE_NOTICE_AFTER: Duration = Duration::from_secs(3);
+
 impl Core {
+    /// Waits for `fence` (what `label` submitted) up to `timeout` plus the
+    /// compile `allowance` ([`Context::take_compile_allowance`]); a wait
+    /// with an allowance that lasts past [`COMPILE_NOTICE_AFTER`] tells the
+    /// user, once, that shaders are compiling.
+    pub(crate) fn wait_fence(
+        &self,
+        fence: vk::Fence,
+        timeout: Duration,
+        allowance: Duration,
+        label: &str,
+    ) -> Result<(), vk::Result> {
+        let wait =
+            |d: Duration| unsafe { self.device.wait_for_fences(&[fence], true, duration_ns(d)) };
+        let total = timeout + allowance;
+        let Some(notice) = self.notice.filter(|_| !allowance.is_zero()) else {
+            return wait(total);
+        };
+        match wait(COMPILE_NOTICE_AFTER.min(total)) {
+            Err(vk::Result::TIMEOUT) if total > COMPILE_NOTICE_AFTER => {}
+            done => return done,
+        }
+        notice(&format!(
+            "compiling shaders for {label} on their first use on this device (a CPU driver \
+             compiles them when they first run, seconds to a minute; the driver caches them \
+             for later runs)"
+        ));
+        wait(total - COMPILE_NOTICE_AFTER)
+    }
+
     /// Locks the allocator; a poisoned lock is still usable because the
     /// allocator's state is updated atomically with respect to panics.
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
@@ -337,6 +392,9 @@ impl Context {
             debug_state: ManuallyDrop::new(debug_state),
             hung: AtomicBool::new(false),
             unfinished: Mutex::new(Vec::new()),
+            first_uses: AtomicU32::new(0),
+            compiles_at_first_use: info.is_cpu,
+            notice: options.notice,
         });
         core.set_name(pool, "one-shot command pool");
         Ok(Self {
@@ -426,6 +484,22 @@ impl Context {
     /// The default fence timeout.
     pub fn fence_timeout(&self) -> Duration {
         self.fence_timeout
+    }
+
+    /// The time a submission recorded since the last call may take beyond
+    /// its fence timeout for compiling shaders: [`COMPILE_ALLOWANCE`] where
+    /// it binds a pipeline for the first time on a device that compiles
+    /// pipelines when they first run (lavapipe compiles inside the
+    /// submission, on the CPU, for seconds to minutes), else nothing. So a
+    /// cold compile on a busy machine is never taken for a hang, and the
+    /// timeout still bounds the work itself.
+    pub fn take_compile_allowance(&self) -> Duration {
+        let first = self.core.first_uses.swap(0, Ordering::SeqCst);
+        if first > 0 && self.core.compiles_at_first_use {
+            COMPILE_ALLOWANCE
+        } else {
+            Duration::ZERO
+        }
     }
 
     /// Changes the default fence timeout.

@@ -99,7 +99,7 @@ pub enum VkError {
     /// A fence did not signal in time: the device is slow or busy, or the
     /// work hangs. The message says what ran, for how long, and what to try.
     #[error(
-        "{label}{} did not finish within the {} fence timeout ({} since it was submitted). \
+        "{label}{} did not finish within the {} fence timeout{} ({} since it was submitted). \
          A slow or busy device (a CPU device such as lavapipe, or one shared with other work) \
          may only need longer: pass --timeout SECONDS or set {TIMEOUT_ENV}=SECONDS. Or ask for \
          less work per frame: a smaller --size, and for ground-truth a coarser --grid (16 draws \
@@ -107,6 +107,14 @@ pub enum VkError {
          hangs (e.g. a persistent-threads loop that never exits)",
         part.map_or(String::new(), |(k, n)| format!(" (part {k} of {n})")),
         seconds_text(*timeout),
+        if allowance.is_zero() {
+            String::new()
+        } else {
+            format!(
+                " and the {} allowed beyond it for compiling shaders on their first use",
+                seconds_text(*allowance)
+            )
+        },
         seconds_text(*waited)
     )]
     FenceTimeout {
@@ -114,6 +122,8 @@ pub enum VkError {
         label: String,
         /// How long one wait may take.
         timeout: Duration,
+        /// And beyond that for compiling pipelines run for the first time.
+        allowance: Duration,
         /// How long it had been running (since its submission) when given up.
         waited: Duration,
         /// Which part of a frame submitted in parts (1-based, of how many).

@@ -16,7 +16,7 @@
 //! still running declares the device hung, so nothing the GPU may still use
 //! is ever destroyed (see [`Context::mark_hung`]).
 
-use super::context::{duration_ns, Context, Core};
+use super::context::{Context, Core};
 use super::error::{VkError, VkResult, VkResultExt};
 use ash::vk;
 use std::sync::atomic::Ordering;
@@ -40,6 +40,9 @@ enum SlotState {
         parts: usize,
         /// How long each part's wait may take.
         timeout: Duration,
+        /// And beyond that for the driver's compile of pipelines the frame
+        /// runs for the first time (see `Context::take_compile_allowance`).
+        allowance: Duration,
     },
 }
 
@@ -142,6 +145,7 @@ impl FrameRing {
             submitted,
             parts,
             timeout,
+            allowance,
         } = self.slots[i].state.clone()
         else {
             return Ok(());
@@ -158,16 +162,15 @@ impl FrameRing {
             }
         };
         report(0);
-        let device = &self.core.device;
         for (k, part) in self.slots[i].parts[..parts].iter().enumerate() {
-            let waited =
-                unsafe { device.wait_for_fences(&[part.fence], true, duration_ns(timeout)) };
+            let waited = self.core.wait_fence(part.fence, timeout, allowance, &label);
             match waited {
                 Ok(()) => report(k as u32 + 1),
                 Err(vk::Result::TIMEOUT) => {
                     return Err(VkError::FenceTimeout {
                         label: label.clone(),
                         timeout,
+                        allowance,
                         waited: submitted.elapsed(),
                         part: (total > 1).then_some((k as u32 + 1, total)),
                     })
@@ -263,18 +266,6 @@ impl FrameRing {
         self.submit_with(ctx, i, label, &[], &[])
     }
 
-    /// [`FrameRing::submit`], each part's wait allowed `timeout` instead of
-    /// the context's fence timeout.
-    pub fn submit_timed(
-        &mut self,
-        ctx: &Context,
-        i: usize,
-        label: &str,
-        timeout: Duration,
-    ) -> VkResult<()> {
-        self.submit_full(ctx, i, label, &[], &[], timeout)
-    }
-
     /// [`FrameRing::submit`], the first part waiting for `waits` (each at
     /// its stages) and the last signalling `signals` (presentation: the
     /// image-acquired and rendering-done semaphores).
@@ -305,6 +296,7 @@ impl FrameRing {
             )));
         }
         let device = &self.core.device;
+        let allowance = ctx.take_compile_allowance();
         let parts = &slot.parts[..=slot.current];
         let ended = unsafe { device.end_command_buffer(parts[parts.len() - 1].cmd) }
             .ctx(&format!("vkEndCommandBuffer({label})"));
@@ -367,6 +359,7 @@ impl FrameRing {
                 submitted: Instant::now(),
                 parts: count,
                 timeout,
+                allowance,
             }
         };
         result

@@ -22,7 +22,7 @@ pub use commands::{
 };
 pub use context::{
     default_fence_timeout, device_leaked, env_fence_timeout, parse_timeout, set_fence_timeout,
-    Context, ContextOptions, WindowHandles, DEFAULT_FENCE_TIMEOUT,
+    Context, ContextOptions, WindowHandles, COMPILE_ALLOWANCE, DEFAULT_FENCE_TIMEOUT,
 };
 pub use device::DeviceSelector;
 pub use error::{seconds_text, VkError, VkResult, TIMEOUT_ENV};

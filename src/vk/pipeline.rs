@@ -8,6 +8,7 @@ use super::error::{VkError, VkResult};
 use super::layout::PipelineLayout;
 use super::shader::ShaderModule;
 use ash::vk;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 /// Specialization data: one 32-bit value per constant id.
@@ -228,6 +229,8 @@ pub struct Pipeline {
     core: Arc<Core>,
     handle: vk::Pipeline,
     bind_point: vk::PipelineBindPoint,
+    /// Bound at least once (see [`Pipeline::bind`]).
+    bound: AtomicBool,
 }
 
 impl Pipeline {
@@ -242,6 +245,7 @@ impl Pipeline {
             core: ctx.core.clone(),
             handle,
             bind_point,
+            bound: AtomicBool::new(false),
         }
     }
 
@@ -376,8 +380,13 @@ impl Pipeline {
         self.bind_point
     }
 
-    /// Records `vkCmdBindPipeline` at the pipeline's bind point.
+    /// Records `vkCmdBindPipeline` at the pipeline's bind point. The first
+    /// bind is counted: the submission that runs it may wait for the
+    /// driver's compile ([`crate::vk::Context::take_compile_allowance`]).
     pub fn bind(&self, cmd: vk::CommandBuffer) {
+        if !self.bound.swap(true, Ordering::SeqCst) {
+            self.core.first_uses.fetch_add(1, Ordering::SeqCst);
+        }
         unsafe {
             self.core
                 .device

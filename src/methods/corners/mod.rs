@@ -8,8 +8,8 @@ use ash::vk;
 
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::frame::{FrameOut, FrameRec};
-use crate::gpu::{DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
-use crate::vk::{GraphicsDesc, Pipeline, PipelineLayout};
+use crate::gpu::DrawPush;
+use crate::vk::{Pipeline, PipelineLayout};
 
 /// The registry entry.
 pub const INFO: MethodInfo = MethodInfo {
@@ -50,18 +50,15 @@ impl Corners {
         let scene = setup.scene_layout;
         let layout =
             scene.pipeline_layout::<DrawPush>(ctx, "corners layout", &[], scene.stages())?;
-        let vert = setup.shaders.get(ctx, "corners.vert")?;
-        let frag = setup.shaders.get(ctx, "draw_vert.frag")?;
-        let desc = GraphicsDesc::new(
+        let pipeline = setup.shaders.draw_pipeline(
+            ctx,
+            &layout,
             "draw (corners)",
             &[
-                (vk::ShaderStageFlags::VERTEX, vert.as_ref()),
-                (vk::ShaderStageFlags::FRAGMENT, frag.as_ref()),
+                (vk::ShaderStageFlags::VERTEX, "corners.vert"),
+                (vk::ShaderStageFlags::FRAGMENT, "draw_vert.frag"),
             ],
-        )
-        .targets(&[COLOR_FORMAT], DEPTH_FORMAT)
-        .samples(setup.shaders.samples);
-        let pipeline = Pipeline::graphics(ctx, &layout, &desc)?;
+        )?;
         Ok(Self { layout, pipeline })
     }
 }
