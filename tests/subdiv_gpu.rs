@@ -12,7 +12,7 @@ mod common;
 use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::{indirect_args, DrawPath};
 use bezier_subdiv::frame::View;
-use bezier_subdiv::methods::levels::{canonical_ready, LevelPlan, LEVELS};
+use bezier_subdiv::methods::levels::{canonical_ready, levels_for, LevelPlan};
 use bezier_subdiv::methods::subdiv::{GpuSubdivStats, Kernel};
 use bezier_subdiv::methods::{MethodOptions, RenderError};
 use bezier_subdiv::patch::oracle::{subdivide_parallel_weighted, triangle_counts};
@@ -124,11 +124,11 @@ fn check_against_oracle(r: &Renderer, geo: &SceneGeometry, v: &View, run: &Run) 
 fn check_canonical(r: &mut Renderer, geo: &SceneGeometry, v: &View, what: &str) -> Run {
     let run = run_gpu(r, v).unwrap_or_else(|e| panic!("{what}: {e}"));
     check_against_oracle(r, geo, v, &run);
+    let vp = r.effective_params(v);
     let plan = LevelPlan {
         chunk: run.own("chunk_nodes") as u32,
-        levels: LEVELS,
+        levels: levels_for(vp.flags & FLAG_ANISO != 0),
     };
-    let vp = r.effective_params(v);
     let twin = canonical_ready(
         &geo.patches,
         &geo.weights,
@@ -238,6 +238,81 @@ fn aniso_splits_equal_the_oracle_on_every_kernel() {
             }
         }
     }
+    gpu.finish();
+}
+
+/// The case that showed the level kernels writing past their node memory
+/// (issue 36): one patch whose v boundaries are straight, λ 0, ε 0.01 at
+/// 3840×2160, split aniso (tests/data/aniso_deep.toml). Its nodes split
+/// 1:2, then 1:4, then 1:2 the other way: twelve rounds, where the node
+/// memory had regions for the ten an iso split takes. At 898e7f6 depth
+/// 10's children went over the ready scratch and past the buffer (`validate`:
+/// GPU 145,111 ready nodes, oracle 181,915). Now both level kernels equal
+/// the oracle and the CPU twin; and with the regions planted back at ten,
+/// the kernels drop what has no region and refuse the frame in a sentence.
+#[test]
+fn aniso_nodes_split_beyond_l_max_rounds_stay_in_their_regions() {
+    let gpu = gpu();
+    let path = common::repo_path("tests/data/aniso_deep.toml");
+    let s = bezier_subdiv::scene::desc::Scene::load(&path).unwrap();
+    let geo = s.geometry().unwrap();
+    let size = (3840, 2160);
+    let mut v = view(&s.camera, size, 0.01, 0.0);
+    v.params.flags |= FLAG_ANISO;
+    let mut lists = Vec::new();
+    for method in ["subdiv-indirect", "subdiv"] {
+        let mut r = common::renderer(&gpu, &geo, method, size, options(|_| {}));
+        let run = check_canonical(&mut r, &geo, &v, method);
+        let vp = r.effective_params(&v);
+        let plan = LevelPlan {
+            chunk: run.own("chunk_nodes") as u32,
+            levels: levels_for(true),
+        };
+        let twin = canonical_ready(
+            &geo.patches,
+            &geo.weights,
+            &geo.flags,
+            &r.scene().instance_records,
+            &vp,
+            plan,
+        );
+        let deepest = twin.nodes_per_depth.iter().rposition(|&n| n > 0).unwrap();
+        println!(
+            "{method}: {} ready nodes, rounds of splits to depth {deepest}, nodes per depth {:?}",
+            run.stats.ready_quads, twin.nodes_per_depth
+        );
+        assert!(
+            deepest as u32 > L_MAX,
+            "{method}: the case must split more than l_max rounds deep"
+        );
+        assert_eq!(twin.dropped, 0);
+        lists.push(run.ready);
+
+        // The planted fault: regions for iso splits only.
+        let o = options(|o| o.per_method.levels.planted_levels = Some(L_MAX));
+        let mut planted = common::renderer(&gpu, &geo, method, size, o);
+        let e = match planted.render(&v) {
+            Ok(_) => panic!("{method}: the planted fault went unnoticed"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            e.contains("deeper than the node memory has regions for"),
+            "{method}: {e}"
+        );
+        let short = canonical_ready(
+            &geo.patches,
+            &geo.weights,
+            &geo.flags,
+            &r.scene().instance_records,
+            &vp,
+            LevelPlan {
+                levels: L_MAX,
+                ..plan
+            },
+        );
+        assert!(short.dropped > 0, "the twin drops what the kernels drop");
+    }
+    assert_eq!(lists[0], lists[1], "the two level methods differ");
     gpu.finish();
 }
 

@@ -52,6 +52,11 @@ pub struct Options {
     #[arg(long, value_name = "MIB", value_parser = parse_mib,
           default_value = "24", hide_default_value = true)]
     pub node_memory: u64,
+    /// Test-only, a planted fault: regions for this many depths whatever
+    /// the split (fewer than aniso reaches must be caught by the kernels'
+    /// ERR_LEVEL_REGION, not written past the regions).
+    #[arg(skip)]
+    pub planted_levels: Option<u32>,
 }
 
 impl Default for Options {
@@ -79,8 +84,29 @@ fn parse_mib(s: &str) -> Result<u64, String> {
     Ok((mib * f64::from(1u32 << 20)) as u64)
 }
 
-/// Depths with a region: every depth a node can reach.
-pub const LEVELS: u32 = L_MAX;
+/// Depths with a region under split mode `aniso`: every depth of the
+/// schedule a node can reach. A 1:4 split deepens both directions in one
+/// round, so iso nodes are done after `L_MAX` rounds; a 1:2 split deepens
+/// one, so under aniso a node can take `L_MAX` rounds per direction,
+/// `LEVEL_DEPTHS_MAX` = 2 `L_MAX` in all.
+pub const fn levels_for(aniso: bool) -> u32 {
+    if aniso {
+        LEVEL_DEPTHS_MAX
+    } else {
+        L_MAX
+    }
+}
+
+// The state's per-depth arrays hold a word for every depth the schedule
+// reaches and one past it (a depth's children are booked at d + 1).
+const _: () = {
+    assert!(levels_for(true) <= LEVEL_DEPTHS_MAX);
+    assert!(S_LEVEL_NEXT - S_LEVEL_COUNT >= LEVEL_DEPTHS_MAX + 2);
+    assert!(S_LEVEL_BLOCKS - S_LEVEL_NEXT >= LEVEL_DEPTHS_MAX + 2);
+    assert!(S_DEPTH_NODES - S_LEVEL_BLOCKS >= LEVEL_DEPTHS_MAX + 2);
+    assert!(S_EARLY_UNFINISHED - S_DEPTH_NODES > LEVEL_DEPTHS_MAX);
+    assert!(S_NEW_INSTANCES < LEVEL_STATE_WORDS);
+};
 
 /// Polls of a barrier without progress before the persistent kernel's
 /// watchdog trips: about a second of polling with its back-off, far beyond
@@ -142,19 +168,17 @@ impl LevelPlan {
         8 * self.node_entries() + 4 * self.scan_words() + 4 * u64::from(LEVEL_STATE_WORDS)
     }
 
-    /// The largest plan within `budget` bytes whose buffers each fit
-    /// `max_buffer` bytes (one storage-buffer binding).
-    pub fn for_budget(budget: u64, max_buffer: u64) -> Result<Self, String> {
+    /// The largest plan with regions for depths 1..=`levels` within
+    /// `budget` bytes whose buffers each fit `max_buffer` bytes (one
+    /// storage-buffer binding).
+    pub fn for_budget(budget: u64, max_buffer: u64, levels: u32) -> Result<Self, String> {
         let fits = |chunk: u32| {
-            let p = LevelPlan {
-                chunk,
-                levels: LEVELS,
-            };
+            let p = LevelPlan { chunk, levels };
             p.bytes() <= budget && 8 * p.node_entries() <= max_buffer
         };
         let smallest = LevelPlan {
             chunk: LEVEL_GROUP_SIZE,
-            levels: LEVELS,
+            levels,
         };
         if !fits(LEVEL_GROUP_SIZE) {
             return Err(format!(
@@ -176,7 +200,7 @@ impl LevelPlan {
         }
         Ok(LevelPlan {
             chunk: lo * LEVEL_GROUP_SIZE,
-            levels: LEVELS,
+            levels,
         })
     }
 }
@@ -255,6 +279,14 @@ pub const LEVEL_SHADERS: &[&str] = &["level_init.comp", "subdivide_level.comp", 
 /// The level kernels' memory, set 2 and pipelines.
 pub struct Levels {
     memory: LevelMemory,
+    /// The node-memory budget and the device's largest storage buffer,
+    /// which every plan is made for (the plan's depths follow the split),
+    /// and the test-only depths that replace the split's.
+    budget: u64,
+    max_buffer: u64,
+    planted_levels: Option<u32>,
+    /// The depth pyramid set 2 binds, when occlusion culling bound one.
+    hiz_bound: bool,
     layout: PipelineLayout<LevelPush>,
     init: Pipeline,
     round: Pipeline,
@@ -264,16 +296,19 @@ pub struct Levels {
 }
 
 impl Levels {
-    /// Node memory for `budget` bytes, the init and round pipelines, and the
-    /// persistent kernel's when `persistent`.
+    /// Node memory for the budget `options` give (regions for iso splits
+    /// until a frame asks for aniso), the init and round pipelines, and
+    /// the persistent kernel's when `persistent`.
     pub fn new(
         ctx: &Context,
         shaders: &mut Shaders,
         scene_layout: &SceneLayout,
         stage: &ReadyStage,
-        budget: u64,
+        options: &Options,
         persistent: bool,
     ) -> Result<Self, RenderError> {
+        let budget = options.node_memory;
+        let planted_levels = options.planted_levels;
         if !ctx.info().features.vulkan_memory_model {
             return Err(RenderError::Request(format!(
                 "the subdivision kernels need the Vulkan memory model with device scope \
@@ -283,7 +318,9 @@ impl Levels {
             )));
         }
         let max_buffer = u64::from(ctx.info().limits.max_storage_buffer_range);
-        let plan = LevelPlan::for_budget(budget, max_buffer).map_err(RenderError::Request)?;
+        let levels = planted_levels.unwrap_or(levels_for(false));
+        let plan =
+            LevelPlan::for_budget(budget, max_buffer, levels).map_err(RenderError::Request)?;
         let set_layout = SetLayout::reflect(ctx, "level set", SET_PRODUCER, LEVEL_SHADERS)?;
         let memory = LevelMemory::new(ctx, &set_layout, plan)?;
         let layout = scene_layout.pipeline_layout::<LevelPush>(
@@ -301,6 +338,10 @@ impl Levels {
         };
         Ok(Self {
             memory,
+            budget,
+            max_buffer,
+            planted_levels,
+            hiz_bound: false,
             layout,
             init,
             round,
@@ -331,7 +372,31 @@ impl Levels {
             Some(hiz),
         )?;
         retired.push(std::mem::replace(&mut self.memory.set, set));
+        self.hiz_bound = true;
         Ok(())
+    }
+
+    /// Makes the node memory again, within the same budget, where its
+    /// regions are not those of split mode `aniso` ([`levels_for`]); true
+    /// when it did (the old memory is retired, and a depth pyramid must
+    /// be bound again). The plan is a function of the budget and the split
+    /// alone, so the ready list's order (which follows the chunk) is too.
+    pub fn ensure_split(
+        &mut self,
+        ctx: &Context,
+        aniso: bool,
+        retired: &mut Retired,
+    ) -> Result<bool, RenderError> {
+        let levels = self.planted_levels.unwrap_or(levels_for(aniso));
+        if self.memory.plan.levels == levels {
+            return Ok(false);
+        }
+        let plan = LevelPlan::for_budget(self.budget, self.max_buffer, levels)
+            .map_err(RenderError::Request)?;
+        let memory = LevelMemory::new(ctx, &self.set_layout, plan)?;
+        retired.push(std::mem::replace(&mut self.memory, memory));
+        self.hiz_bound = false;
+        Ok(true)
     }
 
     fn push(
@@ -469,12 +534,15 @@ pub fn record_phases(
     levels: &mut Levels,
     occlusion: Option<&mut Hiz>,
     mut subdivide: impl FnMut(&mut FrameRec<'_>, &Levels, u32) -> VkResult<()>,
-) -> VkResult<()> {
+) -> Result<(), RenderError> {
+    let aniso = f.view.params.flags & FLAG_ANISO != 0;
+    levels.ensure_split(f.ctx, aniso, f.retired)?;
     let Some(hiz) = occlusion else {
         subdivide(f, levels, PHASE_ALL)?;
-        return stage.record_draw(f, false);
+        return Ok(stage.record_draw(f, false)?);
     };
-    if hiz.ensure(f.ctx, f.target, f.retired)? {
+    let new_pyramid = hiz.ensure(f.ctx, f.target, f.retired)?;
+    if new_pyramid || !levels.hiz_bound {
         if let Some(pyramid) = hiz.buffer() {
             levels.bind_hiz(f.ctx, pyramid, f.retired)?;
         }
@@ -483,7 +551,7 @@ pub fn record_phases(
     stage.record_draw_part(f, false, true, false)?;
     hiz.record_build(f)?;
     subdivide(f, levels, PHASE_LATE)?;
-    stage.record_draw_part(f, false, false, true)
+    Ok(stage.record_draw_part(f, false, false, true)?)
 }
 
 /// A round (or the persistent kernel): it reads and writes the node pool,
@@ -511,7 +579,7 @@ pub struct LevelState {
     pub split_rounds: u32,
     /// Most nodes one depth held at once.
     pub peak_nodes: u32,
-    /// Nodes processed per depth 0..=L_MAX.
+    /// Nodes processed per depth 0..=LEVEL_DEPTHS_MAX.
     pub nodes_per_depth: Vec<u32>,
     /// Instances whose patches were depth 0.
     pub root_instances: u32,
@@ -536,7 +604,9 @@ impl LevelState {
     /// Reads the copied-out state words.
     pub fn from_words(w: &[u32]) -> Self {
         let at = |i: u32| w[i as usize];
-        let depths = (0..=L_MAX).map(|d| at(S_DEPTH_NODES + d)).collect();
+        let depths = (0..=LEVEL_DEPTHS_MAX)
+            .map(|d| at(S_DEPTH_NODES + d))
+            .collect();
         LevelState {
             rounds: at(S_ROUND),
             done: at(S_DONE) != 0 && at(S_EARLY_UNFINISHED) == 0,
@@ -562,7 +632,10 @@ impl LevelState {
             ("rounds_split", json!(self.split_rounds)),
             ("chunk_nodes", json!(plan.chunk)),
             ("peak_depth_nodes", json!(self.peak_nodes)),
-            ("nodes_per_depth", json!(self.nodes_per_depth)),
+            (
+                "nodes_per_depth",
+                json!(self.nodes_per_depth[..=plan.levels as usize]),
+            ),
             ("node_memory_bytes", json!(plan.bytes())),
             (
                 "instances_drawn",
@@ -593,10 +666,14 @@ pub struct CanonicalRun {
     pub rounds: u32,
     /// Rounds that took part of a depth too large for one chunk.
     pub split_rounds: u32,
-    /// Nodes processed per depth 0..=L_MAX.
+    /// Nodes processed per depth 0..=`plan.levels`.
     pub nodes_per_depth: Vec<u32>,
     /// Most nodes one depth held at once.
     pub peak_nodes: u32,
+    /// Children of nodes at the deepest depth with a region, dropped as
+    /// the kernels drop them (`ERR_LEVEL_REGION`): 0 for a plan made for
+    /// the view's split.
+    pub dropped: u32,
 }
 
 /// Runs the schedule of `glsl/common/level.glsl` (`schedule`,
@@ -613,7 +690,7 @@ pub fn canonical_ready(
     vp: &ViewParams,
     plan: LevelPlan,
 ) -> CanonicalRun {
-    let depths = (L_MAX + 1) as usize;
+    let depths = plan.levels as usize + 1;
     let mut held: Vec<Vec<QuadNode>> = vec![Vec::new(); depths];
     held[0] = root_patches(instances, vp)
         .into_iter()
@@ -655,7 +732,9 @@ pub fn canonical_ready(
                 Outcome::Culled | Outcome::BackFacing => {}
             }
         }
-        if !children.is_empty() {
+        if d + 1 == depths {
+            out.dropped += children.len() as u32;
+        } else if !children.is_empty() {
             out.peak_nodes = out.peak_nodes.max(children.len() as u32);
             held[d + 1] = children;
             next[d + 1] = 0;
@@ -690,7 +769,7 @@ mod tests {
     #[test]
     fn plans_fill_the_budget_in_whole_blocks() {
         let range = 128 << 20;
-        let p = LevelPlan::for_budget(DEFAULT_NODE_MEMORY, range).unwrap();
+        let p = LevelPlan::for_budget(DEFAULT_NODE_MEMORY, range, L_MAX).unwrap();
         assert_eq!(p.chunk % LEVEL_GROUP_SIZE, 0);
         assert!(p.bytes() <= DEFAULT_NODE_MEMORY);
         let bigger = LevelPlan {
@@ -702,16 +781,28 @@ mod tests {
             "{p:?} is not the largest"
         );
         // A budget that is not a multiple of anything still gives whole blocks.
-        let odd = LevelPlan::for_budget(1_000_003, range).unwrap();
+        let odd = LevelPlan::for_budget(1_000_003, range, L_MAX).unwrap();
         assert_eq!(odd.chunk % LEVEL_GROUP_SIZE, 0);
         assert!(odd.bytes() <= 1_000_003);
         // One block is the least; below that, a sentence.
-        let least = LevelPlan::for_budget(p.bytes().min(30_000), range).unwrap();
+        let least = LevelPlan::for_budget(p.bytes().min(30_000), range, L_MAX).unwrap();
         assert_eq!(least.chunk, LEVEL_GROUP_SIZE);
-        let e = LevelPlan::for_budget(1000, range).unwrap_err();
+        let e = LevelPlan::for_budget(1000, range, L_MAX).unwrap_err();
         assert!(e.contains("below the smallest"), "{e}");
         // The buffer range caps the chunk too.
-        let capped = LevelPlan::for_budget(1 << 40, 1 << 20).unwrap();
+        let capped = LevelPlan::for_budget(1 << 40, 1 << 20, L_MAX).unwrap();
         assert!(8 * capped.node_entries() <= 1 << 20);
+    }
+
+    #[test]
+    fn the_state_holds_every_depth_aniso_reaches() {
+        // A 1:2 split deepens one direction: L_MAX rounds per direction.
+        assert_eq!(levels_for(true), 2 * L_MAX);
+        assert_eq!(levels_for(false), L_MAX);
+        // Twice the regions at the same budget: half the chunk, or about.
+        let range = 128 << 20;
+        let iso = LevelPlan::for_budget(DEFAULT_NODE_MEMORY, range, levels_for(false)).unwrap();
+        let aniso = LevelPlan::for_budget(DEFAULT_NODE_MEMORY, range, levels_for(true)).unwrap();
+        assert!(aniso.bytes() <= DEFAULT_NODE_MEMORY && aniso.chunk < iso.chunk);
     }
 }

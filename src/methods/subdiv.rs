@@ -825,6 +825,12 @@ impl GpuSubdivStats {
         if self.errors & ERR_WATCHDOG != 0 {
             parts.push("the persistent kernel's watchdog tripped".into());
         }
+        if self.errors & ERR_LEVEL_REGION != 0 {
+            parts.push(
+                "nodes split deeper than the node memory has regions for (their children                  were dropped, not drawn)"
+                    .into(),
+            );
+        }
         Some(parts.join("; "))
     }
 }

@@ -300,13 +300,12 @@ pub(crate) fn level_parts(
         sort,
     };
     let stage = ReadyStage::new(ctx, setup.shaders, setup.scene_layout, o.draw, caps)?;
-    let node_memory = o.per_method.levels.node_memory;
     let levels = Levels::new(
         ctx,
         setup.shaders,
         setup.scene_layout,
         &stage,
-        node_memory,
+        &o.per_method.levels,
         persistent,
     )?;
     let hiz = if occlusion {

@@ -10,7 +10,18 @@
 
 Both as one shared 4n x 7 (cylinder, around x along) or 7 x 7 (pillow) control
 net, so neighbouring patches share their boundary points bit for bit.
-Usage: tools/shapes/make.py [MODELS_DIR]
+
+And one test patch (tests/data/):
+
+  aniso_deep.bpt  one 4 x 4 patch whose v boundaries (v = 0, 1) are
+                  straight, curved a little along v at its sides and
+                  bulging 8 high in u inside: under --split aniso at
+                  eps 0.01, 3840 x 2160 its nodes split 1:2 along v, then
+                  1:4, then 1:2 along u, twelve rounds in all, beyond the
+                  l_max = 10 rounds an iso split can take
+                  (tests/subdiv_gpu.rs).
+
+Usage: tools/shapes/make.py [MODELS_DIR [TEST_DATA_DIR]]
 """
 import math
 import os
@@ -74,12 +85,28 @@ def pillow(half=2.0, bulge=1.5):
     return points, patches
 
 
+def aniso_deep(side=0.2, bulge=8.0):
+    # Rows j = 0, 3 flat (z = 0): straight v boundaries. Rows j = 1, 2 lift
+    # the sides by `side` and the inner columns by `side + bulge`.
+    points = []
+    for j in range(4):
+        for i in range(4):
+            z = 0.0
+            if j in (1, 2):
+                z = side + (bulge if i in (1, 2) else 0.0)
+            points.append((i / 3.0 * 4 - 2, j / 3.0 * 4 - 2, z))
+    return points, [list(range(16))]
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
-    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "..", "scenes", "models")
+    root = os.path.join(here, "..", "..")
+    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "scenes", "models")
+    data = sys.argv[2] if len(sys.argv) > 2 else os.path.join(root, "tests", "data")
     os.makedirs(out, exist_ok=True)
     write(os.path.join(out, "cylinder.bpt"), *cylinder())
     write(os.path.join(out, "pillow.bpt"), *pillow())
+    write(os.path.join(data, "aniso_deep.bpt"), *aniso_deep())
 
 
 if __name__ == "__main__":
