@@ -186,6 +186,7 @@ bool end_round(uint t) {
 
 void main() {
     process_occludes = pc.phase == PHASE_LATE;
+    process_hide_all = (pc.faults & FAULT_HIDE_LATE) != 0u;
     uint t = gl_LocalInvocationIndex;
     if (discover(t)) {
         for (;;) {

@@ -117,6 +117,16 @@ enum Command {
     Validate {
         #[command(flatten)]
         frame: FrameArgs,
+        /// Check these keyframes, in this order (e.g. 1,2); default: every
+        /// keyframe (--frame K: one). Each check starts from the same state,
+        /// so the order changes no result.
+        #[arg(
+            long,
+            value_name = "K,K,...",
+            value_delimiter = ',',
+            conflicts_with = "frame"
+        )]
+        frames: Vec<usize>,
         /// Skip the hole test.
         #[arg(long)]
         no_holes: bool,
@@ -508,9 +518,10 @@ fn run(command: Command) -> anyhow::Result<()> {
         } => run_render(frame, shade, out, warmup, repeat, flip),
         Command::Validate {
             frame,
+            frames,
             no_holes,
             debug_dir,
-        } => run_validate(frame, no_holes, debug_dir),
+        } => run_validate(frame, frames, no_holes, debug_dir),
         Command::View {
             frame,
             shade,
@@ -588,11 +599,12 @@ fn run_render(
 /// `validate`: prints the table; fails when a check did.
 fn run_validate(
     frame: FrameArgs,
+    frames: Vec<usize>,
     no_holes: bool,
     debug_dir: Option<PathBuf>,
 ) -> anyhow::Result<()> {
     let args = ValidateArgs {
-        frame: frame.frame,
+        frames: frame.frame.map_or(frames, |k| vec![k]),
         gpu: frame.request(IMAGE_SIZE, 1),
         skip_holes: no_holes,
         debug_dir,

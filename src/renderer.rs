@@ -382,6 +382,26 @@ impl Renderer {
         self.set_method(name)
     }
 
+    /// Forgets what occlusion culling learnt from earlier frames: the next
+    /// frame culls as the first frame of the scene does, whatever was drawn
+    /// before (`validate` checks each keyframe from that state).
+    pub fn reset_visibility(&mut self) -> Result<(), RenderError> {
+        self.frames.wait_all()?;
+        Ok(self.scene.reset_visibility(&self.ctx)?)
+    }
+
+    /// Whether frames from now on keep their depth, for
+    /// [`Renderer::read_depth`].
+    pub fn set_keep_depth(&mut self, keep: bool) {
+        self.target.set_keep_depth(keep);
+    }
+
+    /// The last frame's depth, f32 rows top first (see
+    /// [`Renderer::set_keep_depth`]; single-sampled targets).
+    pub fn read_depth(&self) -> VkResult<Vec<f32>> {
+        self.target.read_depth(&self.ctx)
+    }
+
     /// What the uploaded scene holds that pipelines are specialized on.
     pub fn scene_spec(&self) -> SceneSpec {
         self.shaders.scene

@@ -177,7 +177,7 @@ fn validate_args(draw: DrawRequest, method: &str, time: f64, holes: bool) -> Val
     g.time = Some(AnimTime::Seconds(time));
     ValidateArgs {
         gpu: g,
-        frame: None,
+        frames: Vec::new(),
         skip_holes: !holes,
         debug_dir: Some(common::output_dir("anim-holes")),
     }

@@ -80,7 +80,7 @@ fn args(scene: &Path, method: &str, draw: DrawRequest) -> ValidateArgs {
     gpu.per_method.ground_truth.grid = 16;
     ValidateArgs {
         gpu,
-        frame: None,
+        frames: Vec::new(),
         skip_holes: false,
         debug_dir: Some(common::output_dir("instances-holes")),
     }

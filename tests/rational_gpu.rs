@@ -130,7 +130,7 @@ fn rational_models_have_no_holes() {
         gpu.draw = draw.parse().unwrap();
         let report = run(&ValidateArgs {
             gpu,
-            frame: Some(0),
+            frames: vec![0],
             skip_holes: false,
             debug_dir: None,
         })

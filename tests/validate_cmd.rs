@@ -19,7 +19,7 @@ fn args(scene: &str, draw: DrawRequest) -> ValidateArgs {
     gpu.validation = true;
     ValidateArgs {
         gpu,
-        frame: None,
+        frames: Vec::new(),
         skip_holes: false,
         debug_dir: Some(common::output_dir("holes")),
     }
@@ -87,7 +87,7 @@ fn herd_validates_with_occlusion_culling() {
         (3, "subdiv", DrawRequest::Mesh, false),
     ] {
         let mut a = args("herd.toml", draw);
-        a.frame = Some(frame);
+        a.frames = vec![frame];
         a.gpu.method = method.into();
         a.skip_holes = !holes;
         let report = run(&a).unwrap();
@@ -99,7 +99,7 @@ fn herd_validates_with_occlusion_culling() {
             .find(|r| r.check == "occlusion")
             .expect("the occlusion check ran");
         assert!(
-            occlusion.detail.contains(" 0 px differ"),
+            occlusion.detail.contains("differs at 0 px"),
             "{}",
             occlusion.detail
         );
@@ -109,6 +109,72 @@ fn herd_validates_with_occlusion_culling() {
             assert!(detail.contains("the last of 4 chunks"), "{detail}");
         }
     }
+}
+
+/// The case that failed `validate` on the default scene (issue 35): the
+/// occlusion check at keyframe 2 after keyframe 1, and at 6 after 5,
+/// found a pixel or four changed with every triangle drawn. The culling
+/// state of the keyframe before carried over, and the pixels were ties:
+/// two surfaces at exactly the same depth, where the first drawn wins, and
+/// the early and late lists draw in another order than one list does.
+/// 640×360 shows both, as 1920×1080 does. Now each keyframe's check starts
+/// from the scene's first visibility (keyframe 2 reads the same after 1 as
+/// alone) and holds the depth to the unculled frame's bit for bit,
+/// counting ties apart; a planted culling error (the late phase hides
+/// everything) still fails it, and leaves its images in the debug
+/// directory.
+#[test]
+fn occlusion_check_holds_the_depth_whatever_ran_before() {
+    let _gpu = common::gpu();
+    let mut a = args("kitchen.toml", DrawRequest::Mesh);
+    a.gpu.size = (640, 360);
+    a.gpu.method = "subdiv".into();
+    a.frames = vec![1, 2, 5, 6];
+    a.skip_holes = true;
+    let report = run(&a).unwrap();
+    println!("{}", report.table);
+    assert!(report.ok(), "{}", report.table);
+    let detail = |report: &bezier_subdiv::commands::validate::ValidateReport, k| {
+        let r = report
+            .results
+            .iter()
+            .find(|r| r.check == "occlusion" && r.frame == Some(k));
+        r.expect("the occlusion check ran").detail.clone()
+    };
+    for (after, k) in [(1, 2), (5, 6)] {
+        a.frames = vec![k];
+        let alone = run(&a).unwrap();
+        assert_eq!(
+            detail(&report, k),
+            detail(&alone, k),
+            "keyframe {k} after {after}"
+        );
+    }
+
+    let dir = common::output_dir("occlusion-planted");
+    let _ = std::fs::remove_dir_all(&dir);
+    a.frames = vec![2];
+    a.debug_dir = Some(dir.clone());
+    a.gpu.per_method.subdiv.level_faults = bezier_subdiv::constants::FAULT_HIDE_LATE;
+    let report = run(&a).unwrap();
+    println!("{}", report.table);
+    let check = report
+        .results
+        .iter()
+        .find(|r| r.check == "occlusion")
+        .unwrap();
+    assert!(
+        !check.ok,
+        "the planted culling error went unnoticed: {}",
+        check.detail
+    );
+    assert!(
+        !check.detail.contains("differs at 0 px"),
+        "{}",
+        check.detail
+    );
+    let diff = dir.join("occlusion-frame2-culled2-diff.png");
+    assert!(diff.exists(), "no debug image at {}", diff.display());
 }
 
 /// `validate --method ground-truth` runs the checks that apply: the hole

@@ -306,12 +306,15 @@ const uint LEVEL_DEPTHS_MAX = 20;
 const uint JOIN_CLOSED = 0x80000000u;
 
 // Test-only faults of the persistent level kernel (LevelPush.faults),
-// to show that its watchdog turns a broken promise into a fallback.
+// to show that its watchdog turns a broken promise into a fallback,
+// and that validate's occlusion check sees a culling error.
 // One participant more than joined: a barrier that never completes.
 const uint FAULT_PHANTOM = 1;
 // Every launched workgroup joins, latecomers too: with more than the
 // device keeps resident, the first ones wait for ones that cannot start.
 const uint FAULT_NO_DISCOVERY = 2;
+// Occlusion culling's late phase takes every node in view for hidden.
+const uint FAULT_HIDE_LATE = 4;
 
 // Set 1 of the ground truth's grids: the visible patches and the counters
 // that hold its indexed indirect draw.

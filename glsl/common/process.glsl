@@ -27,6 +27,8 @@ bool process_occludes = false;
 // the late phase to learn whether it is still visible (OUT_READY if it
 // passes the frustum and occlusion tests, whatever the criterion says).
 bool process_box_only = false;
+// Test-only (FAULT_HIDE_LATE): the late phase hides every node in view.
+bool process_hide_all = false;
 #endif
 
 // Whether the node, having passed the box tests, is only being tested.
@@ -42,7 +44,7 @@ bool box_test_only() {
 // hidden behind what the early phase drew.
 bool node_occluded(vec3 lo, vec3 hi) {
 #ifdef LEVEL_KERNEL
-    return process_occludes && box_occluded(lo, hi, HIZ_NODE_SPAN);
+    return process_occludes && (process_hide_all || box_occluded(lo, hi, HIZ_NODE_SPAN));
 #else
     return false;
 #endif

@@ -32,8 +32,8 @@ use crate::validate::{
 pub struct ValidateArgs {
     /// Scene, method, tolerance, image, device.
     pub gpu: GpuRequest,
-    /// One keyframe, or every keyframe.
-    pub frame: Option<usize>,
+    /// The keyframes to check, in this order (empty: every keyframe).
+    pub frames: Vec<usize>,
     /// Skip the hole test (it renders every model from six cameras).
     pub skip_holes: bool,
     /// Where the hole test leaves the images of views that found holes.
@@ -60,12 +60,13 @@ impl ValidateReport {
 pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     let info = args.gpu.method_info()?;
     let scene = Scene::load(&args.gpu.scene)?;
-    let frames: Vec<usize> = match args.frame {
-        Some(k) => {
+    let frames: Vec<usize> = if args.frames.is_empty() {
+        (0..scene.frame_count()).collect()
+    } else {
+        for &k in &args.frames {
             keyframe(&scene, &args.gpu.scene, k)?;
-            vec![k]
         }
-        None => (0..scene.frame_count()).collect(),
+        args.frames.clone()
     };
     let ViewRequest { eps, lambda, split } = args.gpu.view_request(&scene)?;
     let loaded = scene
@@ -109,7 +110,8 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     }
     if renderer.method().culls_occluded() && args.gpu.occlusion != Some(false) {
         for (k, view) in &views {
-            results.push(occlusion_check(&mut renderer, view, *k)?);
+            let debug = args.debug_dir.as_deref();
+            results.push(occlusion_check(&mut renderer, view, *k, debug)?);
         }
     }
     if let Some(make) = info.checks {
@@ -253,32 +255,58 @@ fn oracle_checks(
     Ok(out)
 }
 
-/// Occlusion culling changes no pixel: the keyframe drawn with it, on its
-/// first frame (everything counts as visible, so it culls what that
-/// frame's early phase hides) and on a second (the early phase takes what
-/// the first found visible), is identical to the keyframe drawn without it.
-/// The oracle has no depth buffer, so this, and not a ready-set
-/// comparison, is occlusion culling's check; the detail says what was culled.
-fn occlusion_check(renderer: &mut Renderer, view: &View, k: usize) -> anyhow::Result<CheckResult> {
+/// Occlusion culling hides nothing that is seen: the keyframe drawn with
+/// it, on its first frame (from the scene's first state, whatever was drawn
+/// before: everything counts as visible, so it culls what that frame's
+/// early phase hides) and on a second (the early phase takes what the first
+/// found visible), has the unculled frame's depth at every pixel, bit for
+/// bit: the nearest surface is the same everywhere. Colours may still differ
+/// where two surfaces meet at exactly that depth (the early and late lists
+/// draw in another order than one list does, and the first drawn wins a
+/// tie); such pixels are counted, not failed. The oracle has no depth
+/// buffer, so this, and not a ready-set comparison, is occlusion culling's
+/// check; the detail says what was culled, and `debug_dir` gets the images
+/// of a failure.
+fn occlusion_check(
+    renderer: &mut Renderer,
+    view: &View,
+    k: usize,
+    debug_dir: Option<&Path>,
+) -> anyhow::Result<CheckResult> {
     let off = renderer.options().clone();
+    renderer.set_keep_depth(true);
     let unculled = renderer.render(view)?;
-    let reference = renderer.read_image()?;
+    let reference = (renderer.read_image()?, renderer.read_depth()?);
     renderer.set_options(crate::methods::MethodOptions {
         occlusion: true,
         ..off.clone()
     })?;
-    let mut differ = 0;
+    renderer.reset_visibility()?;
+    let (mut differ, mut ties) = (0, 0);
     let mut last = None;
-    for _ in 0..2 {
+    let mut failed = None;
+    for frame in 0..2 {
         last = Some(renderer.render(view)?);
-        let image = renderer.read_image()?;
-        differ += image
-            .chunks_exact(4)
-            .zip(reference.chunks_exact(4))
-            .filter(|(a, b)| a != b)
-            .count();
+        let culled = (renderer.read_image()?, renderer.read_depth()?);
+        let d = OcclusionDiff::new(&reference, &culled);
+        differ += d.depth;
+        ties += d.ties;
+        if d.depth > 0 && failed.is_none() {
+            failed = Some((frame, culled, d));
+        }
     }
     renderer.set_options(off)?;
+    renderer.set_keep_depth(false);
+    if let (Some(dir), Some((frame, culled, d))) = (debug_dir, &failed) {
+        d.write(
+            dir,
+            k,
+            *frame,
+            renderer.target().size(),
+            &reference.0,
+            &culled.0,
+        );
+    }
     let last = last.context("no culled frame")?;
     let own = |key| last.stats.get_u64(key).unwrap_or(0);
     Ok(CheckResult::new(
@@ -286,14 +314,75 @@ fn occlusion_check(renderer: &mut Renderer, view: &View, k: usize) -> anyhow::Re
         Some(k),
         differ == 0,
         format!(
-            "2 frames culled: {differ} px differ from the unculled image; {} instances \
+            "2 frames culled: the nearest surface differs at {differ} px{}; {} instances \
              and {} nodes hidden, {} of {} triangles drawn",
+            if ties > 0 {
+                format!(" ({ties} px tie at equal depth in another colour: draw order)")
+            } else {
+                String::new()
+            },
             own("instances_occluded"),
             thousands(own("occluded")),
             thousands(last.triangles()),
             thousands(unculled.triangles())
         ),
     ))
+}
+
+/// Where a culled frame differs from the unculled one: pixels whose depth
+/// differs (a surface lost, or one drawn that should not be), and pixels of
+/// equal depth in another colour (a tie between two surfaces).
+struct OcclusionDiff {
+    depth: u64,
+    ties: u64,
+    /// Per pixel: 0 same, 1 tie, 2 depth differs.
+    marks: Vec<u8>,
+}
+
+impl OcclusionDiff {
+    fn new(reference: &(Vec<u8>, Vec<f32>), culled: &(Vec<u8>, Vec<f32>)) -> Self {
+        let marks: Vec<u8> = reference
+            .1
+            .iter()
+            .zip(&culled.1)
+            .zip(reference.0.chunks_exact(4).zip(culled.0.chunks_exact(4)))
+            .map(
+                |((a, b), (ca, cb))| match (a.to_bits() != b.to_bits(), ca != cb) {
+                    (true, _) => 2,
+                    (false, true) => 1,
+                    (false, false) => 0,
+                },
+            )
+            .collect();
+        let count = |m| marks.iter().filter(|&&x| x == m).count() as u64;
+        Self {
+            depth: count(2),
+            ties: count(1),
+            marks,
+        }
+    }
+
+    /// The unculled and culled images and the differences (depth red, ties
+    /// yellow, over the unculled image darkened) as
+    /// `occlusion-frame<k>-{unculled,culled,diff}.png` in `dir`.
+    fn write(&self, dir: &Path, k: usize, frame: usize, (w, h): (u32, u32), a: &[u8], b: &[u8]) {
+        let mut diff: Vec<u8> = a.iter().map(|&c| c / 3).collect();
+        for (i, &m) in self.marks.iter().enumerate() {
+            let c = match m {
+                2 => [255, 0, 0, 255],
+                1 => [255, 255, 0, 255],
+                _ => continue,
+            };
+            diff[4 * i..4 * i + 4].copy_from_slice(&c);
+        }
+        let _ = std::fs::create_dir_all(dir);
+        for (tag, img) in [("unculled", a), ("culled", b), ("diff", &diff[..])] {
+            let file = dir.join(format!("occlusion-frame{k}-culled{}-{tag}.png", frame + 1));
+            if let Err(e) = crate::gpu::write_png(&file, w, h, img) {
+                log::warn!("{e}");
+            }
+        }
+    }
 }
 
 /// The hole test for the first instance of every distinct model file.
@@ -380,4 +469,28 @@ fn table(
         format!("\n{failed} of {} checks FAILED\n", results.len())
     };
     table
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OcclusionDiff;
+
+    /// Four pixels: the same; another colour at the same depth (a tie);
+    /// another depth (a surface lost); another depth by one ulp.
+    #[test]
+    fn a_tie_is_counted_apart_and_any_other_depth_fails() {
+        let colour = |c: u8| vec![c, c, c, 255];
+        let reference = (
+            [colour(1), colour(2), colour(3), colour(4)].concat(),
+            vec![0.5f32; 4],
+        );
+        let next = f32::from_bits(0.5f32.to_bits() + 1);
+        let culled = (
+            [colour(1), colour(9), colour(3), colour(4)].concat(),
+            vec![0.5, 0.5, 1.0, next],
+        );
+        let d = OcclusionDiff::new(&reference, &culled);
+        assert_eq!((d.depth, d.ties), (2, 1));
+        assert_eq!(d.marks, [0, 1, 2, 2]);
+    }
 }

@@ -311,6 +311,15 @@ impl SceneGpu {
             .bind(ctx, cmd, bind_point, layout, SET_SCENE, &[offset]);
     }
 
+    /// Forgets what earlier frames found visible: the next frame culls by
+    /// occlusion as the first one after the upload does (everything counts
+    /// as visible). Frames in flight may still use the words; the upload
+    /// waits for them on the GPU.
+    pub fn reset_visibility(&mut self, ctx: &Context) -> VkResult<()> {
+        let words = visibility_words(self.instance_records.len(), self.count as usize);
+        self.visibility.write(ctx, 0, &words)
+    }
+
     /// Bytes of the model patches and their flags.
     pub fn bytes(&self) -> u64 {
         self.patches.size() + self.flags.size()
@@ -515,8 +524,14 @@ const VIEW_BYTES: u64 = std::mem::size_of::<ViewParams>() as u64;
 /// word per instance, the parity, then two sets of a bit per cluster of up
 /// to VISIBILITY_CLUSTER base patches of one instance (`root_cluster`).
 fn initial_visibility(table: &InstanceTable) -> Vec<u32> {
-    let instances = table.instances.len().max(1);
-    let set = cluster_set_words(instances, table.base_patches());
+    visibility_words(table.instances.len(), table.base_patches())
+}
+
+/// [`initial_visibility`] for `instances` instances of `base_patches`
+/// base patches in all.
+fn visibility_words(instances: usize, base_patches: usize) -> Vec<u32> {
+    let instances = instances.max(1);
+    let set = cluster_set_words(instances, base_patches);
     let mut words = vec![1u32; instances];
     words.push(0);
     words.extend(std::iter::repeat_n(u32::MAX, 2 * set));

@@ -71,6 +71,9 @@ pub struct DrawTarget {
     /// Whether `end` was ever recorded, i.e. whether the colour image can be
     /// in FINAL_LAYOUT rather than UNDEFINED.
     rendered: AtomicBool,
+    /// Whether the last part stores its depth (for [`DrawTarget::read_depth`];
+    /// otherwise the depth is dropped once drawn).
+    keep_depth: AtomicBool,
 }
 
 impl DrawTarget {
@@ -141,11 +144,14 @@ impl DrawTarget {
         } else {
             None
         };
-        // Sampled: occlusion culling builds its depth pyramid from it.
+        // Sampled: occlusion culling builds its depth pyramid from it; a
+        // transfer source: validate reads it back.
         let depth = image(
             "draw target depth",
             DEPTH_FORMAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_SRC,
             flags,
         )?;
         Ok(Self {
@@ -155,6 +161,7 @@ impl DrawTarget {
             samples: flags,
             clear,
             rendered: AtomicBool::new(false),
+            keep_depth: AtomicBool::new(false),
         })
     }
 
@@ -222,7 +229,12 @@ impl DrawTarget {
         };
         let extent = self.extent();
         let colors = [self.color_attachment(load, keep)];
-        let depth = self.depth_attachment(load, keep);
+        let depth_keep = if self.keep_depth.load(Ordering::Relaxed) {
+            vk::AttachmentStoreOp::STORE
+        } else {
+            keep
+        };
+        let depth = self.depth_attachment(load, depth_keep);
         let area = vk::Rect2D {
             offset: vk::Offset2D { x: 0, y: 0 },
             extent,
@@ -362,6 +374,30 @@ impl DrawTarget {
             )));
         }
         self.color.read_pixels(ctx, Self::FINAL_LAYOUT)
+    }
+
+    /// Whether frames from now on keep their depth for
+    /// [`DrawTarget::read_depth`] (off by default: the last part drops it).
+    pub fn set_keep_depth(&self, keep: bool) {
+        self.keep_depth.store(keep, Ordering::Relaxed);
+    }
+
+    /// The depth image as f32 rows, top row first, of a frame drawn with
+    /// [`DrawTarget::set_keep_depth`] on; single-sampled targets only (waits
+    /// for all submitted work).
+    pub fn read_depth(&self, ctx: &Context) -> VkResult<Vec<f32>> {
+        if !self.rendered.load(Ordering::Relaxed) || !self.keep_depth.load(Ordering::Relaxed) {
+            return Err(VkError::Usage(
+                "the draw target's depth was read without a frame drawn to keep it".into(),
+            ));
+        }
+        if self.msaa.is_some() {
+            return Err(VkError::Usage(
+                "the depth of a multisampled draw target cannot be read back".into(),
+            ));
+        }
+        let bytes = self.depth.read_pixels(ctx, Self::DEPTH_LAYOUT)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
     /// Reads the colour image back and writes it to `path` as PNG (see

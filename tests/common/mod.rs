@@ -218,7 +218,7 @@ pub fn validate(
     gpu.validation = true;
     run(&ValidateArgs {
         gpu,
-        frame: None,
+        frames: Vec::new(),
         skip_holes: !holes,
         debug_dir: holes.then(|| output_dir("holes")),
     })
