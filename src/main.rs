@@ -34,7 +34,8 @@ struct Cli {
     /// Seconds one wait for the GPU may take before the run fails (default
     /// 60, or BEZIER_SUBDIV_TIMEOUT). Long work is submitted in parts, each
     /// waited for within this; raise it on a slow or busy device.
-    #[arg(long, global = true, value_name = "SECONDS", value_parser = parse_timeout)]
+    #[arg(long, global = true, value_name = "SECONDS", value_parser = parse_timeout,
+          allow_negative_numbers = true)]
     timeout: Option<std::time::Duration>,
 }
 
@@ -231,10 +232,12 @@ struct BenchFlags {
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     methods: Option<Vec<String>>,
     /// Pixel tolerances, comma-separated.
-    #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_EPS)]
+    #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_EPS,
+          allow_negative_numbers = true)]
     eps: Vec<f64>,
     /// Distance blends, comma-separated.
-    #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_LAMBDA)]
+    #[arg(long, value_name = "LIST", value_delimiter = ',', default_values_t = DEFAULT_LAMBDA,
+          allow_negative_numbers = true)]
     lambda: Vec<f64>,
     /// Frames timed along the path per configuration (default: the
     /// path's `frames`; 5 with --quick).
@@ -308,11 +311,13 @@ struct ViewArgs {
     #[arg(long, default_value = commands::DEFAULT_SCENE)]
     scene: PathBuf,
     /// Pixel tolerance ε (default: the scene's, else 1).
-    #[arg(long, value_name = "PX")]
+    // A negative value reaches the range check, which says what is wrong,
+    // instead of clap's "unexpected argument '-1'".
+    #[arg(long, value_name = "PX", allow_negative_numbers = true)]
     eps: Option<f64>,
     /// Blend λ ∈ [0,1] of orthogonal (0) and parametric (1) distance
     /// (default: the scene's, else 0.5).
-    #[arg(long, value_name = "L")]
+    #[arg(long, value_name = "L", allow_negative_numbers = true)]
     lambda: Option<f64>,
     /// Image size; ε is measured in its pixels (default 1920x1080, the
     /// paper's; view: the window's first size, default 1280x720).
@@ -335,7 +340,12 @@ struct FrameArgs {
     /// animation wraps at its duration where it loops): deformed cages,
     /// sequence frames and keyed instances at that time, converted again
     /// on the GPU before the method runs (the "update" pass).
-    #[arg(long, value_name = "SECONDS", conflicts_with = "anim_frame")]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        conflicts_with = "anim_frame",
+        allow_negative_numbers = true
+    )]
     time: Option<f64>,
     /// An animated scene at frame K of its animation (K / the scene's
     /// [animation] fps, default 24).
@@ -570,7 +580,9 @@ fn run_stats(
         if let Some(p) = &report.preview {
             text += &format!("preview         {p} ({preview_shade})\n");
         }
-        text += "note: these are the CPU reference's figures; `render` runs the GPU.\n";
+        text += "note: these are the CPU reference's figures, without occlusion culling: \
+                 `render --occlusion off` draws the same triangles on the GPU (`render` culls \
+                 what is hidden by default).\n";
         emit(&text)
     }
 }

@@ -18,6 +18,7 @@
 
 use std::any::Any;
 use std::sync::Arc;
+use std::time::Duration;
 
 use ash::vk;
 
@@ -71,6 +72,10 @@ pub struct FrameReport {
     pub gpu_ms: Vec<(String, f64)>,
     /// Times the frame was drawn again after the method grew a buffer.
     pub redone: u32,
+    /// The frame (or one it was redone after) ran a pipeline for the first
+    /// time on a device that compiles at first use: its times include the
+    /// compile.
+    pub compiled: bool,
     /// The primitives the frame's draws generated, counted by a query (the
     /// same for every method), and which query; `None` where the device
     /// has no query for the frame's kind of pipeline.
@@ -122,6 +127,8 @@ struct SlotData {
     /// (method index, serial) of the frame recorded here and not yet
     /// collected.
     frame: Option<(usize, u64)>,
+    /// Whether that frame may wait for a compile ([`FrameReport::compiled`]).
+    compiled: bool,
 }
 
 /// The renderer.
@@ -189,6 +196,7 @@ impl Renderer {
                         MemoryLocation::GpuToCpu,
                     )?,
                     frame: None,
+                    compiled: false,
                 })
             })
             .collect::<VkResult<Vec<_>>>()?;
@@ -536,6 +544,7 @@ impl Renderer {
         let name = self.method().name();
         self.frames
             .submit(&self.ctx, slot, &format!("frame ({name})"))?;
+        self.slots[slot].compiled = self.frames.compile_allowance(slot) > Duration::ZERO;
         self.serial += 1;
         self.slots[slot].frame = Some((self.active, self.serial));
         self.last_submitted = Some(slot);
@@ -620,6 +629,7 @@ impl Renderer {
         self.release_garbage(slot);
         self.slots[slot].frame = None;
         let data = &self.slots[slot];
+        let compiled = data.compiled;
         let gpu_ms = data.timer.read()?;
         let primitives = data.primitives.read()?;
         let words: Vec<u32> = data
@@ -649,6 +659,7 @@ impl Renderer {
                 stats,
                 gpu_ms,
                 redone: 0,
+                compiled,
                 primitives,
             },
             redo,
@@ -659,11 +670,14 @@ impl Renderer {
     /// method grows what overflowed.
     pub fn render(&mut self, view: &View) -> Result<FrameReport, RenderError> {
         let mut redone = 0;
+        let mut compiled = false;
         loop {
             let ticket = self.submit(view)?;
             let (mut report, redo) = self.collect(ticket)?;
+            compiled |= report.compiled;
             if !redo {
                 report.redone = redone;
+                report.compiled = compiled;
                 return Ok(report);
             }
             redone += 1;

@@ -161,6 +161,21 @@ fn sequences_play_their_frames() {
     assert!((frame.inputs[0][0] - want).length() < 1e-6);
 }
 
+/// A sequence scene named by a bare file name, from its own directory
+/// (issue 35: "error: : No such file or directory", the frames looked up
+/// in the directory "").
+#[test]
+fn a_sequence_scene_loads_by_its_bare_name() {
+    let dir = sequence("bare", 2, &|_, p| p);
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_bezier-subdiv"))
+        .args(["stats", "--scene", "scene.toml", "--size", "64x36"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+}
+
 /// A frame with another topology is refused with its file and line; a
 /// missing frame with its file name.
 #[test]

@@ -133,13 +133,42 @@ fn refused_files_name_themselves_and_fail() {
     assert!(err.contains("beyond ±1e6"), "{err}");
     std::fs::write(&far, points("1000000,0,-1000000")).unwrap();
     common::cli::run_ok(&mut import(&far));
+    // The same coordinate in a cage: refused at its line too, and with
+    // --out nothing is written, not even a temporary file (it was accepted,
+    // and the writer then failed naming its temporary file).
+    let cage = dir.join("far.obj");
+    std::fs::write(&cage, "v 0 0 0\nv 1 0 0\nv 1e30 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+    let out = dir.join("far-out.bpt");
+    let run = import(&cage).arg("--out").arg(&out).output().unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("far.obj:3: ") && err.contains("beyond ±1e6"),
+        "{err}"
+    );
+    assert!(!err.contains(".tmp-"), "{err}");
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.contains("far-out"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }
 
 #[test]
 fn render_refuses_bad_requests_before_gpu_work() {
     let dir = temp_dir("render");
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 6] = [
         (&["--eps", "0"], "--eps must be a positive number"),
+        // A negative number reaches the same check (clap took "-1" for a
+        // flag: "unexpected argument '-1' found").
+        (&["--eps", "-1"], "--eps must be a positive number"),
+        // A sample count the device does not offer is not a missing
+        // requirement: say what it offers.
+        (
+            &["--msaa", "8", "--size", "64x64"],
+            "does not offer 8 samples per pixel",
+        ),
         (&["--method", "magic"], "unknown method"),
         (&["--out", "/nonexistent-dir/x.png"], "does not exist"),
         (&["--frame", "99"], "frame 99 does not exist"),
@@ -514,7 +543,9 @@ fn a_timeout_says_what_ran_and_what_to_try() {
             "--scene",
         ])
         .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/kitchen.toml"))
-        .args(["--size", "320x180", "--out"])
+        // A warm-up frame first: the first frame's shader compile is
+        // allowed beyond the timeout, the timed frame is held to it.
+        .args(["--size", "320x180", "--warmup", "1", "--out"])
         .arg(&out)
         .env_remove("BEZIER_SUBDIV_TIMEOUT");
         if let Some(t) = flag {
@@ -535,8 +566,7 @@ fn a_timeout_says_what_ran_and_what_to_try() {
         let err = String::from_utf8_lossy(&run.stderr);
         assert_eq!(run.status.code(), Some(1), "{flag:?} {env:?}: {err}");
         for want in [
-            // 1 ms, or 5 ms for a method's first frame on a CPU device.
-            "ms fence timeout (",
+            "1 ms fence timeout (",
             "since it was submitted",
             "--timeout SECONDS",
             "BEZIER_SUBDIV_TIMEOUT=SECONDS",

@@ -708,6 +708,14 @@ fn bad_obj_inputs_are_refused_with_file_and_line() {
         Some(4),
         "NaN or infinite",
     );
+    // Finite, but past what a scene (and a .bpt) accepts (issue 35: it was
+    // accepted, and `--out x.bpt` then failed naming a temporary file).
+    expect_error(
+        "far.obj",
+        &quad_with(3, "v 1e30 1 0"),
+        Some(3),
+        "beyond ±1e6",
+    );
     expect_error("w0.obj", &quad_with(4, "v 1 1 0 0"), Some(4), "w is 0");
     expect_error(
         "range.obj",

@@ -280,6 +280,8 @@ fn fence_timeout_keeps_resources_alive() {
     let ctx = Arc::new(
         Context::new(&ContextOptions {
             fence_timeout: Duration::from_millis(50),
+            // The first frame's compile would otherwise be allowed minutes.
+            compile_allowance: Duration::ZERO,
             ..common::test_options()
         })
         .unwrap(),

@@ -20,9 +20,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Where the FLIP button and the "wireframe" radio button are.
+/// Where the FLIP button, the "wireframe" radio button and the ε value
+/// field are.
 const FLIP_BUTTON: (u32, u32) = (193, 299);
 const WIREFRAME_RADIO: (u32, u32) = (93, 227);
+const EPS_FIELD: (u32, u32) = (146, 113);
 /// Long enough for lavapipe's first frames on a busy 2-core machine (the
 /// first compiles every shader).
 const PATIENCE: Duration = Duration::from_secs(300);
@@ -228,6 +230,19 @@ fn the_window_keys_work_after_clicks_and_tab() {
     w.screenshot_until("R did not reset the camera", &["r"], |s| {
         s["path_playing"] == false && s["camera"] == start["camera"]
     });
+
+    // A value field being typed in (a click on ε's number edits it): F12
+    // still saves (it once did nothing), Escape leaves the field instead
+    // of closing the window, and then F12 saves again.
+    w.click(EPS_FIELD);
+    w.screenshot_after("F12 while typing in the ε field", &[]);
+    w.key("Escape");
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(
+        view.0.try_wait().unwrap().is_none(),
+        "Escape in a value field closed the window"
+    );
+    w.screenshot_after("F12 after leaving the field", &[]);
 
     // Escape closes the window, the focus still on the button.
     w.key("Escape");

@@ -33,7 +33,11 @@ pub fn frames(pattern: &Path) -> Result<Vec<PathBuf>, SceneError> {
             "a sequence pattern has one run of `#` (the frame number)",
         ));
     }
-    let dir = pattern.parent().unwrap_or(Path::new("."));
+    // A bare file name's parent is "", which read_dir refuses.
+    let dir = match pattern.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
     let entries = std::fs::read_dir(dir).map_err(|e| SceneError::io(dir, e))?;
     let mut numbers: Vec<u64> = entries
         .filter_map(|e| e.ok())

@@ -38,6 +38,8 @@ pub struct CameraRig {
     pub path: Option<f64>,
     /// Camera-path parameter kept while paused.
     path_t: f64,
+    /// The path's camera last drawn, where a pause holds the view.
+    shown: Option<Camera>,
     /// Not moved since the start or the last reset: [`CameraRig::camera`]
     /// is the starting camera exactly (no round trip through angles), so
     /// a screenshot equals `render` of the same keyframe.
@@ -55,6 +57,7 @@ impl CameraRig {
             pitch: 0.0,
             path: None,
             path_t: 0.0,
+            shown: None,
             at_home: true,
         };
         rig.reset();
@@ -63,15 +66,22 @@ impl CameraRig {
 
     /// Back to the starting camera (and the path stopped).
     pub fn reset(&mut self) {
-        let eye = DVec3::from_array(self.home.position);
-        self.target = DVec3::from_array(self.home.target);
+        self.look_from(self.home);
+        self.path = None;
+        self.at_home = true;
+    }
+
+    /// Orbit and fly on from `camera` (its eye and target; the lens stays
+    /// the home camera's).
+    fn look_from(&mut self, camera: Camera) {
+        let eye = DVec3::from_array(camera.position);
+        self.target = DVec3::from_array(camera.target);
         let d = eye - self.target;
         self.distance = d.length().max(1e-6);
         let (x, y, z) = self.local(d / self.distance);
         self.yaw = y.atan2(x);
         self.pitch = z.clamp(-1.0, 1.0).asin().clamp(-MAX_PITCH, MAX_PITCH);
-        self.path = None;
-        self.at_home = true;
+        self.at_home = false;
     }
 
     /// The home camera's up direction, and two directions completing a
@@ -111,27 +121,27 @@ impl CameraRig {
 
     /// Orbits by a drag of (dx, dy) pixels.
     pub fn orbit(&mut self, dx: f64, dy: f64) {
+        self.stop_path();
         self.yaw -= dx * 0.008;
         self.pitch = (self.pitch + dy * 0.008).clamp(-MAX_PITCH, MAX_PITCH);
-        self.path = None;
         self.at_home = false;
     }
 
     /// Turns the view about the eye by a drag of (dx, dy) pixels (the
     /// target moves, the eye stays).
     pub fn look(&mut self, dx: f64, dy: f64) {
+        self.stop_path();
         let eye = self.target + self.offset_dir() * self.distance;
         self.yaw -= dx * 0.004;
         self.pitch = (self.pitch - dy * 0.004).clamp(-MAX_PITCH, MAX_PITCH);
         self.target = eye - self.offset_dir() * self.distance;
-        self.path = None;
         self.at_home = false;
     }
 
     /// Zooms by wheel `steps` (positive: closer).
     pub fn zoom(&mut self, steps: f64) {
+        self.stop_path();
         self.distance = (self.distance * 0.85f64.powf(steps)).max(1e-4);
-        self.path = None;
         self.at_home = false;
     }
 
@@ -141,32 +151,44 @@ impl CameraRig {
         if keys.forward == 0.0 && keys.right == 0.0 && keys.up == 0.0 {
             return;
         }
+        self.stop_path();
         let forward = -self.offset_dir();
         let (_, _, up) = self.frame();
         let right = forward.cross(up).normalize_or_zero();
         let step = (forward * keys.forward + right * keys.right + up * keys.up)
             * (self.distance * 0.8 * dt);
         self.target += step;
-        self.path = None;
         self.at_home = false;
     }
 
     /// Starts or pauses the camera path.
     pub fn toggle_path(&mut self) {
-        self.path = match self.path {
-            Some(t) => {
-                self.path_t = t;
-                None
+        if self.path.is_some() {
+            self.stop_path();
+        } else {
+            self.path = Some(self.path_t);
+        }
+    }
+
+    /// Pauses a playing path where it is: the camera holds the path's last
+    /// view and orbits and flies on from there (it once jumped back to
+    /// where it was before the path played).
+    fn stop_path(&mut self) {
+        if let Some(t) = self.path.take() {
+            self.path_t = t;
+            if let Some(shown) = self.shown {
+                self.look_from(shown);
             }
-            None => Some(self.path_t),
-        };
+        }
     }
 
     /// Advances a playing path by `dt` seconds and returns its camera.
     pub fn advance_path(&mut self, scene: &Scene, dt: f64) -> Option<Camera> {
         let t = self.path.as_mut()?;
         *t = (*t + dt / PATH_SECONDS).fract();
-        Some(scene.path_camera(*t))
+        let camera = scene.path_camera(*t);
+        self.shown = Some(camera);
+        Some(camera)
     }
 }
 
@@ -234,5 +256,27 @@ mod tests {
         rig.look(50.0, 20.0);
         assert!(close(rig.camera().position, eye));
         assert!(!close(rig.camera().target, start().target));
+    }
+
+    /// P a second time holds the view where the path is (it once jumped
+    /// back to the camera from before the path); a drag also goes on from
+    /// there.
+    #[test]
+    fn pausing_the_path_holds_its_view() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/kitchen.toml");
+        let scene = Scene::load(&path).unwrap();
+        let mut rig = CameraRig::new(scene.camera);
+        rig.toggle_path();
+        let shown = rig.advance_path(&scene, 3.7).unwrap();
+        assert!(!close(shown.position, scene.camera.position));
+        rig.toggle_path();
+        assert!(rig.path.is_none());
+        assert!(close(rig.camera().position, shown.position));
+        assert!(close(rig.camera().target, shown.target));
+        rig.toggle_path();
+        let shown = rig.advance_path(&scene, 1.0).unwrap();
+        rig.zoom(0.0);
+        assert!(rig.path.is_none(), "a move pauses the path");
+        assert!(close(rig.camera().position, shown.position));
     }
 }

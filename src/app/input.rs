@@ -62,6 +62,19 @@ pub fn is_window_key(event: &WindowEvent) -> bool {
     WINDOW_KEYS.contains(&code) || FLY_KEYS.contains(&code)
 }
 
+/// Whether `event` is a press or release of a window key that types
+/// nothing (F12, Tab): those act even while a value field is being typed
+/// in, where the letter keys go to the field and Escape leaves it.
+pub fn acts_while_typing(event: &WindowEvent) -> bool {
+    let WindowEvent::KeyboardInput { event, .. } = event else {
+        return false;
+    };
+    matches!(
+        event.physical_key,
+        PhysicalKey::Code(KeyCode::F12 | KeyCode::Tab)
+    )
+}
+
 impl Input {
     /// The fly keys held now.
     pub fn fly_keys(&self) -> FlyKeys {

@@ -131,11 +131,23 @@ pub struct LiveStats {
     /// The last thing worth telling the user (a refused setting, a saved
     /// file).
     pub notice: Option<String>,
+    /// Host frame times still to leave out: the ones that waited for a
+    /// frame whose times include a shader compile.
+    pub(crate) skip_frame_times: u32,
 }
 
 impl LiveStats {
     /// Folds in a finished frame.
     pub fn add(&mut self, report: FrameReport) {
+        if report.compiled {
+            // Its times include the driver's compile (a CPU device compiles
+            // in the frame): folded in, they took minutes to decay. The
+            // smoothing starts again from the next frames.
+            self.skip_frame_times = 2;
+            self.frame_ms = 0.0;
+            self.last = Some(report);
+            return;
+        }
         for (name, ms) in &report.gpu_ms {
             match self.gpu_ms.iter_mut().find(|(n, _)| n == name) {
                 Some((_, e)) => *e += 0.1 * (ms - *e),
@@ -147,6 +159,10 @@ impl LiveStats {
 
     /// Folds in the host's time for one frame.
     pub fn add_frame_time(&mut self, ms: f64) {
+        if self.skip_frame_times > 0 {
+            self.skip_frame_times -= 1;
+            return;
+        }
         if self.frame_ms == 0.0 {
             self.frame_ms = ms;
         }
@@ -464,16 +480,14 @@ fn stats_ui(ui: &mut egui::Ui, stats: &LiveStats) {
         ));
     }
     let total: u64 = stats.memory.iter().map(|(_, b)| b).sum();
-    ui.label(format!(
-        "GPU memory {:.1} MiB",
-        total as f64 / (1 << 20) as f64
-    ))
-    .on_hover_text(
-        stats
-            .memory
-            .iter()
-            .map(|(k, b)| format!("{k}: {:.2} MiB", *b as f64 / (1 << 20) as f64))
-            .collect::<Vec<_>>()
-            .join("\n"),
-    );
+    // In its unit: the teapot with tess holds 15 KiB, which read 0.0 MiB.
+    ui.label(format!("GPU memory {}", crate::figures::bytes_text(total)))
+        .on_hover_text(
+            stats
+                .memory
+                .iter()
+                .map(|(k, b)| format!("{k}: {:.2} MiB", *b as f64 / (1 << 20) as f64))
+                .collect::<Vec<_>>()
+                .join("\n"),
+        );
 }

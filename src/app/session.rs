@@ -210,8 +210,10 @@ impl Session {
     pub fn on_window_event(&mut self, event: &WindowEvent) -> anyhow::Result<Flow> {
         // egui takes Tab for moving the focus and swallows every key while
         // a widget (a button clicked last) has it, until Escape; the
-        // window's keys must work regardless, unless text is being typed.
-        if input::is_window_key(event) && !self.gui.editing_text() {
+        // window's keys must work regardless, unless text is being typed,
+        // and F12 and Tab, which type nothing, even then.
+        let typing_text = self.gui.editing_text();
+        if input::is_window_key(event) && (!typing_text || input::acts_while_typing(event)) {
             let pointer_free = !self.gui.wants_pointer();
             let command = self.input.on_event(event, &mut self.rig, pointer_free);
             return Ok(self.command(command));
@@ -264,9 +266,12 @@ impl Session {
     /// Draws and presents one frame.
     fn frame(&mut self) -> anyhow::Result<Flow> {
         let now = Instant::now();
-        let dt = (now - self.clock).as_secs_f64().min(0.25);
+        let interval = (now - self.clock).as_secs_f64();
+        // The camera moves at most a quarter second's worth per frame; the
+        // panel shows the real interval (a CPU device's frames take longer).
+        let dt = interval.min(0.25);
         self.clock = now;
-        self.stats.add_frame_time(dt * 1000.0);
+        self.stats.add_frame_time(interval * 1000.0);
         for action in std::mem::take(&mut self.actions) {
             // A screenshot or FLIP asked for before the first frame waits
             // for it (a key pressed as the window opens is not lost).

@@ -9,6 +9,7 @@
 //! writes every report from what was measured; `frames.csv` is written
 //! row by row as the run goes.
 
+use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -897,10 +898,27 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<BenchOutcome> {
         .map_err(|e| anyhow!("progress bar: {e}"))?
         .progress_chars("=> "),
     );
+    // Without a terminal the bar draws nothing: a line when the run moves
+    // to another configuration, or half a minute after the last line, so a
+    // log shows the run going on.
+    let lines = !std::io::stderr().is_terminal();
+    let started = std::time::Instant::now();
+    let mut last = (String::new(), started);
     let outcome = run_on(&ctx, args, &INTERRUPTED, &mut |s| {
         bar.set_length(s.total);
         bar.set_position(s.done);
         bar.set_message(s.what.to_string());
+        let config = s.what.split(" (").next().unwrap_or(s.what);
+        if lines && (config != last.0 || last.1.elapsed().as_secs() >= 30) {
+            last = (config.to_string(), std::time::Instant::now());
+            eprintln!(
+                "bench: {} of {} frames after {}: {}",
+                s.done,
+                s.total,
+                crate::vk::seconds_text(started.elapsed()),
+                s.what
+            );
+        }
     });
     bar.finish_and_clear();
     if args.validation {

@@ -199,6 +199,9 @@ pub fn run(input: &Path, out: Option<&Path>, options: &CageOptions) -> anyhow::R
     let model = load_model_with(input, options)?;
     let mut text = summary(input, &model);
     if let Some(out) = out {
+        // Checked under the name asked for: the file is written under
+        // another one first.
+        bpt::check(out, &model.patches)?;
         let tmp_bpt = temp_sibling(out);
         bpt::write(&tmp_bpt, &model.patches)?;
         let mut staged = vec![(tmp_bpt, out.to_path_buf())];

@@ -148,13 +148,33 @@ pub fn commit_id() -> &'static str {
     env!("BEZIER_SUBDIV_COMMIT")
 }
 
-/// Renders and writes the PNG and its JSON; returns a short summary.
+/// Renders and writes the PNG and its JSON; returns a short summary. A
+/// failure leaves nothing behind: not even the default `out/` directory
+/// where this run made it.
 pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let method = args.gpu.method_info()?;
     let scene = Scene::load(&args.gpu.scene)?;
     let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
     let ViewRequest { eps, lambda, split } = args.gpu.view_request(&scene)?;
-    let (out, json_path, heat_path) = output_paths(args, &scene)?;
+    let made = args.out.is_none() && !Path::new("out").exists();
+    let paths = output_paths(args, &scene)?;
+    let done = render_to(args, method, &scene, &camera, (eps, lambda, split), paths);
+    if done.is_err() && made {
+        // Only if still empty.
+        let _ = std::fs::remove_dir(Path::new("out"));
+    }
+    done
+}
+
+/// [`run`] once the request is checked and the output paths are known.
+fn render_to(
+    args: &RenderArgs,
+    method: &crate::methods::MethodInfo,
+    scene: &Scene,
+    camera: &crate::scene::camera::Camera,
+    (eps, lambda, split): (f64, f64, crate::patch::view::Split),
+    (out, json_path, heat_path): (PathBuf, PathBuf, Option<PathBuf>),
+) -> anyhow::Result<String> {
     let loaded = scene
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
@@ -164,7 +184,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let mut renderer = args.gpu.renderer(&ctx, &loaded.geometry, &loaded.shading)?;
     args.gpu.animate(&mut renderer, loaded.animation.as_ref())?;
     renderer.set_progress(super::progress::parts_bar());
-    let mut view = View::new(&camera, args.gpu.size, eps, lambda, args.shade.code());
+    let mut view = View::new(camera, args.gpu.size, eps, lambda, args.shade.code());
     view.params.flags |= split.flag();
     let warmup = args.warmup.unwrap_or_else(|| default_warmup(method.name));
     let frames = timed_frames(&mut renderer, &view, warmup, args.repeat)?;
@@ -176,7 +196,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         Some(compare_with_ground_truth(
             &mut renderer,
             &view,
-            &camera,
+            camera,
             (w, h),
             &rgba,
         )?)
@@ -187,7 +207,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
         ctx.check_validation()?;
     }
 
-    let mut stats = stats_json(args, &scene, eps, lambda, &renderer, report);
+    let mut stats = stats_json(args, scene, eps, lambda, &renderer, report);
     add_frames(&mut stats, &frames, warmup);
     if let Some(f) = &flipped {
         add_flip(&mut stats, f, eps);

@@ -266,7 +266,7 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
                 &geo.flags,
                 shading.as_ref().map(|s| &s.patches[..]),
                 &view_proj,
-                vp.eye.truncate(),
+                (vp.eye.truncate(), crate::frame::headlight(&camera)),
                 args.preview_shade,
             );
         }

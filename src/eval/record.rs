@@ -509,6 +509,7 @@ mod tests {
             },
             gpu_ms: vec![("frame".into(), frame_ms), ("draw".into(), 1.0)],
             redone: 0,
+            compiled: false,
             primitives: None,
         }
     }

@@ -100,9 +100,9 @@ impl DrawTarget {
     ) -> VkResult<Self> {
         let flags = sample_count(samples)
             .filter(|f| ctx.info().limits.framebuffer_sample_counts.contains(*f))
-            .ok_or_else(|| VkError::FeatureMissing {
+            .ok_or_else(|| VkError::NotOffered {
                 device: ctx.info().name.clone(),
-                feature: format!("{samples} samples per pixel"),
+                what: format!("{samples} samples per pixel (--msaa {samples})"),
                 hint: format!(
                     "; it renders with {} (`info` lists them under MSAA)",
                     ctx.info()

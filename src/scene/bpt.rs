@@ -233,11 +233,11 @@ pub fn write_rational(
     write_any(path, patches, Some(weights))
 }
 
-fn write_any(
-    path: &Path,
-    patches: &[BezierPatch],
-    weights: Option<&[Weights]>,
-) -> Result<(), SceneError> {
+/// Whether [`write`] would write `patches` to `path` (errors name `path`):
+/// one patch at least, every control point finite and within ±MAX_COORD,
+/// as [`read`] demands. A writer that goes through a temporary file checks
+/// first, so that an error names the file asked for.
+pub fn check(path: &Path, patches: &[BezierPatch]) -> Result<(), SceneError> {
     if patches.is_empty() {
         return Err(SceneError::invalid(
             path,
@@ -260,7 +260,15 @@ fn write_any(
             format!("patch {i} has a control point beyond ±{MAX_COORD:e}"),
         ));
     }
+    Ok(())
+}
 
+fn write_any(
+    path: &Path,
+    patches: &[BezierPatch],
+    weights: Option<&[Weights]>,
+) -> Result<(), SceneError> {
+    check(path, patches)?;
     let mut index_of: HashMap<[u32; 4], usize> = HashMap::new();
     let mut points: Vec<(Vec3, f32)> = Vec::new();
     let mut text = String::new();

@@ -111,6 +111,7 @@ use glam::DVec3;
 
 use super::cage::{Cage, Scheme, Topology};
 use super::error::SceneError;
+use super::limits::MAX_COORD;
 use super::model::{CageInfo, ImportedModel, RuleSource};
 use super::sharpness::{self, BoundaryRule, INFINITE};
 use super::tags::Tags;
@@ -720,6 +721,15 @@ fn check_vertex(words: &[&str]) -> Result<(), String> {
         return Err(format!(
             "vertex coordinate is NaN or infinite: {}",
             words.join(" ")
+        ));
+    }
+    // A scene refuses a control point past ±MAX_COORD (as a .bpt does);
+    // the cage's limit surface lies within its vertices' hull, so saying so
+    // here names the line, where the converted patches could not.
+    if let Some(c) = xyz.iter().find(|c| c.abs() > MAX_COORD) {
+        return Err(format!(
+            "vertex coordinate {c:e} is beyond ±{MAX_COORD:e}, the largest a scene accepts \
+             (scale the model down)"
         ));
     }
     Ok(())

@@ -85,12 +85,6 @@ impl FromStr for PreviewShade {
     }
 }
 
-/// The tint of a model in linear RGB for this rasteriser's lighting: the
-/// display colour every image gives the model (`palette::model_tint`).
-fn model_tint_linear(flags: u32) -> [f32; 3] {
-    crate::palette::model_tint(flags >> PATCH_MODEL_SHIFT).map(|c| c.powf(2.2))
-}
-
 /// The colour of QuadNode depth `l` in the depth ramp (clamped to 10): the
 /// GPU's heat map colours (`palette::depth_color`).
 pub fn depth_color(l: u32) -> [u8; 3] {
@@ -346,20 +340,9 @@ fn raster_screen_triangle(
     }
 }
 
-/// Linear [0, 1] → sRGB-ish 8 bit (gamma 2.2).
-fn to_srgb8(c: [f32; 3]) -> [u8; 4] {
-    let f = |x: f32| (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8;
-    [f(c[0]), f(c[1]), f(c[2]), 255]
-}
-
 fn scale_rgb(c: [u8; 3], k: f32) -> [u8; 4] {
     let f = |x: u8| (x as f32 * k).clamp(0.0, 255.0).round() as u8;
     [f(c[0]), f(c[1]), f(c[2]), 255]
-}
-
-/// World light direction (z up), from the front-left above.
-fn light_dir() -> DVec3 {
-    DVec3::new(0.35, -0.55, 1.0).normalize()
 }
 
 impl Raster {
@@ -378,7 +361,8 @@ impl Raster {
     /// base patches and per-patch flags (indexed by `Triangle::node.patch`);
     /// `normals` their tangent patches, used by `PreviewShade::Smooth`
     /// (without them it shades as `Normal`); `eye` is the camera position,
-    /// used for shading only.
+    /// used for shading only; `light` the direction towards the light
+    /// (the GPU's: `frame::headlight` of the camera).
     #[allow(clippy::too_many_arguments)]
     pub fn draw_triangles(
         &mut self,
@@ -387,11 +371,11 @@ impl Raster {
         flags: &[u32],
         normals: Option<&[ShadingPatch]>,
         view_proj: &DMat4,
-        eye: Vec3,
+        (eye, light): (Vec3, Vec3),
         shade: PreviewShade,
     ) {
         let eye = eye.as_dvec3();
-        let light = light_dir();
+        let light = light.as_dvec3().normalize_or(DVec3::Z);
         let (w, h) = (self.width, self.height);
         for t in tris {
             let patch_id = t.node.patch() as usize;
@@ -471,24 +455,34 @@ fn face_light(t: &Triangle, eye: DVec3) -> f32 {
     }
 }
 
+/// The GPU's `SHADE_NORMAL` (`glsl/common/shade.glsl`): the model's tint
+/// (a display colour) times ambient plus Lambert towards the light, a
+/// little Blinn-Phong; a clearly back-facing one-sided surface in the back
+/// tint. (It once lit with a fixed world light and its own weights: the
+/// kitchen's left wall bright where the GPU's image has it nearly black.)
 fn shade_normal(n: DVec3, flags: u32, f: &Fragment, eye: DVec3, light: DVec3) -> [u8; 4] {
-    let tint = model_tint_linear(flags);
     let to_eye = (eye - f.world).normalize_or_zero();
     let mut n = n.normalize_or_zero();
-    let mut tint = tint;
+    let mut tint = crate::palette::model_tint(flags >> PATCH_MODEL_SHIFT).map(f64::from);
     let facing = n.dot(to_eye);
     if facing < 0.0 {
         n = -n;
         // Slightly back-facing pixels occur at any silhouette of a coarse
         // tessellation; only a clearly back-facing one-sided surface is flagged.
         if flags & PATCH_TWO_SIDED == 0 && facing < -0.25 {
-            tint = BACK_FACE_TINT;
+            tint = BACK_FACE_TINT.map(|c| f64::from(c).powf(1.0 / 2.2));
         }
     }
-    let lambert = n.dot(light).max(0.0);
-    let head = n.dot(to_eye).max(0.0);
-    let k = (0.12 + 0.55 * lambert + 0.38 * head) as f32;
-    to_srgb8(tint.map(|c| c * k))
+    let d = n.dot(light).max(0.0);
+    let h = (light + to_eye).normalize_or(n);
+    let s = if d > 0.0 {
+        n.dot(h).max(0.0).powf(48.0)
+    } else {
+        0.0
+    };
+    let c =
+        tint.map(|t| ((t * (0.16 + 0.84 * d) + 0.22 * s).clamp(0.0, 1.0) * 255.0).round() as u8);
+    [c[0], c[1], c[2], 255]
 }
 
 #[cfg(test)]
@@ -496,16 +490,35 @@ mod tests {
     use super::*;
     use crate::patch::quadnode::QuadNode;
 
-    /// The preview shows each model in the tint every image gives it: fully
-    /// lit, its pixel is the palette's display colour.
+    /// The preview shows each model in the tint every image gives it, lit
+    /// as the GPU lights it: facing the light and the eye, the palette's
+    /// colour plus the highlight; unlit, the ambient part alone.
     #[test]
-    fn preview_tints_are_the_palette() {
+    fn preview_lights_the_palette_as_the_gpu_does() {
+        let f = Fragment {
+            x: 0,
+            y: 0,
+            z: 0.5,
+            uv: DVec2::ZERO,
+            world: DVec3::ZERO,
+        };
+        let (n, eye) = (DVec3::Z, DVec3::new(0.0, 0.0, 5.0));
         for model in 0..40 {
-            let lit = to_srgb8(model_tint_linear(model << PATCH_MODEL_SHIFT));
+            let flags = model << PATCH_MODEL_SHIFT;
             let want = crate::palette::model_tint(model);
+            let lit = shade_normal(n, flags, &f, eye, DVec3::Z);
+            let dark = shade_normal(n, flags, &f, eye, DVec3::X);
             for k in 0..3 {
-                let d = (f32::from(lit[k]) - want[k] * 255.0).abs();
-                assert!(d <= 1.0, "model {model}: {lit:?} against {want:?}");
+                let full = ((want[k] + 0.22).min(1.0) * 255.0).round();
+                assert!(
+                    (f32::from(lit[k]) - full).abs() <= 1.0,
+                    "model {model}: {lit:?}"
+                );
+                let ambient = (want[k] * 0.16 * 255.0).round();
+                assert!(
+                    (f32::from(dark[k]) - ambient).abs() <= 1.0,
+                    "model {model}: {dark:?}"
+                );
             }
         }
     }
@@ -655,7 +668,7 @@ mod tests {
         shade: PreviewShade,
     ) -> Raster {
         let mut r = Raster::new(w, h, [0, 0, 0, 255]);
-        r.draw_triangles(tris, patches, &[0], None, vp, eye, shade);
+        r.draw_triangles(tris, patches, &[0], None, vp, (eye, Vec3::Z), shade);
         r
     }
 

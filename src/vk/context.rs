@@ -117,6 +117,11 @@ pub struct ContextOptions {
     /// chosen device must be able to present to it, and the context owns
     /// the surface (the window must outlive the context).
     pub window: Option<WindowHandles>,
+    /// What a submission that runs a pipeline for the first time may wait
+    /// beyond its fence timeout on a device that compiles pipelines when
+    /// they first run ([`COMPILE_ALLOWANCE`]; tests of the timeout itself
+    /// set zero).
+    pub compile_allowance: Duration,
     /// Told (once per wait) when a submission waits for the driver to
     /// compile pipelines on their first use for more than a few seconds
     /// (the command line prints it; a library user may leave it `None`).
@@ -141,6 +146,7 @@ impl Default for ContextOptions {
             require_mesh_shader: false,
             fence_timeout: default_fence_timeout(),
             window: None,
+            compile_allowance: COMPILE_ALLOWANCE,
             notice: None,
         }
     }
@@ -176,6 +182,8 @@ pub(crate) struct Core {
     /// The driver compiles a pipeline when it first runs (a CPU device),
     /// not when it is made.
     pub(crate) compiles_at_first_use: bool,
+    /// See [`ContextOptions::compile_allowance`].
+    compile_allowance: Duration,
     /// See [`ContextOptions::notice`].
     notice: Option<fn(&str)>,
 }
@@ -394,6 +402,7 @@ impl Context {
             unfinished: Mutex::new(Vec::new()),
             first_uses: AtomicU32::new(0),
             compiles_at_first_use: info.is_cpu,
+            compile_allowance: options.compile_allowance,
             notice: options.notice,
         });
         core.set_name(pool, "one-shot command pool");
@@ -487,7 +496,8 @@ impl Context {
     }
 
     /// The time a submission recorded since the last call may take beyond
-    /// its fence timeout for compiling shaders: [`COMPILE_ALLOWANCE`] where
+    /// its fence timeout for compiling shaders: the context's allowance
+    /// ([`ContextOptions::compile_allowance`], by default [`COMPILE_ALLOWANCE`]) where
     /// it binds a pipeline for the first time on a device that compiles
     /// pipelines when they first run (lavapipe compiles inside the
     /// submission, on the CPU, for seconds to minutes), else nothing. So a
@@ -496,7 +506,7 @@ impl Context {
     pub fn take_compile_allowance(&self) -> Duration {
         let first = self.core.first_uses.swap(0, Ordering::SeqCst);
         if first > 0 && self.core.compiles_at_first_use {
-            COMPILE_ALLOWANCE
+            self.core.compile_allowance
         } else {
             Duration::ZERO
         }

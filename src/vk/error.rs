@@ -78,6 +78,18 @@ pub enum VkError {
         hint: String,
     },
 
+    /// A setting the user asked for that the device does not offer (the
+    /// run can go on with another value).
+    #[error("device `{device}` does not offer {what}{hint}")]
+    NotOffered {
+        /// The device's name.
+        device: String,
+        /// What was asked for, in words.
+        what: String,
+        /// What it does offer, and where to look (starts with "; ").
+        hint: String,
+    },
+
     /// The validation layer was requested but is not installed.
     #[error(
         "validation was requested but the layer `VK_LAYER_KHRONOS_validation` is not installed; \

@@ -130,6 +130,15 @@ impl FrameRing {
         matches!(self.slots[i].state, SlotState::InFlight { .. })
     }
 
+    /// The compile allowance slot `i`'s submission in flight was given
+    /// (zero when none is in flight: see `Context::take_compile_allowance`).
+    pub fn compile_allowance(&self, i: usize) -> Duration {
+        match self.slots[i].state {
+            SlotState::InFlight { allowance, .. } => allowance,
+            _ => Duration::ZERO,
+        }
+    }
+
     /// Where the waits for frames in more than one part report (`None`:
     /// nowhere).
     pub fn set_progress(&mut self, sink: Option<ProgressSink>) {
