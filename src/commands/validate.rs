@@ -109,10 +109,8 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
         renderer.capture = false;
     }
     if renderer.method().culls_occluded() && args.gpu.occlusion != Some(false) {
-        for (k, view) in &views {
-            let debug = args.debug_dir.as_deref();
-            results.push(occlusion_check(&mut renderer, view, *k, debug)?);
-        }
+        let debug = args.debug_dir.as_deref();
+        results.extend(occlusion_checks(&mut renderer, &views, debug)?);
     }
     if let Some(make) = info.checks {
         let check = make(&geo);
@@ -255,7 +253,11 @@ fn oracle_checks(
     Ok(out)
 }
 
-/// Occlusion culling hides nothing that is seen: the keyframe drawn with
+/// The most bytes of unculled images and depths the occlusion check holds
+/// at once: keyframes are checked in batches that fit.
+const OCCLUSION_REFERENCE_BYTES: usize = 256 << 20;
+
+/// Occlusion culling hides nothing that is seen: each keyframe drawn with
 /// it, on its first frame (from the scene's first state, whatever was drawn
 /// before: everything counts as visible, so it culls what that frame's
 /// early phase hides) and on a second (the early phase takes what the first
@@ -267,20 +269,66 @@ fn oracle_checks(
 /// buffer, so this, and not a ready-set comparison, is occlusion culling's
 /// check; the detail says what was culled, and `debug_dir` gets the images
 /// of a failure.
-fn occlusion_check(
+///
+/// Turning culling on or off makes the method again (new pipelines, about
+/// a second on lavapipe), so the unculled references of a batch of
+/// keyframes are drawn first and culling is switched once per batch.
+fn occlusion_checks(
+    renderer: &mut Renderer,
+    views: &[(usize, View)],
+    debug_dir: Option<&Path>,
+) -> anyhow::Result<Vec<CheckResult>> {
+    let (w, h) = renderer.target().size();
+    let per_view = (w as usize * h as usize * 8).max(1);
+    let batch = (OCCLUSION_REFERENCE_BYTES / per_view).max(1);
+    let off = renderer.options().clone();
+    let on = crate::methods::MethodOptions {
+        occlusion: true,
+        ..off.clone()
+    };
+    renderer.set_keep_depth(true);
+    let mut out = Vec::new();
+    let checked = views.chunks(batch).try_for_each(|views| {
+        renderer.set_options(off.clone())?;
+        let mut unculled = Vec::new();
+        for (_, view) in views {
+            let report = renderer.render(view)?;
+            let image = (renderer.read_image()?, renderer.read_depth()?);
+            unculled.push((report.triangles(), image));
+        }
+        renderer.set_options(on.clone())?;
+        for ((k, view), (triangles, reference)) in views.iter().zip(&unculled) {
+            let check = culled_frames(renderer, view, *k, reference, debug_dir)?;
+            out.push(check.result(*k, *triangles));
+        }
+        anyhow::Ok(())
+    });
+    renderer.set_keep_depth(false);
+    let restored = renderer.set_options(off);
+    checked?;
+    restored?;
+    Ok(out)
+}
+
+/// What two culled frames of one keyframe showed against its unculled
+/// reference.
+struct CulledFrames {
+    differ: u64,
+    ties: u64,
+    instances_hidden: u64,
+    nodes_hidden: u64,
+    triangles: u64,
+}
+
+/// Draws keyframe `k` twice with culling on, from the scene's first
+/// visibility, and holds each frame against `reference`.
+fn culled_frames(
     renderer: &mut Renderer,
     view: &View,
     k: usize,
+    reference: &(Vec<u8>, Vec<f32>),
     debug_dir: Option<&Path>,
-) -> anyhow::Result<CheckResult> {
-    let off = renderer.options().clone();
-    renderer.set_keep_depth(true);
-    let unculled = renderer.render(view)?;
-    let reference = (renderer.read_image()?, renderer.read_depth()?);
-    renderer.set_options(crate::methods::MethodOptions {
-        occlusion: true,
-        ..off.clone()
-    })?;
+) -> anyhow::Result<CulledFrames> {
     renderer.reset_visibility()?;
     let (mut differ, mut ties) = (0, 0);
     let mut last = None;
@@ -288,15 +336,13 @@ fn occlusion_check(
     for frame in 0..2 {
         last = Some(renderer.render(view)?);
         let culled = (renderer.read_image()?, renderer.read_depth()?);
-        let d = OcclusionDiff::new(&reference, &culled);
+        let d = OcclusionDiff::new(reference, &culled);
         differ += d.depth;
         ties += d.ties;
         if d.depth > 0 && failed.is_none() {
             failed = Some((frame, culled, d));
         }
     }
-    renderer.set_options(off)?;
-    renderer.set_keep_depth(false);
     if let (Some(dir), Some((frame, culled, d))) = (debug_dir, &failed) {
         d.write(
             dir,
@@ -309,24 +355,41 @@ fn occlusion_check(
     }
     let last = last.context("no culled frame")?;
     let own = |key| last.stats.get_u64(key).unwrap_or(0);
-    Ok(CheckResult::new(
-        "occlusion",
-        Some(k),
-        differ == 0,
-        format!(
-            "2 frames culled: the nearest surface differs at {differ} px{}; {} instances \
-             and {} nodes hidden, {} of {} triangles drawn",
-            if ties > 0 {
-                format!(" ({ties} px tie at equal depth in another colour: draw order)")
-            } else {
-                String::new()
-            },
-            own("instances_occluded"),
-            thousands(own("occluded")),
-            thousands(last.triangles()),
-            thousands(unculled.triangles())
-        ),
-    ))
+    Ok(CulledFrames {
+        differ,
+        ties,
+        instances_hidden: own("instances_occluded"),
+        nodes_hidden: own("occluded"),
+        triangles: last.triangles(),
+    })
+}
+
+impl CulledFrames {
+    /// The check's line, against the unculled frame's `unculled` triangles.
+    fn result(&self, k: usize, unculled: u64) -> CheckResult {
+        CheckResult::new(
+            "occlusion",
+            Some(k),
+            self.differ == 0,
+            format!(
+                "2 frames culled: the nearest surface differs at {} px{}; {} instances \
+                 and {} nodes hidden, {} of {} triangles drawn",
+                self.differ,
+                if self.ties > 0 {
+                    format!(
+                        " ({} px tie at equal depth in another colour: draw order)",
+                        self.ties
+                    )
+                } else {
+                    String::new()
+                },
+                self.instances_hidden,
+                thousands(self.nodes_hidden),
+                thousands(self.triangles),
+                thousands(unculled)
+            ),
+        )
+    }
 }
 
 /// Where a culled frame differs from the unculled one: pixels whose depth
