@@ -597,21 +597,15 @@ fn a_timeout_says_what_ran_and_what_to_try() {
 /// `render` times a frame after a warm-up frame and says so, in its line
 /// and its stats file, where the cold first frame's figures stay
 /// (`gpu_ms_cold`); `--warmup 0` times the cold frame. The README's own
-/// command (the kitchen at 1080p), with the driver's shader cache off so
-/// that the first frame pays for compiling, as on a fresh machine: on a
-/// CPU device, which compiles at first use, the warm frame is the faster.
+/// command (the kitchen at 1080p). On a CPU device, which compiles at
+/// first use, the first frame is the one that compiled and the timed one
+/// did not (the stats say so: a fact of the frames, not a comparison of
+/// times, so a busy machine cannot fail it).
 #[test]
 fn render_times_a_warm_frame_and_keeps_the_cold_one() {
     let dir = temp_dir("warm");
     let render = |out: &Path, extra: &[&str]| {
-        let run = common::cli::run_ok(
-            bin()
-                .arg("render")
-                .args(extra)
-                .arg("--out")
-                .arg(out)
-                .env("MESA_SHADER_CACHE_DISABLE", "true"),
-        );
+        let run = common::cli::run_ok(bin().arg("render").args(extra).arg("--out").arg(out));
         let text = String::from_utf8_lossy(&run.stdout).to_string();
         let stats: serde_json::Value =
             serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
@@ -623,14 +617,11 @@ fn render_times_a_warm_frame_and_keeps_the_cold_one() {
         text.contains("after 1 warm-up frame (the first took"),
         "{text}"
     );
-    let warm = stats["gpu_ms"]["frame"].as_f64().unwrap();
-    let cold = stats["gpu_ms_cold"]["frame"].as_f64().unwrap();
-    println!("kitchen 1080p: cold {cold:.1} ms, warm {warm:.1} ms");
-    if stats["device_is_cpu"] == true {
-        assert!(
-            warm < cold,
-            "the timed frame is not the warm one: {warm} ms >= cold {cold} ms"
-        );
+    assert!(stats["gpu_ms_cold"]["frame"].is_number(), "{stats}");
+    assert_eq!(stats["timed_frame_compiled"], false, "{stats}");
+    let cpu = stats["device_is_cpu"] == true;
+    if cpu {
+        assert_eq!(stats["cold_frame_compiled"], true, "{stats}");
     }
     let (text, stats) = render(
         &dir.join("cold.png"),
@@ -639,6 +630,9 @@ fn render_times_a_warm_frame_and_keeps_the_cold_one() {
     assert_eq!(stats["warmup_frames"], 0);
     assert!(stats.get("gpu_ms_cold").is_none(), "{stats}");
     assert!(text.contains("(the first frame: cold)"), "{text}");
+    if cpu {
+        assert_eq!(stats["timed_frame_compiled"], true, "{stats}");
+    }
     // The ground truth is drawn for its image: no warm-up unless asked.
     let gt = [
         "--method",
@@ -654,37 +648,6 @@ fn render_times_a_warm_frame_and_keeps_the_cold_one() {
     let (_, stats) = render(&dir.join("gt-warm.png"), &warm);
     assert_eq!(stats["warmup_frames"], 1, "{stats}");
     assert!(stats["gpu_ms_cold"]["frame"].is_number(), "{stats}");
-}
-
-/// The README's third command, which ran out of its 60 s wait on a busy
-/// 2-core lavapipe (the kitchen's ground truth at 1080p, grid 64: 2.6·10⁸
-/// triangles in one submission, 28 s when idle): its ground truth now goes
-/// in parts of at most 2^24 triangles, each waited for on its own, so it
-/// finishes even with a 20 s wait, less than the whole takes there.
-#[test]
-fn the_readme_flip_command_finishes_in_parts() {
-    let dir = temp_dir("readme-flip");
-    let out = dir.join("kitchen.png");
-    let run = common::cli::run_ok(
-        bin()
-            .args([
-                "render",
-                "--method",
-                "tess",
-                "--flip",
-                "--timeout",
-                "20",
-                "--out",
-            ])
-            .arg(&out)
-            .env_remove("BEZIER_SUBDIV_TIMEOUT"),
-    );
-    let text = String::from_utf8_lossy(&run.stdout);
-    assert!(text.contains("FLIP mean"), "{text}");
-    let stats: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.with_extension("json")).unwrap()).unwrap();
-    assert_eq!(stats["flip_reference"]["grid"], 64);
-    assert!(dir.join("kitchen.flip.png").is_file());
 }
 
 /// `info` lists the sample counts `--msaa` (and the window's MSAA choice)

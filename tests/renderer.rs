@@ -11,9 +11,10 @@ use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use bezier_subdiv::constants::{NODE_MESH_TRIS, SHADE_NORMAL};
+use bezier_subdiv::constants::{G_MAX_PARTS, NODE_MESH_TRIS, SHADE_NORMAL};
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::ground_truth::{plan_parts, PART_TRIANGLES};
 use bezier_subdiv::methods::{MethodOptions, RenderError};
 use bezier_subdiv::patch::oracle::subdivide;
 use bezier_subdiv::renderer::{Renderer, RendererOptions};
@@ -390,5 +391,18 @@ fn ground_truth_in_parts_draws_what_one_submission_draws() {
         let differing = whole.iter().zip(&split).filter(|(a, b)| a != b).count();
         assert_eq!(differing, 0, "{samples}x: the parts drew another image");
     }
+    // The README's `render --method tess --flip` once ran out of its wait
+    // on a busy 2-core lavapipe: the kitchen's ground truth at grid 64 was
+    // one submission of 2.6e8 triangles. Its parts now hold at most
+    // PART_TRIANGLES each (about 2 s there), and cover every patch.
+    let patches = geo.patches.len() as u32;
+    assert!(geo.pn.triangles.is_empty());
+    let plan = plan_parts(patches, 0, 64, PART_TRIANGLES, G_MAX_PARTS);
+    assert!(plan.parts() > 1, "{plan:?}");
+    assert!(u64::from(plan.patches_per_part) * 2 * 64 * 64 <= PART_TRIANGLES);
+    assert!(
+        plan.patches_per_part * plan.patch_parts >= patches,
+        "{plan:?}"
+    );
     gpu.finish();
 }

@@ -244,7 +244,7 @@ fn render_to(
         } else {
             String::new()
         },
-        warmth(warmup, frames.cold.as_deref()),
+        warmth(warmup, frames.cold.as_ref().map(|(ms, _)| &ms[..])),
         out.display(),
         json_path.display()
     ))
@@ -296,8 +296,10 @@ fn add_frames(stats: &mut Value, frames: &Frames, warmup: u32) {
         add_timing(stats, t);
     }
     stats["warmup_frames"] = json!(warmup);
-    if let Some(cold) = &frames.cold {
+    stats["timed_frame_compiled"] = json!(frames.timed_compiled);
+    if let Some((cold, compiled)) = &frames.cold {
         stats["gpu_ms_cold"] = gpu_ms_json(cold);
+        stats["cold_frame_compiled"] = json!(compiled);
     }
 }
 
@@ -359,8 +361,11 @@ struct Frames {
     /// Medians over `repeat` timed frames.
     timing: Option<Timing>,
     /// GPU time per scope of the first frame, when it was not the one
-    /// timed.
-    cold: Option<Vec<(String, f64)>>,
+    /// timed, and whether it ran a pipeline for the first time.
+    cold: Option<(Vec<(String, f64)>, bool)>,
+    /// Whether a timed frame ran a pipeline for the first time (on a device
+    /// that compiles at first use, its time includes the compile).
+    timed_compiled: bool,
 }
 
 fn timed_frames(
@@ -373,19 +378,22 @@ fn timed_frames(
     for k in 0..warmup {
         let first = renderer.render(view)?;
         if k == 0 {
-            cold = Some(first.gpu_ms);
+            cold = Some((first.gpu_ms, first.compiled));
         }
     }
     let mut report = renderer.render(view)?;
     let mut times = vec![report.gpu_ms.clone()];
+    let mut timed_compiled = report.compiled;
     for _ in 1..repeat {
         report = renderer.render(view)?;
         times.push(report.gpu_ms.clone());
+        timed_compiled |= report.compiled;
     }
     Ok(Frames {
         report,
         timing: (repeat > 0).then(|| Timing::of(&times)),
         cold,
+        timed_compiled,
     })
 }
 
