@@ -276,7 +276,9 @@ impl Context {
         };
 
         let allowance = self.take_compile_allowance();
-        let wait = self.core.wait_fence(fence, timeout, allowance, label);
+        let wait = self
+            .core
+            .wait_fence(fence, timeout, allowance, label, &mut false);
         let error = match wait {
             Ok(()) => {
                 free_one_shot(device, &self.lock_submit(), cmd, fence);

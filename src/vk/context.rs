@@ -196,24 +196,27 @@ impl Core {
     /// Waits for `fence` (what `label` submitted) up to `timeout` plus the
     /// compile `allowance` ([`Context::take_compile_allowance`]); a wait
     /// with an allowance that lasts past [`COMPILE_NOTICE_AFTER`] tells the
-    /// user, once, that shaders are compiling.
+    /// user that shaders are compiling, unless `noticed` says an earlier
+    /// part of the same submission did (which this sets when it tells).
     pub(crate) fn wait_fence(
         &self,
         fence: vk::Fence,
         timeout: Duration,
         allowance: Duration,
         label: &str,
+        noticed: &mut bool,
     ) -> Result<(), vk::Result> {
         let wait =
             |d: Duration| unsafe { self.device.wait_for_fences(&[fence], true, duration_ns(d)) };
         let total = timeout + allowance;
-        let Some(notice) = self.notice.filter(|_| !allowance.is_zero()) else {
+        let Some(notice) = self.notice.filter(|_| !allowance.is_zero() && !*noticed) else {
             return wait(total);
         };
         match wait(COMPILE_NOTICE_AFTER.min(total)) {
             Err(vk::Result::TIMEOUT) if total > COMPILE_NOTICE_AFTER => {}
             done => return done,
         }
+        *noticed = true;
         notice(&format!(
             "compiling shaders for {label} on their first use on this device (a CPU driver \
              compiles them when they first run, seconds to a minute; the driver caches them \

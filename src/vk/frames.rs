@@ -171,8 +171,12 @@ impl FrameRing {
             }
         };
         report(0);
+        // One notice for the frame, not one per part.
+        let mut noticed = false;
         for (k, part) in self.slots[i].parts[..parts].iter().enumerate() {
-            let waited = self.core.wait_fence(part.fence, timeout, allowance, &label);
+            let waited = self
+                .core
+                .wait_fence(part.fence, timeout, allowance, &label, &mut noticed);
             match waited {
                 Ok(()) => report(k as u32 + 1),
                 Err(vk::Result::TIMEOUT) => {
