@@ -468,7 +468,10 @@ impl Session {
                 shot.file_stem()
                     .map_or_else(|| self.scene.name.clone(), |s| s.to_string_lossy().into()),
             ),
-            None => (PathBuf::from("out"), self.scene.name.clone()),
+            None => (
+                PathBuf::from(crate::commands::DEFAULT_OUT_DIR),
+                self.scene.name.clone(),
+            ),
         };
         if !dir.as_os_str().is_empty() {
             std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;

@@ -20,6 +20,9 @@ use crate::scene::desc::Scene;
 /// The scene used when `--scene` is not given.
 pub const DEFAULT_SCENE: &str = "scenes/kitchen.toml";
 
+/// Where `render` and the window's screenshots go when no file is named.
+pub const DEFAULT_OUT_DIR: &str = "out";
+
 /// Resolves a scene path: as given if it exists, else relative to the
 /// source tree (so `cargo run` works from any directory).
 pub fn resolve_scene(path: Option<&Path>) -> PathBuf {

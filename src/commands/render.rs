@@ -156,12 +156,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<String> {
     let scene = Scene::load(&args.gpu.scene)?;
     let camera = keyframe(&scene, &args.gpu.scene, args.frame)?;
     let ViewRequest { eps, lambda, split } = args.gpu.view_request(&scene)?;
-    let made = args.out.is_none() && !Path::new("out").exists();
+    let made = args.out.is_none() && !Path::new(super::DEFAULT_OUT_DIR).exists();
     let paths = output_paths(args, &scene)?;
     let done = render_to(args, method, &scene, &camera, (eps, lambda, split), paths);
     if done.is_err() && made {
         // Only if still empty.
-        let _ = std::fs::remove_dir(Path::new("out"));
+        let _ = std::fs::remove_dir(super::DEFAULT_OUT_DIR);
     }
     done
 }
@@ -256,10 +256,9 @@ fn output_paths(
     args: &RenderArgs,
     scene: &Scene,
 ) -> anyhow::Result<(PathBuf, PathBuf, Option<PathBuf>)> {
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.png", scene.name)));
+    let out = args.out.clone().unwrap_or_else(|| {
+        PathBuf::from(super::DEFAULT_OUT_DIR).join(format!("{}.png", scene.name))
+    });
     check_writable(&out, args.out.is_none()).map_err(|e| anyhow!(e))?;
     let json_path = stats_path(&out);
     let heat_path = args.flip.then(|| flip_path(&out));
