@@ -17,6 +17,7 @@
 layout(vertices = 16) out;
 
 layout(location = 0) in vec3 in_point[];
+layout(location = 1) flat in uint in_patch[];
 layout(location = 0) out vec3 out_point[];
 
 // For the evaluation stage: the second-derivative bounds at the start (x)
@@ -25,8 +26,9 @@ layout(location = 0) out vec3 out_point[];
 layout(location = 1) patch out vec4 edge_start;
 layout(location = 2) patch out vec4 edge_end;
 layout(location = 3) patch out float mixed;
-// The base patch: the evaluation stage's own gl_PrimitiveID cannot be
-// trusted for it (lavapipe restarts it every 256 patches of a draw).
+// The base patch, from the vertex stage: gl_PrimitiveID counts from each
+// draw's first patch, and the evaluation stage's cannot be trusted at all
+// (lavapipe restarts it every 256 patches of a draw).
 layout(location = 4) patch out uint patch_id;
 
 void write_levels(vec4 outer, vec2 inner) {
@@ -38,7 +40,66 @@ void write_levels(vec4 outer, vec2 inner) {
     gl_TessLevelInner[1] = inner.y;
 }
 
-void capture(uint id, vec4 outer, vec2 inner, float m, bool culled) {
+// The border strips' widths for the evaluation stage (common/tess.glsl,
+// "border strips"): per outer edge k the width δ_k of its strip, and per
+// direction the inner ring the tessellator uses (1 / segments; 0 where
+// the direction is left as the tessellator spaces it).
+layout(location = 5) patch out vec4 strip;
+layout(location = 6) patch out vec2 ring;
+
+// One direction's narrowing: strips of widths `lo` and `hi` (each at most
+// `natural`, the tessellator's) on either side of an inner level `level`.
+// Where either is narrower, the level becomes the fewest segments whose
+// inner gaps, spread over [lo, 1 - hi], are no wider than 1 / level was
+// (two more than the gaps: the rings); a side not narrowed keeps its
+// width. `ring` is 0 where nothing moves.
+void narrow_direction(inout float level, float natural, float lo, float hi, out float ring,
+    out float strip_lo, out float strip_hi) {
+    ring = 0.0;
+    strip_lo = 0.0;
+    strip_hi = 0.0;
+    if (lo >= natural && hi >= natural) {
+        return;
+    }
+    // The gaps, (1 - lo - hi) / (segs - 2), no wider than before.
+    float segs = ceil((1.0 - lo - hi) * level) + 2.0;
+    segs = min(segs, TESS_MAX_LEVEL);
+    level = segs;
+    ring = 1.0 / segs;
+    strip_lo = lo;
+    strip_hi = hi;
+}
+
+// Narrows the strips whose error the inner ring's natural width does not
+// keep within `tol`, and raises that direction's inner level so the inner
+// grid, now spread over [δ_lo, 1 - δ_hi], is as fine as before; `m` is
+// the mixed bound.
+void narrow_strips(vec3 P[16], vec4 outer, inout vec2 inner, float m, float tol) {
+    strip = vec4(0.0);
+    ring = vec2(0.0);
+    bool single_quad = max(max(outer.x, outer.y), max(outer.z, outer.w)) <= 1.0
+        && max(inner.x, inner.y) <= 1.0;
+    if (single_quad) {
+        return;
+    }
+    float uu = max(u_bound(P, 0), u_bound(P, 1));
+    float vv = max(v_bound(P, 0), v_bound(P, 1));
+    // The tessellator's natural strip widths across u and across v.
+    vec2 natural = vec2(1.0 / inner_segments(inner.x), 1.0 / inner_segments(inner.y));
+    // Along-edge spans: the edge's segments against the inner ring's.
+    vec4 span = vec4(max(1.0 / ceil(outer.x), 1.0 / inner.y), max(1.0 / ceil(outer.y), 1.0 / inner.x),
+        max(1.0 / ceil(outer.z), 1.0 / inner.y), max(1.0 / ceil(outer.w), 1.0 / inner.x));
+    vec4 w = vec4(strip_width(P, 0u, natural.x, uu, m, span.x, tol),
+        strip_width(P, 1u, natural.y, vv, m, span.y, tol),
+        strip_width(P, 2u, natural.x, uu, m, span.z, tol),
+        strip_width(P, 3u, natural.y, vv, m, span.w, tol));
+    const float floor_width = 1.0 / 1024.0;
+    w = max(min(w, natural.xyxy), vec4(floor_width));
+    narrow_direction(inner.x, natural.x, w.x, w.z, ring.x, strip.x, strip.z);
+    narrow_direction(inner.y, natural.y, w.y, w.w, ring.y, strip.y, strip.w);
+}
+
+void capture(uint id, vec4 outer, vec2 inner, float m, bool culled, vec2 drawn_inner) {
     if (pc.capture_enabled == 0u) {
         return;
     }
@@ -51,6 +112,8 @@ void capture(uint id, vec4 outer, vec2 inner, float m, bool culled) {
     tess_levels[o + 5u] = inner.y;
     tess_levels[o + 6u] = m;
     tess_levels[o + 7u] = culled ? 1.0 : 0.0;
+    tess_levels[o + 8u] = drawn_inner.x;
+    tess_levels[o + 9u] = drawn_inner.y;
 }
 
 void main() {
@@ -58,7 +121,7 @@ void main() {
     if (gl_InvocationID != 0) {
         return;
     }
-    uint id = uint(gl_PrimitiveID);
+    uint id = in_patch[0];
     patch_id = id;
     vec3 P[16];
     for (int i = 0; i < 16; ++i) {
@@ -77,7 +140,9 @@ void main() {
         edge_start = vec4(0.0);
         edge_end = vec4(0.0);
         mixed = 0.0;
-        capture(id, vec4(0.0), vec2(0.0), 0.0, true);
+        strip = vec4(0.0);
+        ring = vec2(0.0);
+        capture(id, vec4(0.0), vec2(0.0), 0.0, true, vec2(0.0));
         return;
     }
     atomicAdd(tess_counters[T_TESSELLATED], 1u);
@@ -102,9 +167,12 @@ void main() {
     precise float v1 = v_bound(P, 1) + m;
     vec2 inner = vec2(tess_level(density(u0, u1), tol), tess_level(density(v0, v1), tol));
 
+    vec2 metric_inner = inner;
+    narrow_strips(P, outer, inner, m, tol);
+
     write_levels(outer, inner);
     edge_start = vec4(b0.x, b1.x, b2.x, b3.x);
     edge_end = vec4(b0.y, b1.y, b2.y, b3.y);
     mixed = m;
-    capture(id, outer, inner, m, false);
+    capture(id, outer, metric_inner, m, false, inner);
 }

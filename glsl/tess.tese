@@ -21,6 +21,8 @@ layout(location = 1) patch in vec4 edge_start;
 layout(location = 2) patch in vec4 edge_end;
 layout(location = 3) patch in float mixed;
 layout(location = 4) patch in uint patch_id;
+layout(location = 5) patch in vec4 strip;
+layout(location = 6) patch in vec2 ring;
 
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec2 out_uv;
@@ -75,13 +77,22 @@ void main() {
     // strictly inside one; 4 for corners and interior vertices.
     uint edge = u_side == v_side ? 4u : (u_side ? (u == 0.0 ? 0u : 2u) : (v == 0.0 ? 1u : 3u));
     vec2 uv = vec2(u, v);
+    bool interior = !u_side && !v_side;
+    // Interior samples of a narrowed direction moved off the border strips
+    // (common/tess.glsl, "border strips"); edge vertices never move.
+    if (interior && ring.x > 0.0) {
+        uv.x = narrow(u, ring.x, strip.x, strip.z);
+    }
+    if (interior && ring.y > 0.0) {
+        uv.y = narrow(v, ring.y, strip.y, strip.w);
+    }
     if (TESS_REPARAM != 0u) {
         if (edge == 0u || edge == 2u) {
             uv.y = warp(v, edge_start[edge], edge_end[edge]);
         } else if (edge == 1u || edge == 3u) {
             uv.x = warp(u, edge_start[edge], edge_end[edge]);
-        } else if (!u_side) {
-            uv = warp_inner(P, u, v);
+        } else if (interior) {
+            uv = warp_inner(P, uv.x, uv.y);
         }
     }
     uint id = patch_id;

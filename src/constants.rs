@@ -487,11 +487,13 @@ shared_constants! {
         T_EDGE_VERTICES = 3;
         TESS_WORDS = 8;
     }
-    /// Tessellation capture records: per patch outer levels 0-3, inner 0-1,
-    /// the mixed bound and a culled flag; per edge vertex the patch, the edge,
+    /// Tessellation capture records: per patch outer levels 0-3, the
+    /// metric's inner levels 0-1, the mixed bound, a culled flag and the
+    /// inner levels drawn (raised where border strips were narrowed); per
+    /// edge vertex the patch, the edge,
     /// the tessellator's coordinate along it and the position.
     group {
-        TESS_LEVEL_WORDS = 8;
+        TESS_LEVEL_WORDS = 10;
         TESS_EDGE_VERTEX_WORDS = 6;
     }
     /// tess-reparam rounds re-parameterised edge samples to multiples of

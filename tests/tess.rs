@@ -128,8 +128,9 @@ fn shared_edge_vertices_meet_bit_for_bit() {
 
 /// On the kitchen's first camera at ε = 1: per patch, the re-parameterised
 /// levels never exceed the uniform ones (the integral of the local density
-/// is at most its maximum, and the subdivided mixed bound at most Filip's),
-/// and the triangle query counts fewer triangles for it.
+/// is at most its maximum, and the subdivided mixed bound at most Filip's).
+/// The levels drawn are the metric's or above (narrowed border strips add
+/// segments), and some strips of the kitchen are narrowed.
 #[test]
 fn reparam_never_asks_for_more_than_uniform() {
     let gpu = common::gpu();
@@ -151,8 +152,14 @@ fn reparam_never_asks_for_more_than_uniform() {
     let (uniform, reparam) = (&all[0], &all[1]);
     let slack = 1.0 + 1e-6;
     let mut lower = 0;
+    let mut narrowed = 0;
     for (u, p) in uniform.iter().zip(reparam) {
         assert_eq!(u.culled, p.culled);
+        // Narrowed border strips only ever add segments.
+        for l in [u, p] {
+            assert!(l.drawn_inner[0] >= l.inner[0] && l.drawn_inner[1] >= l.inner[1]);
+            narrowed += usize::from(l.drawn_inner != l.inner);
+        }
         assert!(p.mixed <= u.mixed * slack, "{} > {}", p.mixed, u.mixed);
         for (a, b) in u
             .outer
@@ -165,19 +172,22 @@ fn reparam_never_asks_for_more_than_uniform() {
         }
     }
     println!(
-        "kitchen at 960x540, ε = 1: tess {} triangles, tess-reparam {}",
-        counts[0], counts[1]
+        "kitchen at 960x540, ε = 1: tess {} triangles, tess-reparam {}; {narrowed} of {} \
+         patches' border strips narrowed",
+        counts[0],
+        counts[1],
+        2 * uniform.len()
     );
     assert!(
         lower > 10_000,
         "the re-parameterisation must lower levels ({lower})"
     );
-    assert!(
-        counts[1] < counts[0],
-        "tess-reparam {} ≥ tess {}",
-        counts[1],
-        counts[0]
-    );
+    // Not asserted: fewer triangles drawn. The lower levels leave wider
+    // border strips, which the narrowing then pays for with two segments
+    // more (kitchen at 640x360: tess 126,264 triangles, tess-reparam
+    // 123,893; before the narrowing 113,352 and 95,879, 0.85x;
+    // docs/BENCHMARKS.md, "Border strips").
+    assert!(narrowed > 0, "no border strip was narrowed");
     gpu.finish();
 }
 
@@ -248,4 +258,55 @@ fn no_holes_on_the_kitchen_models() {
             report.table
         );
     }
+}
+
+/// Geometric p99 (pixels, off silhouettes) of `method`'s image of `view`
+/// against the ground truth's.
+fn geometric_p99(r: &mut Renderer, view: &View, cam: &bezier_subdiv::scene::camera::Camera) -> f64 {
+    let (w, h) = r.target().size();
+    let reference = ground_truth_image(r, view).unwrap();
+    r.render(view).unwrap();
+    let image = r.read_image().unwrap();
+    let errors = flip(&reference, &image, w, h).unwrap().errors;
+    bezier_subdiv::eval::geometric_error(r, view, cam, &errors)
+        .unwrap()
+        .geo_p99_px
+}
+
+/// Both metrics keep ε (geometric p99 against the ground truth) in the two
+/// cases that broke it (issue 35). The pillow's boundary edges are straight
+/// (outer level 1) beside a curved interior (a high inner level): the
+/// border strip's triangles spanned the whole edge, p99 1.9–2.8 ε on its
+/// keyframes until the strips were narrowed. The teapot at ε 0.15 and
+/// 1920x1080 tessellates its lid rim at the device's largest level, where
+/// lavapipe drew shards (p99 7.4 px: its 16-bit vertex numbers wrapped)
+/// until each draw covered few enough patches; at ε 0.1 more patches
+/// reach that level.
+#[test]
+fn tessellation_keeps_eps_in_border_strips_and_at_the_largest_levels() {
+    let gpu = common::gpu();
+    let options = MethodOptions::new(DrawPath::Mesh);
+    let cases = [
+        ("pillow.toml", (960, 540), 0.25, &[0usize, 1][..]),
+        ("teapot.toml", (1920, 1080), 0.15, &[0][..]),
+        ("teapot.toml", (1920, 1080), 0.1, &[0][..]),
+    ];
+    for (scene, size, eps, frames) in cases {
+        let (s, geo) = common::scene(scene);
+        let mut r = common::renderer(&gpu, &geo, "tess", size, options.clone());
+        for method in ["tess", "tess-reparam"] {
+            r.set_method(method).unwrap();
+            for &k in frames {
+                let cam = s.frame_camera(k).unwrap();
+                let view = View::new(&cam, size, eps, 0.5, SHADE_NORMAL);
+                let p99 = geometric_p99(&mut r, &view, &cam);
+                println!("{scene} keyframe {k}, {method}, ε {eps}: geometric p99 {p99:.3} px");
+                assert!(
+                    p99 <= eps,
+                    "{scene} keyframe {k}, {method}: p99 {p99} px > ε {eps}"
+                );
+            }
+        }
+    }
+    gpu.finish();
 }

@@ -24,7 +24,8 @@ layout(std430, set = SET_PASS, binding = BIND_TESS_COUNTERS) buffer TessCounters
 };
 
 // Captured for validation: per patch, TESS_LEVEL_WORDS floats (outer levels
-// 0-3, inner 0-1, the mixed-derivative bound, 1.0 if culled).
+// 0-3, the metric's inner 0-1, the mixed-derivative bound, 1.0 if culled,
+// the inner levels drawn 0-1).
 layout(std430, set = SET_PASS, binding = BIND_TESS_LEVELS) buffer TessLevels {
     float tess_levels[];
 };
@@ -180,6 +181,107 @@ precise float v_bound(vec3 P[16], int j) {
         m = maxf(m, second_bound(P[4 * j + i], P[4 * (j + 1) + i], P[4 * (j + 2) + i]));
     }
     return m;
+}
+
+// ---------------------------------------------------------------- border strips
+
+// The bound above holds inside the tessellator's inner grid and along each
+// outer edge, but not in the strip between them: there an outer level set
+// by a straight edge (level 1) meets an inner ring set by a curved
+// interior, and the strip's triangles span the whole edge. Buchenau and
+// Guthe close this as Hjelmervik does, by narrowing the border strips:
+// interior samples are moved so that the first inner ring sits at a width
+// δ from the edge at which the strip's error is within the tolerance.
+// Only interior vertices move, so edges stay bit-exact with their
+// neighbours. For the strip along an edge of level m, in a patch whose
+// ring spacing along the edge is h, its triangles span at most
+// U = max(1/m, h) along the edge and δ across, and (as for the grid) the
+// error is below (1/8)(M_along U² + 2 M_uv U δ + M_across δ²), with
+// M_along the along-edge second-derivative bound of the net restricted to
+// the strip. Interior-only arithmetic: none of it needs to be `precise`.
+
+// Control point (a, b) of the net seen from outer edge k: a steps away
+// from the edge, b along it in the edge's parameter direction.
+int strip_index(uint k, int a, int b) {
+    if (k == 0u) {
+        return 4 * b + a;
+    } else if (k == 1u) {
+        return 4 * a + b;
+    } else if (k == 2u) {
+        return 4 * b + 3 - a;
+    }
+    return 4 * (3 - a) + b;
+}
+
+// The along-edge second-derivative bound within `width` of outer edge k:
+// the net restricted to that strip (de Casteljau across the edge), its
+// second differences along it.
+float strip_along_bound(vec3 P[16], uint k, float width) {
+    float m = 0.0;
+    vec3 Q[16];
+    for (int b = 0; b < 4; ++b) {
+        vec3 p0 = P[strip_index(k, 0, b)];
+        vec3 p1 = P[strip_index(k, 1, b)];
+        vec3 p2 = P[strip_index(k, 2, b)];
+        vec3 p3 = P[strip_index(k, 3, b)];
+        vec3 a01 = mix(p0, p1, width);
+        vec3 a12 = mix(p1, p2, width);
+        vec3 a23 = mix(p2, p3, width);
+        vec3 b012 = mix(a01, a12, width);
+        vec3 b123 = mix(a12, a23, width);
+        Q[4 * b] = p0;
+        Q[4 * b + 1] = a01;
+        Q[4 * b + 2] = b012;
+        Q[4 * b + 3] = mix(b012, b123, width);
+    }
+    for (int a = 0; a < 4; ++a) {
+        m = max(m, second_bound(Q[a], Q[4 + a], Q[8 + a]));
+        m = max(m, second_bound(Q[4 + a], Q[8 + a], Q[12 + a]));
+    }
+    return m;
+}
+
+// The error bound of outer edge k's strip at `width` across it.
+float strip_error(vec3 P[16], uint k, float width, float across, float mixed, float span) {
+    float along = strip_along_bound(P, k, width);
+    return 0.125 * ((along * span * span + 2.0 * mixed * span * width) + across * width * width);
+}
+
+// The strip width for outer edge k that keeps `tol`: the tessellator's
+// own (`natural`) where that does, else found by halving the interval
+// below it (six steps; 0 where no width does).
+float strip_width(vec3 P[16], uint k, float natural, float across, float mixed, float span,
+    float tol) {
+    if (strip_error(P, k, natural, across, mixed, span) <= tol) {
+        return natural;
+    }
+    float lo = 0.0;
+    float hi = natural;
+    for (int i = 0; i < 6; ++i) {
+        float mid = 0.5 * (lo + hi);
+        if (strip_error(P, k, mid, across, mixed, span) <= tol) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+// The tessellator's segments for a clamped inner level of a quad with
+// some outer level above 1 (the spec's rounding for equal spacing; a
+// level of 1 is taken as 1 + ε, two segments).
+float inner_segments(float level) {
+    return level <= 1.0 ? 2.0 : ceil(level);
+}
+
+// An interior coordinate x of a narrowed direction: the tessellator puts
+// its inner grid on [ring, 1 - ring] (ring = 1/segments); it goes to
+// [lo, 1 - hi] instead, evenly spaced as before.
+precise float narrow(float x, float ring, float lo, float hi) {
+    precise float s = (1.0 - lo - hi) / (1.0 - 2.0 * ring);
+    precise float r = lo + (x - ring) * s;
+    return clamp(r, lo, 1.0 - hi);
 }
 
 // ---------------------------------------------------------------- warp

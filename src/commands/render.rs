@@ -90,44 +90,6 @@ pub fn stats_path(png: &Path) -> PathBuf {
     png.with_extension("json")
 }
 
-/// The distance in pixels between the method's surface and the ground
-/// truth's in `view` (eval::geometry), and where `flip`'s error lies. The
-/// reference is the ground truth's distance image only: one ground-truth
-/// frame more, not two (render reports no per-model shares, so it needs no
-/// patch ids).
-fn geometric_error(
-    renderer: &mut Renderer,
-    view: &View,
-    camera: &crate::scene::camera::Camera,
-    flip: &FlipResult,
-) -> anyhow::Result<crate::eval::geometry::Breakdown> {
-    let far = camera.far as f32;
-    let method = renderer.method().name();
-    renderer.set_method(crate::methods::ground_truth::INFO.name)?;
-    let truth = crate::eval::distance_image(renderer, view, far);
-    renderer.set_method(method)?;
-    let distance = truth?;
-    let size = renderer.target().size();
-    let reference = crate::eval::geometry::Reference {
-        size,
-        model: vec![None; distance.len()],
-        distance,
-        k: (2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan() / f64::from(size.1)) as f32,
-    };
-    let distance = crate::eval::distance_image(renderer, view, far)?;
-    let wedges = if renderer.method().has_wedges() {
-        Some(crate::eval::wedge_image(renderer, view)?)
-    } else {
-        None
-    };
-    Ok(crate::eval::geometry::breakdown(
-        &reference,
-        &distance,
-        wedges.as_deref(),
-        &flip.errors,
-    ))
-}
-
 /// The FLIP heat map path for an image path: `NAME.flip.png`.
 pub fn flip_path(png: &Path) -> PathBuf {
     png.with_extension("flip.png")
@@ -280,7 +242,7 @@ fn compare_with_ground_truth(
     let reference = ground_truth_image(renderer, view)?;
     let result = flip(&reference, rgba, w, h)
         .ok_or_else(|| anyhow!("FLIP: the reference and the image differ in size"))?;
-    let geometry = geometric_error(renderer, view, camera, &result)?;
+    let geometry = crate::eval::geometric_error(renderer, view, camera, &result.errors)?;
     Ok(FlipOutput {
         result,
         grid: renderer.options().per_method.ground_truth.grid,

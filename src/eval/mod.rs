@@ -104,3 +104,41 @@ pub fn ground_truth_reference(
         k: (2.0 * (fov_y_deg.to_radians() * 0.5).tan() / f64::from(size.1)) as f32,
     })
 }
+
+/// The distance in pixels between the active method's surface and the
+/// ground truth's in `view` (`geometry`), and where the FLIP map
+/// `flip_errors` (of the same view) has its error. The reference is the
+/// ground truth's distance image only: one ground-truth frame, no patch
+/// ids (no per-model shares). The renderer is left with its method.
+pub fn geometric_error(
+    renderer: &mut Renderer,
+    view: &View,
+    camera: &crate::scene::camera::Camera,
+    flip_errors: &[f32],
+) -> Result<geometry::Breakdown, RenderError> {
+    let far = camera.far as f32;
+    let method = renderer.method().name();
+    renderer.set_method(ground_truth::INFO.name)?;
+    let truth = distance_image(renderer, view, far);
+    renderer.set_method(method)?;
+    let distance = truth?;
+    let size = renderer.target().size();
+    let reference = geometry::Reference {
+        size,
+        model: vec![None; distance.len()],
+        distance,
+        k: (2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan() / f64::from(size.1)) as f32,
+    };
+    let distance = distance_image(renderer, view, far)?;
+    let wedges = if renderer.method().has_wedges() {
+        Some(wedge_image(renderer, view)?)
+    } else {
+        None
+    };
+    Ok(geometry::breakdown(
+        &reference,
+        &distance,
+        wedges.as_deref(),
+        flip_errors,
+    ))
+}

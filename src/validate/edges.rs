@@ -247,6 +247,7 @@ mod tests {
         PatchLevels {
             outer,
             inner: [1.0; 2],
+            drawn_inner: [1.0; 2],
             mixed: 0.0,
             culled: false,
         }

@@ -120,6 +120,7 @@ pub fn levels(frame: &FrameData) -> Vec<PatchLevels> {
         .map(|r| PatchLevels {
             outer: r.edges.map(|e| e as f32),
             inner: r.own.map(|f| f as f32),
+            drawn_inner: r.own.map(|f| f as f32),
             mixed: 0.0,
             culled: r.culled(),
         })
