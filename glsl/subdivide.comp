@@ -14,15 +14,19 @@
 // Each round: the participants take the round's blocks in turn (copy the
 // previous round's ready nodes, process this round's chunk), then arrive
 // at the barrier (acquire-release); the last to arrive scans the totals,
-// schedules the next round and releases the others (a release store of the
-// generation they poll with acquire), so it is also what orders every
-// block's writes before the next round's reads.
+// schedules the next round and releases the others (a release that
+// advances the generation they poll with acquire), so it is also what
+// orders every block's writes before the next round's reads.
+//
+// The barrier is one word, S_SYNC: the arrivals, the generation (rounds
+// released) and an abort bit, so a waiting workgroup's poll is one load.
 //
 // Watchdog: a waiting workgroup that sees neither the generation nor the
 // arrivals change for pc.watchdog_polls polls (a participant that stopped
 // running: an unfair scheduler, a device that does not keep its promise)
-// raises ERR_WATCHDOG and S_ABORT, and every workgroup leaves; the host
-// then redoes the frame with the per-depth rounds (src/methods/subdiv.rs).
+// raises ERR_WATCHDOG and the abort bit, and every workgroup leaves; the
+// host then redoes the frame with the per-depth rounds
+// (src/methods/subdiv.rs).
 #version 460
 #pragma use_vulkan_memory_model
 
@@ -41,6 +45,8 @@ shared uint s_participants;
 shared bool s_last;
 shared bool s_stop;
 shared uint s_generation;
+// Where pause_polling's spin result may go, so that the loop stays.
+shared uint s_spin_sink;
 
 // Invocation 0's own bookkeeping.
 uint polls = 0u;
@@ -54,19 +60,20 @@ void pause_polling() {
         spin = spin * 1664525u + 1013904223u;
     }
     if (spin == 0x9e3779b9u) {
-        s_part[0] = spin;
+        s_spin_sink = spin;
     }
     backoff = min(backoff * 2u, 256u);
     polls += 1u;
 }
 
-bool aborted() {
-    return atomicLoad(state[S_ABORT], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquire) != 0u;
+// The round barrier's word (arrivals, generation, abort), with acquire.
+uint load_sync() {
+    return atomicLoad(state[S_SYNC], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquire);
 }
 
 void trip_watchdog() {
     atomicOr(counters[C_ERROR], ERR_WATCHDOG);
-    atomicStore(state[S_ABORT], 1u, SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsRelease);
+    atomicOr(state[S_SYNC], SYNC_ABORT, SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquireRelease);
     atomics += 2u;
 }
 
@@ -95,7 +102,8 @@ void close_window() {
     s_participants = joined;
 }
 
-// Invocation 0 of a later joiner: waits for the window to close.
+// Invocation 0 of a later joiner: waits for the window to close (one load
+// a poll; a closer that never publishes trips the watchdog).
 void await_window() {
     uint unchanged = 0u;
     for (;;) {
@@ -104,10 +112,8 @@ void await_window() {
             s_participants = n;
             return;
         }
-        if (aborted() || ++unchanged > pc.watchdog_polls) {
-            if (!aborted()) {
-                trip_watchdog();
-            }
+        if (++unchanged > pc.watchdog_polls) {
+            trip_watchdog();
             s_stop = true;
             return;
         }
@@ -135,20 +141,22 @@ bool discover(uint t) {
 }
 
 // Invocation 0 of a workgroup that is not the last: waits for the round to
-// be released (true) or for the watchdog (false).
+// be released (true) or for an abort (false), one load of S_SYNC a poll.
+// The watchdog trips when neither the generation nor the arrivals change
+// for pc.watchdog_polls polls.
 bool await_release(uint generation) {
     uint arrived = 0xffffffffu;
     uint unchanged = 0u;
     for (;;) {
         pause_polling();
-        uint g = atomicLoad(state[S_GENERATION], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsAcquire);
-        if (g != generation) {
-            return true;
-        }
-        if (aborted()) {
+        uint w = load_sync();
+        if ((w & SYNC_ABORT) != 0u) {
             return false;
         }
-        uint a = atomicLoad(state[S_ARRIVE], SYNC_SCOPE, SYNC_STORAGE, gl_SemanticsRelaxed);
+        if ((w & SYNC_GENERATION) != generation) {
+            return true;
+        }
+        uint a = w & SYNC_ARRIVALS;
         unchanged = a == arrived ? unchanged + 1u : 0u;
         arrived = a;
         if (unchanged > pc.watchdog_polls) {
@@ -162,19 +170,17 @@ bool await_release(uint generation) {
 // when the kernel must stop (watchdog).
 bool end_round(uint t) {
     group_sync();
+    uint before = 0u;
     if (t == 0u) {
-        s_last = arrive(s_participants);
+        s_last = arrive(s_participants, before);
         atomics += 1u;
     }
     group_sync();
     if (s_last) {
         finish_round(t);
-        group_sync();
         if (t == 0u) {
-            rearm_arrive();
-            atomicStore(state[S_GENERATION], s_generation + 1u, SYNC_SCOPE, SYNC_STORAGE,
-                gl_SemanticsRelease);
-            atomics += 2u;
+            release_round(before, s_participants);
+            atomics += 1u + s_round_atomics;
         }
     } else if (t == 0u) {
         s_stop = !await_release(s_generation);
@@ -191,9 +197,9 @@ void main() {
     if (discover(t)) {
         for (;;) {
             if (t == 0u) {
-                s_generation = atomicLoad(state[S_GENERATION], SYNC_SCOPE, SYNC_STORAGE,
-                    gl_SemanticsAcquire);
-                s_stop = aborted();
+                uint w = load_sync();
+                s_generation = w & SYNC_GENERATION;
+                s_stop = (w & SYNC_ABORT) != 0u;
             }
             load_round(t);
             if (s_done || s_stop) {

@@ -22,6 +22,7 @@ shared bool s_last;
 
 void main() {
     process_occludes = pc.phase == PHASE_LATE;
+    process_hide_all = (pc.faults & FAULT_HIDE_LATE) != 0u;
     uint t = gl_LocalInvocationIndex;
     load_round(t);
     uint work = max(round_blocks(), s_copy_blocks);
@@ -34,17 +35,19 @@ void main() {
         }
     }
     group_sync();
+    uint before = 0u;
     if (t == 0u) {
-        s_last = arrive(gl_NumWorkGroups.x);
+        s_last = arrive(gl_NumWorkGroups.x, before);
     }
     group_sync();
     if (s_last) {
         finish_round(t);
         if (t == 0u) {
-            rearm_arrive();
-            // Every workgroup's arrival, and this count: the round's only
-            // read-modify-writes on global memory.
-            atomicAdd(counters[C_GLOBAL_ATOMICS], gl_NumWorkGroups.x + 1u);
+            release_round(before, gl_NumWorkGroups.x);
+            // Every workgroup's arrival, the release, this count and the
+            // blocks' visibility bits: the round's only read-modify-writes
+            // on global memory.
+            atomicAdd(counters[C_GLOBAL_ATOMICS], gl_NumWorkGroups.x + 2u + s_round_atomics);
         }
     }
 }

@@ -505,6 +505,7 @@ impl Renderer {
             ("base_patches", self.scene.bytes()),
             ("shading_patches", self.scene.shading_bytes()),
             ("instances", self.scene.instance_bytes()),
+            ("occlusion_clusters", self.scene.cluster_bytes()),
         ];
         if let Some(bytes) = self.scene.weight_bytes() {
             v.push(("patch_weights", bytes));

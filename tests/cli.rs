@@ -403,10 +403,14 @@ fn interleaved_workgroups_equal_the_oracle() {
     assert_eq!(m["workgroups"], 32);
     let joined = m["workgroups_joined"].as_u64().unwrap();
     assert!((1..=8).contains(&joined), "{m}");
-    assert!(
-        m["global_atomics_per_node"].as_f64().unwrap() <= 0.01,
-        "{m}"
-    );
+    // The schedule's atomics (arrivals, releases) per node; occlusion
+    // culling's visibility bits take about one per cluster it draws.
+    let nodes = m["nodes_processed"].as_f64().unwrap();
+    let visibility = m["visibility_atomics"].as_f64().unwrap();
+    let schedule = m["global_atomics"].as_f64().unwrap() - visibility;
+    assert!(schedule / nodes <= 0.01, "{m}");
+    let clusters = m["clusters_early"].as_f64().unwrap() + m["clusters_late"].as_f64().unwrap();
+    assert!(visibility <= 2.0 * clusters, "{m}");
     let m = render("queue");
     println!("{m}");
     let (peak, cap) = (

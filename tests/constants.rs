@@ -173,6 +173,7 @@ fn bindings_number_each_set_from_zero() {
                 BIND_WEIGHTS,
                 BIND_INSTANCES,
                 BIND_ROOTS,
+                BIND_PATCH_BOXES,
                 BIND_VISIBILITY,
             ],
             SCENE_BINDINGS,
@@ -305,19 +306,16 @@ fn counter_slots_do_not_overlap_and_fit_the_buffer() {
 
 #[test]
 fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
-    let depths = L_MAX + 1;
+    let depths = LEVEL_DEPTHS_MAX + 1;
     let mut slots: Vec<(u32, u32)> = vec![
         (S_ARGS, 3),
-        (S_ARRIVE, 1),
-        (S_GENERATION, 1),
+        (S_SYNC, 1),
         (S_JOIN, 1),
         (S_PARTICIPANTS, 1),
-        (S_ABORT, 1),
         (S_LEVEL_COUNT, depths),
         (S_LEVEL_NEXT, depths),
         (S_LEVEL_BLOCKS, depths),
         (S_DEPTH_NODES, depths),
-        (S_EARLY_UNFINISHED, 1),
     ];
     slots.extend(
         [
@@ -326,17 +324,27 @@ fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
             S_COUNT,
             S_COPY_BLOCKS,
             S_COPY_BASE,
+            S_DONE,
+            S_PENDING,
+            S_ROOT_INSTANCES,
+            S_ROOT_CLUSTERS,
             S_READY,
             S_ROUND,
-            S_DONE,
             S_SPLIT_ROUNDS,
             S_PEAK_NODES,
-            S_ROOT_INSTANCES,
             S_CULLED_INSTANCES,
             S_CULLED_INSTANCE_PATCHES,
             S_OCCLUDED_INSTANCES,
             S_OCCLUDED_INSTANCE_PATCHES,
             S_EARLY_INSTANCES,
+            S_NEW_INSTANCES,
+            S_EARLY_UNFINISHED,
+            S_EARLY_ROUNDS,
+            S_CLUSTERS_EARLY,
+            S_CLUSTERS_LATE,
+            S_CLUSTERS_TESTED,
+            S_CLUSTERS_HIDDEN,
+            S_VISIBILITY_ATOMICS,
         ]
         .map(|w| (w, 1)),
     );
@@ -350,16 +358,13 @@ fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
             *slot = Some(i);
         }
     }
-    // The words polled and hammered by every workgroup sit on 64-byte lines
-    // of their own; the discovery words share one (used once per frame).
+    // Every word that workgroups synchronise on sits on a 64-byte line of
+    // its own.
     let line = |w: u32| w / 16;
-    let hot = [S_ARRIVE, S_GENERATION, S_JOIN];
-    for (i, &a) in hot.iter().enumerate() {
-        for &b in &hot[i + 1..] {
-            assert_ne!(line(a), line(b), "{a} and {b} share a cache line");
-        }
+    let sync = [S_SYNC, S_JOIN, S_PARTICIPANTS];
+    for &a in &sync {
         for (start, len) in &slots {
-            if !hot.contains(start) && ![S_PARTICIPANTS, S_ABORT].contains(start) {
+            if *start != a {
                 assert!(
                     (*start..start + len).all(|w| line(w) != line(a)),
                     "word {start} shares the line of {a}"
@@ -367,6 +372,32 @@ fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
             }
         }
     }
+    // The schedule's words are zeroed by every pass, the frame's totals
+    // only by its first (level_init.comp).
+    for w in [
+        S_ARGS,
+        S_SYNC,
+        S_DONE,
+        S_PENDING,
+        S_ROOT_CLUSTERS,
+        S_LEVEL_BLOCKS,
+    ] {
+        assert!(w < S_DEPTH_NODES, "{w}");
+    }
+    for w in [
+        S_READY,
+        S_ROUND,
+        S_EARLY_UNFINISHED,
+        S_CLUSTERS_HIDDEN,
+        S_VISIBILITY_ATOMICS,
+    ] {
+        assert!(w >= S_DEPTH_NODES, "{w}");
+    }
+    // The barrier word's fields do not overlap and fill it.
+    assert_eq!(SYNC_ARRIVALS & SYNC_GENERATION, 0);
+    assert_eq!(SYNC_GENERATION & SYNC_ABORT, 0);
+    assert_eq!(SYNC_ARRIVALS | SYNC_GENERATION | SYNC_ABORT, u32::MAX);
+    assert_eq!(SYNC_GENERATION_ONE, SYNC_ARRIVALS + 1);
     const { assert!(JOIN_CLOSED.is_power_of_two() && JOIN_CLOSED > 1 << 30) };
     const { assert!(SPLIT_MAX_CHILDREN >= 2) };
 }

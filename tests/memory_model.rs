@@ -61,18 +61,13 @@ const fn sync(block: &'static str, word: Option<u32>, load: Need, store: Need, r
     }
 }
 
-/// The level kernels' words (glsl/common/level.glsl, glsl/subdivide.comp).
+/// The level kernels' words (glsl/common/level.glsl, glsl/subdivide.comp):
+/// the round barrier's one word (arrivals, generation, abort) and the
+/// occupancy discovery's two.
 const LEVEL_SYNC: &[Sync] = &[
     sync(
         "LevelState",
-        Some(S_ARRIVE),
-        Need::Atomic,
-        Need::Atomic,
-        Need::AcqRel,
-    ),
-    sync(
-        "LevelState",
-        Some(S_GENERATION),
+        Some(S_SYNC),
         Need::Acquire,
         Need::Release,
         Need::AcqRel,
@@ -87,13 +82,6 @@ const LEVEL_SYNC: &[Sync] = &[
     sync(
         "LevelState",
         Some(S_PARTICIPANTS),
-        Need::Acquire,
-        Need::Release,
-        Need::AcqRel,
-    ),
-    sync(
-        "LevelState",
-        Some(S_ABORT),
         Need::Acquire,
         Need::Release,
         Need::AcqRel,
@@ -135,7 +123,7 @@ const QUEUE_SYNC: &[Sync] = &[
 
 /// Blocks whose data is published through those words: every plain access
 /// must be device-coherent.
-const LEVEL_DATA: &[&str] = &["LevelNodes", "LevelScans", "LevelState"];
+const LEVEL_DATA: &[&str] = &["LevelNodes", "LevelScans", "LevelState", "Roots"];
 const QUEUE_DATA: &[&str] = &["QueueItems"];
 
 struct Module {
@@ -322,7 +310,11 @@ fn breaches_in(shader: &str, m: &Module, rules: &[Sync], data: &[&str]) -> Vec<S
 
 #[test]
 fn level_kernels_synchronise_only_through_acquire_release_atomics() {
-    for shader in ["subdivide.comp", "subdivide_level.comp"] {
+    for shader in [
+        "subdivide.comp",
+        "subdivide_level.comp",
+        "level_clusters.comp",
+    ] {
         let b = breaches(shader, LEVEL_SYNC, LEVEL_DATA);
         assert!(b.is_empty(), "{}", b.join("\n"));
     }

@@ -376,6 +376,19 @@ fn depths_too_large_for_one_chunk_are_taken_in_parts_at_any_depth() {
         );
         assert!(node_memory <= budget, "{node_memory} bytes");
         assert_eq!(run.own("node_memory_bytes"), node_memory);
+        if method == "subdiv-indirect" {
+            // The base rounds ran short: drawn again with twice as many and
+            // a margin of two; the next frame records what this one needed
+            // and two, the one after that and one.
+            assert!(run.report.redone > 0, "the base rounds were enough");
+            let needed = run.own("rounds");
+            for margin in [2, 1] {
+                let again = check_canonical(&mut r, &geo, &v, "again");
+                assert_eq!(again.report.redone, 0);
+                assert_eq!(again.own("rounds"), needed);
+                assert_eq!(again.own("rounds_recorded"), needed + margin);
+            }
+        }
     }
     // The paper's depth limit is still there on request.
     let o = options(|o| o.per_method.subdiv_indirect.max_depth = 6);
@@ -383,6 +396,33 @@ fn depths_too_large_for_one_chunk_are_taken_in_parts_at_any_depth() {
     let run = check_canonical(&mut r, &geo, &v, "max depth 6");
     assert_eq!(run.stats.max_depth, 6);
     assert!(run.stats.nodes_at_lmax > 0);
+    gpu.finish();
+}
+
+/// subdiv-indirect records the rounds a frame needs (issue 36: on the
+/// kitchen's frame 0 at 1920x1080 it recorded 12 where 6 do): its first
+/// frame takes one round per depth and the final copy, every later frame
+/// of the view what the last one needed and one more, so the frame's
+/// dispatches are its rounds, the first step and that one.
+#[test]
+fn per_depth_rounds_record_what_the_frame_needs() {
+    let gpu = gpu();
+    let (s, geo) = common::scene("kitchen.toml");
+    let size = (1920, 1080);
+    let v = view(&s.frame_camera(0).unwrap(), size, 1.0, 0.5);
+    let mut r = common::renderer(&gpu, &geo, "subdiv-indirect", size, options(|_| {}));
+    let first = check_canonical(&mut r, &geo, &v, "first frame");
+    assert_eq!(first.own("rounds_recorded"), u64::from(L_MAX + 2));
+    let second = check_canonical(&mut r, &geo, &v, "second frame");
+    let needed = second.own("rounds");
+    println!(
+        "kitchen frame 0, 1920x1080: {needed} rounds, {} recorded, {} dispatches",
+        second.own("rounds_recorded"),
+        second.own("dispatches")
+    );
+    assert_eq!(needed, first.own("rounds"));
+    assert_eq!(second.own("rounds_recorded"), needed + 1);
+    assert_eq!(second.own("dispatches"), needed + 2);
     gpu.finish();
 }
 

@@ -151,9 +151,16 @@ const uint BIND_INSTANCES = 5;
 const uint BIND_VISIBILITY = 7;
 // The level kernels' depth 0 (written each frame by level_init): per
 // instance that survived culling, its index and the dense index of
-// its first patch among the surviving patches (2 words each).
+// its first patch among the surviving patches (2 words each); under
+// occlusion culling the dense index of its first cluster, and after
+// the instances the cluster filter's kept clusters and block scan
+// (glsl/common/level.glsl, "Depth 0").
 const uint BIND_ROOTS = 6;
-const uint SCENE_BINDINGS = 8;
+// Per model patch, the model-space box of its control points (6
+// floats: lo xyz, hi xyz), a little enlarged: the late phase of
+// occlusion culling tests the clusters the early phase drew by them.
+const uint BIND_PATCH_BOXES = 8;
+const uint SCENE_BINDINGS = 9;
 
 // Floats per base patch in the shading buffer: the 12 control vectors of
 // the u tangent patch, then the 12 of the v tangent patch, x, y, z each.
@@ -223,27 +230,37 @@ const uint HIZ_GROUP = 8;
 const uint SPLIT_MAX_CHILDREN = 4;
 
 // Per block of a round, beside its children and ready counts: culled,
-// back-facing, at l_max, triangles, wedges, occluded, deepest ready
-// depth.
-const uint LEVEL_BLOCK_STATS = 7;
+// back-facing, at l_max, triangles, wedges, occluded, nodes processed,
+// global atomics (occlusion culling's visibility bits), and the
+// deepest ready depth (a maximum, the last).
+const uint LEVEL_BLOCK_STATS = 9;
+
+// The most nodes one round takes: LEVEL_GROUP_SIZE^3, so that the last
+// workgroup's finish of a round walks at most LEVEL_GROUP_SIZE block
+// totals per invocation.
+const uint LEVEL_MAX_CHUNK = 262144;
 
 // Words of the level kernels' state buffer. Words that workgroups
 // synchronise on sit on cache lines of their own (16 words apart).
-// The next round's vkCmdDispatchIndirect arguments x, y, z.
+// Every word below S_DEPTH_NODES is the schedule's working state,
+// zeroed by every pass's first step; from S_DEPTH_NODES on, the
+// frame's totals, zeroed by its first pass only (the late phase of
+// occlusion culling adds to the early one's).
+// The next dispatch's vkCmdDispatchIndirect arguments x, y, z
+// (the cluster filter's, then each round's).
 const uint S_ARGS = 0;
-// Workgroups that finished this round (acquire-release; the last
-// one scans the round's block totals and schedules the next).
-const uint S_ARRIVE = 16;
-// Persistent kernel: rounds released (release by the last arriver,
-// polled with acquire by the others).
-const uint S_GENERATION = 32;
+// The round barrier, one word (SYNC_*): the workgroups that
+// arrived at the end of this round (acquire-release; the last one
+// scans the round's block totals and schedules the next), the
+// rounds released (the persistent kernel's participants poll it
+// with acquire) and the persistent kernel's abort bit (a watchdog
+// tripped, every workgroup leaves): one load per poll sees all three.
+const uint S_SYNC = 16;
 // Persistent kernel, occupancy discovery: workgroups that asked to
 // join, with JOIN_CLOSED set once the first one closed the window.
-const uint S_JOIN = 48;
+const uint S_JOIN = 32;
 // Persistent kernel: workgroups that joined (0 until the window closed).
-const uint S_PARTICIPANTS = 49;
-// Persistent kernel: a watchdog tripped, every workgroup leaves.
-const uint S_ABORT = 50;
+const uint S_PARTICIPANTS = 48;
 // This round: the depth of its chunk, the chunk's first dense index
 // and node count, the previous round's ready blocks it copies and
 // where in the ready list they go.
@@ -252,30 +269,16 @@ const uint S_FIRST = 65;
 const uint S_COUNT = 66;
 const uint S_COPY_BLOCKS = 67;
 const uint S_COPY_BASE = 68;
-// Ready nodes found so far.
-const uint S_READY = 69;
-// Rounds finished.
-const uint S_ROUND = 70;
 // 1 once nothing is left to process or copy.
-const uint S_DONE = 71;
-// Rounds that took a chunk of a depth holding more than one chunk.
-const uint S_SPLIT_ROUNDS = 72;
-// Most nodes one depth held at once.
-const uint S_PEAK_NODES = 73;
+const uint S_DONE = 69;
+// Bit d set while depth d holds nodes not yet taken: the next round
+// takes the deepest (findMSB), with no walk over the depths.
+const uint S_PENDING = 70;
 // Instances whose patches are depth 0 of this pass (the entries of
-// BIND_ROOTS), those culled whole in the frame (their box outside the
-// frustum), and the patches of those (counted as culled, never
-// processed).
-const uint S_ROOT_INSTANCES = 74;
-const uint S_CULLED_INSTANCES = 75;
-const uint S_CULLED_INSTANCE_PATCHES = 76;
-// Occlusion culling: instances the late phase found hidden behind
-// the early phase's depth, and their patches (never processed).
-const uint S_OCCLUDED_INSTANCES = 77;
-const uint S_OCCLUDED_INSTANCE_PATCHES = 78;
-// Occlusion culling: instances drawn in the early phase (0 for a
-// frame of one pass).
-const uint S_EARLY_INSTANCES = 79;
+// BIND_ROOTS) and, under occlusion culling, their clusters (the
+// cluster filter's work).
+const uint S_ROOT_INSTANCES = 71;
+const uint S_ROOT_CLUSTERS = 72;
 // Per depth d (0..=LEVEL_DEPTHS_MAX): nodes it holds, nodes already
 // taken, and the blocks of the chunk that filled it (the length of
 // its scan); 32 words apart.
@@ -284,16 +287,59 @@ const uint S_LEVEL_NEXT = 112;
 const uint S_LEVEL_BLOCKS = 144;
 // Per depth d: nodes processed over the frame.
 const uint S_DEPTH_NODES = 176;
+// Ready nodes found so far.
+const uint S_READY = 208;
+// Rounds finished (the cluster filters not counted).
+const uint S_ROUND = 209;
+// Rounds that took a chunk of a depth holding more than one chunk.
+const uint S_SPLIT_ROUNDS = 210;
+// Most nodes one depth held at once.
+const uint S_PEAK_NODES = 211;
+// Instances culled whole in the frame (their box outside the
+// frustum), and the patches of those (counted as culled, never
+// processed).
+const uint S_CULLED_INSTANCES = 212;
+const uint S_CULLED_INSTANCE_PATCHES = 213;
+// Occlusion culling: instances the late phase found hidden behind
+// the early phase's depth, and their patches (never processed).
+const uint S_OCCLUDED_INSTANCES = 214;
+const uint S_OCCLUDED_INSTANCE_PATCHES = 215;
+// Occlusion culling: instances drawn in the early phase (0 for a
+// frame of one pass).
+const uint S_EARLY_INSTANCES = 216;
+// Instances listed by the frame's last pass that no earlier pass
+// listed (occlusion culling's late phase lists the early phase's
+// again, for their clusters not drawn yet): with S_EARLY_INSTANCES,
+// the instances the frame drew from.
+const uint S_NEW_INSTANCES = 217;
 // Occlusion culling: 1 when the early phase ran out of recorded
 // rounds before its schedule was done (the frame is drawn again
 // with more).
-const uint S_EARLY_UNFINISHED = 208;
-// Instances listed by the frame's last pass that no earlier pass
-// listed (occlusion culling's late phase lists the early phase's
-// again, for their patches not drawn yet): with S_EARLY_INSTANCES,
-// the instances the frame drew from.
-const uint S_NEW_INSTANCES = 209;
-const uint LEVEL_STATE_WORDS = 224;
+const uint S_EARLY_UNFINISHED = 218;
+// Occlusion culling: the rounds of the early phase (S_ROUND when
+// the late phase began).
+const uint S_EARLY_ROUNDS = 219;
+// Occlusion culling's cluster filters: clusters the early phase
+// drew (their bit set last frame), clusters the late phase took
+// (not drawn early), the early phase's clusters whose box the late
+// phase tested against the pyramid, and those it found hidden (their
+// bit cleared for the next frame).
+const uint S_CLUSTERS_EARLY = 220;
+const uint S_CLUSTERS_LATE = 221;
+const uint S_CLUSTERS_TESTED = 222;
+const uint S_CLUSTERS_HIDDEN = 223;
+// Occlusion culling: the read-modify-writes of the visibility bits
+// (also among the counters' global atomics).
+const uint S_VISIBILITY_ATOMICS = 224;
+const uint LEVEL_STATE_WORDS = 240;
+
+// S_SYNC: the arrivals in the low bits, the generation (rounds
+// released, wrapping) above them, the abort bit on top. At most
+// SYNC_ARRIVALS workgroups take part.
+const uint SYNC_ARRIVALS = 0x1fff;
+const uint SYNC_GENERATION_ONE = 0x2000;
+const uint SYNC_GENERATION = 0x7fffe000;
+const uint SYNC_ABORT = 0x80000000u;
 
 // The deepest depth of the level schedule (its rounds of splits): a
 // 1:4 split deepens both directions at once, a 1:2 split one, so under
@@ -313,7 +359,8 @@ const uint FAULT_PHANTOM = 1;
 // Every launched workgroup joins, latecomers too: with more than the
 // device keeps resident, the first ones wait for ones that cannot start.
 const uint FAULT_NO_DISCOVERY = 2;
-// Occlusion culling's late phase takes every node in view for hidden.
+// Occlusion culling's late phase takes every node in view, and every
+// cluster the early phase drew, for hidden.
 const uint FAULT_HIDE_LATE = 4;
 
 // Set 1 of the ground truth's grids: the visible patches and the counters

@@ -11,9 +11,6 @@ const uint OUT_BACKFACE = 1u;
 const uint OUT_READY = 2u;
 const uint OUT_SPLIT = 3u;
 const uint OUT_OCCLUDED = 4u;
-// A base patch left to the other phase of occlusion culling (drawn in the
-// early phase, or not visible last frame): nothing drawn, nothing counted.
-const uint OUT_DEFERRED = 5u;
 
 #ifdef LEVEL_KERNEL
 #include "hiz.glsl"
@@ -23,22 +20,9 @@ const uint OUT_DEFERRED = 5u;
 // (control points and wedge pivots: everything it and its descendants
 // draw) lies behind the pyramid.
 bool process_occludes = false;
-// Only the box tests: a base patch the early phase drew, processed again in
-// the late phase to learn whether it is still visible (OUT_READY if it
-// passes the frustum and occlusion tests, whatever the criterion says).
-bool process_box_only = false;
 // Test-only (FAULT_HIDE_LATE): the late phase hides every node in view.
 bool process_hide_all = false;
 #endif
-
-// Whether the node, having passed the box tests, is only being tested.
-bool box_test_only() {
-#ifdef LEVEL_KERNEL
-    return process_box_only;
-#else
-    return false;
-#endif
-}
 
 // Whether the node's box lo..hi (control points and wedge pivots) is
 // hidden behind what the early phase drew.

@@ -36,9 +36,6 @@ uint BEZ_FN(process_points)(uvec2 q, BEZ_T P[16], uint flags, out uvec2 kids[4],
             return OUT_OCCLUDED;
         }
     }
-    if (box_test_only()) {
-        return OUT_READY;
-    }
     bvec2 can = can_split(q);
     if (can.x || can.y) {
         uvec4 states = edge_states(q);

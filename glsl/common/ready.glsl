@@ -79,16 +79,21 @@ uint ready_first() {
 
 // The indirect arguments of everything after a producer, for the ready
 // nodes first .. total: the mesh draw, the fallback's expansions and draws
-// chunk by chunk,
-// and the sort's block and merge passes (a merge pass not needed gets none;
-// only the queue kernel sorts, with first = 0). src/draw/ready.rs
+// chunk by chunk, and the sort's block and merge passes (a merge pass not
+// needed gets none; only the queue kernel sorts, with first = 0), written
+// by the invocations t of a group of `stride` together. src/draw/ready.rs
 // `indirect_args` is the host's copy.
-void write_ready_args(uint first, uint total) {
+void write_ready_args_by(uint first, uint total, uint t, uint stride) {
     uint n = total - min(first, total);
-    counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
-    counters[C_MESH_ARGS + 1u] = 1u;
-    counters[C_MESH_ARGS + 2u] = 1u;
-    for (uint c = 0u; c < FALLBACK_MAX_CHUNKS; ++c) {
+    if (t == 0u) {
+        counters[C_MESH_ARGS] = (n + MESH_NODES * TASK_MESH_GROUPS - 1u) / (MESH_NODES * TASK_MESH_GROUPS);
+        counters[C_MESH_ARGS + 1u] = 1u;
+        counters[C_MESH_ARGS + 2u] = 1u;
+        counters[C_SORT_BLOCK_ARGS] = (n + SORT_BLOCK - 1u) / SORT_BLOCK;
+        counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
+        counters[C_SORT_BLOCK_ARGS + 2u] = 1u;
+    }
+    for (uint c = t; c < FALLBACK_MAX_CHUNKS; c += stride) {
         // The fallback's chunk c: nodes first + c * FALLBACK_CHUNK_NODES on,
         // expanded into the start of the vertex buffer and drawn from there.
         uint start = c * FALLBACK_CHUNK_NODES;
@@ -103,16 +108,18 @@ void write_ready_args(uint first, uint total) {
         counters[a + 6u] = 0u;
         counters[a + 7u] = 0u;
     }
-    counters[C_SORT_BLOCK_ARGS] = (n + SORT_BLOCK - 1u) / SORT_BLOCK;
-    counters[C_SORT_BLOCK_ARGS + 1u] = 1u;
-    counters[C_SORT_BLOCK_ARGS + 2u] = 1u;
-    for (uint i = 0u; i < SORT_MAX_MERGES; ++i) {
+    for (uint i = t; i < SORT_MAX_MERGES; i += stride) {
         // Merge pass i merges runs of SORT_BLOCK << i: none once one spans n.
         uint a = C_SORT_MERGE_ARGS + 4u * i;
         counters[a] = (SORT_BLOCK << i) < n ? (n + SORT_GROUP_SIZE - 1u) / SORT_GROUP_SIZE : 0u;
         counters[a + 1u] = 1u;
         counters[a + 2u] = 1u;
     }
+}
+
+// write_ready_args_by from one invocation.
+void write_ready_args(uint first, uint total) {
+    write_ready_args_by(first, total, 0u, 1u);
 }
 
 #endif

@@ -111,6 +111,7 @@ pub const READY_SHADERS: &[&str] = &[
     "draw.task",
     "draw.mesh",
     "level_init.comp",
+    "level_clusters.comp",
     "subdivide_level.comp",
     "subdivide.comp",
     "subdivide_queue.comp",

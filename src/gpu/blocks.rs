@@ -182,8 +182,11 @@ pub struct LevelPush {
     pub group_blocks: u32,
     /// `PHASE_*`: one pass, or a phase of occlusion culling.
     pub phase: u32,
+    /// Blocks of 64 cluster slots the roots buffer holds after its
+    /// instance entries (occlusion culling's cluster filter).
+    pub cluster_blocks: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 gpu_block!(
     LevelPush,
@@ -199,6 +202,7 @@ gpu_block!(
         faults,
         group_blocks,
         phase,
+        cluster_blocks,
         pad
     ]
 );

@@ -13,15 +13,18 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use ash::vk;
 
 use crate::constants::{
-    BIND_INSTANCES, BIND_PATCHES, BIND_PATCH_FLAGS, BIND_ROOTS, BIND_SHADING, BIND_VIEW,
-    BIND_VISIBILITY, BIND_WEIGHTS, PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
+    BIND_INSTANCES, BIND_PATCHES, BIND_PATCH_BOXES, BIND_PATCH_FLAGS, BIND_ROOTS, BIND_SHADING,
+    BIND_VIEW, BIND_VISIBILITY, BIND_WEIGHTS, PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE,
+    SHADING_FLOATS,
 };
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
 use crate::scene::geometry::{SceneGeometry, SceneShading};
-use crate::scene::instances::{cluster_set_words, Instance, InstanceTable, INSTANCE_BYTES};
+use crate::scene::instances::{
+    cluster_blocks, cluster_set_words, root_entries, Instance, InstanceTable, INSTANCE_BYTES,
+};
 use crate::scene::pn::PnScene;
 use crate::scene::shading::ShadingPatch;
 use crate::vk::{
@@ -101,8 +104,16 @@ pub struct SceneGpu {
     pub weights: Buffer,
     /// `INSTANCE_WORDS` per instance.
     pub instances: Buffer,
-    /// The level kernels' depth 0 of a frame: 2 words per instance.
+    /// The level kernels' depth 0 of a frame: 2 words per instance, then
+    /// occlusion culling's cluster slots and their scan
+    /// (`instances::root_entries`).
     pub roots: Buffer,
+    /// The model-space box of each model patch, 6 floats
+    /// (`InstanceTable::patch_boxes`): occlusion culling's late phase tests
+    /// the clusters the early phase drew by them.
+    pub patch_boxes: Buffer,
+    /// Blocks of cluster slots in `roots` (`instances::cluster_blocks`).
+    pub cluster_blocks: u32,
     /// Occlusion culling's verdict of the last frame: 1 word per instance.
     pub visibility: Buffer,
     /// The instance records as uploaded (the level schedule's CPU twin
@@ -207,6 +218,8 @@ impl SceneGpu {
             weights: b.weights,
             instances: b.instances,
             roots: b.roots,
+            patch_boxes: b.patch_boxes,
+            cluster_blocks: cluster_blocks(&table.instances),
             visibility: b.visibility,
             instance_records: table.instances.clone(),
             rational_patches,
@@ -325,10 +338,16 @@ impl SceneGpu {
         self.patches.size() + self.flags.size()
     }
 
-    /// Bytes of the instance records, the per-frame roots and the
-    /// visibility kept from frame to frame.
+    /// Bytes of the instance records, their entries in the per-frame roots
+    /// and the visibility kept from frame to frame.
     pub fn instance_bytes(&self) -> u64 {
-        self.instances.size() + self.roots.size() + self.visibility.size()
+        self.instances.size() + 8 * u64::from(self.instance_count) + self.visibility.size()
+    }
+
+    /// Bytes of occlusion culling's clusters and patch boxes: the cluster
+    /// slots and their scan in the roots, and the model patches' boxes.
+    pub fn cluster_bytes(&self) -> u64 {
+        self.roots.size() - 8 * u64::from(self.instance_count) + self.patch_boxes.size()
     }
 
     /// Bytes of the shading patches.
@@ -416,6 +435,7 @@ struct SceneBuffers {
     weights: Buffer,
     instances: Buffer,
     roots: Buffer,
+    patch_boxes: Buffer,
     visibility: Buffer,
     views: Buffer,
     view_stride: u64,
@@ -450,11 +470,13 @@ impl SceneBuffers {
         let instances = Buffer::with_data(ctx, "instances", table.records(), storage, gpu)?;
         let roots = Buffer::new(
             ctx,
-            "roots (instances at depth 0)",
-            8 * table.instances.len().max(1) as u64,
+            "roots (instances and clusters at depth 0)",
+            8 * root_entries(&table.instances),
             storage,
             gpu,
         )?;
+        let boxes = table.patch_boxes();
+        let patch_boxes = Buffer::with_data(ctx, "model patch boxes", &boxes, storage, gpu)?;
         // Everything counts as visible before the first frame: its early
         // phase draws all that is in view and its late phase finds what
         // that hides, so the second frame culls (with nothing visible, the
@@ -482,6 +504,7 @@ impl SceneBuffers {
             weights,
             instances,
             roots,
+            patch_boxes,
             visibility,
             views,
             view_stride,
@@ -510,6 +533,7 @@ impl SceneBuffers {
             range: instances as u64 * INSTANCE_BYTES,
         };
         bound[BIND_ROOTS as usize] = BufferBinding::from(&self.roots);
+        bound[BIND_PATCH_BOXES as usize] = BufferBinding::from(&self.patch_boxes);
         bound[BIND_VISIBILITY as usize] = BufferBinding::from(&self.visibility);
         DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)
     }
@@ -522,7 +546,7 @@ const VIEW_BYTES: u64 = std::mem::size_of::<ViewParams>() as u64;
 /// The visibility buffer before the first frame (`glsl/common/level.glsl`):
 /// every instance and every cluster of base patches visible, parity 0. A
 /// word per instance, the parity, then two sets of a bit per cluster of up
-/// to VISIBILITY_CLUSTER base patches of one instance (`root_cluster`).
+/// to VISIBILITY_CLUSTER base patches of one instance (`cluster_id`).
 fn initial_visibility(table: &InstanceTable) -> Vec<u32> {
     visibility_words(table.instances.len(), table.base_patches())
 }

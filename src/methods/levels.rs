@@ -104,8 +104,10 @@ const _: () = {
     assert!(S_LEVEL_NEXT - S_LEVEL_COUNT >= LEVEL_DEPTHS_MAX + 2);
     assert!(S_LEVEL_BLOCKS - S_LEVEL_NEXT >= LEVEL_DEPTHS_MAX + 2);
     assert!(S_DEPTH_NODES - S_LEVEL_BLOCKS >= LEVEL_DEPTHS_MAX + 2);
-    assert!(S_EARLY_UNFINISHED - S_DEPTH_NODES > LEVEL_DEPTHS_MAX);
-    assert!(S_NEW_INSTANCES < LEVEL_STATE_WORDS);
+    assert!(S_READY - S_DEPTH_NODES > LEVEL_DEPTHS_MAX);
+    assert!(S_VISIBILITY_ATOMICS < LEVEL_STATE_WORDS);
+    // S_PENDING holds a bit per depth.
+    assert!(LEVEL_DEPTHS_MAX < 32);
 };
 
 /// Polls of a barrier without progress before the persistent kernel's
@@ -170,7 +172,9 @@ impl LevelPlan {
 
     /// The largest plan with regions for depths 1..=`levels` within
     /// `budget` bytes whose buffers each fit `max_buffer` bytes (one
-    /// storage-buffer binding).
+    /// storage-buffer binding), and whose chunk is at most
+    /// `LEVEL_MAX_CHUNK` nodes (a round's finish walks at most 64 block
+    /// totals per invocation; beyond it a budget buys nothing).
     pub fn for_budget(budget: u64, max_buffer: u64, levels: u32) -> Result<Self, String> {
         let fits = |chunk: u32| {
             let p = LevelPlan { chunk, levels };
@@ -188,8 +192,8 @@ impl LevelPlan {
             ));
         }
         // Blocks per round: the largest count that fits (a binary search;
-        // the cost grows with the chunk).
-        let (mut lo, mut hi) = (1u32, u32::MAX / LEVEL_GROUP_SIZE / 2);
+        // the cost grows with the chunk), at most LEVEL_MAX_CHUNK nodes.
+        let (mut lo, mut hi) = (1u32, LEVEL_MAX_CHUNK / LEVEL_GROUP_SIZE + 1);
         while hi - lo > 1 {
             let mid = lo + (hi - lo) / 2;
             if fits(mid * LEVEL_GROUP_SIZE) {
@@ -274,7 +278,12 @@ pub struct PersistentRun {
 }
 
 /// The level kernels' shaders, which share set 2.
-pub const LEVEL_SHADERS: &[&str] = &["level_init.comp", "subdivide_level.comp", "subdivide.comp"];
+pub const LEVEL_SHADERS: &[&str] = &[
+    "level_init.comp",
+    "level_clusters.comp",
+    "subdivide_level.comp",
+    "subdivide.comp",
+];
 
 /// The level kernels' memory, set 2 and pipelines.
 pub struct Levels {
@@ -289,6 +298,8 @@ pub struct Levels {
     hiz_bound: bool,
     layout: PipelineLayout<LevelPush>,
     init: Pipeline,
+    /// Occlusion culling's cluster filter (`level_clusters.comp`).
+    filter: Pipeline,
     round: Pipeline,
     persistent: Option<Pipeline>,
     group_blocks: u32,
@@ -317,6 +328,13 @@ impl Levels {
                 ctx.info().name
             )));
         }
+        if !ctx.info().compute_subgroup_ops {
+            return Err(RenderError::Request(format!(
+                "the subdivision kernels scan, search and count with subgroup operations \
+                 (basic, arithmetic, ballot) in compute shaders, and {} does not offer them",
+                ctx.info().name
+            )));
+        }
         let max_buffer = u64::from(ctx.info().limits.max_storage_buffer_range);
         let levels = planted_levels.unwrap_or(levels_for(false));
         let plan =
@@ -330,6 +348,7 @@ impl Levels {
             vk::ShaderStageFlags::COMPUTE,
         )?;
         let init = shaders.compute(ctx, &layout, "level init", "level_init.comp")?;
+        let filter = shaders.compute(ctx, &layout, "cluster filter", "level_clusters.comp")?;
         let round = shaders.compute(ctx, &layout, "level round", "subdivide_level.comp")?;
         let persistent = if persistent {
             Some(shaders.compute(ctx, &layout, "subdivide (persistent)", "subdivide.comp")?)
@@ -344,6 +363,7 @@ impl Levels {
             hiz_bound: false,
             layout,
             init,
+            filter,
             round,
             persistent,
             group_blocks: group_blocks(ctx),
@@ -423,15 +443,15 @@ impl Levels {
             faults: run.faults,
             group_blocks: self.group_blocks,
             phase,
-            pad: [0; 2],
+            cluster_blocks: f.scene.cluster_blocks,
+            pad: 0,
         };
         self.layout.push(f.cmd, &pc);
         Ok(())
     }
 
     /// Records the counters' reset (not for the late phase, which adds to
-    /// the early one's), binding sets 0-2 and the push block, and (inside
-    /// the caller's scope) the first step: the state for the first round.
+    /// the early one's), binding sets 0-2 and the push block.
     fn record_start(
         &self,
         f: &FrameRec<'_>,
@@ -447,19 +467,36 @@ impl Levels {
         self.memory
             .set
             .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
-        self.init.bind(f.cmd);
         self.push(f, stage, run, phase)
     }
 
-    /// Records the first step, after the previous frame's rounds and
+    /// Records a pass's first step, after the previous frame's rounds and
     /// copy-out are done with the memory, in a new recorder that the
-    /// rounds continue.
-    fn init_dispatch<'c>(&self, f: &FrameRec<'c>) -> Recorder<'c> {
+    /// rounds continue: the state for the first round, or under occlusion
+    /// culling (`phase` early or late) the arguments of the cluster filter,
+    /// and the filter, which makes depth 0 and schedules the first round.
+    fn first_steps<'c>(&self, f: &FrameRec<'c>, phase: u32) -> Recorder<'c> {
         let mut rec = Recorder::new(f.ctx, f.cmd);
         rec.after(Res::Memory, Access::ALL);
+        self.init.bind(f.cmd);
         let init = Pass::new("level init").write(Res::Memory, Access::COMPUTE_READ_WRITE);
         rec.dispatch(&init, [1, 1, 1]);
+        if phase != PHASE_ALL {
+            self.filter.bind(f.cmd);
+            let offset = u64::from(S_ARGS) * 4;
+            rec.dispatch_indirect(&round_pass("cluster filter"), &self.memory.state, offset);
+        }
         rec
+    }
+
+    /// Dispatches of a pass's first steps: the first step, and the cluster
+    /// filter under occlusion culling.
+    pub fn first_dispatches(phase: u32) -> u32 {
+        if phase == PHASE_ALL {
+            1
+        } else {
+            2
+        }
     }
 
     /// Records `rounds` per-depth rounds of pass `phase` (`PHASE_*`; scope
@@ -476,7 +513,7 @@ impl Levels {
         self.record_start(f, stage, None, phase)?;
         let state = &self.memory.state;
         let mut rec = f.scoped("subdivide", |f| {
-            let mut rec = self.init_dispatch(f);
+            let mut rec = self.first_steps(f, phase);
             self.round.bind(f.cmd);
             for _ in 0..rounds {
                 let offset = u64::from(S_ARGS) * 4;
@@ -505,7 +542,7 @@ impl Levels {
         };
         self.record_start(f, stage, Some(run), phase)?;
         let mut rec = f.scoped("subdivide", |f| {
-            let mut rec = self.init_dispatch(f);
+            let mut rec = self.first_steps(f, phase);
             pipeline.bind(f.cmd);
             rec.dispatch(&round_pass("level kernel"), [run.groups, 1, 1]);
             Ok(rec)
@@ -571,6 +608,8 @@ pub struct LevelState {
     pub rounds: u32,
     /// Whether the schedule ran out of work (else it ran out of rounds).
     pub done: bool,
+    /// Occlusion culling: whether the early phase ran out of rounds.
+    pub early_unfinished: bool,
     /// Persistent kernel: workgroups that joined (0 for the per-depth rounds).
     pub participants: u32,
     /// Persistent kernel: a watchdog tripped.
@@ -598,6 +637,22 @@ pub struct LevelState {
     /// Instances the last pass listed that the early phase did not (all
     /// of a frame of one pass).
     pub new_instances: u32,
+    /// Occlusion culling: rounds of the early phase (the rest of `rounds`
+    /// are the late phase's).
+    pub early_rounds: u32,
+    /// Occlusion culling's cluster filters: clusters the early phase drew,
+    /// clusters the late phase took, the early phase's clusters the late
+    /// phase left (their boxes tested against the pyramid) and those found
+    /// hidden there.
+    pub clusters_early: u32,
+    /// See `clusters_early`.
+    pub clusters_late: u32,
+    /// See `clusters_early`.
+    pub clusters_tested: u32,
+    /// See `clusters_early`.
+    pub clusters_hidden: u32,
+    /// Read-modify-writes of the visibility bits (among the global atomics).
+    pub visibility_atomics: u32,
 }
 
 impl LevelState {
@@ -610,8 +665,9 @@ impl LevelState {
         LevelState {
             rounds: at(S_ROUND),
             done: at(S_DONE) != 0 && at(S_EARLY_UNFINISHED) == 0,
+            early_unfinished: at(S_EARLY_UNFINISHED) != 0,
             participants: at(S_PARTICIPANTS),
-            aborted: at(S_ABORT) != 0,
+            aborted: at(S_SYNC) & SYNC_ABORT != 0,
             split_rounds: at(S_SPLIT_ROUNDS),
             peak_nodes: at(S_PEAK_NODES),
             nodes_per_depth: depths,
@@ -622,6 +678,12 @@ impl LevelState {
             occluded_instances: at(S_OCCLUDED_INSTANCES),
             occluded_instance_patches: at(S_OCCLUDED_INSTANCE_PATCHES),
             new_instances: at(S_NEW_INSTANCES),
+            early_rounds: at(S_EARLY_ROUNDS),
+            clusters_early: at(S_CLUSTERS_EARLY),
+            clusters_late: at(S_CLUSTERS_LATE),
+            clusters_tested: at(S_CLUSTERS_TESTED),
+            clusters_hidden: at(S_CLUSTERS_HIDDEN),
+            visibility_atomics: at(S_VISIBILITY_ATOMICS),
         }
     }
 
@@ -652,7 +714,23 @@ impl LevelState {
                 "instance_occluded_patches",
                 json!(self.occluded_instance_patches),
             ),
+            ("rounds_early", json!(self.early_rounds)),
+            ("clusters_early", json!(self.clusters_early)),
+            ("clusters_late", json!(self.clusters_late)),
+            ("clusters_retested", json!(self.clusters_tested)),
+            ("clusters_found_hidden", json!(self.clusters_hidden)),
+            ("visibility_atomics", json!(self.visibility_atomics)),
         ]
+    }
+
+    /// Rounds of the early and the late phase (of a frame of one pass: the
+    /// pass, and 0).
+    pub fn phase_rounds(&self, phases: bool) -> (u32, u32) {
+        if phases {
+            (self.early_rounds, self.rounds - self.early_rounds)
+        } else {
+            (self.rounds, 0)
+        }
     }
 }
 
@@ -792,6 +870,11 @@ mod tests {
         // The buffer range caps the chunk too.
         let capped = LevelPlan::for_budget(1 << 40, 1 << 20, L_MAX).unwrap();
         assert!(8 * capped.node_entries() <= 1 << 20);
+        // And LEVEL_MAX_CHUNK: a round's finish walks at most 64 block
+        // totals per invocation.
+        let huge = LevelPlan::for_budget(1 << 40, 1 << 40, L_MAX).unwrap();
+        assert_eq!(huge.chunk, LEVEL_MAX_CHUNK);
+        assert_eq!(LEVEL_MAX_CHUNK, LEVEL_GROUP_SIZE.pow(3));
     }
 
     #[test]

@@ -28,7 +28,7 @@ use serde_json::json;
 
 use super::levels::{self, LevelState, Levels, PersistentRun};
 use super::subdiv_indirect::{
-    base_rounds, finish_rounds, level_memory, level_parts, must_remake, recorded,
+    finish_rounds, level_memory, level_parts, must_remake, recorded, RoundBudget,
 };
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
@@ -179,16 +179,24 @@ impl Options {
     }
 }
 
-/// How many workgroups to launch. On a GPU a generous fixed number: the
-/// level kernel's discovery keeps only the resident ones, the queue
-/// kernel's late starters find the work taken. On a CPU device (lavapipe
-/// runs each workgroup to completion on one worker thread) the queue kernel
-/// takes one per thread; the level kernel takes one, because a barrier
-/// among lavapipe's threads costs a scheduler time slice whenever other
-/// processes share the cores (the teapot at 1920x1080 on this project's
-/// 2-core machine: 5 ms with 1 workgroup, 55 ms with 2), and a CPU gains
-/// nothing from one dispatch over several. `--groups` and the tests run it
-/// with many.
+/// Workgroups of the level kernel per SM or compute unit by default: 8
+/// warps of 32 (two per scheduler of an NVIDIA SM) or 4 waves of 64 (one
+/// per SIMD of an AMD CU), enough that one waiting on memory leaves
+/// another to run, few enough that a barrier's arrivals stay cheap.
+/// `tools/gpu/kernel.txt` sweeps around it.
+pub const LEVEL_GROUPS_PER_UNIT: u32 = 4;
+
+/// How many workgroups to launch. On a GPU: the level kernel
+/// [`LEVEL_GROUPS_PER_UNIT`] per SM or compute unit where the driver says
+/// how many it has (else 256; its discovery keeps only the resident ones),
+/// the queue kernel a generous 512 (late starters find the work taken). On
+/// a CPU device (lavapipe runs each workgroup to completion on one worker
+/// thread) the queue kernel takes one per thread; the level kernel takes
+/// one, because a barrier among lavapipe's threads costs a scheduler time
+/// slice whenever other processes share the cores (the teapot at 1920x1080
+/// on this project's 2-core machine: 5 ms with 1 workgroup, 55 ms with 2),
+/// and a CPU gains nothing from one dispatch over several. `--groups` and
+/// the tests run it with many.
 pub fn default_groups(ctx: &Context, kernel: Kernel) -> u32 {
     if ctx.info().is_cpu {
         if kernel == Kernel::Levels {
@@ -202,7 +210,9 @@ pub fn default_groups(ctx: &Context, kernel: Kernel) -> u32 {
         threads.max(1)
     } else {
         match kernel {
-            Kernel::Levels => 256,
+            Kernel::Levels => ctx.info().compute_units.map_or(256, |units| {
+                (units * LEVEL_GROUPS_PER_UNIT).clamp(1, SYNC_ARRIVALS)
+            }),
             Kernel::Queue => 512,
         }
     }
@@ -222,6 +232,11 @@ pub fn check_groups(
             "--groups {n}: a dispatch on {} launches 1 to {max} workgroups \
              (maxComputeWorkGroupCount[0])",
             ctx.info().name
+        )));
+    }
+    if kernel == Kernel::Levels && n > SYNC_ARRIVALS {
+        return Err(RenderError::Request(format!(
+            "--groups {n}: the level kernel's barrier counts at most {SYNC_ARRIVALS} workgroups"
         )));
     }
     Ok(n)
@@ -425,7 +440,7 @@ pub struct Subdiv {
     /// tripped.
     fallback: Option<String>,
     /// Rounds recorded for the per-depth fallback.
-    rounds: u32,
+    budget: RoundBudget,
     counters: Option<CopyRange>,
     state: Option<CopyRange>,
 }
@@ -460,7 +475,7 @@ impl Subdiv {
             node_memory: o.per_method.levels.node_memory,
             sort,
             fallback: None,
-            rounds: base_rounds(L_MAX),
+            budget: RoundBudget::new(L_MAX),
             counters: None,
             state: None,
         })
@@ -526,8 +541,13 @@ impl Subdiv {
         m.own.push(("workgroups", json!(self.groups)));
         m.own.push(("workgroups_joined", json!(st.participants)));
         m.own.push(("barrier_polls", json!(stats.idle_polls)));
-        // The first step and the kernel.
-        m.own.push(("dispatches", json!(2)));
+        // Each pass's first steps and its kernel.
+        let dispatches = if self.occlusion.is_some() {
+            2 * (Levels::first_dispatches(PHASE_EARLY) + 1)
+        } else {
+            Levels::first_dispatches(PHASE_ALL) + 1
+        };
+        m.own.push(("dispatches", json!(dispatches)));
         Ok(Finished::Done(m))
     }
 
@@ -570,13 +590,13 @@ impl Method for Subdiv {
         self.stage.ensure_capture(f.ctx, f.capture, f.retired)?;
         let stage = &self.stage;
         if self.fallback.is_some() {
-            let rounds = self.rounds;
+            let budget = self.budget;
             levels::record_phases(
                 f,
                 stage,
                 &mut self.levels,
                 self.occlusion.as_mut(),
-                |f, l, phase| l.record_rounds(f, stage, rounds, phase),
+                |f, l, phase| l.record_rounds(f, stage, budget.for_phase(phase), phase),
             )?;
         } else if let Some(q) = &self.queue {
             q.record(f, stage, self.groups)?;
@@ -602,7 +622,8 @@ impl Method for Subdiv {
             let mut m = finish_rounds(
                 &mut self.stage,
                 &self.levels,
-                &mut self.rounds,
+                &mut self.budget,
+                self.occlusion.is_some(),
                 out,
                 (c, s),
                 INFO.name,
@@ -827,7 +848,8 @@ impl GpuSubdivStats {
         }
         if self.errors & ERR_LEVEL_REGION != 0 {
             parts.push(
-                "nodes split deeper than the node memory has regions for (their children                  were dropped, not drawn)"
+                "nodes split deeper than the node memory has regions for (their children \
+                 were dropped, not drawn)"
                     .into(),
             );
         }

@@ -7,11 +7,12 @@
 //! (`glsl/level_init.comp`). Each round processes a chunk of one depth with
 //! the same `process()` as the persistent kernel and the oracle (rational
 //! patches included), and its last workgroup writes the next round's
-//! arguments, so a depth with nothing to do costs an empty dispatch. The
-//! node memory is bounded by its budget at any depth (to `l_max` = 10): a
-//! depth too large for one chunk is taken in several rounds, depth first,
-//! never dropped. A frame that needs more rounds than were recorded is
-//! drawn again with twice as many (the method remembers).
+//! arguments, so a round past the end of the schedule is an empty
+//! dispatch. The node memory is bounded by its budget at any depth (to
+//! `l_max` = 10): a depth too large for one chunk is taken in several
+//! rounds, depth first, never dropped. Each pass records the rounds the
+//! last frame's needed and a margin ([`RoundBudget`]); a frame that needs
+//! more is drawn again with twice as many.
 
 use serde_json::json;
 
@@ -82,6 +83,77 @@ pub fn base_rounds(max_depth: u32) -> u32 {
     max_depth + 2
 }
 
+/// The most rounds a pass records beyond what the last frame's needed.
+const MAX_MARGIN: u32 = 8;
+
+/// How many rounds each pass of a frame of per-depth rounds records: what
+/// the last frame's pass needed plus a margin for a view that changes. The
+/// margin starts at one round, doubles (to [`MAX_MARGIN`]) for a frame that
+/// runs short, and halves with every frame that does not, so a still or
+/// slowly moving view records one empty round per pass; a frame that runs
+/// short is drawn again with twice the rounds of the pass that ran out
+/// (as often as it takes). Before any frame, every depth once and the
+/// final copy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RoundBudget {
+    /// Rounds of a frame's one pass (or its early phase), and of its late
+    /// phase.
+    rounds: [u32; 2],
+    margin: u32,
+    /// Whether the frame being drawn ran short already (its margin grew).
+    grown: bool,
+}
+
+impl RoundBudget {
+    /// The budget before any frame with depth limit `max_depth`.
+    pub fn new(max_depth: u32) -> Self {
+        RoundBudget {
+            rounds: [base_rounds(max_depth); 2],
+            margin: 1,
+            grown: false,
+        }
+    }
+
+    /// Rounds to record for pass `phase` (`PHASE_*`).
+    pub fn for_phase(&self, phase: u32) -> u32 {
+        self.rounds[usize::from(phase == PHASE_LATE)]
+    }
+
+    /// After a frame that finished: each pass records what it needed
+    /// (`needed`: the one pass or the early phase, the late phase) and
+    /// the margin, which then shrinks.
+    pub fn fit(&mut self, needed: (u32, u32)) {
+        self.rounds = [needed.0 + self.margin, needed.1 + self.margin];
+        self.margin = (self.margin / 2).max(1);
+        self.grown = false;
+    }
+
+    /// After a frame whose pass `pass` (0: the one pass or the early
+    /// phase, 1: the late phase) ran out of rounds: twice as many for it
+    /// (false when that would pass [`MAX_ROUNDS`]), and once per frame a
+    /// larger margin.
+    pub fn grow(&mut self, pass: usize) -> bool {
+        if self.rounds[pass] >= MAX_ROUNDS {
+            return false;
+        }
+        self.rounds[pass] = (self.rounds[pass] * 2).min(MAX_ROUNDS);
+        if !self.grown {
+            self.margin = (self.margin * 2).min(MAX_MARGIN);
+            self.grown = true;
+        }
+        true
+    }
+
+    /// Dispatches a frame records: each pass's first steps and its rounds.
+    pub fn dispatches(&self, phases: bool) -> u32 {
+        if phases {
+            2 * Levels::first_dispatches(PHASE_EARLY) + self.rounds[0] + self.rounds[1]
+        } else {
+            Levels::first_dispatches(PHASE_ALL) + self.rounds[0]
+        }
+    }
+}
+
 /// The per-depth method.
 pub struct SubdivIndirect {
     stage: ReadyStage,
@@ -90,7 +162,7 @@ pub struct SubdivIndirect {
     occlusion: Option<Hiz>,
     max_depth: u32,
     node_memory: u64,
-    rounds: u32,
+    budget: RoundBudget,
     counters: Option<CopyRange>,
     state: Option<CopyRange>,
 }
@@ -107,7 +179,7 @@ impl SubdivIndirect {
             occlusion,
             max_depth,
             node_memory: o.per_method.levels.node_memory,
-            rounds: base_rounds(max_depth),
+            budget: RoundBudget::new(max_depth),
             counters: None,
             state: None,
         })
@@ -115,11 +187,13 @@ impl SubdivIndirect {
 }
 
 /// The frame's figures of a level schedule run as per-depth rounds, or why
-/// it must be drawn again; shared with `subdiv`'s fallback.
+/// it must be drawn again; shared with `subdiv`'s fallback. `phases`:
+/// whether the frame culled by occlusion (two passes).
 pub(crate) fn finish_rounds(
     stage: &mut ReadyStage,
     levels: &Levels,
-    rounds: &mut u32,
+    budget: &mut RoundBudget,
+    phases: bool,
     out: &mut FrameOut<'_>,
     (counters, state): (CopyRange, CopyRange),
     method: &'static str,
@@ -138,8 +212,11 @@ pub(crate) fn finish_rounds(
     if let Some(message) = stats.error_message() {
         return Err(RenderError::Method { method, message });
     }
+    let recorded = *budget;
     if !st.done {
-        if *rounds >= MAX_ROUNDS {
+        let pass = usize::from(phases && !st.early_unfinished);
+        let short = recorded.rounds[pass];
+        if !budget.grow(pass) {
             return Err(RenderError::Method {
                 method,
                 message: format!(
@@ -150,22 +227,23 @@ pub(crate) fn finish_rounds(
             });
         }
         let reason = format!(
-            "{} rounds were not enough (depths in parts of {} nodes): drawing with {}",
-            st.rounds,
+            "{short} rounds were not enough (depths in parts of {} nodes): drawing with {}",
             levels.plan().chunk,
-            *rounds * 2
+            budget.rounds[pass]
         );
-        *rounds = (*rounds * 2).min(MAX_ROUNDS);
         return Ok(Finished::Redo { reason });
     }
+    budget.fit(st.phase_rounds(phases));
     let mut m = stats.method_stats(stage);
     // The queue kernel's figures mean nothing here.
     m.own
         .retain(|(k, _)| !k.starts_with("queue") && !["iterations_max", "idle_polls"].contains(k));
     m.own.extend(st.stats(levels.plan()));
-    m.own.push(("rounds_recorded", json!(*rounds)));
-    // The first step and one indirect dispatch per recorded round.
-    m.own.push(("dispatches", json!(*rounds + 1)));
+    let rounds_recorded = recorded.rounds[0] + if phases { recorded.rounds[1] } else { 0 };
+    m.own.push(("rounds_recorded", json!(rounds_recorded)));
+    // Each pass's first steps and one indirect dispatch per recorded round.
+    m.own
+        .push(("dispatches", json!(recorded.dispatches(phases))));
     Ok(Finished::Done(m))
 }
 
@@ -211,13 +289,13 @@ impl Method for SubdivIndirect {
     fn record(&mut self, f: &mut FrameRec<'_>) -> Result<(), RenderError> {
         self.stage.ensure_capture(f.ctx, f.capture, f.retired)?;
         // The list is in its canonical order already: no sort.
-        let rounds = self.rounds;
+        let budget = self.budget;
         levels::record_phases(
             f,
             &self.stage,
             &mut self.levels,
             self.occlusion.as_mut(),
-            |f, levels, phase| levels.record_rounds(f, &self.stage, rounds, phase),
+            |f, levels, phase| levels.record_rounds(f, &self.stage, budget.for_phase(phase), phase),
         )?;
         self.counters = Some(f.copy_out(&self.stage.list().counters, COUNTER_WORDS)?);
         self.state = Some(self.levels.copy_out_state(f)?);
@@ -228,7 +306,8 @@ impl Method for SubdivIndirect {
         let mut m = finish_rounds(
             &mut self.stage,
             &self.levels,
-            &mut self.rounds,
+            &mut self.budget,
+            self.occlusion.is_some(),
             out,
             recorded(self.counters, self.state)?,
             INFO.name,
@@ -314,4 +393,38 @@ pub(crate) fn level_parts(
         None
     };
     Ok((stage, levels, hiz))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_budget_records_what_the_last_frame_needed_and_a_margin_that_shrinks() {
+        let mut b = RoundBudget::new(L_MAX);
+        assert_eq!(b.for_phase(PHASE_ALL), L_MAX + 2);
+        assert_eq!(b.dispatches(false), 1 + L_MAX + 2);
+        b.fit((6, 0));
+        assert_eq!(b.for_phase(PHASE_ALL), 7);
+        assert_eq!(b.dispatches(false), 8);
+        // One frame runs short twice: twice the rounds each time, the
+        // margin doubled once.
+        assert!(b.grow(0) && b.grow(0));
+        assert_eq!(b.for_phase(PHASE_ALL), 28);
+        b.fit((20, 0));
+        assert_eq!(b.for_phase(PHASE_ALL), 22);
+        b.fit((20, 0));
+        assert_eq!(b.for_phase(PHASE_ALL), 21);
+        // The late phase on its own; a frame's two passes and their first
+        // steps (the first step and the cluster filter each).
+        b.fit((5, 3));
+        assert_eq!((b.for_phase(PHASE_EARLY), b.for_phase(PHASE_LATE)), (6, 4));
+        assert!(b.grow(1));
+        assert_eq!((b.for_phase(PHASE_EARLY), b.for_phase(PHASE_LATE)), (6, 8));
+        assert_eq!(b.dispatches(true), 2 * 2 + 6 + 8);
+        // Never beyond MAX_ROUNDS.
+        let mut b = RoundBudget::new(L_MAX);
+        while b.grow(0) {}
+        assert_eq!(b.for_phase(PHASE_ALL), MAX_ROUNDS);
+    }
 }

@@ -22,7 +22,10 @@ use std::borrow::Cow;
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3, Vec3};
 
-use crate::constants::{INSTANCE_IDENTITY, INSTANCE_MIRRORED, INSTANCE_WORDS, PATCH_RATIONAL};
+use crate::constants::{
+    INSTANCE_IDENTITY, INSTANCE_MIRRORED, INSTANCE_WORDS, LEVEL_GROUP_SIZE, PATCH_RATIONAL,
+    VISIBILITY_CLUSTER,
+};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{reoriented_weights, Weights, UNIT_WEIGHTS};
 
@@ -42,7 +45,7 @@ pub const GPU_BYTES_PER_INSTANCE: u64 = INSTANCE_BYTES + 8 + 4;
 /// instances' words and one parity word, the visibility buffer holds two
 /// such sets: 2 bits per instance and 1/128 byte per base patch more.
 pub fn cluster_set_words(instances: usize, base_patches: usize) -> usize {
-    let clusters = base_patches / crate::constants::VISIBILITY_CLUSTER as usize + instances + 1;
+    let clusters = base_patches / VISIBILITY_CLUSTER as usize + instances + 1;
     clusters.div_ceil(32)
 }
 
@@ -127,14 +130,7 @@ impl Instance {
     /// few ulps by which a rational patch's divided control points may
     /// stray from the stored ones.
     pub fn bounded(mut self, world: &[BezierPatch]) -> Self {
-        let mut lo = Vec3::splat(f32::MAX);
-        let mut hi = Vec3::splat(-f32::MAX);
-        for q in world.iter().flat_map(|p| p.pts) {
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
-        let pad = |v: Vec3| v.abs() * 1e-5 + Vec3::splat(1e-30);
-        let (lo, hi) = (lo - pad(lo), hi + pad(hi));
+        let (lo, hi) = padded_box(world);
         self.lo = [lo.x, lo.y, lo.z, 0.0];
         self.hi = [hi.x, hi.y, hi.z, 0.0];
         self
@@ -333,6 +329,59 @@ impl InstanceTable {
     pub fn records(&self) -> &[Instance] {
         &self.instances
     }
+
+    /// The model-space box of each model patch's control points, enlarged
+    /// as [`Instance::bounded`] enlarges, 6 floats (lo, hi) per model patch:
+    /// set 0's `BIND_PATCH_BOXES`, by which the late phase of occlusion
+    /// culling tests the clusters the early phase drew
+    /// (`glsl/level_clusters.comp`).
+    pub fn patch_boxes(&self) -> Vec<f32> {
+        self.patches
+            .iter()
+            .flat_map(|p| {
+                let (lo, hi) = padded_box(std::slice::from_ref(p));
+                [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z]
+            })
+            .collect()
+    }
+}
+
+/// Occlusion culling's clusters of `instances`: VISIBILITY_CLUSTER
+/// consecutive patches of one instance from its first (the last one of an
+/// instance may hold fewer).
+pub fn clusters(instances: &[Instance]) -> u64 {
+    instances
+        .iter()
+        .map(|t| u64::from(t.count.div_ceil(VISIBILITY_CLUSTER)))
+        .sum()
+}
+
+/// Blocks of LEVEL_GROUP_SIZE cluster slots the level kernels' roots (set
+/// 0's `BIND_ROOTS`) hold after their instance entries, for the cluster
+/// filter of `instances`' clusters.
+pub fn cluster_blocks(instances: &[Instance]) -> u32 {
+    clusters(instances).div_ceil(u64::from(LEVEL_GROUP_SIZE)) as u32
+}
+
+/// Entries (8 bytes) of the roots for `instances`: one per instance, then
+/// the cluster filter's slots (a block of LEVEL_GROUP_SIZE per
+/// [`cluster_blocks`]) and its block scan (one per block and the total).
+pub fn root_entries(instances: &[Instance]) -> u64 {
+    let blocks = u64::from(cluster_blocks(instances));
+    instances.len().max(1) as u64 + blocks * u64::from(LEVEL_GROUP_SIZE) + blocks + 1
+}
+
+/// The box of `patches`' control points, enlarged by a relative 1e-5 (and
+/// 1e-30, so that it never collapses).
+fn padded_box(patches: &[BezierPatch]) -> (Vec3, Vec3) {
+    let mut lo = Vec3::splat(f32::MAX);
+    let mut hi = Vec3::splat(-f32::MAX);
+    for q in patches.iter().flat_map(|p| p.pts) {
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    let pad = |v: Vec3| v.abs() * 1e-5 + Vec3::splat(1e-30);
+    (lo - pad(lo), hi + pad(hi))
 }
 
 /// The bits of a patch's points (so -0 and +0 differ, as they do on the GPU).
@@ -434,5 +483,34 @@ mod tests {
             table.or_identity(&moved, &flags, &[]),
             Cow::Owned(t) if t.instances.len() == 1 && t.patches == moved
         ));
+    }
+
+    /// Occlusion culling's clusters and patch boxes: each box holds its
+    /// model patch's control points, and the roots hold a slot for every
+    /// cluster of every instance (a block per 64).
+    #[test]
+    fn patch_boxes_hold_their_patches_and_the_roots_every_cluster() {
+        let model = vec![wavy(); 70];
+        let table = InstanceTable {
+            patches: model.clone(),
+            flags: vec![0; 70],
+            weights: Vec::new(),
+            instances: vec![
+                Instance::new(&DMat4::IDENTITY, 0, 0, 70, 0),
+                Instance::new(&placed(), 70, 3, 33, 0),
+            ],
+        };
+        let boxes = table.patch_boxes();
+        assert_eq!(boxes.len(), 6 * 70);
+        for (p, b) in model.iter().zip(boxes.chunks_exact(6)) {
+            for q in p.pts {
+                assert!(q.x > b[0] && q.y > b[1] && q.z > b[2], "{q} below {b:?}");
+                assert!(q.x < b[3] && q.y < b[4] && q.z < b[5], "{q} above {b:?}");
+            }
+        }
+        // 70 patches: 3 clusters; 33: 2.
+        assert_eq!(clusters(&table.instances), 5);
+        assert_eq!(cluster_blocks(&table.instances), 1);
+        assert_eq!(root_entries(&table.instances), 2 + 64 + 2);
     }
 }

@@ -102,6 +102,14 @@ pub(crate) fn enumerate(instance: &ash::Instance) -> VkResult<Vec<Candidate>> {
         .collect()
 }
 
+/// The subgroup operations the level kernels' scans, searches and
+/// visibility bits use in compute shaders.
+const REQUIRED_SUBGROUP_OPS: vk::SubgroupFeatureFlags = vk::SubgroupFeatureFlags::from_raw(
+    vk::SubgroupFeatureFlags::BASIC.as_raw()
+        | vk::SubgroupFeatureFlags::ARITHMETIC.as_raw()
+        | vk::SubgroupFeatureFlags::BALLOT.as_raw(),
+);
+
 fn has_extension(list: &[vk::ExtensionProperties], name: &std::ffi::CStr) -> bool {
     list.iter()
         .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == name))
@@ -129,6 +137,7 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
     let prims_ext = has_extension(&extensions, ash::ext::primitives_generated_query::NAME)
         && has_extension(&extensions, ash::ext::transform_feedback::NAME);
     let mesh_props = read_properties(instance, pd, mesh_ext, &mut info);
+    info.compute_units = compute_units(instance, pd, &extensions);
     problems.extend(read_features(
         instance,
         pd,
@@ -138,6 +147,7 @@ fn probe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> VkRe
     if info.features.mesh_shader {
         info.mesh = Some(mesh_info(&mesh_props));
     }
+
     Ok(Candidate {
         handle: pd,
         info,
@@ -183,6 +193,8 @@ fn basic_info(
         timestamp_valid_bits: family.map_or(0, |f| families[f].timestamp_valid_bits),
         limits: limits_from(&base.limits),
         mesh: None,
+        compute_units: None,
+        compute_subgroup_ops: false,
         features: OptionalFeatures::default(),
     };
     let mut problems = Vec::new();
@@ -225,9 +237,47 @@ fn read_properties(
     info.subgroup_size = p11.subgroup_size;
     info.min_subgroup_size = p13.min_subgroup_size;
     info.max_subgroup_size = p13.max_subgroup_size;
+    info.compute_subgroup_ops = p11
+        .subgroup_supported_stages
+        .contains(vk::ShaderStageFlags::COMPUTE)
+        && p11
+            .subgroup_supported_operations
+            .contains(REQUIRED_SUBGROUP_OPS);
     // Detached from the chain it was queried through.
     pmesh.p_next = std::ptr::null_mut();
     pmesh
+}
+
+/// The device's SMs or compute units, where a vendor extension tells
+/// (querying an extension's properties needs it supported, not enabled).
+fn compute_units(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    extensions: &[vk::ExtensionProperties],
+) -> Option<u32> {
+    let nv = has_extension(extensions, ash::nv::shader_sm_builtins::NAME);
+    let amd = has_extension(extensions, ash::amd::shader_core_properties::NAME);
+    let mut sm = vk::PhysicalDeviceShaderSMBuiltinsPropertiesNV::default();
+    let mut core = vk::PhysicalDeviceShaderCorePropertiesAMD::default();
+    let mut props = vk::PhysicalDeviceProperties2::default();
+    if nv {
+        props = props.push_next(&mut sm);
+    }
+    if amd {
+        props = props.push_next(&mut core);
+    }
+    if !nv && !amd {
+        return None;
+    }
+    unsafe { instance.get_physical_device_properties2(pd, &mut props) };
+    let units = if nv {
+        sm.shader_sm_count
+    } else {
+        core.shader_engine_count
+            * core.shader_arrays_per_engine_count
+            * core.compute_units_per_shader_array
+    };
+    (units > 0).then_some(units)
 }
 
 /// The optional features into `info`; returns the required ones missing.

@@ -213,6 +213,13 @@ pub struct DeviceInfo {
     pub limits: DeviceLimits,
     /// Mesh shader properties, if the extension is enabled.
     pub mesh: Option<MeshShaderInfo>,
+    /// Streaming multiprocessors (NVIDIA, `VK_NV_shader_sm_builtins`) or
+    /// compute units (AMD, `VK_AMD_shader_core_properties`), where the
+    /// driver says: what a persistent kernel's launch is sized by.
+    pub compute_units: Option<u32>,
+    /// Compute shaders have the subgroup operations the kernels use
+    /// (basic, arithmetic, ballot).
+    pub compute_subgroup_ops: bool,
     /// Optional features that were enabled.
     pub features: OptionalFeatures,
 }
@@ -311,6 +318,9 @@ fn describe_identity(s: &mut String, info: &DeviceInfo) {
         "  timestamps:      {} valid bits, {} ns/tick",
         info.timestamp_valid_bits, info.timestamp_period
     );
+    if let Some(units) = info.compute_units {
+        let _ = writeln!(s, "  compute units:   {units} (SMs or CUs)");
+    }
 }
 
 /// The summary's lines on the limits work is sized by.

@@ -5,12 +5,13 @@
 
 RESULTS.jsonl is what ../shared/gpu/run.sh writes (one render stats object
 per line, with the command that made it). Prints Markdown: the device and
-commit; kitchen keyframes (persistent against per-depth subdivide time, their
-ratio, and the issue-18 target subdiv <= 0.9x subdiv-indirect); the teapot,
-eps 0.25 and the queue kernel with rounds, atomics and polls per node and
-memory; the workgroup sweep against its best; the node-memory sweep; and any
-frame that fell back to the per-depth rounds. Times are the medians
-`render --repeat` wrote.
+commit; kitchen keyframes (persistent against per-depth subdivide time with
+occlusion culling off, their ratio, and the target subdiv <= 0.9x
+subdiv-indirect); the teapot, eps 0.25, aniso and the queue kernel with
+rounds, dispatches, atomics and polls per node and memory; occlusion culling
+on against off (kitchen, herd); the workgroup sweep against its best; the
+node-memory sweep; and any frame that fell back to the per-depth rounds.
+Times are the medians `render --repeat` wrote.
 """
 
 import json
@@ -48,6 +49,8 @@ def key(r):
         arg(c, "groups"),
         arg(c, "kernel", "levels"),
         arg(c, "node-memory"),
+        arg(c, "occlusion", "on"),
+        arg(c, "split", "iso"),
     )
 
 
@@ -66,10 +69,10 @@ def figures_row(label, r):
     rounds = s.get("rounds", s.get("iterations_max", "–"))
     polls = "barrier_polls" if "barrier_polls" in s else "idle_polls"
     memory = mib(r, "node_memory") if "node_memory" in r.get("memory_bytes", {}) else mib(r, "queue")
-    return "| %s | %s | %.3f | %.3f | %.3f | %d | %s | %s | %s | %s | %s |" % (
+    return "| %s | %s | %.3f | %.3f | %.3f | %d | %s | %s | %s | %s | %s | %s |" % (
         label, s.get("kernel", "per-depth"), ms(r), ms(r, "sort") if "sort" in r["gpu_ms"] else 0.0,
-        ms(r, "draw"), s["nodes_processed"], rounds, per_node(s, "global_atomics"),
-        per_node(s, polls), memory, s.get("fallback", "–"))
+        ms(r, "draw"), s["nodes_processed"], rounds, s.get("dispatches", "–"),
+        per_node(s, "global_atomics"), per_node(s, polls), memory, s.get("fallback", "–"))
 
 
 def main():
@@ -80,7 +83,9 @@ def main():
     print("Device: %s, driver %s, commit %s, %dx%d.\n"
           % (first["device"], first["driver"], first["commit"], first["width"], first["height"]))
     by = {key(r): r for r in rows}
-    base = lambda scene, f, eps, m: by.get((scene, f, eps, m, None, "levels", None))
+
+    def base(scene, f, eps, m, occlusion="off", split="iso"):
+        return by.get((scene, f, eps, m, None, "levels", None, occlusion, split))
 
     print("| kitchen frame | subdiv ms (min–max) | subdiv-indirect ms (min–max) | ratio (target ≤ 0.9) | draw ms |")
     print("|---|---|---|---|---|")
@@ -93,22 +98,38 @@ def main():
               % (f, ms(a), rng(a), ms(b), rng(b), ms(a) / ms(b), ms(a, "draw")))
 
     print("\n| case | kernel | subdivide ms | sort ms | draw ms | nodes | rounds / iterations | "
-          "atomics/node | polls/node | node memory or queue MiB | fallback |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "dispatches | atomics/node | polls/node | node memory or queue MiB | fallback |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for scene, f, eps in [("scenes/kitchen.toml", 0, 1.0), ("scenes/teapot.toml", 0, 1.0),
                           ("scenes/kitchen.toml", 0, 0.25), ("scenes/kitchen.toml", 2, 1.0)]:
         label = "%s %d eps %g" % (scene.split("/")[-1], f, eps)
         for m in ["subdiv", "subdiv-indirect"]:
-            r = base(scene, f, eps, m)
-            if r:
-                print(figures_row("%s %s" % (label, m), r))
-        q = by.get((scene, f, eps, "subdiv", None, "queue", None))
+            for split in ["iso", "aniso"]:
+                r = base(scene, f, eps, m, split=split)
+                if r:
+                    print(figures_row("%s %s %s" % (label, m, split), r))
+        q = by.get((scene, f, eps, "subdiv", None, "queue", None, "off", "iso"))
         if q:
             print(figures_row("%s subdiv --kernel queue" % label, q))
 
+    print("\n| occlusion culling | method | subdivide ms off | on | frame ms off | on | nodes off | on "
+          "| rounds off | on | triangles off | on |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for scene, f in [("scenes/kitchen.toml", 0), ("scenes/herd.toml", 0), ("scenes/herd.toml", 4)]:
+        for m in ["subdiv", "subdiv-indirect"]:
+            off, on = base(scene, f, 1.0, m, "off"), base(scene, f, 1.0, m, "on")
+            if not (off and on):
+                continue
+            so, sn = off["method_stats"], on["method_stats"]
+            print("| %s %d | %s | %.3f | %.3f | %.3f | %.3f | %d | %d | %s | %s | %d | %d |"
+                  % (scene.split("/")[-1], f, m, ms(off), ms(on), ms(off, "frame"), ms(on, "frame"),
+                     so["nodes_processed"], sn["nodes_processed"], so.get("rounds"), sn.get("rounds"),
+                     off["triangles"], on["triangles"]))
+
     for scene in ["scenes/kitchen.toml", "scenes/teapot.toml"]:
         sweep = sorted((int(k[4]), r) for k, r in by.items()
-                       if k[4] and k[0] == scene and k[5] == "levels" and k[6] is None)
+                       if k[4] and k[0] == scene and k[5] == "levels" and k[6] is None
+                       and k[7] == "off")
         if not sweep:
             continue
         best = min(ms(r) for _, r in sweep)
