@@ -257,7 +257,7 @@ shared_constants! {
         /// One word per model patch: PATCH_RATIONAL.
         BIND_PATCH_FLAGS = 2;
         /// SHADING_FLOATS per model patch: the two tangent patches whose cross
-        /// product is the shading normal (src/scene/shading.rs), in model space.
+        /// product is the shading normal (src/patch/shading.rs), in model space.
         BIND_SHADING = 3;
         /// 16 weights per model patch (u fastest, as the control points) for a
         /// scene with rational patches; 16 ones for any other scene.

@@ -4,6 +4,7 @@
 
 pub mod anim;
 pub mod app;
+pub mod cage;
 pub mod commands;
 pub mod constants;
 pub mod draw;
@@ -12,6 +13,7 @@ pub mod figures;
 pub mod files;
 pub mod frame;
 pub mod gpu;
+pub mod input;
 pub mod methods;
 pub mod palette;
 pub mod patch;

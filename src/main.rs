@@ -206,7 +206,7 @@ enum Command {
         /// Boundary rule for a cage without a `t interpolateboundary` tag:
         /// none, edge-only or edge-and-corner (the default).
         #[arg(long, value_name = "RULE")]
-        boundary: Option<bezier_subdiv::scene::sharpness::BoundaryRule>,
+        boundary: Option<bezier_subdiv::cage::sharpness::BoundaryRule>,
         /// Catmull-Clark steps before conversion for the parts of the cage
         /// whose patches would only approximate the limit surface
         /// (extraordinary vertices, darts, semi-sharp or irregular creases,
@@ -214,7 +214,7 @@ enum Command {
         /// shrinks to the faces around the irregular vertices (0..6; the
         /// scene key `isolate`).
         #[arg(long, value_name = "N", default_value_t = 0,
-              value_parser = clap::value_parser!(u32).range(0..=bezier_subdiv::scene::isolate::MAX_ISOLATE as i64))]
+              value_parser = clap::value_parser!(u32).range(0..=bezier_subdiv::cage::isolate::MAX_ISOLATE as i64))]
         isolate: u32,
     },
 }
@@ -548,7 +548,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             boundary,
             isolate,
         } => {
-            let options = bezier_subdiv::scene::obj::CageOptions { boundary, isolate };
+            let options = bezier_subdiv::cage::obj::CageOptions { boundary, isolate };
             emit(&commands::import::run(&file, out.as_deref(), &options)?)
         }
     }

@@ -719,3 +719,14 @@ impl Renderer {
         self.retired.clear();
     }
 }
+
+/// What a method's own `validate` checks read of the frame just drawn.
+impl crate::methods::checks::CheckFrame for Renderer {
+    fn context(&self) -> &Context {
+        Renderer::context(self)
+    }
+
+    fn method(&self) -> &dyn Method {
+        Renderer::method(self)
+    }
+}

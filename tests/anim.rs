@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use bezier_subdiv::anim::{deform, AnimatedScene};
+use bezier_subdiv::cage::obj;
 use bezier_subdiv::scene::desc::Scene;
-use bezier_subdiv::scene::obj;
 use glam::Vec3;
 
 mod common;

@@ -8,9 +8,9 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
+use bezier_subdiv::input::limits::MAX_COORD;
 use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::scene::bpt::{parse, read, write};
-use bezier_subdiv::scene::limits::MAX_COORD;
 use bezier_subdiv::scene::SceneError;
 use glam::{DVec3, Vec3};
 fn teapot_path() -> PathBuf {

@@ -9,10 +9,11 @@ mod common;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use bezier_subdiv::cage::obj::{self, CageOptions};
+use bezier_subdiv::cage::sharpness::{BoundaryRule, VertexRule, INFINITE};
+use bezier_subdiv::cage::{ImportedModel, RuleSource};
 use bezier_subdiv::patch::bezier::BezierPatch;
-use bezier_subdiv::scene::obj::{self, CageOptions};
-use bezier_subdiv::scene::sharpness::{BoundaryRule, VertexRule, INFINITE};
-use bezier_subdiv::scene::{ImportedModel, RuleSource, SceneError};
+use bezier_subdiv::scene::SceneError;
 use glam::Vec3;
 
 fn path(rel: &str) -> PathBuf {

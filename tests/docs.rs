@@ -52,9 +52,9 @@ fn the_guide_documents_every_scene_key() {
         ("src/scene/file.rs", "GridToml"),
         ("src/scene/camera.rs", "Camera"),
         ("src/scene/orbit.rs", "Orbit"),
-        ("src/anim/keys.rs", "DeformToml"),
-        ("src/anim/keys.rs", "KeyToml"),
-        ("src/anim/keys.rs", "AnimationToml"),
+        ("src/scene/keys.rs", "DeformToml"),
+        ("src/scene/keys.rs", "KeyToml"),
+        ("src/scene/keys.rs", "AnimationToml"),
     ];
     let mut missing = Vec::new();
     for (file, name) in structs {

@@ -9,8 +9,9 @@ mod common;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use bezier_subdiv::cage::{obj, ImportedModel};
 use bezier_subdiv::patch::bezier::BezierPatch;
-use bezier_subdiv::scene::{obj, ImportedModel, SceneError};
+use bezier_subdiv::scene::SceneError;
 use glam::{DVec3, Vec3};
 
 fn data(name: &str) -> PathBuf {

@@ -19,9 +19,9 @@ mod common;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
-use bezier_subdiv::scene::obj::{self, CageOptions};
-use bezier_subdiv::scene::sharpness::BoundaryRule;
-use bezier_subdiv::scene::ImportedModel;
+use bezier_subdiv::cage::obj::{self, CageOptions};
+use bezier_subdiv::cage::sharpness::BoundaryRule;
+use bezier_subdiv::cage::ImportedModel;
 use glam::DVec3;
 
 fn root() -> PathBuf {

@@ -9,11 +9,11 @@
 use std::collections::HashSet;
 use std::path::PathBuf;
 
+use bezier_subdiv::cage::obj::{read_with, CageOptions};
+use bezier_subdiv::cage::ImportedModel;
+use bezier_subdiv::patch::shading::{self, EdgePair, ShadingPatch, SHADING_BYTES_PER_PATCH};
 use bezier_subdiv::scene::desc::Scene;
 use bezier_subdiv::scene::geometry::load_model;
-use bezier_subdiv::scene::obj::{read_with, CageOptions};
-use bezier_subdiv::scene::shading::{self, EdgePair, ShadingPatch, SHADING_BYTES_PER_PATCH};
-use bezier_subdiv::scene::ImportedModel;
 use glam::{DVec3, Vec3};
 
 fn model(rel: &str) -> ImportedModel {

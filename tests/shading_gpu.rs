@@ -17,10 +17,10 @@ use bezier_subdiv::constants::{SHADE_DISTANCE, SHADE_NORMALS, SHADE_PARAMS, SHAD
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::MethodOptions;
+use bezier_subdiv::patch::shading::SHADING_BYTES_PER_PATCH;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::geometry::SceneShading;
-use bezier_subdiv::scene::shading::SHADING_BYTES_PER_PATCH;
 use glam::{DVec3, DVec4};
 
 const SIZE: (u32, u32) = (320, 180);

@@ -1,4 +1,4 @@
-//! Stencil tables (`src/scene/stencil.rs`): a converted cage as a fixed
+//! Stencil tables (`src/cage/stencil.rs`): a converted cage as a fixed
 //! linear map of its vertices. The static import goes through them, every
 //! boundary point is one row, and a deformed pose evaluated by the table is
 //! bit for bit the import of the deformed cage written out as an OBJ.
@@ -8,9 +8,9 @@ mod common;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use bezier_subdiv::scene::obj::{self, CageOptions};
-use bezier_subdiv::scene::stencil::CageModel;
-use bezier_subdiv::scene::ImportedModel;
+use bezier_subdiv::cage::obj::{self, CageOptions};
+use bezier_subdiv::cage::stencil::CageModel;
+use bezier_subdiv::cage::ImportedModel;
 use glam::Vec3;
 
 fn path(rel: &str) -> PathBuf {

@@ -12,11 +12,12 @@ use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::eval::flip::flip;
 use bezier_subdiv::eval::ground_truth_image;
 use bezier_subdiv::frame::View;
-use bezier_subdiv::methods::tess::{PatchLevels, Tess};
+use bezier_subdiv::methods::edges::PatchLevels;
+use bezier_subdiv::methods::edges::{check_edge_vertices, check_levels, shared_edges};
+use bezier_subdiv::methods::tess::Tess;
 use bezier_subdiv::methods::MethodOptions;
 use bezier_subdiv::renderer::Renderer;
 use bezier_subdiv::scene::geometry::SceneGeometry;
-use bezier_subdiv::validate::edges::{check_edge_vertices, check_levels, shared_edges};
 use bezier_subdiv::vk::PrimitiveQuery;
 
 const SIZE: (u32, u32) = (320, 180);

@@ -12,6 +12,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::constants::*;
+use crate::scene::keys::{Deformer, Kind};
 
 fn f(bits: u32) -> f32 {
     f32::from_bits(bits)
@@ -131,6 +132,62 @@ pub fn apply(d: &GpuDeformer, p: [f32; 3]) -> [f32; 3] {
         _ => {}
     }
     p
+}
+
+/// Rounds to f32, -0 to +0.
+fn f32_of(x: f64) -> f32 {
+    x as f32 + 0.0
+}
+
+// The deformer's GPU form is the update pass's, so it is made here (the
+// scene file's description, `scene::keys`, knows nothing of the GPU).
+impl Deformer {
+    /// The deformer at time `t` as the update pass reads it: every number
+    /// that depends on time alone computed here, in f64, rounded once.
+    pub fn at(&self, t: f64) -> GpuDeformer {
+        let c = self.center;
+        let center = [f32_of(c.x), f32_of(c.y), f32_of(c.z), 0.0];
+        let (kind, p) = match self.kind {
+            Kind::Twist => {
+                let rate = self.amount.at(t).to_radians() / self.length;
+                (DEFORM_TWIST, [f32_of(rate), 0.0, 0.0, 0.0])
+            }
+            Kind::Bend => {
+                let k = self.amount.at(t).to_radians() / self.length;
+                let k32 = f32_of(k);
+                let inv = if k32 == 0.0 { 0.0 } else { f32_of(1.0 / k) };
+                (DEFORM_BEND, [k32, inv, f32_of(self.length), 0.0])
+            }
+            Kind::Wave => {
+                let tau = std::f64::consts::TAU;
+                // Wrapped to one turn so the f32 phase stays exact enough
+                // however long the animation runs.
+                let phase = (-tau * self.speed * t).rem_euclid(tau);
+                let inv_grow = if self.grow > 0.0 {
+                    1.0 / self.grow
+                } else {
+                    0.0
+                };
+                (
+                    DEFORM_WAVE,
+                    [
+                        f32_of(self.amount.at(t)),
+                        f32_of(tau / self.length),
+                        f32_of(phase),
+                        f32_of(inv_grow),
+                    ],
+                )
+            }
+        };
+        GpuDeformer {
+            kind,
+            axis: self.axis.index(),
+            other: self.other.index(),
+            pad: 0,
+            center,
+            p,
+        }
+    }
 }
 
 #[cfg(test)]

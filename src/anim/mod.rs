@@ -1,6 +1,6 @@
 //! Animated scenes: deforming cages (procedural deformers, OBJ sequences)
 //! and moving instances, converted again every frame by the stencil tables
-//! (`scene/stencil.rs`) on the GPU (`gpu/anim.rs`, the update pass) and, for
+//! (`cage/stencil.rs`) on the GPU (`gpu/anim.rs`, the update pass) and, for
 //! the oracle, on the CPU here, in the same f32 operations.
 //!
 //! The GPU holds each model's patches once, in model space, and an instance
@@ -25,19 +25,19 @@
 //!    instance's record over its record.
 
 pub mod deform;
-pub mod keys;
 pub mod sequence;
 
 use std::sync::Arc;
 
 use glam::{DMat4, DVec3, Vec3};
 
+use crate::cage::stencil::CageModel;
 use crate::patch::bezier::BezierPatch;
+use crate::patch::shading::ShadingPatch;
 use crate::scene::desc::Scene;
 use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::scene::instances::Instance;
-use crate::scene::shading::ShadingPatch;
-use crate::scene::stencil::CageModel;
+use crate::scene::keys;
 use crate::scene::SceneError;
 use deform::GpuDeformer;
 

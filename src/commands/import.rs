@@ -6,12 +6,13 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use glam::Vec3;
 
+use crate::cage::obj::CageOptions;
+use crate::cage::{CageInfo, ImportedModel, PatchOrigin, RuleSource};
 use crate::files::{commit, stage, temp_sibling};
 use crate::patch::bezier::BezierPatch;
+use crate::patch::shading::{self, SHADING_BYTES_PER_PATCH};
+use crate::scene::bpt;
 use crate::scene::geometry::load_model_with;
-use crate::scene::obj::CageOptions;
-use crate::scene::shading::{self, SHADING_BYTES_PER_PATCH};
-use crate::scene::{bpt, CageInfo, ImportedModel, PatchOrigin, RuleSource};
 
 /// The summary `import` prints.
 pub fn summary(path: &Path, model: &ImportedModel) -> String {

@@ -14,10 +14,10 @@ use crate::figures::{thousands, Timing};
 use crate::files::{check_writable, commit, stage, temp_sibling};
 use crate::frame::View;
 use crate::gpu::write_png;
+use crate::input::limits::GEOMETRY_BYTES_PER_PATCH;
+use crate::patch::shading::SHADING_BYTES_PER_PATCH;
 use crate::renderer::{FrameReport, Renderer};
 use crate::scene::desc::Scene;
-use crate::scene::limits::GEOMETRY_BYTES_PER_PATCH;
-use crate::scene::shading::SHADING_BYTES_PER_PATCH;
 
 /// The background of rendered images.
 pub const BACKGROUND: [f32; 4] = [0.09, 0.10, 0.12, 1.0];

@@ -45,7 +45,7 @@ use crate::vk::{
     Access, Context, DeviceInfo, Pass, PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 
-pub use ready::{indirect_args, ReadyCaps, ReadyList};
+pub use ready::{indirect_args, ReadyCaps, ReadyList, MAX_READY_CAPACITY};
 
 /// How ready nodes become triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

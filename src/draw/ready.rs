@@ -102,6 +102,10 @@ impl ReadyCaps {
     }
 }
 
+/// Largest ready list a method grows to (8 bytes per entry, plus the
+/// fallback's 240 bytes of vertices per entry).
+pub const MAX_READY_CAPACITY: u32 = 1 << 24;
+
 /// Every shader whose pipelines bind the ready set as set 1: the
 /// ready-list passes, both draw paths and the producers that fill it.
 pub const READY_SHADERS: &[&str] = &[

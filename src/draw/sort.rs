@@ -103,6 +103,6 @@ mod tests {
         assert_eq!(merge_passes(SORT_BLOCK + 1), 1);
         assert_eq!(merge_passes(1 << 18), 8);
         // The largest ready list the methods grow to has its arguments.
-        assert!(merge_passes(crate::methods::subdiv::MAX_READY_CAPACITY) <= SORT_MAX_MERGES);
+        assert!(merge_passes(crate::draw::MAX_READY_CAPACITY) <= SORT_MAX_MERGES);
     }
 }

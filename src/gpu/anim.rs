@@ -19,10 +19,10 @@ use ash::vk;
 
 use crate::anim::deform::GpuDeformer;
 use crate::anim::{Animation, Frame};
+use crate::cage::stencil::Table;
 use crate::constants::*;
 use crate::gpu::{AnimPush, SceneGpu, Shaders};
 use crate::scene::instances::{Instance, INSTANCE_BYTES};
-use crate::scene::stencil::Table;
 use crate::vk::{
     Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
     PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,

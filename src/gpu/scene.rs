@@ -19,6 +19,7 @@ use crate::constants::{
 };
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
+use crate::patch::shading::ShadingPatch;
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
 use crate::scene::geometry::{SceneGeometry, SceneShading};
@@ -26,7 +27,6 @@ use crate::scene::instances::{
     cluster_blocks, cluster_set_words, root_entries, Instance, InstanceTable, INSTANCE_BYTES,
 };
 use crate::scene::pn::PnScene;
-use crate::scene::shading::ShadingPatch;
 use crate::vk::{
     all_stages, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout,
     SetLayout, VkError, VkResult,

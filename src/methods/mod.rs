@@ -25,8 +25,10 @@
 //! the same file (fields, flags, defaults, one check), and a field of
 //! [`PerMethod`].
 
+pub mod checks;
 pub mod corners;
 pub mod cudatess;
+pub mod edges;
 pub mod ground_truth;
 pub mod levels;
 pub mod subdiv;
@@ -42,8 +44,8 @@ use crate::frame::{FrameOut, FrameRec, Retired};
 use crate::gpu::{SceneGpu, SceneLayout, Shaders};
 use crate::patch::view::ViewParams;
 use crate::scene::geometry::SceneGeometry;
-use crate::validate::MakeCheck;
 use crate::vk::{Context, VkError};
+use checks::MakeCheck;
 
 /// What can go wrong while rendering with a method.
 #[derive(Debug, thiserror::Error)]

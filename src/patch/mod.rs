@@ -12,5 +12,6 @@ pub mod ops;
 pub mod oracle;
 pub mod quadnode;
 pub mod rational;
+pub mod shading;
 pub mod view;
 pub mod wedge;

@@ -52,8 +52,8 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::error::SceneError;
-use super::limits::MAX_COORD;
+use crate::input::limits::MAX_COORD;
+use crate::input::SceneError;
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{weight_ok, Weights, MAX_WEIGHT, MIN_WEIGHT};
 
@@ -67,7 +67,7 @@ fn slot_of_line_position(k: usize) -> usize {
 
 /// Reads a `.bpt` file.
 pub fn read(path: &Path) -> Result<Vec<BezierPatch>, SceneError> {
-    let text = super::text::read_text(path)?;
+    let text = crate::input::text::read_text(path)?;
     parse(path, &text)
 }
 
@@ -78,7 +78,7 @@ pub fn parse(path_for_errors: &Path, text: &str) -> Result<Vec<BezierPatch>, Sce
 
 /// Reads a `.rbpt` file: the patches and their weights.
 pub fn read_rational(path: &Path) -> Result<(Vec<BezierPatch>, Vec<Weights>), SceneError> {
-    let text = super::text::read_text(path)?;
+    let text = crate::input::text::read_text(path)?;
     parse_rational(path, &text)
 }
 

@@ -9,8 +9,8 @@ use glam::DMat4;
 use serde::Deserialize;
 
 use super::camera::Camera;
-use super::obj::CageOptions;
 use super::orbit::Orbit;
+use crate::cage::obj::CageOptions;
 
 /// Default ε and λ of a scene.
 #[derive(Clone, Copy, Debug, Deserialize)]
@@ -78,13 +78,13 @@ pub struct ModelDesc {
 #[derive(Clone, Debug, Default)]
 pub struct ModelAnim {
     /// Deformers of its cage, applied in order.
-    pub deform: Vec<crate::anim::keys::Deformer>,
+    pub deform: Vec<crate::scene::keys::Deformer>,
     /// The frame files of an OBJ sequence (`file` with a run of `#`); the
     /// first is [`ModelDesc::file`].
     pub sequence: Vec<PathBuf>,
     /// Per instance (parallel to [`ModelDesc::instances`]): its keyed
     /// transform, if it has keys.
-    pub keys: Vec<Option<crate::anim::keys::InstanceKeys>>,
+    pub keys: Vec<Option<crate::scene::keys::InstanceKeys>>,
 }
 
 impl ModelAnim {
@@ -119,7 +119,7 @@ pub struct Scene {
     /// Models.
     pub models: Vec<ModelDesc>,
     /// The `[animation]` table (defaults where absent).
-    pub animation: crate::anim::keys::AnimationToml,
+    pub animation: crate::scene::keys::AnimationToml,
 }
 
 impl Scene {

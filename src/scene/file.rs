@@ -42,7 +42,7 @@
 //! isolate = 2                 # cages: Catmull–Clark steps before conversion
 //!                             # where the patches would approximate the
 //!                             # limit surface (0..6, default 0; see
-//!                             # src/scene/isolate.rs)
+//!                             # src/cage/isolate.rs)
 //! [[model.instance]]          # none given: one instance, identity
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
@@ -68,12 +68,12 @@ use serde::Deserialize;
 
 use super::camera::Camera;
 use super::desc::{ModelAnim, ModelDesc, Scene, Surface, ViewDefaults};
-use super::error::SceneError;
-use super::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES};
-use super::obj::CageOptions;
 use super::orbit::Orbit;
-use super::sharpness::BoundaryRule;
+use crate::cage::obj::CageOptions;
+use crate::cage::sharpness::BoundaryRule;
 use crate::figures::{bytes_text, thousands};
+use crate::input::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES};
+use crate::input::SceneError;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -84,7 +84,7 @@ struct SceneToml {
     camera: Camera,
     camera_path: Option<PathToml>,
     camera_orbit: Option<Orbit>,
-    animation: Option<crate::anim::keys::AnimationToml>,
+    animation: Option<crate::scene::keys::AnimationToml>,
     #[serde(default)]
     model: Vec<ModelToml>,
 }
@@ -117,7 +117,7 @@ struct ModelToml {
     #[serde(default)]
     instance: Vec<InstanceToml>,
     #[serde(default)]
-    deform: Vec<crate::anim::keys::DeformToml>,
+    deform: Vec<crate::scene::keys::DeformToml>,
 }
 
 #[derive(Deserialize)]
@@ -131,7 +131,7 @@ struct InstanceToml {
     scale: Scale,
     grid: Option<GridToml>,
     #[serde(default)]
-    key: Vec<crate::anim::keys::KeyToml>,
+    key: Vec<crate::scene::keys::KeyToml>,
 }
 
 #[derive(Deserialize)]
@@ -161,7 +161,7 @@ fn line_of(text: &str, offset: usize) -> usize {
 impl Scene {
     /// Reads and checks a scene file (models are loaded by [`Scene::geometry`]).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = super::text::read_text(path)?;
+        let text = crate::input::text::read_text(path)?;
         Self::parse(path, &text)
     }
 
@@ -262,11 +262,11 @@ fn model_desc(
 ) -> Result<ModelDesc, SceneError> {
     let invalid = |msg: String| SceneError::invalid(path, msg);
     let name = m.name.clone().unwrap_or_else(|| format!("model {}", i + 1));
-    if m.isolate > super::isolate::MAX_ISOLATE {
+    if m.isolate > crate::cage::isolate::MAX_ISOLATE {
         return Err(invalid(format!(
             "model '{name}': isolate = {} is more than {}: each step quarters every face of the refined parts",
             m.isolate,
-            super::isolate::MAX_ISOLATE
+            crate::cage::isolate::MAX_ISOLATE
         )));
     }
     // Count before building: a grid of 10^10 copies must be refused,
@@ -327,14 +327,14 @@ fn model_anim(m: &ModelToml, dir: &Path) -> Result<ModelAnim, Result<SceneError,
         );
     }
     if m.file.contains('#') {
-        anim.sequence = crate::anim::sequence::frames(&dir.join(&m.file)).map_err(Ok)?;
+        anim.sequence = super::sequence::frames(&dir.join(&m.file)).map_err(Ok)?;
     }
     for (k, inst) in m.instance.iter().enumerate() {
         let keys = if inst.key.is_empty() {
             None
         } else {
             Some(
-                crate::anim::keys::InstanceKeys::new(&inst.key)
+                crate::scene::keys::InstanceKeys::new(&inst.key)
                     .map_err(|e| here(format!("instance {}: {e}", k + 1)))?,
             )
         };

@@ -6,20 +6,21 @@ use std::path::{Path, PathBuf};
 
 use glam::DMat4;
 
+use super::bpt;
 use super::desc::{ModelDesc, Scene, Surface};
-use super::error::SceneError;
 use super::instances::{Instance, InstanceTable};
-use super::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES, MAX_COORD};
-use super::model::ImportedModel;
-use super::obj::CageOptions;
 use super::pn::{self, PnMesh, PnScene};
-use super::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
-use super::{bpt, obj};
+use crate::cage::model::ImportedModel;
+use crate::cage::obj;
+use crate::cage::obj::CageOptions;
 use crate::constants::{PATCH_MODEL_SHIFT, PATCH_RATIONAL};
 use crate::figures::{bytes_text, thousands};
+use crate::input::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES, MAX_COORD};
+use crate::input::SceneError;
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::PATCH_TWO_SIDED;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
+use crate::patch::shading::{ShadingPatch, SHADING_BYTES_PER_PATCH};
 
 /// What a model contributed to the scene geometry.
 #[derive(Clone, Debug)]
@@ -528,5 +529,27 @@ mod tests {
         // should agree with the new patch's normal after the u/v swap.
         let got = q.normal(0.5, 0.5).as_dvec3();
         assert!(got.dot(want) > 0.0);
+    }
+
+    #[test]
+    fn transforms_follow_the_geometry() {
+        let p = crate::patch::fixtures::wavy();
+        let s = ShadingPatch::from_geometry(&p);
+        for m in [
+            DMat4::from_rotation_z(0.4) * DMat4::from_scale(DVec3::new(2.0, 1.0, 0.5)),
+            DMat4::from_scale(DVec3::new(1.0, -1.0, 1.0)) * DMat4::from_rotation_x(0.3),
+        ] {
+            let moved = transform_patch(&p, &m);
+            let want = ShadingPatch::from_geometry(&moved);
+            let got = s.transformed(&m);
+            for (a, b) in got
+                .du
+                .iter()
+                .chain(&got.dv)
+                .zip(want.du.iter().chain(&want.dv))
+            {
+                assert!((*a - *b).length() < 1e-5, "{a} vs {b}");
+            }
+        }
     }
 }

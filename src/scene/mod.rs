@@ -1,37 +1,23 @@
-//! Scene input: Bézier patch files, Catmull–Clark cages, scene files, cameras.
+//! The scene description: scene files (TOML) and what they hold (models
+//! and their instances, cameras, keyframe paths and orbits, time-varying
+//! keys and deformers), Bézier patch files (`.bpt`, `.rbpt`), PN-triangle
+//! meshes, and the geometry a scene becomes (its patches placed, its
+//! instance table, the patch sides that are one curve). Catmull–Clark
+//! cages are converted by `crate::cage`.
 
-pub mod acc;
 pub mod adjacency;
 pub mod bpt;
-pub mod cage;
 pub mod camera;
 pub mod desc;
-pub mod error;
 pub mod file;
-pub mod fit;
 pub mod geometry;
-pub mod hash;
 pub mod instances;
-pub mod isolate;
-pub mod limit;
-pub mod limits;
-pub mod linear;
-pub mod model;
-pub mod obj;
+pub mod keys;
 pub mod orbit;
-pub mod orient;
 pub mod path;
 pub mod pn;
-pub mod refine;
-pub mod shading;
-pub mod sharpness;
-pub mod stencil;
-pub mod tags;
-pub mod tangent;
-pub mod text;
+pub mod sequence;
 
-pub use error::SceneError;
-// The import's results keep their old path for the command layer and the
-// tests, which name them often; modules inside `scene` import them from
-// `model` and `error`, so nothing here imports from this file.
-pub use model::{CageInfo, ImportedModel, PatchOrigin, RuleSource};
+// Every reader of the scene reports this error; it lives below the scene
+// (`crate::input`), where the cage converter reports it too.
+pub use crate::input::SceneError;

@@ -20,7 +20,7 @@ use std::path::Path;
 
 use glam::{DMat4, Vec3};
 
-use super::error::SceneError;
+use crate::input::SceneError;
 
 /// One triangle mesh, in object or (after [`PnMesh::transformed`]) world
 /// space.
@@ -168,7 +168,7 @@ impl PnMesh {
 
 /// Reads an OBJ file as a PN-triangle mesh.
 pub fn read(path: &Path) -> Result<PnMesh, SceneError> {
-    let text = super::text::read_text(path)?;
+    let text = crate::input::text::read_text(path)?;
     parse(path, &text)
 }
 
@@ -182,7 +182,7 @@ pub fn parse(path: &Path, text: &str) -> Result<PnMesh, SceneError> {
     let mut positions: Vec<Vec3> = Vec::new();
     let mut file_normals: Vec<Vec3> = Vec::new();
     let mut faces: Vec<(usize, Vec<Corner>)> = Vec::new();
-    for (line_no, keyword, rest) in super::obj::statements(text) {
+    for (line_no, keyword, rest) in crate::cage::obj::statements(text) {
         let err = |msg: String| SceneError::at(path, line_no, msg);
         match keyword {
             "v" | "vn" => {
@@ -196,7 +196,7 @@ pub fn parse(path: &Path, text: &str) -> Result<PnMesh, SceneError> {
                 }
             }
             "f" => {
-                let corners = super::obj::face_corners(&rest, |r| {
+                let corners = crate::cage::obj::face_corners(&rest, |r| {
                     corner(r, positions.len(), file_normals.len())
                 })
                 .map_err(err)?;

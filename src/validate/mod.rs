@@ -1,11 +1,11 @@
 //! The checks behind `validate`: the GPU against the CPU oracle (ready set,
 //! vertex positions bit for bit), the paper's §4.4 reordering test on the
-//! GPU, the shared-edge checks the tessellating methods build theirs on
-//! (`edges`), and the hole test (`holes`). A method's own checks live in
-//! its folder under `src/methods/` and are declared by its registry entry
-//! ([`MethodChecks`]), so nothing here names a method.
+//! GPU, and the hole test (`holes`). A method's own checks live in its
+//! folder under `src/methods/` and are declared by its registry entry
+//! (`MethodInfo::checks`, the traits of `methods::checks`; the shared-edge
+//! comparisons the tessellating methods build theirs on are
+//! `methods::edges`), so nothing here names a method.
 
-pub mod edges;
 pub mod holes;
 pub mod raster;
 
@@ -15,55 +15,12 @@ use glam::Vec3;
 use crate::constants::*;
 use crate::draw::{DrawPath, ReadyStage};
 use crate::gpu::{ListPush, SceneSpec};
-use crate::methods::RenderError;
+pub use crate::methods::checks::{Check, CheckFrame, CheckResult, MakeCheck};
 use crate::patch::oracle::Surfaces;
 use crate::patch::quadnode::QuadNode;
 use crate::patch::wedge::node_mesh;
 use crate::renderer::Renderer;
-use crate::scene::geometry::SceneGeometry;
 use crate::vk::{Context, Pipeline, ShaderModule, VkError, VkResult};
-
-/// One line of the report.
-#[derive(Clone, Debug)]
-pub struct CheckResult {
-    /// What was checked.
-    pub check: String,
-    /// Keyframe, if the check is per frame.
-    pub frame: Option<usize>,
-    /// Passed?
-    pub ok: bool,
-    /// Figures.
-    pub detail: String,
-}
-
-impl CheckResult {
-    /// The line of check `check` on keyframe `frame` (none: the whole scene).
-    pub fn new(check: &str, frame: Option<usize>, ok: bool, detail: String) -> Self {
-        Self {
-            check: check.into(),
-            frame,
-            ok,
-            detail,
-        }
-    }
-}
-
-/// A method's own checks, which `validate` runs on every keyframe right
-/// after the renderer drew it with the method. They reach the method's
-/// concrete type through [`crate::methods::Method::downcast`].
-pub trait Check {
-    /// Whether the frames must be drawn with the renderer's capture on.
-    fn capture(&self) -> bool {
-        false
-    }
-
-    /// The report's lines for keyframe `k`, the frame `renderer` just drew.
-    fn keyframe(&self, renderer: &Renderer, k: usize) -> Result<Vec<CheckResult>, RenderError>;
-}
-
-/// Makes a method's [`Check`] for the scene's geometry at the checked time
-/// (`MethodInfo::checks`).
-pub type MakeCheck = for<'a> fn(&'a SceneGeometry) -> Box<dyn Check + 'a>;
 
 /// Compares the GPU's ready list (any order) with the oracle's.
 pub fn compare_ready(gpu: &[QuadNode], oracle: &[QuadNode]) -> (bool, String) {

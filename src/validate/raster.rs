@@ -19,7 +19,7 @@ use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
 use crate::constants::{PATCH_MODEL_SHIFT, PATCH_TWO_SIDED};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::oracle::Triangle;
-use crate::scene::shading::ShadingPatch;
+use crate::patch::shading::ShadingPatch;
 
 /// Fixed-point subpixel bits of the snapped vertex positions.
 const SUB_BITS: u32 = 8;
@@ -39,7 +39,7 @@ pub enum PreviewShade {
     #[default]
     Normal,
     /// As `Normal`, lit with the shading normals of the tangent patches
-    /// (`scene::shading`) instead: what a renderer shading with them shows.
+    /// (`patch::shading`) instead: what a renderer shading with them shows.
     Smooth,
     /// Heat map of the QuadNode depth, 0 (dark blue) … 10 (dark red), flat per
     /// triangle with a little face shading to keep shapes readable.

@@ -11,7 +11,6 @@ use super::debug::{self, DebugState, VALIDATION_LAYER};
 use super::device::{self, DeviceSelector};
 use super::error::{VkError, VkResult, VkResultExt, TIMEOUT_ENV};
 use super::info::{version_string, DeviceInfo};
-use super::memory::Buffer;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
@@ -305,8 +304,9 @@ pub(crate) struct Pending {
     pub label: String,
     pub fence: vk::Fence,
     pub cmd: vk::CommandBuffer,
-    /// Resources the command buffer uses (e.g. a staging buffer).
-    pub keep_alive: Vec<Buffer>,
+    /// Resources the command buffer uses (e.g. a staging buffer), kept
+    /// whatever their type until it ends.
+    pub keep_alive: Vec<Box<dyn std::any::Any + Send>>,
     /// When it was submitted (for the timeout's message).
     pub submitted: std::time::Instant,
 }

@@ -5,7 +5,7 @@
 //! still uses is the caller's bug, exactly as in Vulkan; one-shot helpers
 //! wait before returning, so resources used only through them are safe.
 
-use super::commands::{buffer_barrier, image_barrier, Access};
+use super::barrier::{buffer_barrier_info, image_barrier_info, Access};
 use super::context::{Context, Core};
 use super::error::{VkError, VkResult, VkResultExt};
 use ash::vk;
@@ -128,7 +128,7 @@ impl Buffer {
     }
 
     /// The persistently mapped bytes, if the memory is host visible. Reading
-    /// them after GPU writes needs a [`super::commands::host_read_barrier`]
+    /// them after GPU writes needs a [`super::barrier::host_read_barrier`]
     /// in the writing command buffer; [`Buffer::read_bytes`] does that itself.
     pub fn mapped(&self) -> Option<&[u8]> {
         let a = self.allocation.as_ref()?;
@@ -564,4 +564,45 @@ impl Drop for Image {
             }
         }
     }
+}
+
+/// Records a barrier on a whole buffer.
+pub fn buffer_barrier(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    buffer: &Buffer,
+    src: Access,
+    dst: Access,
+) {
+    let barrier = [buffer_barrier_info(buffer.handle(), src, dst)];
+    let dep = vk::DependencyInfo::default().buffer_memory_barriers(&barrier);
+    unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
+}
+
+/// Records filling the whole of `buffer` with the word `value`, after every
+/// earlier use of it and before every later one.
+pub fn fill_buffer(ctx: &Context, cmd: vk::CommandBuffer, buffer: &Buffer, value: u32) {
+    buffer_barrier(ctx, cmd, buffer, Access::ALL, Access::TRANSFER_WRITE);
+    unsafe {
+        ctx.device()
+            .cmd_fill_buffer(cmd, buffer.handle(), 0, vk::WHOLE_SIZE, value)
+    };
+    buffer_barrier(ctx, cmd, buffer, Access::TRANSFER_WRITE, Access::ALL);
+}
+
+/// Records an image layout transition (whole image, all mips and layers).
+pub fn image_barrier(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    image: &Image,
+    old_layout: vk::ImageLayout,
+    new_layout: vk::ImageLayout,
+    src: Access,
+    dst: Access,
+) {
+    let barrier = [image_barrier_info(src, dst, old_layout, new_layout)
+        .image(image.handle())
+        .subresource_range(image.full_range())];
+    let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+    unsafe { ctx.device().cmd_pipeline_barrier2(cmd, &dep) };
 }

@@ -1,6 +1,7 @@
 //! The Vulkan core: context and device selection, memory, commands and
 //! barriers, frames in flight, timestamps, shaders, layouts and pipelines.
 
+pub mod barrier;
 pub mod commands;
 pub mod context;
 pub mod debug;
@@ -17,9 +18,7 @@ pub mod reflect;
 pub mod shader;
 pub mod swapchain;
 
-pub use commands::{
-    buffer_barrier, fill_buffer, host_read_barrier, image_barrier, memory_barrier, Access,
-};
+pub use barrier::{host_read_barrier, memory_barrier, Access};
 pub use context::{
     default_fence_timeout, device_leaked, env_fence_timeout, parse_timeout, set_fence_timeout,
     Context, ContextOptions, WindowHandles, COMPILE_ALLOWANCE, DEFAULT_FENCE_TIMEOUT,
@@ -32,7 +31,9 @@ pub use layout::{
     all_stages, reflect_shader, set_bindings, undynamic, Binding, BufferBinding, DescriptorSet,
     LayoutBinding, NoPush, PipelineLayout, Sampler, SetLayout,
 };
-pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
+pub use memory::{
+    buffer_barrier, fill_buffer, image_barrier, Buffer, Image, ImageDesc, MemoryLocation,
+};
 pub use pass::{Pass, Recorder, Res};
 pub use pipeline::{DepthState, GraphicsDesc, Pipeline, Specialization};
 pub use query::{GpuTimer, PrimitiveCounter, PrimitiveQuery};

@@ -14,7 +14,7 @@
 //! an earlier submission) is declared with [`Recorder::after`]; what later,
 //! undeclared work needs is given with [`Recorder::hand_off`].
 
-use super::commands::{buffer_barrier_info, image_barrier_info, memory_barrier_info, Access};
+use super::barrier::{buffer_barrier_info, image_barrier_info, memory_barrier_info, Access};
 use super::context::Context;
 use super::memory::{Buffer, Image};
 use ash::vk;

@@ -1,6 +1,6 @@
 //! Subdivision cages the conversion tests walk, and OBJ text edits.
 
-use bezier_subdiv::scene::stencil::CageModel;
+use bezier_subdiv::cage::stencil::CageModel;
 use glam::Vec3;
 
 /// The shipped Catmull-Clark models, relative to the repository root.

@@ -16,12 +16,12 @@ use bezier_subdiv::gpu::{write_png, DrawTarget, SceneGpu, SceneLayout, Shaders};
 use bezier_subdiv::patch::bezier::BezierPatch;
 use bezier_subdiv::patch::oracle::{node_positions, subdivide, triangulate};
 use bezier_subdiv::patch::quadnode::QuadNode;
+use bezier_subdiv::patch::shading::ShadingPatch;
 use bezier_subdiv::patch::view::ViewParams;
 use bezier_subdiv::patch::wedge::{node_mesh, wedge_code, wedge_pivots};
 use bezier_subdiv::scene::camera::Camera;
 use bezier_subdiv::scene::desc::Scene;
 use bezier_subdiv::scene::geometry::load_model;
-use bezier_subdiv::scene::shading::ShadingPatch;
 use bezier_subdiv::vk::{Buffer, Context, GpuTimer, MemoryLocation};
 
 use super::common;

@@ -7,7 +7,7 @@
 // Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner`,
 // `t interpolateboundary`, `t hole`, `t creasemethod` and
 // `t smoothtriangles` tags (the same reading rules as the converter, see
-// src/scene/tags.rs); `--boundary` is used only when the file has no
+// src/cage/tags.rs); `--boundary` is used only when the file has no
 // interpolateboundary tag. Prints one line per sample:
 //
 //     FACE SUB U V X Y Z
@@ -275,7 +275,7 @@ bool irregular(Far::TopologyLevel const &base, int v) {
 // smooth and the valence is 3 or more (at a dart on catmark_inf_crease0 it
 // misses by 8.6e-4 of the model at level 2, and still 3e-6 at level 8), so
 // the vertex's one-ring is subdivided with OpenSubdiv's rules until it has
-// shrunk to a point (the converter does the same, src/scene/acc.rs).
+// shrunk to a point (the converter does the same, src/cage/acc.rs).
 bool iteratedLimit(Far::TopologyLevel const &lv, std::vector<Point> const &pos, int vert,
                    Point &out) {
     Far::ConstIndexArray faces = lv.GetVertexFaces(vert);

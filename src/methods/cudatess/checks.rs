@@ -4,7 +4,7 @@
 //! largest any drawn patch on the edge asked for (so equal from both
 //! sides), the vertices along shared edges are bit identical from every
 //! side (through the generic shared-edge checks of
-//! [`crate::validate::edges`]), and every patch's indices are its pattern's
+//! [`crate::methods::edges`]), and every patch's indices are its pattern's
 //! ([`Pattern::triangles`]) inside its own slot of the vertex buffer.
 //! PN triangles (the records after the patches'): both triangles of every
 //! shared edge read the same factor and write the same vertex bits along
@@ -16,15 +16,14 @@ use std::collections::HashMap;
 use super::pattern::Pattern;
 use super::{CudaTess, FrameData, PatchRecord};
 use crate::figures::thousands;
-use crate::methods::tess::{EdgeVertex, PatchLevels};
-use crate::methods::RenderError;
-use crate::renderer::Renderer;
-use crate::scene::geometry::SceneGeometry;
-use crate::scene::pn::PnScene;
-use crate::validate::edges::{
+use crate::methods::checks::{Check, CheckFrame, CheckResult};
+use crate::methods::edges::{
     check_edge_vertices, check_levels, shared_edges, EdgeCheck, EdgeKey, EdgeSide,
 };
-use crate::validate::{Check, CheckResult};
+use crate::methods::edges::{EdgeVertex, PatchLevels};
+use crate::methods::RenderError;
+use crate::scene::geometry::SceneGeometry;
+use crate::scene::pn::PnScene;
 
 /// The checks for a scene's geometry (`MethodInfo::checks`).
 pub fn make(geo: &SceneGeometry) -> Box<dyn Check + '_> {
@@ -41,12 +40,12 @@ struct FrameChecks<'a> {
 }
 
 impl Check for FrameChecks<'_> {
-    fn keyframe(&self, renderer: &Renderer, k: usize) -> Result<Vec<CheckResult>, RenderError> {
-        let frame = renderer
+    fn keyframe(&self, frame: &dyn CheckFrame, k: usize) -> Result<Vec<CheckResult>, RenderError> {
+        let frame = frame
             .method()
             .downcast::<CudaTess>()
             .ok_or_else(|| RenderError::Request("not cudatess".into()))?
-            .read_frame(renderer.context())?;
+            .read_frame(frame.context())?;
         Ok(keyframe(self.geo, &self.shared, &frame, k))
     }
 }

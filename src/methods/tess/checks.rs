@@ -2,17 +2,16 @@
 //! declared by their registry entries): on every keyframe, both sides of
 //! every shared edge have the same outer level and put the same vertices
 //! on it, bit for bit, as the frame's capture holds them (the generic
-//! comparisons are `crate::validate::edges`).
+//! comparisons are `crate::methods::edges`).
 
 use std::collections::HashMap;
 
 use super::Tess;
 use crate::figures::thousands;
+use crate::methods::checks::{Check, CheckFrame, CheckResult};
+use crate::methods::edges::{check_edge_vertices, check_levels, shared_edges, EdgeKey, EdgeSide};
 use crate::methods::RenderError;
-use crate::renderer::Renderer;
 use crate::scene::geometry::SceneGeometry;
-use crate::validate::edges::{check_edge_vertices, check_levels, shared_edges, EdgeKey, EdgeSide};
-use crate::validate::{Check, CheckResult};
 
 /// The checks for a scene's geometry (`MethodInfo::checks`).
 pub fn make(geo: &SceneGeometry) -> Box<dyn Check + '_> {
@@ -32,10 +31,10 @@ impl Check for EdgeChecks {
         true
     }
 
-    fn keyframe(&self, renderer: &Renderer, k: usize) -> Result<Vec<CheckResult>, RenderError> {
+    fn keyframe(&self, frame: &dyn CheckFrame, k: usize) -> Result<Vec<CheckResult>, RenderError> {
         let shared = &self.shared;
-        let ctx = renderer.context();
-        let tess = renderer
+        let ctx = frame.context();
+        let tess = frame
             .method()
             .downcast::<Tess>()
             .ok_or_else(|| RenderError::Request("not a tessellation method".into()))?;

@@ -39,10 +39,10 @@ use std::sync::OnceLock;
 use glam::{DVec3, Vec3};
 
 use super::acc::{self, Conversion};
-use super::cage::{Cage, Topology};
-use super::error::SceneError;
+use super::mesh::{Cage, Topology};
 use super::refine::StepTopologies;
 use super::sharpness;
+use crate::input::SceneError;
 
 /// The most refinement steps the fine surface takes (each quarters the
 /// faces: 256 fine patches per face at 4).

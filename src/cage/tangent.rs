@@ -53,10 +53,10 @@ use std::f64::consts::PI;
 use glam::{DVec3, Vec3};
 
 use super::acc::{is_feature_edge, Conversion};
-use super::cage::{Cage, Topology};
 use super::linear::{Comb, Vector};
-use super::shading::ShadingPatch;
+use super::mesh::{Cage, Topology};
 use super::sharpness;
+use crate::patch::shading::ShadingPatch;
 
 /// How one sector's corner tangents are made: the construction's only
 /// choices that depend on positions, made once from the cage as loaded

@@ -38,9 +38,9 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 
-use super::cage::{Cage, CageEdge, Topology};
-use super::error::SceneError;
+use super::mesh::{Cage, CageEdge, Topology};
 use super::sharpness::{Config, VertexRule, INFINITE};
+use crate::input::SceneError;
 
 /// Face-parameter coordinates of a quad's corners 0..4.
 pub const QUAD_UV: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
@@ -315,7 +315,7 @@ mod tests {
     use std::path::Path;
 
     fn cube() -> Cage {
-        crate::scene::cage::unit_cube()
+        crate::cage::mesh::unit_cube()
     }
 
     /// The kept topologies give a moved cage the refinement it gets

@@ -26,6 +26,7 @@ pub mod checks;
 use ash::vk;
 use serde_json::json;
 
+use super::edges::{EdgeVertex, PatchLevels};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
@@ -74,36 +75,6 @@ pub enum Variant {
     Uniform,
     /// `tess-reparam`.
     Reparam,
-}
-
-/// One patch's levels as the control stage wrote them.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PatchLevels {
-    /// Outer levels of the edges u = 0, v = 0, u = 1, v = 1.
-    pub outer: [f32; 4],
-    /// The metric's inner levels along u and v.
-    pub inner: [f32; 2],
-    /// The inner levels the tessellator got: the metric's, raised in a
-    /// direction whose border strips were narrowed (common/tess.glsl).
-    pub drawn_inner: [f32; 2],
-    /// The bound on the mixed derivative.
-    pub mixed: f32,
-    /// Frustum- or back-face-culled (all levels 0).
-    pub culled: bool,
-}
-
-/// A vertex the evaluation stage placed strictly inside a patch edge.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EdgeVertex {
-    /// Base patch.
-    pub patch: u32,
-    /// Edge: 0 u = 0, 1 v = 0, 2 u = 1, 3 v = 1.
-    pub edge: u32,
-    /// The tessellator's coordinate along the edge (v on edges 0 and 2,
-    /// u on 1 and 3).
-    pub t: f32,
-    /// The position drawn.
-    pub position: [f32; 3],
 }
 
 /// The set-1 buffers: counters, and the capture buffers (a word each

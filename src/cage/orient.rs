@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use super::cage::{Cage, Topology};
+use super::mesh::{Cage, Topology};
 use crate::patch::bezier::BezierPatch;
 
 /// Closed components enclosing less than this times the cube of their
@@ -129,7 +129,7 @@ mod tests {
     use std::path::Path;
 
     fn cube() -> Cage {
-        crate::scene::cage::unit_cube()
+        crate::cage::mesh::unit_cube()
     }
 
     #[test]

@@ -24,7 +24,7 @@
 //! coincident but distinct vertices stay distinct there. Tags name file
 //! vertices; they are carried to the cage through the faces that use them.
 //!
-//! The cage may be non-manifold (`cage.rs`): an edge with three or more
+//! The cage may be non-manifold (`mesh.rs`): an edge with three or more
 //! faces is a boundary of each, a vertex may join several fans of faces.
 //! Refused: faces with a repeated vertex, and an edge two faces run in the
 //! same direction (a flipped face).
@@ -109,13 +109,13 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::cage::{Cage, Scheme, Topology};
-use super::error::SceneError;
-use super::limits::MAX_COORD;
+use super::mesh::{Cage, Scheme, Topology};
 use super::model::{CageInfo, ImportedModel, RuleSource};
 use super::sharpness::{self, BoundaryRule, INFINITE};
 use super::tags::Tags;
 use super::{isolate, orient};
+use crate::input::limits::MAX_COORD;
+use crate::input::SceneError;
 
 /// Choices for cages that the file itself does not make.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -135,7 +135,7 @@ pub fn read(path: &Path) -> Result<ImportedModel, SceneError> {
 
 /// [`read`] with options.
 pub fn read_with(path: &Path, options: &CageOptions) -> Result<ImportedModel, SceneError> {
-    let text = super::text::read_text(path)?;
+    let text = crate::input::text::read_text(path)?;
     parse_with(path, &text, options)
 }
 
@@ -398,8 +398,8 @@ fn non_manifold_warning(topo: &Topology, vertices: usize) -> Option<String> {
 /// the scene buffers store them).
 fn isolate_note(conv: &isolate::Converted, n: u32) -> String {
     use crate::figures::{bytes_text, thousands};
-    let per_patch =
-        super::limits::GEOMETRY_BYTES_PER_PATCH + super::shading::SHADING_BYTES_PER_PATCH as u64;
+    let per_patch = crate::input::limits::GEOMETRY_BYTES_PER_PATCH
+        + crate::patch::shading::SHADING_BYTES_PER_PATCH as u64;
     let per_level: Vec<String> = conv
         .levels
         .iter()
@@ -798,12 +798,12 @@ mod tests {
     fn the_isolate_note_gives_patches_and_memory_per_level() {
         let conv = isolate::Converted {
             levels: vec![
-                isolate::LevelCount {
+                crate::cage::model::LevelCount {
                     level: 0,
                     patches: 1000,
                     exact: 900,
                 },
-                isolate::LevelCount {
+                crate::cage::model::LevelCount {
                     level: 2,
                     patches: 4096,
                     exact: 4000,

@@ -29,7 +29,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::error::SceneError;
+use crate::input::SceneError;
 
 /// A polygonal control cage with its OpenSubdiv-style sharpness. Positions
 /// are f64 so that a refined cage is not rounded before the patches are

@@ -15,9 +15,9 @@ use std::path::Path;
 
 use glam::{DVec3, Vec3};
 
-use super::cage::{Cage, Topology};
-use super::error::SceneError;
+use super::mesh::{Cage, Topology};
 use super::sharpness::{self, Config, VertexRule};
+use crate::input::SceneError;
 use crate::patch::bezier::BezierPatch;
 
 /// Rounds once to f32; +0.0 replaces -0.0.

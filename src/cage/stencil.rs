@@ -58,12 +58,12 @@ use std::path::Path;
 use glam::{DVec3, Vec3};
 
 use super::acc::Conversion;
-use super::cage::{Cage, Topology};
-use super::error::SceneError;
 use super::linear::Comb;
-use super::shading::ShadingPatch;
+use super::mesh::{Cage, Topology};
 use super::tangent;
+use crate::input::SceneError;
 use crate::patch::bezier::BezierPatch;
+use crate::patch::shading::ShadingPatch;
 
 /// Rows of combinations in the reference form, compressed.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -21,7 +21,7 @@
 
 use std::fmt;
 
-use super::cage::{Cage, Topology};
+use super::mesh::{Cage, Topology};
 
 /// Infinitely sharp, as OpenSubdiv's `Sdc::Crease::SHARPNESS_INFINITE`.
 pub const INFINITE: f64 = 10.0;
@@ -156,7 +156,7 @@ pub fn resolve(cage: &mut Cage, topo: &Topology, rule: BoundaryRule) -> Resolved
         if topo.is_non_manifold_vertex(v) {
             // OpenSubdiv's counts: a degenerate edge is listed twice and is
             // both a boundary (one face) and non-manifold.
-            let count = |pred: &dyn Fn(&super::cage::Edge) -> bool| {
+            let count = |pred: &dyn Fn(&super::mesh::Edge) -> bool| {
                 topo.vertex_edges[v]
                     .iter()
                     .filter(|&&e| pred(&topo.edges[e]))

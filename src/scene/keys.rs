@@ -8,9 +8,6 @@
 use glam::{DMat4, DVec3, EulerRot};
 use serde::Deserialize;
 
-use super::deform::GpuDeformer;
-use crate::constants::{DEFORM_BEND, DEFORM_TWIST, DEFORM_WAVE};
-
 /// A number that is constant or follows keys `[[time, value], …]`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(untagged)]
@@ -84,7 +81,8 @@ pub enum Axis {
 }
 
 impl Axis {
-    fn index(self) -> u32 {
+    /// The axis as the shaders number it (x 0, y 1, z 2).
+    pub(crate) fn index(self) -> u32 {
         self as u32
     }
 }
@@ -124,18 +122,18 @@ pub struct DeformToml {
 /// A checked deformer (model space).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Deformer {
-    kind: Kind,
-    axis: Axis,
-    other: Axis,
-    center: DVec3,
+    pub(crate) kind: Kind,
+    pub(crate) axis: Axis,
+    pub(crate) other: Axis,
+    pub(crate) center: DVec3,
     /// Twist and bend: the angle in degrees; wave: the amplitude.
-    amount: Curve,
+    pub(crate) amount: Curve,
     /// Twist and bend: the length; wave: the wavelength.
-    length: f64,
+    pub(crate) length: f64,
     /// Wave: cycles per second.
-    speed: f64,
+    pub(crate) speed: f64,
     /// Wave: the length over which the amplitude grows from 0.
-    grow: f64,
+    pub(crate) grow: f64,
 }
 
 impl DeformToml {
@@ -253,11 +251,6 @@ impl DeformToml {
     }
 }
 
-/// Rounds to f32, -0 to +0.
-fn f32_of(x: f64) -> f32 {
-    x as f32 + 0.0
-}
-
 impl Deformer {
     /// The last key time of its curves.
     pub fn end(&self) -> f64 {
@@ -267,53 +260,6 @@ impl Deformer {
     /// Whether it changes with time.
     pub fn moves(&self) -> bool {
         matches!(self.amount, Curve::Keys(_)) || self.speed != 0.0
-    }
-
-    /// The deformer at time `t` as the update pass reads it: every number
-    /// that depends on time alone computed here, in f64, rounded once.
-    pub fn at(&self, t: f64) -> GpuDeformer {
-        let c = self.center;
-        let center = [f32_of(c.x), f32_of(c.y), f32_of(c.z), 0.0];
-        let (kind, p) = match self.kind {
-            Kind::Twist => {
-                let rate = self.amount.at(t).to_radians() / self.length;
-                (DEFORM_TWIST, [f32_of(rate), 0.0, 0.0, 0.0])
-            }
-            Kind::Bend => {
-                let k = self.amount.at(t).to_radians() / self.length;
-                let k32 = f32_of(k);
-                let inv = if k32 == 0.0 { 0.0 } else { f32_of(1.0 / k) };
-                (DEFORM_BEND, [k32, inv, f32_of(self.length), 0.0])
-            }
-            Kind::Wave => {
-                let tau = std::f64::consts::TAU;
-                // Wrapped to one turn so the f32 phase stays exact enough
-                // however long the animation runs.
-                let phase = (-tau * self.speed * t).rem_euclid(tau);
-                let inv_grow = if self.grow > 0.0 {
-                    1.0 / self.grow
-                } else {
-                    0.0
-                };
-                (
-                    DEFORM_WAVE,
-                    [
-                        f32_of(self.amount.at(t)),
-                        f32_of(tau / self.length),
-                        f32_of(phase),
-                        f32_of(inv_grow),
-                    ],
-                )
-            }
-        };
-        GpuDeformer {
-            kind,
-            axis: self.axis.index(),
-            other: self.other.index(),
-            pad: 0,
-            center,
-            p,
-        }
     }
 }
 

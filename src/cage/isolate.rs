@@ -32,29 +32,18 @@
 use std::path::Path;
 
 use super::acc::{self, Conversion};
-use super::cage::{Cage, Topology};
-use super::error::SceneError;
-use super::model::PatchOrigin;
+use super::mesh::{Cage, Topology};
+use super::model::{LevelCount, PatchOrigin};
 use super::refine::{sub_quad_uv, StepTopologies, SubFace, QUAD_UV};
-use super::shading::ShadingPatch;
 use super::stencil::{self, CageStencils};
 use super::{fit, tangent};
+use crate::input::SceneError;
 use crate::patch::bezier::BezierPatch;
+use crate::patch::shading::ShadingPatch;
 
 /// The most refinement steps `isolate` may ask for: each step quarters
 /// every face, so 6 is already 4,096 patches per cage face.
 pub const MAX_ISOLATE: u32 = 6;
-
-/// Patches by the refinement level they were made at.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LevelCount {
-    /// Refinement steps before conversion.
-    pub level: u32,
-    /// Patches made at that level.
-    pub patches: usize,
-    /// Of those, exactly OpenSubdiv's limit surface.
-    pub exact: usize,
-}
 
 /// The patches of a cage and where each came from.
 #[derive(Clone, Debug, Default)]

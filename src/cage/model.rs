@@ -4,10 +4,9 @@
 use crate::patch::bezier::BezierPatch;
 
 use super::acc::PatchRule;
-use super::isolate::LevelCount;
-use super::shading::ShadingPatch;
 use super::sharpness::BoundaryRule;
-use super::{cage, stencil};
+use super::{mesh, stencil};
+use crate::patch::shading::ShadingPatch;
 
 /// Where one imported patch came from, for the `.bpt.json` sidecar.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,7 +72,7 @@ pub struct CageInfo {
     /// Closed parts (every edge manifold).
     pub closed_parts: usize,
     /// Creasing method and triangle rule.
-    pub scheme: cage::Scheme,
+    pub scheme: mesh::Scheme,
     /// The isolation asked for.
     pub isolate: u32,
     /// Patches per refinement level.
@@ -129,4 +128,15 @@ impl ImportedModel {
                 .collect()
         }
     }
+}
+
+/// Patches by the refinement level they were made at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LevelCount {
+    /// Refinement steps before conversion.
+    pub level: u32,
+    /// Patches made at that level.
+    pub patches: usize,
+    /// Of those, exactly OpenSubdiv's limit surface.
+    pub exact: usize,
 }

@@ -17,7 +17,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::cage::{Cage, Topology};
+use super::mesh::{Cage, Topology};
 use super::refine::refine;
 use super::sharpness;
 
