@@ -255,7 +255,7 @@ struct BenchFlags {
     flip_frames: Option<u32>,
     /// The ground truth's grid cells per patch side (a power of two;
     /// lower it on CPU devices: 32 is ~18 s per kitchen image there).
-    #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::ground_truth::DEFAULT_GRID)]
+    #[arg(long, value_name = "N", default_value_t = bezier_subdiv::methods::REFERENCE_DEFAULT_GRID)]
     grid: u32,
     /// Output directory (created).
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
@@ -356,7 +356,7 @@ struct FrameArgs {
     #[arg(long)]
     frame: Option<usize>,
     // The help lists the registry, so a new method appears by its entry.
-    #[arg(long, default_value = "subdiv", help = method_help(false), long_help = method_help(true))]
+    #[arg(long, default_value = bezier_subdiv::methods::DEFAULT_METHOD, help = method_help(false), long_help = method_help(true))]
     method: String,
     /// Draw path of the subdivision methods: auto (mesh shaders where
     /// available), mesh, fallback (compute expansion + vertex shader).

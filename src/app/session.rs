@@ -163,7 +163,7 @@ impl Session {
             occlusion: renderer.options().occlusion,
             shade: args.shade,
             msaa: args.gpu.msaa,
-            grid: args.gpu.per_method.ground_truth.grid,
+            grid: args.gpu.per_method.reference_grid(),
             anim,
         };
         let stats = LiveStats {
@@ -341,7 +341,7 @@ impl Session {
             occlusion: c.occlusion,
             ..self.renderer.options().clone()
         };
-        wanted.per_method.ground_truth.grid = c.grid;
+        wanted.per_method.set_reference_grid(c.grid);
         let resize = self.renderer.target().size() != size;
         let reconfigure = wanted != *self.renderer.options();
         let switch = c.method != self.renderer.method().name();
@@ -370,7 +370,7 @@ impl Session {
             self.stats.notice = Some(e.to_string());
             let o = self.renderer.options();
             self.controls.draw = o.draw;
-            self.controls.grid = o.per_method.ground_truth.grid;
+            self.controls.grid = o.per_method.reference_grid();
             self.controls.msaa = o.samples;
             self.controls.method = self.renderer.method().name().to_string();
         }
@@ -547,7 +547,7 @@ impl Session {
         gpu.eps = Some(c.eps);
         gpu.lambda = Some(c.lambda);
         gpu.size = size;
-        gpu.per_method.ground_truth.grid = c.grid;
+        gpu.per_method.set_reference_grid(c.grid);
         gpu.msaa = c.msaa;
         RenderArgs {
             gpu,

@@ -23,8 +23,8 @@ use crate::anim::AnimatedScene;
 use crate::constants::{PATCH_MODEL_SHIFT, SHADE_NORMAL};
 use crate::eval::geometry::Reference;
 use crate::eval::record::{
-    breakdown_rows, figure_keys, flatten, flip_cells, frame_cells, Config, ConfigSummary, CsvLog,
-    FlipRow, FrameRow, BREAKDOWN_COLUMNS, FLIP_COLUMNS, FRAME_COLUMNS,
+    breakdown_rows, figure_keys, flatten, flip_cells, flip_columns, frame_cells, Config,
+    ConfigSummary, CsvLog, FlipRow, FrameRow, BREAKDOWN_COLUMNS, FRAME_COLUMNS,
 };
 use crate::eval::report::{markdown, summary_json, Setup};
 use crate::eval::{
@@ -34,7 +34,7 @@ use crate::eval::{
 use crate::files::{check_writable, write_atomic};
 use crate::frame::View;
 use crate::gpu::write_png;
-use crate::methods::{self, ground_truth};
+use crate::methods;
 use crate::patch::view::Split;
 use crate::renderer::Renderer;
 use crate::scene::desc::Scene;
@@ -100,7 +100,7 @@ impl BenchArgs {
             size: (1920, 1080),
             warmup: None,
             flip_frames: None,
-            grid: ground_truth::DEFAULT_GRID,
+            grid: methods::REFERENCE_DEFAULT_GRID,
             out,
             device: DeviceSelector::Auto,
             quick: false,
@@ -264,7 +264,7 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
         }
         None => methods::METHODS
             .iter()
-            .filter(|m| m.benched)
+            .filter(|m| m.benched())
             .map(|m| m.name.to_string())
             .collect(),
     };
@@ -272,7 +272,7 @@ pub fn check(args: &BenchArgs) -> anyhow::Result<Plan> {
     // Off unless asked: the paper's comparison culls by frustum and back
     // faces alone, like the tessellators.
     request.occlusion = Some(args.occlusion);
-    request.per_method.ground_truth.grid = args.grid;
+    request.per_method.set_reference_grid(args.grid);
     request.method_info()?;
     if args.frames == Some(0) {
         return Err(anyhow!("--frames must be at least 1"));
@@ -453,7 +453,7 @@ fn bench_renderer(
     // Off unless asked: the paper's comparison culls by frustum and back
     // faces alone, like the tessellators.
     request.occlusion = Some(args.occlusion);
-    request.per_method.ground_truth.grid = args.grid;
+    request.per_method.set_reference_grid(args.grid);
     request.size = args.size;
     request.method = plan.configs[0].method.clone();
     let mut renderer = request.renderer(ctx, &loaded.geometry, &loaded.shading)?;
@@ -555,7 +555,7 @@ fn measure(
     let mut columns: Vec<String> = FRAME_COLUMNS.iter().map(|s| s.to_string()).collect();
     columns.extend(keys.iter().cloned());
     let mut frames_csv = CsvLog::create(&args.out.join("frames.csv"), &columns)?;
-    let flip_columns: Vec<String> = FLIP_COLUMNS.iter().map(|s| s.to_string()).collect();
+    let flip_columns: Vec<String> = flip_columns().iter().map(|s| s.to_string()).collect();
     let flip_csv = CsvLog::create(&args.out.join("flip.csv"), &flip_columns)?;
     if run.warm_up()?.is_break() || run.time_frames(&keys, &mut frames_csv)?.is_break() {
         return Ok(());
@@ -842,9 +842,10 @@ fn label(c: &Config, what: &str) -> String {
 fn finish(out: &Path, setup: &Setup, m: &Measured) -> anyhow::Result<String> {
     // Stopped before the columns were known (during the probes): the CSV
     // files still exist, with the columns every run has.
+    let flip = flip_columns();
     for (f, cols) in [
         ("frames.csv", &FRAME_COLUMNS[..]),
-        ("flip.csv", &FLIP_COLUMNS[..]),
+        ("flip.csv", &flip[..]),
         ("breakdown.csv", &BREAKDOWN_COLUMNS[..]),
     ] {
         if !out.join(f).exists() {
@@ -940,20 +941,24 @@ mod tests {
         let mut args = BenchArgs::new(root.join("scenes/rational.toml"), out.clone());
         let mut plan = check(&args).unwrap();
         let geo = plan.scene.geometry().unwrap();
-        assert!(plan.methods().contains(&"tess".to_string()));
+        let benched = |rational: bool| -> Vec<String> {
+            methods::METHODS
+                .iter()
+                .filter(|m| m.benched() && m.rational == rational)
+                .map(|m| m.name.to_string())
+                .collect()
+        };
+        let (can, cannot) = (benched(true), benched(false));
+        assert!(!can.is_empty() && !cannot.is_empty());
+        assert!(cannot.iter().all(|m| plan.methods().contains(m)));
         fit_methods_to_scene(&mut plan, &geo, false).unwrap();
-        let kept = plan.methods();
-        assert!(!kept.iter().any(|m| m.starts_with("tess")), "{kept:?}");
-        assert!(kept.contains(&"subdiv".to_string()) && kept.contains(&"cudatess".to_string()));
+        assert_eq!(plan.methods(), can);
 
-        args.methods = Some(vec!["subdiv".into(), "tess".into()]);
+        args.methods = Some(vec![can[0].clone(), cannot[0].clone()]);
         let mut plan = check(&args).unwrap();
         let e = fit_methods_to_scene(&mut plan, &geo, true).unwrap_err();
-        assert!(
-            e.to_string()
-                .contains("`tess` cannot draw rational patches"),
-            "{e}"
-        );
+        let refused = format!("`{}` cannot draw rational patches", cannot[0]);
+        assert!(e.to_string().contains(&refused), "{e}");
         let _ = std::fs::remove_dir_all(out);
     }
 }

@@ -87,7 +87,7 @@ impl GpuRequest {
     pub fn new(scene: PathBuf) -> Self {
         GpuRequest {
             scene,
-            method: "subdiv".into(),
+            method: crate::methods::DEFAULT_METHOD.into(),
             eps: None,
             lambda: None,
             size: (1920, 1080),

@@ -245,7 +245,7 @@ fn compare_with_ground_truth(
     let geometry = crate::eval::geometric_error(renderer, view, camera, &result.errors)?;
     Ok(FlipOutput {
         result,
-        grid: renderer.options().per_method.ground_truth.grid,
+        grid: renderer.options().per_method.reference_grid(),
         geometry,
     })
 }
@@ -267,7 +267,7 @@ fn add_frames(stats: &mut Value, frames: &Frames, warmup: u32) {
 /// Adds the comparison with the ground truth to the stats.
 fn add_flip(stats: &mut Value, f: &FlipOutput, eps: f64) {
     stats["flip_mean"] = json!(f.result.mean);
-    stats["flip_reference"] = json!({ "method": "ground-truth", "grid": f.grid });
+    stats["flip_reference"] = json!({ "method": crate::methods::reference().name, "grid": f.grid });
     let g = &f.geometry;
     stats["geometric_error"] = json!({
         "mean_px": g.geo_mean_px,
@@ -310,7 +310,7 @@ fn occlusion_summary(report: &FrameReport) -> String {
 /// shader compiler's; none for the ground truth, whose image is what it is
 /// for (its frames are the longest).
 pub fn default_warmup(method: &str) -> u32 {
-    u32::from(method != crate::methods::ground_truth::INFO.name)
+    u32::from(method != crate::methods::reference().name)
 }
 
 /// The frames `render` draws: `warmup` untimed ones (the first of them

@@ -10,17 +10,18 @@ pub mod pareto;
 pub mod plot;
 pub mod record;
 pub mod report;
+mod targets;
 
 use crate::constants::{SHADE_DISTANCE, SHADE_PATCH_ID, SHADE_WEDGES};
 use crate::frame::View;
-use crate::methods::{ground_truth, RenderError};
+use crate::methods::{self, RenderError};
 use crate::renderer::Renderer;
 
 /// The `ground-truth` image of `view` (at the renderer's grid), as RGBA8
 /// rows; the renderer is left with the method it had.
 pub fn ground_truth_image(renderer: &mut Renderer, view: &View) -> Result<Vec<u8>, RenderError> {
     let method = renderer.method().name();
-    renderer.set_method(ground_truth::INFO.name)?;
+    renderer.set_method(methods::reference().name)?;
     let image = renderer
         .render(view)
         .and_then(|_| Ok(renderer.read_image()?));
@@ -91,7 +92,7 @@ pub fn ground_truth_reference(
     model_of: impl Fn(u32) -> Option<usize>,
 ) -> Result<geometry::Reference, RenderError> {
     let method = renderer.method().name();
-    renderer.set_method(ground_truth::INFO.name)?;
+    renderer.set_method(methods::reference().name)?;
     let images =
         distance_image(renderer, view, far).and_then(|d| Ok((d, patch_id_image(renderer, view)?)));
     renderer.set_method(method)?;
@@ -118,7 +119,7 @@ pub fn geometric_error(
 ) -> Result<geometry::Breakdown, RenderError> {
     let far = camera.far as f32;
     let method = renderer.method().name();
-    renderer.set_method(ground_truth::INFO.name)?;
+    renderer.set_method(methods::reference().name)?;
     let truth = distance_image(renderer, view, far);
     renderer.set_method(method)?;
     let distance = truth?;

@@ -1,6 +1,7 @@
 //! The comparison at equal error: each method's curve over ε of image
-//! error against triangles and against frame time, and what the reference
-//! method (`tess`) needs for the same error, interpolated on its curve.
+//! error against triangles and against frame time, and what the baseline
+//! method (the registry's `Role::Baseline`) needs for the same error,
+//! interpolated on its curve.
 //!
 //! Comparing at one ε compares two different promises (a sample test for
 //! subdivision, a bound for tessellation), so the fair question is: for the
@@ -12,9 +13,6 @@
 //! outside its range nothing is claimed.
 
 use super::record::{Config, ConfigSummary};
-
-/// The method every other is compared with.
-pub const REFERENCE: &str = "tess";
 
 /// One configuration on its curve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,7 +175,7 @@ mod tests {
 
     fn curve(pts: &[(f64, f64, f64)]) -> Curve {
         Curve {
-            method: "tess".into(),
+            method: "baseline".into(),
             lambda: None,
             points: pts
                 .iter()
@@ -213,7 +211,7 @@ mod tests {
     fn ratios_against_the_reference() {
         let reference = curve(&[(0.5, 0.01, 40_000.0), (2.0, 0.04, 2_500.0)]);
         let mut mine = curve(&[(0.5, 0.02, 5_000.0), (4.0, 0.1, 100.0)]);
-        mine.method = "subdiv".into();
+        mine.method = "mine".into();
         let a = against(&mine, &reference);
         assert_eq!(
             a.len(),

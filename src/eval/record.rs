@@ -133,25 +133,41 @@ pub fn flatten(report: &FrameReport, memory: &[(&'static str, u64)]) -> Vec<(Str
 /// The columns every frame row starts with, before the figures.
 pub const FRAME_COLUMNS: [&str; 6] = ["method", "draw_path", "eps", "lambda", "frame", "t"];
 
-/// The columns of `flip.csv`.
-pub const FLIP_COLUMNS: [&str; 16] = [
-    "method",
-    "draw_path",
-    "eps",
-    "lambda",
-    "perspective",
-    "t",
-    "flip_mean",
-    "triangles",
-    "geo_mean_px",
-    "geo_p99_px",
-    "silhouette_diff_px",
-    "flip_silhouette_share",
-    "flip_wedge_share",
-    "wedge_pixel_share",
-    "image",
-    "heat_map",
+/// A column of `flip.csv`: its name and how a row's cell is written.
+pub type FlipColumn = (&'static str, fn(&Config, &FlipRow) -> String);
+
+/// The columns of `flip.csv`, each declared once with its cell.
+pub const FLIP_COLUMNS: &[FlipColumn] = &[
+    ("method", |c, _| c.method.clone()),
+    ("draw_path", |c, _| c.draw_path.clone()),
+    ("eps", |c, _| c.eps.to_string()),
+    ("lambda", |c, _| c.lambda_cell()),
+    ("perspective", |_, r| r.perspective.to_string()),
+    ("t", |_, r| r.t.to_string()),
+    ("flip_mean", |_, r| r.mean.to_string()),
+    ("triangles", |_, r| r.triangles.to_string()),
+    ("geo_mean_px", |_, r| r.breakdown.geo_mean_px.to_string()),
+    ("geo_p99_px", |_, r| r.breakdown.geo_p99_px.to_string()),
+    ("silhouette_diff_px", |_, r| {
+        r.breakdown.silhouette_diff_px.to_string()
+    }),
+    ("flip_silhouette_share", |_, r| {
+        r.breakdown.flip_silhouette_share.to_string()
+    }),
+    ("flip_wedge_share", |_, r| {
+        opt_cell(r.breakdown.flip_wedge_share)
+    }),
+    ("wedge_pixel_share", |_, r| {
+        opt_cell(r.breakdown.wedge_pixel_share)
+    }),
+    ("image", |_, r| r.image.clone()),
+    ("heat_map", |_, r| r.heat_map.clone()),
 ];
+
+/// The names of [`FLIP_COLUMNS`].
+pub fn flip_columns() -> Vec<&'static str> {
+    FLIP_COLUMNS.iter().map(|c| c.0).collect()
+}
 
 /// The columns of `breakdown.csv`: per configuration, perspective and
 /// model, the reference pixels showing the model, FLIP over them and the
@@ -276,24 +292,10 @@ pub fn frame_cells(config: &Config, row: &FrameRow, keys: &[String]) -> Vec<Stri
 
 /// The cells of a `flip.csv` row.
 pub fn flip_cells(config: &Config, row: &FlipRow) -> Vec<String> {
-    vec![
-        config.method.clone(),
-        config.draw_path.clone(),
-        config.eps.to_string(),
-        config.lambda_cell(),
-        row.perspective.to_string(),
-        row.t.to_string(),
-        row.mean.to_string(),
-        row.triangles.to_string(),
-        row.breakdown.geo_mean_px.to_string(),
-        row.breakdown.geo_p99_px.to_string(),
-        row.breakdown.silhouette_diff_px.to_string(),
-        row.breakdown.flip_silhouette_share.to_string(),
-        opt_cell(row.breakdown.flip_wedge_share),
-        opt_cell(row.breakdown.wedge_pixel_share),
-        row.image.clone(),
-        row.heat_map.clone(),
-    ]
+    FLIP_COLUMNS
+        .iter()
+        .map(|(_, cell)| cell(config, row))
+        .collect()
 }
 
 fn opt_cell(x: Option<f64>) -> String {
@@ -496,7 +498,7 @@ mod tests {
 
     fn report(tris: u64, wedges: u64, frame_ms: f64) -> FrameReport {
         FrameReport {
-            method: "subdiv",
+            method: "m",
             draw_path: "mesh",
             stats: MethodStats {
                 triangles: tris,
@@ -555,7 +557,7 @@ mod tests {
         // Lists are not summarised.
         assert_eq!(s.get("method_stats.nodes_per_depth"), None);
         let config = Config {
-            method: "subdiv".into(),
+            method: "m".into(),
             eps: 1.0,
             lambda: Some(0.5),
             draw_path: "mesh".into(),

@@ -6,7 +6,7 @@
 
 use serde_json::{json, Value};
 
-use super::pareto::{self, against, median, Curve, REFERENCE};
+use super::pareto::{self, against, median, Curve};
 use super::record::{Config, ConfigSummary};
 use crate::figures::thousands;
 
@@ -80,11 +80,11 @@ pub fn summary_json(setup: &Setup, configs: &[Config], summaries: &[ConfigSummar
 }
 
 /// Numbers as the paper prints them.
-fn ms(x: f64) -> String {
+pub(super) fn ms(x: f64) -> String {
     format!("{x:.3} ms")
 }
 
-fn mib(bytes: f64) -> String {
+pub(super) fn mib(bytes: f64) -> String {
     if bytes < 1024.0 * 1024.0 {
         format!("{:.2} KiB", bytes / 1024.0)
     } else {
@@ -100,11 +100,11 @@ fn lambda_text(c: &Config) -> String {
 /// Table rows group configurations by ε, then the methods that ignore λ,
 /// then by λ (the paper's order: λ descending), then by method in run
 /// order.
-struct Index<'a> {
-    configs: &'a [Config],
-    summaries: &'a [ConfigSummary],
+pub(super) struct Index<'a> {
+    pub(super) configs: &'a [Config],
+    pub(super) summaries: &'a [ConfigSummary],
     eps: Vec<f64>,
-    lambdas: Vec<f64>,
+    pub(super) lambdas: Vec<f64>,
     methods: Vec<String>,
 }
 
@@ -137,7 +137,7 @@ impl<'a> Index<'a> {
 
     /// The summary of `method` at `eps` and `lambda` (a method that ignores
     /// λ answers for any), if it was measured.
-    fn get(&self, method: &str, eps: f64, lambda: f64) -> Option<&'a ConfigSummary> {
+    pub(super) fn get(&self, method: &str, eps: f64, lambda: f64) -> Option<&'a ConfigSummary> {
         self.summaries.iter().find(|s| {
             let c = &self.configs[s.config];
             c.method == method && c.eps == eps && c.lambda.is_none_or(|l| l == lambda)
@@ -206,7 +206,7 @@ pub fn markdown(
     );
     md += &geometric_error(&ix);
     md += &error_sources(&ix, setup);
-    md += &targets(&ix, setup, &curves);
+    md += &super::targets::section(&ix, setup, &curves);
     md += "## Plots\n\n";
     for (file, what) in plots {
         md += &format!("![{what}]({file})\n\n");
@@ -246,8 +246,9 @@ fn setup_table(s: &Setup) -> String {
         (
             "split",
             format!(
-                "`{}` (how `subdiv` and `subdiv-indirect` split a node)",
-                s.split
+                "`{}` (how {} split a node)",
+                s.split,
+                crate::methods::names_that_read(|r| r.split)
             ),
         ),
         (
@@ -483,115 +484,6 @@ fn memory_table(ix: &Index<'_>) -> String {
         md += &format!(" **{}** |", mib(total));
     }
     md += "\n\n";
-    // Whether the per-depth buffers hold the worst case or were capped.
-    if let Some(s) = ix
-        .summaries
-        .iter()
-        .find(|s| ix.configs[s.config].method == "subdiv-indirect")
-    {
-        let capped = s.fact("method_stats.node_buffers_worst_case") == Some(&json!(false));
-        if capped {
-            md += "`subdiv-indirect`'s node buffers do not hold the worst case of its depth \
-                   limit on this device (capped by the storage-buffer range; a frame that \
-                   needs more fails).\n\n";
-        }
-    }
-    md
-}
-
-/// "met", or by how much `ratio` misses `limit`.
-fn verdict(ratio: f64, limit: f64) -> String {
-    if ratio <= limit {
-        "met".to_string()
-    } else {
-        format!("missed by {:.0} %", 100.0 * (ratio / limit - 1.0))
-    }
-}
-
-/// The targets of the issue on subdivision against tessellation: triangle
-/// ratios at ε = 1, image error at equal ε, and triangles at equal error.
-fn error_targets(ix: &Index<'_>, setup: &Setup, curves: &[Curve]) -> String {
-    let mut md = String::new();
-    let e = 1.0;
-    let tris = |m: &str, l: f64| {
-        ix.get(m, e, l)
-            .and_then(|s| s.get("triangles"))
-            .map(|x| x.0)
-    };
-    let absent = |what: &str| {
-        format!("| {what} | – | not measured (needs `subdiv` and `tess` at ε = 1 in one run) |\n")
-    };
-    for (l, limit) in [(0.5, 0.45), (0.0, 0.12)] {
-        let what = format!("ε = 1: `subdiv` λ = {l} ≤ {limit}× the triangles of `tess`");
-        md += &match (tris("subdiv", l), tris("tess", l)) {
-            (Some(a), Some(b)) if b > 0.0 => format!(
-                "| {what} | {} / {} = {:.3}× | {} |\n",
-                thousands(a as u64),
-                thousands(b as u64),
-                a / b,
-                verdict(a / b, limit)
-            ),
-            _ => absent(&what),
-        };
-    }
-    let what = "ε = 1: `subdiv` λ = 0 ≤ 0.3× the triangles of λ = 0.5";
-    md += &match (tris("subdiv", 0.0), tris("subdiv", 0.5)) {
-        (Some(a), Some(b)) if b > 0.0 => format!(
-            "| {what} | {} / {} = {:.3}× | {} |\n",
-            thousands(a as u64),
-            thousands(b as u64),
-            a / b,
-            verdict(a / b, 0.3)
-        ),
-        _ => format!("| {what} | – | not measured (needs `subdiv` at λ = 0 and 0.5, ε = 1) |\n"),
-    };
-    for e in [0.5, 1.0, 2.0] {
-        let flip = |m: &str| ix.get(m, e, 0.5).and_then(|s| s.flip_median());
-        let what = format!("ε = {e}: `subdiv` λ = 0.5 FLIP ≤ `tess`'s + 10 %");
-        md += &match (flip("subdiv"), flip("tess")) {
-            (Some(a), Some(b)) if b > 0.0 => format!(
-                "| {what} | {a:.5} / {b:.5} = {:.3}× | {} |\n",
-                a / b,
-                verdict(a / b, 1.1)
-            ),
-            _ => format!("| {what} | – | not measured (needs FLIP of both at ε = {e}) |\n"),
-        };
-    }
-    // At equal error: the issue's limit for the kitchen and the teapot.
-    let limit = match setup.scene_name.as_str() {
-        "kitchen" => Some(0.6),
-        "teapot" => Some(0.9),
-        _ => None,
-    };
-    let what = format!(
-        "equal FLIP: `subdiv` λ = 0.5 ≤ {}× the triangles of `tess`",
-        limit.map_or("0.6 (kitchen) / 0.9 (teapot)".to_string(), |l| l
-            .to_string())
-    );
-    let reference = curves.iter().find(|c| c.method == REFERENCE);
-    let mine = curves
-        .iter()
-        .find(|c| c.method == "subdiv" && c.lambda == Some(0.5));
-    md += &match (mine, reference) {
-        (Some(c), Some(r)) => {
-            let ratios: Vec<f64> = against(c, r).iter().map(|a| a.triangle_ratio()).collect();
-            match (median(ratios.clone()), limit) {
-                (Some(m), Some(limit)) => format!(
-                    "| {what} | median {m:.3}× over {} ε | {} |\n",
-                    ratios.len(),
-                    verdict(m, limit)
-                ),
-                (Some(m), None) => format!(
-                    "| {what} | median {m:.3}× over {} ε | no limit for this scene |\n",
-                    ratios.len()
-                ),
-                (None, _) => format!(
-                    "| {what} | – | no ε of `subdiv` reaches an error within `tess`'s range |\n"
-                ),
-            }
-        }
-        _ => format!("| {what} | – | not measured (needs FLIP of `subdiv` λ = 0.5 and `tess`) |\n"),
-    };
     md
 }
 
@@ -610,23 +502,23 @@ fn equal_error(curves: &[Curve], what: ErrorMeasure) -> String {
         ErrorMeasure::Flip => ("image error", "FLIP", 5),
         ErrorMeasure::Geometric => ("geometric error", "mean geometric error (px)", 3),
     };
+    let base = crate::methods::baseline().name;
     let mut md = format!(
-        "## At equal {title} (against `{REFERENCE}`)\n\n\
+        "## At equal {title} (against `{base}`)\n\n\
          Per configuration: its {name} (median over the perspectives), its triangles in those \
-         images and its median frame time, and what `{REFERENCE}` needs for the same error, \
-         interpolated log-log between the two ε of `{REFERENCE}` whose errors bracket it \
-         (`–`: outside `{REFERENCE}`'s range).\n\n"
+         images and its median frame time, and what `{base}` needs for the same error, \
+         interpolated log-log between the two ε of `{base}` whose errors bracket it \
+         (`–`: outside `{base}`'s range).\n\n"
     );
-    let Some(reference) = curves.iter().find(|c| c.method == REFERENCE) else {
-        return md
-            + &format!("Not measured: `{REFERENCE}` needs FLIP perspectives in the run.\n\n");
+    let Some(reference) = curves.iter().find(|c| c.method == base) else {
+        return md + &format!("Not measured: `{base}` needs FLIP perspectives in the run.\n\n");
     };
     md += &format!(
-        "| curve | ε | {name} | triangles | `{REFERENCE}` triangles | ratio | frame ms | \
-         `{REFERENCE}` ms | ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+        "| curve | ε | {name} | triangles | `{base}` triangles | ratio | frame ms | \
+         `{base}` ms | ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     let mut verdicts = String::new();
-    for c in curves.iter().filter(|c| c.method != REFERENCE) {
+    for c in curves.iter().filter(|c| c.method != base) {
         let at = against(c, reference);
         for p in &c.points {
             let a = at.iter().find(|a| a.point.eps == p.eps);
@@ -647,12 +539,9 @@ fn equal_error(curves: &[Curve], what: ErrorMeasure) -> String {
         let tri = median(at.iter().map(|a| a.triangle_ratio()).collect());
         let time = median(at.iter().filter_map(|a| a.time_ratio()).collect());
         verdicts += &match tri {
-            None => format!(
-                "- **{}**: no ε within `{REFERENCE}`'s error range.\n",
-                c.name()
-            ),
+            None => format!("- **{}**: no ε within `{base}`'s error range.\n", c.name()),
             Some(t) => format!(
-                "- **{}**: at equal {name} it draws {t:.2}× `{REFERENCE}`'s triangles{} \
+                "- **{}**: at equal {name} it draws {t:.2}× `{base}`'s triangles{} \
                  (median of {} ε): {}.\n",
                 c.name(),
                 time.map_or(String::new(), |x| format!(" in {x:.2}× its frame time")),
@@ -782,67 +671,5 @@ fn error_sources(ix: &Index<'_>, setup: &Setup) -> String {
             top.join(", ")
         );
     }
-    md + "\n"
-}
-
-/// Node memory over every configuration of the two level-schedule methods:
-/// at most 32 MiB (the paper's work graph needs 26.39 MiB), and the worst
-/// frame's rounds taken in parts (a depth that did not fit its chunk; not a
-/// failure, but a cost the report should show).
-fn node_memory_target(ix: &Index<'_>) -> String {
-    const LIMIT: f64 = 32.0 * 1024.0 * 1024.0;
-    let worst = |m: &str, key: &str| {
-        ix.summaries
-            .iter()
-            .filter(|s| ix.configs[s.config].method == m)
-            .filter_map(|s| s.get(key).map(|x| x.2))
-            .max_by(f64::total_cmp)
-    };
-    let mut md = String::new();
-    for m in ["subdiv", "subdiv-indirect"] {
-        let what = format!("`{m}` node memory ≤ 32 MiB on the path");
-        md += &match worst(m, "method_stats.node_memory_bytes") {
-            Some(bytes) => {
-                let parts = worst(m, "method_stats.rounds_split").unwrap_or(0.0);
-                format!(
-                    "| {what} | {}, worst frame {} rounds in parts | {} |\n",
-                    mib(bytes),
-                    thousands(parts as u64),
-                    verdict(bytes / LIMIT, 1.0)
-                )
-            }
-            None => format!(
-                "| {what} | – | not measured (`{m}` with the level schedule not in this run) |\n"
-            ),
-        };
-    }
-    md
-}
-
-/// The issue's targets, each with what was measured and by how much it is
-/// missed.
-fn targets(ix: &Index<'_>, setup: &Setup, curves: &[Curve]) -> String {
-    let mut md = "## Targets\n\n| target | measured | verdict |\n|---|---|---|\n".to_string();
-    md += &error_targets(ix, setup, curves);
-    let e = 1.0;
-    for &l in &ix.lambdas {
-        let what = format!("`subdiv` subdivide pass ≤ 0.9× `subdiv-indirect`'s (λ = {l})");
-        let pass = |m: &str| {
-            ix.get(m, e, l)
-                .and_then(|s| s.get("gpu_ms.subdivide"))
-                .map(|x| x.0)
-        };
-        md += &match (pass("subdiv"), pass("subdiv-indirect")) {
-            (Some(a), Some(b)) if b > 0.0 => format!(
-                "| {what} | {} / {} = {:.3}× | {} |\n",
-                ms(a),
-                ms(b),
-                a / b,
-                verdict(a / b, 0.9)
-            ),
-            _ => format!("| {what} | – | not measured (needs both methods at ε = 1) |\n"),
-        };
-    }
-    md += &node_memory_target(ix);
     md + "\n"
 }

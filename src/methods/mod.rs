@@ -33,6 +33,7 @@ pub mod ground_truth;
 pub mod levels;
 pub mod subdiv;
 pub mod subdiv_indirect;
+pub mod targets;
 pub mod tess;
 
 use std::any::Any;
@@ -46,6 +47,7 @@ use crate::patch::view::ViewParams;
 use crate::scene::geometry::SceneGeometry;
 use crate::vk::{Context, VkError};
 use checks::MakeCheck;
+use targets::Target;
 
 /// What can go wrong while rendering with a method.
 #[derive(Debug, thiserror::Error)]
@@ -128,6 +130,16 @@ pub struct PerMethod {
 }
 
 impl PerMethod {
+    /// The reference's grid (its cells per patch side).
+    pub fn reference_grid(&self) -> u32 {
+        self.ground_truth.grid
+    }
+
+    /// Sets the reference's grid.
+    pub fn set_reference_grid(&mut self, grid: u32) {
+        self.ground_truth.grid = grid;
+    }
+
     /// Every section's check: the first sentence that refuses a value.
     pub fn check(&self) -> Result<(), String> {
         self.ground_truth.check()?;
@@ -299,10 +311,10 @@ pub struct MethodInfo {
     pub pn: bool,
     /// The view settings it reads.
     pub reads: Reads,
-    /// Whether `bench` measures it when `--methods` is not given (the
-    /// methods the paper compares; not the reference it compares them
-    /// with, nor the worked example).
-    pub benched: bool,
+    /// The part it plays in the comparisons.
+    pub role: Role,
+    /// The targets `bench`'s report judges it by (none: only measured).
+    pub targets: &'static [Target],
     /// What the depth heat map's colours mean for it (the window's legend).
     pub heat_map: &'static str,
     /// What the wedge colour marks in its drawing (the window's legend):
@@ -313,6 +325,70 @@ pub struct MethodInfo {
     pub checks: Option<MakeCheck>,
     /// Makes the method.
     pub build: fn(&mut MethodSetup<'_>) -> Result<Box<dyn Method>, RenderError>,
+}
+
+/// The part a method plays in the comparisons `bench`, `render --flip`
+/// and `validate` make. Exactly one entry is the reference and one the
+/// baseline ([`reference`], [`baseline`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// A method the paper compares: `bench` measures it unless `--methods`
+    /// says otherwise.
+    Compared,
+    /// The method every compared one is measured against at equal error
+    /// (`bench`'s equal-error tables); compared itself too.
+    Baseline,
+    /// The image every method's error is measured against (FLIP, the
+    /// geometric error, the hole test's look at what each method covers).
+    Reference,
+    /// A worked example of adding a method; not compared.
+    Example,
+}
+
+impl MethodInfo {
+    /// Whether `bench` measures it when `--methods` is not given.
+    pub fn benched(&self) -> bool {
+        matches!(self.role, Role::Compared | Role::Baseline)
+    }
+}
+
+/// The method the command line draws with unless told otherwise.
+pub const DEFAULT_METHOD: &str = subdiv::INFO.name;
+
+/// The reference's grid unless told otherwise (`--grid`).
+pub const REFERENCE_DEFAULT_GRID: u32 = ground_truth::DEFAULT_GRID;
+
+/// The entry with role `role` (the registry has exactly one reference and
+/// one baseline: a test says so).
+fn the(role: Role) -> &'static MethodInfo {
+    METHODS
+        .iter()
+        .find(|m| m.role == role)
+        .expect("the registry has a method in every singular role")
+}
+
+/// The reference image's method.
+pub fn reference() -> &'static MethodInfo {
+    the(Role::Reference)
+}
+
+/// The baseline of the comparisons at equal error.
+pub fn baseline() -> &'static MethodInfo {
+    the(Role::Baseline)
+}
+
+/// The names of the methods whose [`Reads`] satisfy `pred`, as a sentence
+/// ("`a` and `b`").
+pub fn names_that_read(pred: impl Fn(&Reads) -> bool) -> String {
+    let names: Vec<String> = METHODS
+        .iter()
+        .filter(|m| pred(&m.reads))
+        .map(|m| format!("`{}`", m.name))
+        .collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.join(""),
+    }
 }
 
 /// Every method that is built, by command-line name.
@@ -457,7 +533,7 @@ fn refuse(
     if pn > 0 && !info.pn {
         // The ground truth is named apart: it is the reference, not a method
         // to draw the scene with.
-        let reference = ground_truth::INFO.name;
+        let reference = reference().name;
         let able: Vec<&str> = METHODS
             .iter()
             .filter(|m| m.pn && m.name != reference)
@@ -510,7 +586,7 @@ mod tests {
             assert_ne!(r, unknown, "{} reads everything", m.name);
             let subdivides = m.name.starts_with("subdiv");
             assert_eq!(r.lambda && r.l_max && r.wedges, subdivides, "{}", m.name);
-            assert_eq!(r.grid, m.name == ground_truth::INFO.name, "{}", m.name);
+            assert_eq!(r.grid, m.role == Role::Reference, "{}", m.name);
         }
     }
 
@@ -603,6 +679,32 @@ mod tests {
         for m in METHODS {
             assert_eq!(refuse(m, 0, 4, 2).is_ok(), m.pn, "{}", m.name);
         }
+    }
+
+    /// One reference and one baseline, and every target holds a method
+    /// against one the registry has.
+    #[test]
+    fn roles_are_singular_and_targets_name_registered_methods() {
+        for role in [Role::Reference, Role::Baseline] {
+            assert_eq!(METHODS.iter().filter(|m| m.role == role).count(), 1);
+        }
+        assert!(!reference().benched() && baseline().benched());
+        for m in METHODS {
+            for t in m.targets {
+                if let targets::Target::Ratio {
+                    against: targets::Against::Method(o),
+                    ..
+                } = t
+                {
+                    assert!(find(o).is_ok(), "{}: {o}", m.name);
+                }
+            }
+        }
+        assert!(find(DEFAULT_METHOD).is_ok());
+        assert_eq!(
+            names_that_read(|r| r.split),
+            "`subdiv` and `subdiv-indirect`"
+        );
     }
 
     #[test]

@@ -28,7 +28,7 @@
 
 use crate::constants::*;
 use crate::frame::View;
-use crate::methods::{ground_truth, RenderError};
+use crate::methods::{self, RenderError};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::RationalPatch;
 use crate::patch::view::{Split, FLAG_WEDGES};
@@ -550,9 +550,9 @@ fn reference_shots(
     }
     let options = renderer.options().clone();
     let mut reference_options = options.clone();
-    reference_options.per_method.ground_truth.grid = grid;
+    reference_options.per_method.set_reference_grid(grid);
     renderer.set_options(reference_options)?;
-    renderer.set_method(ground_truth::INFO.name)?;
+    renderer.set_method(methods::reference().name)?;
     let shot = shots(renderer, view, REFERENCE_BACKGROUND);
     renderer.set_options(options)?;
     renderer.set_method(tested)?;

@@ -6,7 +6,7 @@
 
 use ash::vk;
 
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::frame::{FrameOut, FrameRec};
 use crate::gpu::DrawPush;
 use crate::vk::{Pipeline, PipelineLayout};
@@ -29,7 +29,8 @@ pub const INFO: MethodInfo = MethodInfo {
         occlusion: false,
         grid: false,
     },
-    benched: false,
+    role: Role::Example,
+    targets: &[],
     heat_map: "nothing (depth 0 everywhere)",
     seams: "wedges (none for this method)",
     checks: None,

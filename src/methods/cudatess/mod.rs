@@ -47,7 +47,7 @@ pub mod scan;
 use ash::vk;
 use serde_json::json;
 
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{CtPush, DrawPush};
@@ -66,7 +66,8 @@ pub const INFO: MethodInfo = MethodInfo {
     rational: true,
     pn: true,
     reads: Reads::TESSELLATES,
-    benched: true,
+    role: Role::Compared,
+    targets: &[],
     heat_map: "log2 of the patch's larger factor",
     seams: "transition strips",
     checks: Some(checks::make),

@@ -39,7 +39,7 @@ pub mod pn;
 use ash::vk;
 use serde_json::json;
 
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, GridPush};
@@ -61,7 +61,8 @@ pub const INFO: MethodInfo = MethodInfo {
         grid: true,
         ..Reads::TESSELLATES
     },
-    benched: false,
+    role: Role::Reference,
+    targets: &[],
     heat_map: "log2 of the grid",
     seams: "wedges (none for this method)",
     checks: None,

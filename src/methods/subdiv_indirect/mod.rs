@@ -18,7 +18,7 @@ use serde_json::json;
 
 use super::levels::{self, finish_rounds, level_memory, level_parts, must_remake, recorded};
 use super::levels::{Levels, RoundBudget};
-use super::{Finished, Method, MethodInfo, MethodSetup, Reads, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
 use crate::draw::ReadyStage;
@@ -33,7 +33,8 @@ pub const INFO: MethodInfo = MethodInfo {
     rational: true,
     pn: false,
     reads: Reads::SUBDIVIDES,
-    benched: true,
+    role: Role::Compared,
+    targets: &[super::subdiv::NODE_MEMORY_TARGET],
     heat_map: "subdivision depth",
     seams: "wedges (crack-closing triangles)",
     checks: None,

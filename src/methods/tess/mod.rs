@@ -27,7 +27,7 @@ use ash::vk;
 use serde_json::json;
 
 use super::edges::{EdgeVertex, PatchLevels};
-use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError};
+use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
@@ -43,7 +43,8 @@ pub const INFO: MethodInfo = MethodInfo {
     rational: false,
     pn: false,
     reads: Reads::TESSELLATES,
-    benched: true,
+    role: Role::Baseline,
+    targets: &[],
     heat_map: "log2 of the inner tessellation level",
     seams: "wedges (none for this method)",
     checks: Some(checks::make),
@@ -55,6 +56,7 @@ pub const INFO: MethodInfo = MethodInfo {
 pub const INFO_REPARAM: MethodInfo = MethodInfo {
     name: "tess-reparam",
     about: "hardware tessellation with Buchenau-Guthe's curvature re-parameterisation (§4, §5.2)",
+    role: Role::Compared,
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Reparam)?)),
     ..INFO
 };
