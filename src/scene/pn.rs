@@ -182,7 +182,7 @@ pub fn parse(path: &Path, text: &str) -> Result<PnMesh, SceneError> {
     let mut positions: Vec<Vec3> = Vec::new();
     let mut file_normals: Vec<Vec3> = Vec::new();
     let mut faces: Vec<(usize, Vec<Corner>)> = Vec::new();
-    for (line_no, keyword, rest) in crate::cage::obj::statements(text) {
+    for (line_no, keyword, rest) in crate::cage::scan::statements(text) {
         let err = |msg: String| SceneError::at(path, line_no, msg);
         match keyword {
             "v" | "vn" => {
@@ -196,7 +196,7 @@ pub fn parse(path: &Path, text: &str) -> Result<PnMesh, SceneError> {
                 }
             }
             "f" => {
-                let corners = crate::cage::obj::face_corners(&rest, |r| {
+                let corners = crate::cage::scan::face_corners(&rest, |r| {
                     corner(r, positions.len(), file_normals.len())
                 })
                 .map_err(err)?;

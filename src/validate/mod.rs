@@ -6,6 +6,7 @@
 //! comparisons the tessellating methods build theirs on are
 //! `methods::edges`), so nothing here names a method.
 
+pub mod coverage;
 pub mod holes;
 pub mod raster;
 

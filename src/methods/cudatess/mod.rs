@@ -41,7 +41,9 @@
 //! ([`CudaTess::read_frame`]).
 
 pub mod checks;
+mod passes;
 pub mod pattern;
+mod records;
 pub mod scan;
 
 use ash::vk;
@@ -53,10 +55,13 @@ use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
 use crate::gpu::{CtPush, DrawPush};
 use crate::scene::pn::PnScene;
 use crate::vk::{
-    Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
+    Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pipeline,
     PipelineLayout, Recorder, Res, SetLayout, VkError, VkResult,
 };
 use scan::ScanPlan;
+
+use passes::ComputePasses;
+pub use records::{CtVertex, FrameData, PatchRecord};
 
 /// The registry entry.
 pub const INFO: MethodInfo = MethodInfo {
@@ -178,69 +183,6 @@ struct Outputs {
     indices: Buffer,
     vertex_capacity: u32,
     index_capacity: u32,
-}
-
-/// One patch's record after a frame (`CT_REC_*`). A PN triangle's record
-/// (after the patches') has `own` = its largest and smallest own factor and
-/// `edges` = the final factors of its edges P0 → P1, P1 → P2, P2 → P0,
-/// then its core factor.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PatchRecord {
-    /// Its own factors along u and v (0, 0: culled).
-    pub own: [u32; 2],
-    /// The final factors of its edges 0-3 (u = 0, v = 0, u = 1, v = 1).
-    pub edges: [u32; 4],
-    /// Vertices and indices its pattern has.
-    pub counts: [u32; 2],
-    /// Where its vertices and indices start (the scan's offsets).
-    pub offsets: [u32; 2],
-}
-
-impl PatchRecord {
-    /// Frustum-culled.
-    pub fn culled(&self) -> bool {
-        self.own[0] == 0
-    }
-}
-
-/// One written vertex.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CtVertex {
-    /// Position.
-    pub position: [f32; 3],
-    /// The base patch's parameters.
-    pub uv: [f32; 2],
-    /// The packed word: patch id, depth, transition bit.
-    pub word: u32,
-}
-
-impl CtVertex {
-    /// The base patch (or PN triangle, see [`CtVertex::is_pn`]).
-    pub fn patch(&self) -> u32 {
-        self.word & ((1 << CT_PATCH_BITS) - 1)
-    }
-
-    /// Whether the vertex belongs to a PN triangle.
-    pub fn is_pn(&self) -> bool {
-        self.word & (1 << CT_PN_SHIFT) != 0
-    }
-}
-
-/// What a frame left in the buffers, read back.
-#[derive(Clone, Debug, Default)]
-pub struct FrameData {
-    /// Per patch, then per PN triangle.
-    pub records: Vec<PatchRecord>,
-    /// How many of `records` are patches (the rest are PN triangles).
-    pub patches: usize,
-    /// Every vertex written.
-    pub vertices: Vec<CtVertex>,
-    /// Every index written (absolute).
-    pub indices: Vec<u32>,
-    /// Per PN triangle, its converted net (`glsl/common/pn.glsl`: 10
-    /// points, 6 normal coefficients; a culled triangle's stays as the
-    /// conversion left it).
-    pub pn_nets: Vec<[[f32; 4]; 16]>,
 }
 
 /// The method.
@@ -598,99 +540,6 @@ impl CudaTess {
     /// The output buffers' capacities (vertices, indices).
     pub fn capacities(&self) -> (u32, u32) {
         (self.outputs.vertex_capacity, self.outputs.index_capacity)
-    }
-}
-
-/// What every compute pass of one frame records with: the method (its
-/// pipelines and layout), set 1 and the frame's push block.
-struct ComputePasses<'a> {
-    method: &'a CudaTess,
-    set: &'a DescriptorSet,
-    push: CtPush,
-    /// PN triangles: their passes are recorded only where there are some.
-    tris: u32,
-}
-
-/// A compute stage of the frame: its passes (patches, PN triangles) read
-/// and write the method's buffers all over, each stage what the last wrote.
-fn compute_stage(name: &str) -> Pass<'_> {
-    Pass::new(name).write(Res::Memory, Access::COMPUTE_READ_WRITE)
-}
-
-impl ComputePasses<'_> {
-    /// Records the four compute stages over `s` (factors, scan, vertices,
-    /// indices), each in its timing scope, with a barrier after the first
-    /// two.
-    fn record(
-        &self,
-        f: &mut FrameRec<'_>,
-        rec: &mut Recorder<'_>,
-        s: &SceneBuffers,
-    ) -> VkResult<()> {
-        let ctx = f.ctx;
-        let m = self.method;
-        let per_patch = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE);
-        let per_tri = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE);
-        f.scoped("factors", |f| {
-            rec.run(&compute_stage("factors"), |_| {
-                self.both(f, [&m.factors, &m.pn.factors], [per_patch, per_tri])
-            })
-        })?;
-        f.scoped("scan", |f| self.record_scan(f, rec, s, per_patch, per_tri))?;
-        let vertex_groups = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE / CT_VERTEX_THREADS);
-        let tri_vertex_groups = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE / CT_VERTEX_THREADS);
-        // Neither stage reads what the other writes: one pass, so no
-        // barrier between them.
-        rec.run(&compute_stage("vertices and indices"), |_| {
-            f.scoped("vertices", |f| {
-                let groups = [vertex_groups, tri_vertex_groups];
-                self.both(f, [&m.vertices, &m.pn.vertices], groups)
-            })?;
-            f.scoped("indices", |f| {
-                self.both(f, [&m.indices, &m.pn.indices], [per_patch, per_tri])
-            })
-        })
-    }
-
-    /// The scan stage: the counts (patches, then PN triangles), the
-    /// multi-level scan of `s.plan`, then the draw's arguments.
-    fn record_scan(
-        &self,
-        f: &mut FrameRec<'_>,
-        rec: &mut Recorder<'_>,
-        s: &SceneBuffers,
-        per_patch: u32,
-        per_tri: u32,
-    ) -> VkResult<()> {
-        let m = self.method;
-        rec.run(&compute_stage("counts"), |_| {
-            self.both(f, [&m.counts, &m.pn.counts], [per_patch, per_tri])
-        })?;
-        m.bind_compute(f, &m.scan, self.set)?;
-        s.plan.record(rec, &m.compute_layout, self.push)?;
-        rec.run(&compute_stage("draw arguments"), |_| {
-            self.dispatch(f, &m.args, 1)
-        })
-    }
-
-    /// Binds `pipeline` with sets 0 and 1, pushes the frame's block and
-    /// dispatches `groups` workgroups.
-    fn dispatch(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
-        self.method.bind_compute(f, pipeline, self.set)?;
-        self.method.compute_layout.push(f.cmd, &self.push);
-        unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
-        Ok(())
-    }
-
-    /// A stage's patch pass then its PN-triangle pass (`groups` each),
-    /// the latter only where there are triangles (a scene without them
-    /// records exactly what it did before PN triangles).
-    fn both(&self, f: &FrameRec<'_>, pipelines: [&Pipeline; 2], groups: [u32; 2]) -> VkResult<()> {
-        self.dispatch(f, pipelines[0], groups[0])?;
-        if self.tris > 0 {
-            self.dispatch(f, pipelines[1], groups[1])?;
-        }
-        Ok(())
     }
 }
 
