@@ -138,7 +138,7 @@ const uint BIND_PATCHES = 1;
 // One word per model patch: PATCH_RATIONAL.
 const uint BIND_PATCH_FLAGS = 2;
 // SHADING_FLOATS per model patch: the two tangent patches whose cross
-// product is the shading normal (src/scene/shading.rs), in model space.
+// product is the shading normal (src/patch/shading.rs), in model space.
 const uint BIND_SHADING = 3;
 // 16 weights per model patch (u fastest, as the control points) for a
 // scene with rational patches; 16 ones for any other scene.
