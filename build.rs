@@ -1,6 +1,6 @@
 //! Build script: embeds the compiled SPIR-V and records the source commit.
 //!
-//! - Every `spirv/*.spv` is embedded with `include_bytes!`, so a copied or
+//! - Every `spirv/*.spv` and `spirv/<method>/*.spv` is embedded with `include_bytes!`, so a copied or
 //!   installed binary runs without its source tree (`src/vk/shader.rs`;
 //!   `BEZIER_SUBDIV_SPIRV_DIR` still loads files from disk for shader work).
 //! - `BEZIER_SUBDIV_COMMIT`: the commit the binary was built from (short
@@ -20,18 +20,15 @@ fn main() {
 fn embed_spirv(root: &Path) {
     let dir = root.join("spirv");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let mut names: Vec<String> = std::fs::read_dir(&dir)
-        .map(|entries| {
-            entries
-                .filter_map(Result::ok)
-                .filter_map(|e| e.file_name().into_string().ok())
-                .filter(|n| n.ends_with(".spv"))
-                .collect()
-        })
-        .unwrap_or_default();
+    let mut names = spv_names(&dir, "");
+    // A method's shaders sit in a folder of their own (`spirv/cudatess/`).
+    for folder in subfolders(&dir) {
+        println!("cargo:rerun-if-changed={}", dir.join(&folder).display());
+        names.extend(spv_names(&dir.join(&folder), &format!("{folder}/")));
+    }
     names.sort();
     let mut table = String::from(
-        "/// Every compiled shader: (GLSL file name, SPIR-V bytes).\n\
+        "/// Every compiled shader: (GLSL path below `glsl/`, SPIR-V bytes).\n\
          pub static EMBEDDED: &[(&str, &[u8])] = &[\n",
     );
     for n in &names {
@@ -45,6 +42,32 @@ fn embed_spirv(root: &Path) {
     table += "];\n";
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets it"));
     std::fs::write(out.join("spirv_table.rs"), table).expect("write the SPIR-V table");
+}
+
+/// The names of the entries of `dir`, each for which `keep` holds.
+fn names_in(dir: &Path, keep: impl Fn(&std::fs::DirEntry) -> bool) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter(|e| keep(e))
+                .filter_map(|e| e.file_name().into_string().ok())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The `.spv` files directly in `dir`, each as `prefix` + its name.
+fn spv_names(dir: &Path, prefix: &str) -> Vec<String> {
+    names_in(dir, |e| e.path().is_file())
+        .into_iter()
+        .filter(|n| n.ends_with(".spv"))
+        .map(|n| format!("{prefix}{n}"))
+        .collect()
+}
+
+fn subfolders(dir: &Path) -> Vec<String> {
+    names_in(dir, |e| e.path().is_dir())
 }
 
 fn git(root: &Path, args: &[&str]) -> Option<String> {

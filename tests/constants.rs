@@ -373,7 +373,7 @@ fn level_state_words_do_not_overlap_and_sync_words_own_their_lines() {
         }
     }
     // The schedule's words are zeroed by every pass, the frame's totals
-    // only by its first (level_init.comp).
+    // only by its first (levels/init.comp).
     for w in [
         S_ARGS,
         S_SYNC,

@@ -111,7 +111,7 @@ fn stale_pointers_stay_gone() {
         ("src/draw/mod.rs", "later\n//! `subdiv-indirect`"),
         (
             "src/gpu/blocks.rs",
-            "`SubdivPush` in\n/// `glsl/subdivide.comp`",
+            "`SubdivPush` in\n/// `glsl/levels/persistent.comp`",
         ),
         ("docs/BENCHMARKS.md", "DESIGN.md"),
         ("README.md", "described at the top of `src/scene/file.rs`"),

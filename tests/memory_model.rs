@@ -61,7 +61,7 @@ const fn sync(block: &'static str, word: Option<u32>, load: Need, store: Need, r
     }
 }
 
-/// The level kernels' words (glsl/common/level.glsl, glsl/subdivide.comp):
+/// The level kernels' words (glsl/levels/level.glsl, glsl/levels/persistent.comp):
 /// the round barrier's one word (arrivals, generation, abort) and the
 /// occupancy discovery's two.
 const LEVEL_SYNC: &[Sync] = &[
@@ -88,7 +88,7 @@ const LEVEL_SYNC: &[Sync] = &[
     ),
 ];
 
-/// The queue kernel's (glsl/subdivide_queue.comp).
+/// The queue kernel's (glsl/subdiv/queue.comp).
 const QUEUE_SYNC: &[Sync] = &[
     sync(
         "QueueSeqs",
@@ -311,9 +311,9 @@ fn breaches_in(shader: &str, m: &Module, rules: &[Sync], data: &[&str]) -> Vec<S
 #[test]
 fn level_kernels_synchronise_only_through_acquire_release_atomics() {
     for shader in [
-        "subdivide.comp",
-        "subdivide_level.comp",
-        "level_clusters.comp",
+        "levels/persistent.comp",
+        "levels/round.comp",
+        "levels/clusters.comp",
     ] {
         let b = breaches(shader, LEVEL_SYNC, LEVEL_DATA);
         assert!(b.is_empty(), "{}", b.join("\n"));
@@ -322,7 +322,7 @@ fn level_kernels_synchronise_only_through_acquire_release_atomics() {
 
 #[test]
 fn queue_kernel_synchronises_only_through_acquire_release_atomics() {
-    let b = breaches("subdivide_queue.comp", QUEUE_SYNC, QUEUE_DATA);
+    let b = breaches("subdiv/queue.comp", QUEUE_SYNC, QUEUE_DATA);
     assert!(b.is_empty(), "{}", b.join("\n"));
 }
 

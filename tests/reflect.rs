@@ -205,32 +205,38 @@ fn reflected_set_layouts_are_whole_and_agree() {
 #[test]
 fn set_layouts_refuse_disagreeing_shaders() {
     // Set 1 is the ready list in sort.comp but cudatess's set in
-    // ct_args.comp: binding 4 is a storage buffer in both, so make one
+    // cudatess/args.comp: binding 4 is a storage buffer in both, so make one
     // disagree by hand.
     let a = reflect_shader("sort.comp").unwrap();
-    let mut b = reflect_shader("ct_args.comp").unwrap();
+    let mut b = reflect_shader("cudatess/args.comp").unwrap();
     b.bindings
         .insert((SET_PASS, 4), (vk::DescriptorType::UNIFORM_BUFFER, 1));
     let e = set_bindings(
         "test set",
         SET_PASS,
-        &[("sort.comp", &a), ("ct_args.comp", &b)],
+        &[("sort.comp", &a), ("cudatess/args.comp", &b)],
     )
     .unwrap_err()
     .to_string();
     assert!(
-        e.contains("sort.comp") && e.contains("ct_args.comp") && e.contains("binding 4"),
+        e.contains("sort.comp") && e.contains("cudatess/args.comp") && e.contains("binding 4"),
         "{e}"
     );
     // A list that leaves a binding out names the gap.
     let e = set_bindings(
         "gap",
         SET_PASS,
-        &[("ct_scan.comp", &reflect_shader("ct_scan.comp").unwrap())],
+        &[(
+            "cudatess/scan.comp",
+            &reflect_shader("cudatess/scan.comp").unwrap(),
+        )],
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("binding 0") && e.contains("ct_scan.comp"), "{e}");
+    assert!(
+        e.contains("binding 0") && e.contains("cudatess/scan.comp"),
+        "{e}"
+    );
 }
 
 /// Set 0 is declared by hand; every shader that reads it (all but the

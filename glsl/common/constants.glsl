@@ -154,7 +154,7 @@ const uint BIND_VISIBILITY = 7;
 // its first patch among the surviving patches (2 words each); under
 // occlusion culling the dense index of its first cluster, and after
 // the instances the cluster filter's kept clusters and block scan
-// (glsl/common/level.glsl, "Depth 0").
+// (glsl/levels/level.glsl, "Depth 0").
 const uint BIND_ROOTS = 6;
 // Per model patch, the model-space box of its control points (6
 // floats: lo xyz, hi xyz), a little enlarged: the late phase of
@@ -190,7 +190,7 @@ const uint Q_TAIL = 1;
 const uint QUEUE_STATE_WORDS = 4;
 
 // Set 2 of the level kernels (subdiv's persistent kernel and
-// subdiv-indirect's per-depth rounds, glsl/common/level.glsl): the node
+// subdiv-indirect's per-depth rounds, glsl/levels/level.glsl): the node
 // memory (a region of child slots per depth 1..levels, then two ready
 // scratch regions), the block scans of each region, the schedule state,
 // and the depth pyramid occlusion culling tests against.
@@ -210,7 +210,7 @@ const uint PHASE_LATE = 2;
 // Occlusion culling's visibility kept between frames (set 0's
 // BIND_VISIBILITY): a word per instance, the parity word, then two
 // sets of one bit per cluster of VISIBILITY_CLUSTER base patches
-// (global ids), read and written in turn (glsl/common/level.glsl).
+// (global ids), read and written in turn (glsl/levels/level.glsl).
 const uint VISIBILITY_CLUSTER = 32;
 
 // The depth pyramid (glsl/hiz_*.comp, glsl/common/hiz.glsl): level 0 is

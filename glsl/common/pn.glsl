@@ -47,7 +47,7 @@ layout(std430, set = SET_PASS, binding = BIND_CT_PN_EDGE_IDS) readonly buffer Ct
     uvec4 pn_edge_ids[];
 };
 
-// Per triangle: its converted net (ct_pn_factors.comp writes it).
+// Per triangle: its converted net (cudatess/pn_factors.comp writes it).
 layout(std430, set = SET_PASS, binding = BIND_CT_PN_NETS) CT_ACCESS buffer CtPnNets {
     vec4 pn_nets[];
 };

@@ -1,5 +1,5 @@
 // One work item of the subdivision, shared by every kernel that runs it
-// (the persistent subdivide.comp, the per-depth subdivide_level.comp): the
+// (the persistent levels/persistent.comp, the per-depth levels/round.comp): the
 // GPU twin of src/patch/oracle.rs `process`. Include after scene.glsl.
 #ifndef PROCESS_GLSL
 #define PROCESS_GLSL

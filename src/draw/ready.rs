@@ -114,12 +114,12 @@ pub const READY_SHADERS: &[&str] = &[
     "draw.vert",
     "draw.task",
     "draw.mesh",
-    "level_init.comp",
-    "level_clusters.comp",
-    "subdivide_level.comp",
-    "subdivide.comp",
-    "subdivide_queue.comp",
-    "queue_reset.comp",
+    "levels/init.comp",
+    "levels/clusters.comp",
+    "levels/round.comp",
+    "levels/persistent.comp",
+    "subdiv/queue.comp",
+    "subdiv/queue_reset.comp",
     "reorder_check.comp",
 ];
 

@@ -122,7 +122,7 @@ gpu_block!(
 );
 
 /// Push constants of the queue kernel (`SubdivPush` in
-/// `glsl/common/queue.glsl`, `subdiv --kernel queue`).
+/// `glsl/subdiv/queue.glsl`, `subdiv --kernel queue`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct SubdivPush {
@@ -157,7 +157,7 @@ gpu_block!(
 );
 
 /// Push constants of the level kernels: the persistent one, the per-depth
-/// rounds and their first step (`LevelPush` in `glsl/common/level.glsl`).
+/// rounds and their first step (`LevelPush` in `glsl/levels/level.glsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct LevelPush {
@@ -225,7 +225,7 @@ pub struct ListPush {
 gpu_block!(ListPush, "ListPush", [ready_capacity, mode, k, j]);
 
 /// Push constants of the ground truth's culling pass (`GridPush` in
-/// `glsl/grid_cull.comp`).
+/// `glsl/ground_truth/cull.comp`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GridPush {
@@ -245,7 +245,7 @@ gpu_block!(
 );
 
 /// Push constants of cudatess's compute passes (`CtPush` in
-/// `glsl/common/cudatess_push.glsl`).
+/// `glsl/cudatess/push.glsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct CtPush {

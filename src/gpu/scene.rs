@@ -543,7 +543,7 @@ impl SceneBuffers {
 /// `view_stride` apart).
 const VIEW_BYTES: u64 = std::mem::size_of::<ViewParams>() as u64;
 
-/// The visibility buffer before the first frame (`glsl/common/level.glsl`):
+/// The visibility buffer before the first frame (`glsl/levels/level.glsl`):
 /// every instance and every cluster of base patches visible, parity 0. A
 /// word per instance, the parity, then two sets of a bit per cluster of up
 /// to VISIBILITY_CLUSTER base patches of one instance (`cluster_id`).

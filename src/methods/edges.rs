@@ -20,7 +20,7 @@ pub struct PatchLevels {
     /// The metric's inner levels along u and v.
     pub inner: [f32; 2],
     /// The inner levels the tessellator got: the metric's, raised in a
-    /// direction whose border strips were narrowed (common/tess.glsl).
+    /// direction whose border strips were narrowed (tess/tess.glsl).
     pub drawn_inner: [f32; 2],
     /// The bound on the mixed derivative.
     pub mixed: f32,

@@ -40,7 +40,7 @@ pub const GPU_BYTES_PER_INSTANCE: u64 = INSTANCE_BYTES + 8 + 4;
 /// Words of one of the two sets of occlusion culling's cluster bits for
 /// `instances` instances of `base_patches` base patches in all: a bit per
 /// run of up to VISIBILITY_CLUSTER patches of one instance, numbered as
-/// `root_cluster` in `glsl/common/level.glsl` does (at most
+/// `root_cluster` in `glsl/levels/level.glsl` does (at most
 /// base_patches / VISIBILITY_CLUSTER + instances + 1). Beside the
 /// instances' words and one parity word, the visibility buffer holds two
 /// such sets: 2 bits per instance and 1/128 byte per base patch more.
@@ -334,7 +334,7 @@ impl InstanceTable {
     /// as [`Instance::bounded`] enlarges, 6 floats (lo, hi) per model patch:
     /// set 0's `BIND_PATCH_BOXES`, by which the late phase of occlusion
     /// culling tests the clusters the early phase drew
-    /// (`glsl/level_clusters.comp`).
+    /// (`glsl/levels/clusters.comp`).
     pub fn patch_boxes(&self) -> Vec<f32> {
         self.patches
             .iter()

@@ -13,7 +13,7 @@
 //! first vertex.
 //!
 //! [`control_net`] is the CPU twin of the conversion in
-//! `glsl/ct_pn_factors.comp` (the tests compare the two).
+//! `glsl/cudatess/pn_factors.comp` (the tests compare the two).
 
 use std::collections::HashMap;
 use std::path::Path;

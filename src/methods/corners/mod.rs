@@ -1,6 +1,6 @@
 //! Method `corners`: the worked example of docs/ARCHITECTURE.md ("Adding a
 //! method"). Every base patch is drawn as the two triangles of its four
-//! corner control points (`glsl/corners.vert`), in one draw with no pass
+//! corner control points (`glsl/corners/corners.vert`), in one draw with no pass
 //! before it: the smallest self-drawing method, kept building and tested
 //! (`tests/corners.rs`) so the example cannot drift from the trait.
 
@@ -56,7 +56,7 @@ impl Corners {
             &layout,
             "draw (corners)",
             &[
-                (vk::ShaderStageFlags::VERTEX, "corners.vert"),
+                (vk::ShaderStageFlags::VERTEX, "corners/corners.vert"),
                 (vk::ShaderStageFlags::FRAGMENT, "draw_vert.frag"),
             ],
         )?;

@@ -219,7 +219,7 @@ pub fn check_max_factors(shared: &HashMap<EdgeKey, Vec<EdgeSide>>, frame: &Frame
 }
 
 /// Every drawn patch's slot of the index buffer holds its pattern's
-/// triangles ([`Pattern::triangles`], the CPU twin of `ct_indices.comp`)
+/// triangles ([`Pattern::triangles`], the CPU twin of `cudatess/indices.comp`)
 /// offset into its own vertices; every slot lies inside what the frame
 /// wrote, and the slots tile the buffers (the scan's offsets).
 pub fn check_indices(frame: &FrameData) -> EdgeCheck {

@@ -2,7 +2,7 @@
 //! Tessellation with CUDA* (2009), their Fig. 1 in Vulkan compute, for
 //! bicubic patches, rational ones included (their §3):
 //!
-//! 1. **factors** (`glsl/ct_factors.comp`, one invocation per patch):
+//! 1. **factors** (`glsl/cudatess/factors.comp`, one invocation per patch):
 //!    frustum culling and, for one-sided polynomial patches, back-patch
 //!    culling (factor 0), then factors m along u and n along v from
 //!    the Zheng–Sederberg bound for ε pixels at the patch's nearest control
@@ -10,27 +10,27 @@
 //!    (atomicMax into the scene's edge table: sides with bit-identical
 //!    control points and weights are one edge).
 //! 2. **scan**: each patch reads its edges' final factors and counts the
-//!    vertices and indices of its pattern (`ct_counts.comp`); an exclusive
-//!    multi-level scan turns the counts into buffer offsets (`ct_scan.comp`,
+//!    vertices and indices of its pattern (`cudatess/counts.comp`); an exclusive
+//!    multi-level scan turns the counts into buffer offsets (`cudatess/scan.comp`,
 //!    planned in [`scan`]); one invocation writes the draw's arguments, or an
-//!    overflow bit (`ct_args.comp`).
-//! 3. **vertices** (`ct_vertices.comp`, [`CT_VERTEX_THREADS`] invocations per
+//!    overflow bit (`cudatess/args.comp`).
+//! 3. **vertices** (`cudatess/vertices.comp`, [`CT_VERTEX_THREADS`] invocations per
 //!    patch): corners, edge vertices from the edge's own control points in a
 //!    reversal-symmetric order (both patches of an edge write the same bits),
 //!    interior vertices by evaluation or, with
 //!    [`Options::forward_differencing`], by
 //!    forward differences along rows.
-//! 4. **indices** (`ct_indices.comp`, one invocation per patch): the uniform
+//! 4. **indices** (`cudatess/indices.comp`, one invocation per patch): the uniform
 //!    core and Bresenham-like transition strips ([`pattern`]).
-//! 5. **draw**: one `vkCmdDrawIndexedIndirect` through `ct_draw.vert` and the
-//!    shared fragment shading (`ct_draw.frag`: rational patches lit with their
+//! 5. **draw**: one `vkCmdDrawIndexedIndirect` through `cudatess/draw.vert` and the
+//!    shared fragment shading (`cudatess/draw.frag`: rational patches lit with their
 //!    own normal).
 //!
 //! PN triangles (their §4; the scene's `surface = "pn-triangles"` models)
 //! run through the same stages with their own passes after the patches'
-//! (`ct_pn_factors.comp`: conversion to the cubic net and normal field,
-//! culling, Filip-bound factors per edge; `ct_pn_counts.comp`,
-//! `ct_pn_vertices.comp`, `ct_pn_indices.comp`; see `glsl/common/pn.glsl`):
+//! (`cudatess/pn_factors.comp`: conversion to the cubic net and normal field,
+//! culling, Filip-bound factors per edge; `cudatess/pn_counts.comp`,
+//! `cudatess/pn_vertices.comp`, `cudatess/pn_indices.comp`; see `glsl/common/pn.glsl`):
 //! their records and scan entries follow the patches', the one scan and the
 //! one draw cover both, and the fragment stage lights them with their
 //! quadratic normal.
@@ -229,25 +229,25 @@ impl CudaTess {
         )?;
         let sh = &mut *setup.shaders;
         let l = &compute_layout;
-        let factors = sh.compute(ctx, l, "cudatess factors", "ct_factors.comp")?;
-        let counts = sh.compute(ctx, l, "cudatess counts", "ct_counts.comp")?;
-        let scan = sh.compute(ctx, l, "cudatess scan", "ct_scan.comp")?;
-        let args = sh.compute(ctx, l, "cudatess args", "ct_args.comp")?;
-        let vertices = sh.compute(ctx, l, "cudatess vertices", "ct_vertices.comp")?;
-        let indices = sh.compute(ctx, l, "cudatess indices", "ct_indices.comp")?;
+        let factors = sh.compute(ctx, l, "cudatess factors", "cudatess/factors.comp")?;
+        let counts = sh.compute(ctx, l, "cudatess counts", "cudatess/counts.comp")?;
+        let scan = sh.compute(ctx, l, "cudatess scan", "cudatess/scan.comp")?;
+        let args = sh.compute(ctx, l, "cudatess args", "cudatess/args.comp")?;
+        let vertices = sh.compute(ctx, l, "cudatess vertices", "cudatess/vertices.comp")?;
+        let indices = sh.compute(ctx, l, "cudatess indices", "cudatess/indices.comp")?;
         let pn = PnPipelines {
-            factors: sh.compute(ctx, l, "cudatess PN factors", "ct_pn_factors.comp")?,
-            counts: sh.compute(ctx, l, "cudatess PN counts", "ct_pn_counts.comp")?,
-            vertices: sh.compute(ctx, l, "cudatess PN vertices", "ct_pn_vertices.comp")?,
-            indices: sh.compute(ctx, l, "cudatess PN indices", "ct_pn_indices.comp")?,
+            factors: sh.compute(ctx, l, "cudatess PN factors", "cudatess/pn_factors.comp")?,
+            counts: sh.compute(ctx, l, "cudatess PN counts", "cudatess/pn_counts.comp")?,
+            vertices: sh.compute(ctx, l, "cudatess PN vertices", "cudatess/pn_vertices.comp")?,
+            indices: sh.compute(ctx, l, "cudatess PN indices", "cudatess/pn_indices.comp")?,
         };
         let draw = sh.draw_pipeline(
             ctx,
             &draw_layout,
             "draw (cudatess)",
             &[
-                (vk::ShaderStageFlags::VERTEX, "ct_draw.vert"),
-                (vk::ShaderStageFlags::FRAGMENT, "ct_draw.frag"),
+                (vk::ShaderStageFlags::VERTEX, "cudatess/draw.vert"),
+                (vk::ShaderStageFlags::FRAGMENT, "cudatess/draw.frag"),
             ],
         )?;
         let counters = Buffer::new(

@@ -1,6 +1,6 @@
 //! The tessellation pattern of one patch (Schwarz and Stamminger, Fig. 3):
 //! the CPU twin of `ct_pattern`, `ct_grid_vertex` and the index pass in
-//! `glsl/common/cudatess.glsl` and `glsl/ct_indices.comp`, for the tests
+//! `glsl/common/cudatess.glsl` and `glsl/cudatess/indices.comp`, for the tests
 //! (counts, the triangles themselves) and for reading the GPU's vertex
 //! buffer back (which vertex is which).
 

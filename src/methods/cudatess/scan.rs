@@ -1,4 +1,4 @@
-//! The exclusive scan of cudatess (`glsl/ct_scan.comp`): its plan of levels,
+//! The exclusive scan of cudatess (`glsl/cudatess/scan.comp`): its plan of levels,
 //! the commands that run it, and a stand-alone run for the tests.
 //!
 //! Level 0 is the input, `len` pairs; while a level is longer than one block
@@ -108,19 +108,19 @@ impl ScanPlan {
 /// Every shader whose pipelines bind cudatess's set 1: its passes, its
 /// draw, and ground truth's PN draw, which reads the PN buffers.
 pub const CT_SHADERS: &[&str] = &[
-    "ct_factors.comp",
-    "ct_counts.comp",
-    "ct_scan.comp",
-    "ct_args.comp",
-    "ct_vertices.comp",
-    "ct_indices.comp",
-    "ct_pn_factors.comp",
-    "ct_pn_counts.comp",
-    "ct_pn_vertices.comp",
-    "ct_pn_indices.comp",
-    "ct_draw.vert",
-    "ct_draw.frag",
-    "gt_pn.vert",
+    "cudatess/factors.comp",
+    "cudatess/counts.comp",
+    "cudatess/scan.comp",
+    "cudatess/args.comp",
+    "cudatess/vertices.comp",
+    "cudatess/indices.comp",
+    "cudatess/pn_factors.comp",
+    "cudatess/pn_counts.comp",
+    "cudatess/pn_vertices.comp",
+    "cudatess/pn_indices.comp",
+    "cudatess/draw.vert",
+    "cudatess/draw.frag",
+    "ground_truth/pn.vert",
 ];
 
 /// The set layout of cudatess's set 1 (storage buffers), as
@@ -140,7 +140,7 @@ pub fn scan_on_gpu(ctx: &Context, input: &[[u32; 2]]) -> VkResult<Vec<[u32; 2]>>
         &[&set_layout],
         vk::ShaderStageFlags::COMPUTE,
     )?;
-    let module = ShaderModule::load(ctx, "ct_scan.comp")?;
+    let module = ShaderModule::load(ctx, "cudatess/scan.comp")?;
     let pipeline = Pipeline::compute(ctx, "cudatess scan (test)", &layout, &module, &[])?;
     let plan = ScanPlan::new(input.len() as u32);
     let mut data = vec![[0u32; 2]; plan.entries() as usize];

@@ -4,17 +4,17 @@
 //! same 64×64 grid of quads per patch by default, without tessellation
 //! hardware, so it runs on every device).
 //!
-//! One compute pass (`glsl/grid_cull.comp`) drops patches whose control
+//! One compute pass (`glsl/ground_truth/cull.comp`) drops patches whose control
 //! points lie wholly outside the view frustum (they could not draw a pixel)
 //! and appends the others to a visible list, counting them straight into
 //! the instance count of an indexed indirect draw. The draw instances one
 //! index buffer of the `grid`×`grid` topology over the visible patches; the
-//! vertex shader (`glsl/grid.vert`) evaluates the base patch at
+//! vertex shader (`glsl/ground_truth/grid.vert`) evaluates the base patch at
 //! `(i / grid, j / grid)` with the shared precise evaluation. Grids are
 //! powers of two, so those parameters are exact and shared patch edges meet
 //! bit for bit: the reference is watertight too. Rational patches are
-//! evaluated in homogeneous coordinates and projected (`glsl/grid.vert`),
-//! and shaded with their own normal (`glsl/grid.frag`); the frustum test
+//! evaluated in homogeneous coordinates and projected (`glsl/ground_truth/grid.vert`),
+//! and shaded with their own normal (`glsl/ground_truth/grid.frag`); the frustum test
 //! on the control points' box holds for them too (positive weights keep a
 //! rational patch inside its control points' hull).
 //!
@@ -215,7 +215,11 @@ struct Visible {
 }
 
 /// The grid's shaders, which share set 1.
-pub const GRID_SHADERS: &[&str] = &["grid_cull.comp", "grid.vert", "grid.frag"];
+pub const GRID_SHADERS: &[&str] = &[
+    "ground_truth/cull.comp",
+    "ground_truth/grid.vert",
+    "ground_truth/grid.frag",
+];
 
 /// The ground-truth method.
 pub struct GroundTruth {
@@ -255,16 +259,17 @@ impl GroundTruth {
             &[&set_layout],
             scene.stages(),
         )?;
-        let cull = setup
-            .shaders
-            .compute(ctx, &cull_layout, "grid cull", "grid_cull.comp")?;
+        let cull =
+            setup
+                .shaders
+                .compute(ctx, &cull_layout, "grid cull", "ground_truth/cull.comp")?;
         let draw = setup.shaders.draw_pipeline(
             ctx,
             &draw_layout,
             "draw (grid)",
             &[
-                (vk::ShaderStageFlags::VERTEX, "grid.vert"),
-                (vk::ShaderStageFlags::FRAGMENT, "grid.frag"),
+                (vk::ShaderStageFlags::VERTEX, "ground_truth/grid.vert"),
+                (vk::ShaderStageFlags::FRAGMENT, "ground_truth/grid.frag"),
             ],
         )?;
         let indices = grid_index_buffer(ctx, grid)?;

@@ -1,6 +1,6 @@
 //! Ground truth for PN triangles: every triangle as a uniform triangular
 //! grid of the method's grid size (`grid`² triangles), drawn instanced
-//! through `glsl/gt_pn.vert` and cudatess's fragment stage (`ct_draw.frag`,
+//! through `glsl/ground_truth/pn.vert` and cudatess's fragment stage (`cudatess/draw.frag`,
 //! which lights PN triangles with their normal field). The nets are
 //! converted on the host ([`PnScene::net`], the CPU twin of cudatess's
 //! conversion) and bound in cudatess's set layout, so the shaders' view of
@@ -71,8 +71,8 @@ impl GroundTruthPn {
             &layout,
             "draw (grid, PN triangles)",
             &[
-                (vk::ShaderStageFlags::VERTEX, "gt_pn.vert"),
-                (vk::ShaderStageFlags::FRAGMENT, "ct_draw.frag"),
+                (vk::ShaderStageFlags::VERTEX, "ground_truth/pn.vert"),
+                (vk::ShaderStageFlags::FRAGMENT, "cudatess/draw.frag"),
             ],
         )?;
         Ok(Self {

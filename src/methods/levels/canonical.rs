@@ -32,12 +32,12 @@ pub struct CanonicalRun {
     pub dropped: u32,
 }
 
-/// Runs the schedule of `glsl/common/level.glsl` (`schedule`,
+/// Runs the schedule of `glsl/levels/level.glsl` (`schedule`,
 /// `finish_round`) with the oracle's `process` on the CPU: what the GPU's
 /// ready list must equal, entry for entry. `weights` is parallel to
 /// `patches` or empty; `instances` are the records the scene was uploaded
 /// with (`SceneGpu::instance_records`), whose boxes decide depth 0 as
-/// `level_init.comp` does.
+/// `levels/init.comp` does.
 pub fn canonical_ready(
     patches: &[BezierPatch],
     weights: &[Weights],
@@ -103,7 +103,7 @@ pub fn canonical_ready(
     }
 }
 
-/// Depth 0 of the level schedule, as `level_init.comp` lists it: the
+/// Depth 0 of the level schedule, as `levels/init.comp` lists it: the
 /// patches of every instance whose box is not outside the frustum (when
 /// the view culls by it), in instance order.
 pub fn root_patches(instances: &[Instance], vp: &ViewParams) -> Vec<u32> {

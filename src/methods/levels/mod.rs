@@ -1,7 +1,7 @@
-//! The level schedule both subdivision methods run (`glsl/common/level.glsl`):
+//! The level schedule both subdivision methods run (`glsl/levels/level.glsl`):
 //! `subdiv` in one dispatch of persistent workgroups with a grid barrier
-//! between rounds (`glsl/subdivide.comp`), `subdiv-indirect` as one indirect
-//! dispatch per round (`glsl/subdivide_level.comp`), and `subdiv` again when
+//! between rounds (`glsl/levels/persistent.comp`), `subdiv-indirect` as one indirect
+//! dispatch per round (`glsl/levels/round.comp`), and `subdiv` again when
 //! its watchdog sends it back to the per-depth rounds.
 //!
 //! A round processes a chunk of at most [`LevelPlan::chunk`] nodes of one
@@ -141,10 +141,10 @@ pub struct PersistentRun {
 
 /// The level kernels' shaders, which share set 2.
 pub const LEVEL_SHADERS: &[&str] = &[
-    "level_init.comp",
-    "level_clusters.comp",
-    "subdivide_level.comp",
-    "subdivide.comp",
+    "levels/init.comp",
+    "levels/clusters.comp",
+    "levels/round.comp",
+    "levels/persistent.comp",
 ];
 
 /// The level kernels' memory, set 2 and pipelines.
@@ -160,7 +160,7 @@ pub struct Levels {
     hiz_bound: bool,
     layout: PipelineLayout<LevelPush>,
     init: Pipeline,
-    /// Occlusion culling's cluster filter (`level_clusters.comp`).
+    /// Occlusion culling's cluster filter (`levels/clusters.comp`).
     filter: Pipeline,
     round: Pipeline,
     persistent: Option<Pipeline>,
@@ -209,11 +209,16 @@ impl Levels {
             &[stage.set_layout(), &set_layout],
             vk::ShaderStageFlags::COMPUTE,
         )?;
-        let init = shaders.compute(ctx, &layout, "level init", "level_init.comp")?;
-        let filter = shaders.compute(ctx, &layout, "cluster filter", "level_clusters.comp")?;
-        let round = shaders.compute(ctx, &layout, "level round", "subdivide_level.comp")?;
+        let init = shaders.compute(ctx, &layout, "level init", "levels/init.comp")?;
+        let filter = shaders.compute(ctx, &layout, "cluster filter", "levels/clusters.comp")?;
+        let round = shaders.compute(ctx, &layout, "level round", "levels/round.comp")?;
         let persistent = if persistent {
-            Some(shaders.compute(ctx, &layout, "subdivide (persistent)", "subdivide.comp")?)
+            Some(shaders.compute(
+                ctx,
+                &layout,
+                "subdivide (persistent)",
+                "levels/persistent.comp",
+            )?)
         } else {
             None
         };

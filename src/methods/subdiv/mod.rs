@@ -6,13 +6,13 @@
 //!
 //! Two kernels, `--kernel`:
 //! - `levels` (the default): the depth-synchronous persistent kernel
-//!   (`glsl/subdivide.comp`), the level schedule of `subdiv-indirect`
+//!   (`glsl/levels/persistent.comp`), the level schedule of `subdiv-indirect`
 //!   ([`super::levels`]) looped inside one dispatch with a grid barrier
 //!   between rounds, among the workgroups its occupancy discovery found
 //!   resident. Its ready list is in the canonical order: no sort, and the
 //!   image of `subdiv-indirect`.
 //! - `queue`: the work-queue kernel of commit a7d19dc
-//!   (`glsl/subdivide_queue.comp`), kept until a GPU run shows whether it
+//!   (`glsl/subdiv/queue.comp`), kept until a GPU run shows whether it
 //!   wins anywhere; its order depends on timing, so its list is sorted.
 //!
 //! Where a kernel's watchdog trips (a workgroup that stopped running, a
@@ -137,10 +137,10 @@ pub const DEFAULT_IDLE_POLL_CAP: u32 = 1 << 18;
 /// Which persistent kernel `subdiv` runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Kernel {
-    /// The depth-synchronous level kernel (`glsl/subdivide.comp`).
+    /// The depth-synchronous level kernel (`glsl/levels/persistent.comp`).
     #[default]
     Levels,
-    /// The work-queue kernel (`glsl/subdivide_queue.comp`).
+    /// The work-queue kernel (`glsl/subdiv/queue.comp`).
     Queue,
 }
 
@@ -326,9 +326,9 @@ pub fn check_in_flight(patches: u32, queue: u32, groups: u32, deque: u32) -> Res
 }
 
 /// The queue kernel's shaders, which share set 2.
-pub const QUEUE_SHADERS: &[&str] = &["subdivide_queue.comp", "queue_reset.comp"];
+pub const QUEUE_SHADERS: &[&str] = &["subdiv/queue.comp", "subdiv/queue_reset.comp"];
 
-/// The work queue (set 2 of the queue kernel, `glsl/common/queue.glsl`):
+/// The work queue (set 2 of the queue kernel, `glsl/subdiv/queue.glsl`):
 /// nodes, a sequence number per slot, and the head and tail. It is put in
 /// its empty state when made and after a frame that ended abnormally; a
 /// frame that ends normally leaves it empty and valid for the next.
@@ -410,10 +410,11 @@ impl QueueKernel {
         let pipeline =
             setup
                 .shaders
-                .compute(ctx, &layout, "subdivide (queue)", "subdivide_queue.comp")?;
-        let reset = setup
-            .shaders
-            .compute(ctx, &layout, "queue reset", "queue_reset.comp")?;
+                .compute(ctx, &layout, "subdivide (queue)", "subdiv/queue.comp")?;
+        let reset =
+            setup
+                .shaders
+                .compute(ctx, &layout, "queue reset", "subdiv/queue_reset.comp")?;
         Ok(Self {
             queue,
             layout,

@@ -3,8 +3,8 @@
 //! path `subdiv` falls back to where persistent threads misbehave.
 //!
 //! The level schedule of [`super::levels`], one `vkCmdDispatchIndirect` per
-//! round (`glsl/subdivide_level.comp`), after a first one-invocation step
-//! (`glsl/level_init.comp`). Each round processes a chunk of one depth with
+//! round (`glsl/levels/round.comp`), after a first one-invocation step
+//! (`glsl/levels/init.comp`). Each round processes a chunk of one depth with
 //! the same `process()` as the persistent kernel and the oracle (rational
 //! patches included), and its last workgroup writes the next round's
 //! arguments, so a round past the end of the schedule is an empty

@@ -2,7 +2,7 @@
 //! of Buchenau and Guthe, *Real-Time Re-Parameterized Bézier Tessellation*
 //! (2021). One draw of every base patch as a 16-point patch through a
 //! tessellation control and evaluation stage (`glsl/tess.{vert,tesc,tese}`,
-//! the math in `glsl/common/tess.glsl`):
+//! the math in `glsl/tess/tess.glsl`):
 //!
 //! - `tess`: uniform levels from the Filip et al. bound on the second
 //!   derivatives (their §3.1-3.2): inner levels from M_u + M_uv and
@@ -61,7 +61,7 @@ pub const INFO_REPARAM: MethodInfo = MethodInfo {
     ..INFO
 };
 
-/// Specialization constant ids of `glsl/common/tess.glsl` (glslang takes
+/// Specialization constant ids of `glsl/tess/tess.glsl` (glslang takes
 /// only literals there, so they are not in the shared constants).
 const SPEC_REPARAM: u32 = 0;
 const SPEC_MAX_LEVEL: u32 = 1;
@@ -93,7 +93,7 @@ struct Buffers {
 
 /// The tessellation stages, which read set 1 (the vertex and fragment
 /// stages do not).
-pub const TESS_SHADERS: &[&str] = &["tess.tesc", "tess.tese"];
+pub const TESS_SHADERS: &[&str] = &["tess/patch.tesc", "tess/patch.tese"];
 
 /// A tessellation method.
 pub struct Tess {
@@ -131,9 +131,9 @@ impl Tess {
             &[&set_layout],
             scene.stages(),
         )?;
-        let vert = setup.shaders.get(ctx, "tess.vert")?;
-        let tesc = setup.shaders.get(ctx, "tess.tesc")?;
-        let tese = setup.shaders.get(ctx, "tess.tese")?;
+        let vert = setup.shaders.get(ctx, "tess/patch.vert")?;
+        let tesc = setup.shaders.get(ctx, "tess/patch.tesc")?;
+        let tese = setup.shaders.get(ctx, "tess/patch.tese")?;
         let frag = setup.shaders.get(ctx, "draw_vert.frag")?;
         let title = format!("draw ({name})");
         let desc = GraphicsDesc::new(

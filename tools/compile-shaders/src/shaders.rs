@@ -57,17 +57,20 @@ pub fn show(path: &Path) -> String {
     }
 }
 
-/// One shader source file directly in the GLSL directory.
+/// One shader source file: directly in the GLSL directory (the shared
+/// passes), or in a method's folder of it (`glsl/cudatess/`, …).
 #[derive(Debug, Clone)]
 pub struct Source {
-    /// File name, e.g. `subdivide.comp`.
+    /// Its path below the GLSL directory, with `/`, e.g. `levels/persistent.comp`
+    /// or `cudatess/args.comp`: the name the renderer loads it by.
     pub name: String,
     pub path: PathBuf,
     pub kind: ShaderKind,
 }
 
 impl Source {
-    /// File name of the compiled module, e.g. `subdivide.comp.spv`.
+    /// Path of the compiled module below the SPIR-V directory, e.g.
+    /// `cudatess/args.comp.spv`.
     pub fn spv_name(&self) -> String {
         format!("{}.{SPV_EXT}", self.name)
     }
@@ -78,47 +81,70 @@ fn stage_of(path: &Path) -> Option<ShaderKind> {
     STAGES.iter().find(|(e, _)| *e == ext).map(|&(_, k)| k)
 }
 
-/// Shader sources directly in `glsl_dir`, sorted by name. Subdirectories
-/// (such as `common/`, which holds include files) and files with other
+/// The folder of include files only: nothing in it is compiled on its own.
+pub const INCLUDE_DIR: &str = "common";
+
+/// The entries of `dir` as (file name, path), sorted; `None` when the
+/// directory does not exist and `missing_ok`.
+fn entries(dir: &Path, missing_ok: bool) -> Result<Vec<(String, PathBuf)>, Error> {
+    let read = match fs::read_dir(dir) {
+        Ok(r) => r,
+        Err(e) if missing_ok && e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(io_error("cannot read", dir, e)),
+    };
+    let mut out = Vec::new();
+    for entry in read {
+        let entry = entry.map_err(|e| io_error("cannot read", dir, e))?;
+        if let Some(name) = entry.file_name().to_str() {
+            out.push((name.to_owned(), entry.path()));
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+/// Shader sources in `glsl_dir` and in its folders one level down (but
+/// `common/`, which holds include files), sorted by name. Files with other
 /// extensions are skipped.
 pub fn find_sources(glsl_dir: &Path) -> Result<Vec<Source>, Error> {
-    let entries = fs::read_dir(glsl_dir).map_err(|e| io_error("cannot read", glsl_dir, e))?;
     let mut sources = Vec::new();
-    for entry in entries {
-        let entry = entry.map_err(|e| io_error("cannot read", glsl_dir, e))?;
-        let path = entry.path();
-        if !path.is_file() {
-            continue;
+    for (name, path) in entries(glsl_dir, false)? {
+        if path.is_dir() {
+            if name == INCLUDE_DIR {
+                continue;
+            }
+            for (file, path) in entries(&path, false)? {
+                if let (true, Some(kind)) = (path.is_file(), stage_of(&path)) {
+                    sources.push(Source {
+                        name: format!("{name}/{file}"),
+                        path,
+                        kind,
+                    });
+                }
+            }
+        } else if let Some(kind) = stage_of(&path) {
+            sources.push(Source { name, path, kind });
         }
-        let file_name = entry.file_name();
-        let (Some(kind), Some(name)) = (stage_of(&path), file_name.to_str()) else {
-            continue;
-        };
-        sources.push(Source {
-            name: name.to_owned(),
-            path,
-            kind,
-        });
     }
     sources.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(sources)
 }
 
-/// Names of the `.spv` files directly in `spirv_dir` (none if it does not exist).
+/// The `.spv` files in `spirv_dir` and its folders one level down, as
+/// names below it (`x.comp.spv`, `cudatess/args.comp.spv`); none if it does
+/// not exist.
 pub fn find_spv_files(spirv_dir: &Path) -> Result<Vec<String>, Error> {
-    let entries = match fs::read_dir(spirv_dir) {
-        Ok(entries) => entries,
-        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(io_error("cannot read", spirv_dir, e)),
-    };
+    let is_spv = |p: &Path| p.is_file() && p.extension().is_some_and(|e| e == SPV_EXT);
     let mut names = Vec::new();
-    for entry in entries {
-        let entry = entry.map_err(|e| io_error("cannot read", spirv_dir, e))?;
-        let path = entry.path();
-        if path.is_file() && path.extension().is_some_and(|e| e == SPV_EXT) {
-            if let Some(name) = entry.file_name().to_str() {
-                names.push(name.to_owned());
+    for (name, path) in entries(spirv_dir, true)? {
+        if path.is_dir() {
+            for (file, path) in entries(&path, false)? {
+                if is_spv(&path) {
+                    names.push(format!("{name}/{file}"));
+                }
             }
+        } else if is_spv(&path) {
+            names.push(name);
         }
     }
     names.sort();
@@ -398,6 +424,9 @@ pub fn write_all(spirv_dir: &Path, modules: &[(Source, Compiled)]) -> Result<Wri
                     .iter()
                     .find(|(s, _)| s.spv_name() == name)
                     .expect("compare() reports only names of modules or orphans");
+                if let Some(dir) = path.parent() {
+                    fs::create_dir_all(dir).map_err(|e| io_error("cannot create", dir, e))?;
+                }
                 write_atomically(&path, &compiled.bytes)?;
                 if state == State::Stale {
                     written.updated.push(name);

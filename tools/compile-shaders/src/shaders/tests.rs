@@ -267,6 +267,43 @@ fn compare_and_write_track_stale_missing_and_orphaned_files() {
     assert_eq!(left, ["README.md", "a.comp.spv", "b.comp.spv"]);
 }
 
+/// A method's folder of shaders compiles into a folder of the same name,
+/// its files named by their path below `glsl/`; `common/` is include files
+/// only; an orphan in a folder goes too.
+#[test]
+fn method_folders_compile_into_folders_of_their_own() {
+    let dir = TempDir::new("folders");
+    dir.put("glsl/common/math.glsl", COMMON);
+    dir.put("glsl/common/not_compiled.comp", COMP);
+    dir.put("glsl/top.comp", COMP);
+    dir.put(
+        "glsl/mine/own.glsl",
+        "float thrice(float x) { return 3.0 * x; }\n",
+    );
+    dir.put(
+        "glsl/mine/pass.comp",
+        &COMP.replace(
+            "#include \"common/math.glsl\"",
+            "#include \"common/math.glsl\"\n#include \"own.glsl\"",
+        ),
+    );
+    dir.put("spirv/mine/gone.comp.spv", "old");
+    let glsl = dir.0.join("glsl");
+    let spirv = dir.0.join("spirv");
+    let batch = compile_all(&glsl, &[]).unwrap();
+    let names: Vec<&str> = batch.modules.iter().map(|(s, _)| s.name.as_str()).collect();
+    assert_eq!(names, ["mine/pass.comp", "top.comp"]);
+    let written = write_all(&spirv, &batch.modules).unwrap();
+    assert_eq!(written.created, ["mine/pass.comp.spv", "top.comp.spv"]);
+    assert_eq!(written.removed, ["mine/gone.comp.spv"]);
+    let bytes = fs::read(spirv.join("mine/pass.comp.spv")).unwrap();
+    assert_eq!(first_word(&bytes), SPIRV_MAGIC);
+    assert_eq!(
+        find_spv_files(&spirv).unwrap(),
+        ["mine/pass.comp.spv", "top.comp.spv"]
+    );
+}
+
 #[test]
 fn an_empty_glsl_directory_is_fine() {
     let dir = TempDir::new("empty");
