@@ -1,8 +1,9 @@
 //! Build script: embeds the compiled SPIR-V and records the source commit.
 //!
-//! - Every `spirv/*.spv` and `spirv/<method>/*.spv` is embedded with `include_bytes!`, so a copied or
-//!   installed binary runs without its source tree (`src/vk/shader.rs`;
-//!   `BEZIER_SUBDIV_SPIRV_DIR` still loads files from disk for shader work).
+//! - Every `spirv/*.spv` and `spirv/<method>/*.spv` is embedded with
+//!   `include_bytes!`, so a copied or installed binary runs without its
+//!   source tree (`src/vk/shader.rs`; `BEZIER_SUBDIV_SPIRV_DIR` still loads
+//!   files from disk for shader work).
 //! - `BEZIER_SUBDIV_COMMIT`: the commit the binary was built from (short
 //!   hash, `-dirty` when tracked files differed from it), or the value of
 //!   that variable in the build environment (for packagers), or `unknown`
