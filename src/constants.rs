@@ -1,4 +1,7 @@
-//! Constants shared with the shaders, declared once, here.
+//! Constants shared with the shaders, declared once, here: those more than
+//! one method's shaders read. A method's own live in its folder
+//! (`src/methods/<method>/constants.rs`, declared with the same macro) and
+//! reach its shaders as `glsl/<method>/constants.glsl`.
 //!
 //! `shared_constants!` turns each entry of the list below into a
 //! `pub const NAME: u32` and a row of [`ALL`]; `tools/compile-shaders`
@@ -7,8 +10,9 @@
 //! change a constant, edit the list and run
 //! `cargo run --release -p compile-shaders`; never edit the GLSL header.
 //!
-//! This file is also compiled into `tools/compile-shaders` by path, so it
-//! must not use anything from the rest of the crate.
+//! This file, and every method's `constants.rs`, is also compiled into
+//! `tools/compile-shaders` by path, so they must not use anything from the
+//! rest of the crate but this module.
 
 /// One constant shared with the shaders: a row of [`ALL`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,7 +32,7 @@ pub struct SharedConst {
 }
 
 /// Whether a literal, as `stringify!` spells it, is written in hex.
-const fn is_hex(literal: &str) -> bool {
+pub const fn is_hex(literal: &str) -> bool {
     let b = literal.as_bytes();
     b.len() > 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X')
 }
@@ -46,7 +50,8 @@ const fn is_hex(literal: &str) -> bool {
 /// ```
 ///
 /// Each constant becomes `pub const NAME: u32`, documented by its own
-/// comment followed by its group's, and a [`SharedConst`] row of [`ALL`].
+/// comment followed by its group's, and a [`SharedConst`] row of the
+/// module's `ALL`.
 macro_rules! shared_constants {
     // One group's items; the group comment comes as a single `[..]` token
     // tree so that it can be repeated for every constant.
@@ -79,26 +84,29 @@ macro_rules! shared_constants {
             $([$($doc)*] $name = $value;)*
         );)*
 
-        /// Every shared constant in declaration order: the table
-        /// `tools/compile-shaders` writes `glsl/common/constants.glsl` from.
-        pub const ALL: &[SharedConst] = &[$(
-            SharedConst {
+        /// Every constant of this module in declaration order: the table
+        /// `tools/compile-shaders` writes the module's GLSL header from.
+        pub const ALL: &[$crate::constants::SharedConst] = &[$(
+            $crate::constants::SharedConst {
                 name: stringify!($first),
                 value: $first,
                 doc: &[$($first_doc),*],
-                hex: is_hex(stringify!($first_value)),
+                hex: $crate::constants::is_hex(stringify!($first_value)),
                 group: Some(&[$($group_doc),*]),
             },
-            $(SharedConst {
+            $($crate::constants::SharedConst {
                 name: stringify!($name),
                 value: $name,
                 doc: &[$($doc),*],
-                hex: is_hex(stringify!($value)),
+                hex: $crate::constants::is_hex(stringify!($value)),
                 group: None,
             },)*
         )*];
     };
 }
+
+// For the methods' own constants modules.
+pub(crate) use shared_constants;
 
 shared_constants! {
     /// Quad-tree depth limit (10-bit m, n in the 8-byte QuadNode).
@@ -297,21 +305,6 @@ shared_constants! {
         BIND_SORT_TEMP = 4;
         READY_BINDINGS = 5;
     }
-    /// Set 2 of the persistent subdivision kernel: its work queue (items,
-    /// a sequence number per slot, and the head and tail, which carry on from
-    /// frame to frame).
-    group {
-        BIND_QUEUE_ITEMS = 0;
-        BIND_QUEUE_SEQS = 1;
-        BIND_QUEUE_STATE = 2;
-        QUEUE_BINDINGS = 3;
-    }
-    /// Words of the queue's state buffer.
-    group {
-        Q_HEAD = 0;
-        Q_TAIL = 1;
-        QUEUE_STATE_WORDS = 4;
-    }
     /// Set 2 of the level kernels (subdiv's persistent kernel and
     /// subdiv-indirect's per-depth rounds, glsl/levels/level.glsl): the node
     /// memory (a region of child slots per depth 1..levels, then two ready
@@ -498,148 +491,16 @@ shared_constants! {
         /// cluster the early phase drew, for hidden.
         FAULT_HIDE_LATE = 4;
     }
-    /// Set 1 of the ground truth's grids: the visible patches and the counters
-    /// that hold its indexed indirect draw.
+    /// PN triangles (src/scene/pn.rs, glsl/common/pn.glsl), which cudatess
+    /// tessellates, the ground truth samples and the shading lights: the patch
+    /// id in a cudatess vertex word is its low CT_PATCH_BITS; with bit
+    /// CT_PN_SHIFT set it names a PN triangle rather than a patch; a
+    /// triangle's converted net is CT_PN_NET_VEC4 vec4s (10 points, 6 normal
+    /// coefficients).
     group {
-        BIND_GRID_VISIBLE = 0;
-        BIND_GRID_COUNTERS = 1;
-        GRID_BINDINGS = 2;
-    }
-    /// Words of the ground truth's counters: patches culled, and from
-    /// G_DRAW_ARGS one VkDrawIndexedIndirectCommand per part of the frame
-    /// (G_ARGS_WORDS words each: index count, instance count = the part's
-    /// visible patches, first index, vertex offset, first instance), for up
-    /// to G_MAX_PARTS parts (the frame ring's MAX_FRAME_PARTS).
-    group {
-        G_CULLED = 0;
-        G_DRAW_ARGS = 4;
-        G_ARGS_WORDS = 5;
-        G_MAX_PARTS = 64;
-        GRID_WORDS = 324;
-    }
-
-    /// Set 1 of the tessellation methods: their counters, and what validation
-    /// captures: the levels of every patch and the vertices on patch edges.
-    group {
-        BIND_TESS_COUNTERS = 0;
-        BIND_TESS_LEVELS = 1;
-        BIND_TESS_EDGE_VERTICES = 2;
-        TESS_BINDINGS = 3;
-    }
-    /// Words of the tessellation counters: patches frustum-culled, back-face
-    /// culled and tessellated, and edge vertices captured (counted on past the
-    /// capture's capacity).
-    group {
-        T_CULLED = 0;
-        T_BACKFACE = 1;
-        T_TESSELLATED = 2;
-        T_EDGE_VERTICES = 3;
-        TESS_WORDS = 8;
-    }
-    /// Tessellation capture records: per patch outer levels 0-3, the
-    /// metric's inner levels 0-1, the mixed bound, a culled flag and the
-    /// inner levels drawn (raised where border strips were narrowed); per
-    /// edge vertex the patch, the edge,
-    /// the tessellator's coordinate along it and the position.
-    group {
-        TESS_LEVEL_WORDS = 10;
-        TESS_EDGE_VERTEX_WORDS = 6;
-    }
-    /// tess-reparam rounds re-parameterised edge samples to multiples of
-    /// 1 / TESS_WARP_STEPS, so the patch across the edge gets exactly 1 - s.
-    group {
-        TESS_WARP_STEPS = 0x0010_0000;
-    }
-
-    /// Set 1 of `cudatess` (src/methods/cudatess.rs): counters and the indexed
-    /// indirect draw's arguments, the edge of each patch side, the factor of
-    /// each edge, the per-patch records, the scan (counts, then offsets), the
-    /// vertices and the indices it writes.
-    group {
-        BIND_CT_COUNTERS = 0;
-        BIND_CT_EDGE_IDS = 1;
-        BIND_CT_EDGE_FACTORS = 2;
-        BIND_CT_PATCHES = 3;
-        BIND_CT_SCAN = 4;
-        BIND_CT_VERTICES = 5;
-        BIND_CT_INDICES = 6;
-        BIND_CT_PN_VERTICES = 7;
-        BIND_CT_PN_TRIANGLES = 8;
-        BIND_CT_PN_EDGE_IDS = 9;
-        BIND_CT_PN_NETS = 10;
-        CT_BINDINGS = 11;
-    }
-    /// cudatess PN triangles (src/scene/pn.rs, glsl/common/pn.glsl): a vertex
-    /// word with bit CT_PN_SHIFT set belongs to PN triangle (low
-    /// CT_PATCH_BITS) rather than a patch; a triangle's converted net is
-    /// CT_PN_NET_VEC4 vec4s (10 points, 6 normal coefficients).
-    group {
+        CT_PATCH_BITS = 24;
         CT_PN_SHIFT = 29;
         CT_PN_NET_VEC4 = 16;
-    }
-    /// Words of the cudatess counters: patches culled (frustum), error bits,
-    /// the totals the scan found (vertices, indices), the largest factor,
-    /// patches culled as back-facing, and from CT_DRAW_ARGS the
-    /// VkDrawIndexedIndirectCommand of the draw.
-    group {
-        CT_CULLED = 0;
-        CT_ERROR = 1;
-        CT_VERTEX_TOTAL = 2;
-        CT_INDEX_TOTAL = 3;
-        CT_MAX_FACTOR_SEEN = 4;
-        CT_BACKFACE = 5;
-        CT_DRAW_ARGS = 8;
-        CT_WORDS = 16;
-    }
-    /// cudatess error bits: the vertices or indices did not fit their buffers
-    /// (the frame is drawn again with bigger ones).
-    group {
-        CT_ERR_VERTICES_FULL = 1;
-        CT_ERR_INDICES_FULL = 2;
-    }
-    /// Per-patch record of cudatess: the patch's own factors along u and v (0:
-    /// culled), the final factors of its edges 0-3 (u = 0, v = 0, u = 1, v = 1),
-    /// its vertex and index counts.
-    group {
-        CT_REC_M = 0;
-        CT_REC_N = 1;
-        CT_REC_EDGES = 2;
-        CT_REC_VERTICES = 6;
-        CT_REC_INDICES = 7;
-        CT_PATCH_WORDS = 8;
-    }
-    /// A cudatess vertex: position xyz, the base patch's (u, v), and the patch
-    /// id (low CT_PATCH_BITS) with log2 of its larger factor and a transition
-    /// bit (the vertex lies on an edge with a transition strip) above it.
-    group {
-        CT_VERTEX_WORDS = 6;
-        CT_PATCH_BITS = 24;
-        CT_DEPTH_SHIFT = 24;
-        CT_TRANSITION_SHIFT = 28;
-    }
-    /// cudatess factors are clamped to [1, CT_MAX_FACTOR] (the largest level
-    /// of hardware tessellation, so the two compare).
-    group {
-        CT_MAX_FACTOR = 64;
-    }
-    /// cudatess workgroups: one invocation per patch (factors, counts,
-    /// indices); CT_VERTEX_THREADS invocations per patch for the vertices; the
-    /// scan's blocks of CT_SCAN_BLOCK entries (two per invocation).
-    group {
-        CT_GROUP_SIZE = 64;
-        CT_VERTEX_THREADS = 8;
-        CT_SCAN_GROUP_SIZE = 256;
-        CT_SCAN_BLOCK = 512;
-    }
-    /// cudatess passes (CtPush.pass): the scan's block pass and its add pass.
-    group {
-        CT_SCAN_PASS_BLOCKS = 0;
-        CT_SCAN_PASS_ADD = 1;
-    }
-    /// cudatess options (CtPush.options): interior vertices by forward
-    /// differencing along rows instead of plain evaluation.
-    group {
-        CT_OPT_FORWARD_DIFF = 1;
     }
 
     /// Indices into the counters buffer (uint words).

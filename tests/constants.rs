@@ -7,6 +7,9 @@
 //! checked here.
 
 use bezier_subdiv::constants::*;
+use bezier_subdiv::methods::{
+    cudatess::constants::*, ground_truth::constants::*, subdiv::constants::*, tess::constants::*,
+};
 
 /// Whether `value` fits in the low `bits` bits.
 fn fits(value: u32, bits: u32) -> bool {
@@ -162,7 +165,7 @@ fn flags_and_error_bits_are_distinct_single_bits() {
 
 #[test]
 fn bindings_number_each_set_from_zero() {
-    let sets: [(&str, Vec<u32>, u32); 7] = [
+    let sets: [(&str, Vec<u32>, u32); 8] = [
         (
             "scene",
             vec![
@@ -225,6 +228,15 @@ fn bindings_number_each_set_from_zero() {
                 BIND_CT_PN_NETS,
             ],
             CT_BINDINGS,
+        ),
+        (
+            "tess",
+            vec![
+                BIND_TESS_COUNTERS,
+                BIND_TESS_LEVELS,
+                BIND_TESS_EDGE_VERTICES,
+            ],
+            TESS_BINDINGS,
         ),
         (
             "depth pyramid",

@@ -16,6 +16,7 @@ use bezier_subdiv::constants::*;
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
 use bezier_subdiv::methods::cudatess::checks as ct;
+use bezier_subdiv::methods::cudatess::constants::*;
 use bezier_subdiv::methods::cudatess::pattern::{Pattern, Place};
 use bezier_subdiv::methods::cudatess::scan::scan_on_gpu;
 use bezier_subdiv::methods::cudatess::{CudaTess, FrameData};

@@ -12,6 +12,9 @@ use std::collections::{BTreeMap, HashMap};
 
 use ash::vk;
 use bezier_subdiv::constants::*;
+use bezier_subdiv::methods::{
+    cudatess::constants::*, ground_truth::constants::*, subdiv::constants::*, tess::constants::*,
+};
 use bezier_subdiv::vk::{
     embedded_shaders, load_spirv, reflect, reflect_shader, set_bindings, undynamic,
 };

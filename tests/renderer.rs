@@ -11,9 +11,10 @@ use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use bezier_subdiv::constants::{G_MAX_PARTS, NODE_MESH_TRIS, SHADE_NORMAL};
+use bezier_subdiv::constants::{NODE_MESH_TRIS, SHADE_NORMAL};
 use bezier_subdiv::draw::DrawPath;
 use bezier_subdiv::frame::View;
+use bezier_subdiv::methods::ground_truth::constants::G_MAX_PARTS;
 use bezier_subdiv::methods::ground_truth::{plan_parts, PART_TRIANGLES};
 use bezier_subdiv::methods::{MethodOptions, RenderError};
 use bezier_subdiv::patch::oracle::subdivide;

@@ -176,19 +176,6 @@ const uint BIND_CAPTURE = 3;
 const uint BIND_SORT_TEMP = 4;
 const uint READY_BINDINGS = 5;
 
-// Set 2 of the persistent subdivision kernel: its work queue (items,
-// a sequence number per slot, and the head and tail, which carry on from
-// frame to frame).
-const uint BIND_QUEUE_ITEMS = 0;
-const uint BIND_QUEUE_SEQS = 1;
-const uint BIND_QUEUE_STATE = 2;
-const uint QUEUE_BINDINGS = 3;
-
-// Words of the queue's state buffer.
-const uint Q_HEAD = 0;
-const uint Q_TAIL = 1;
-const uint QUEUE_STATE_WORDS = 4;
-
 // Set 2 of the level kernels (subdiv's persistent kernel and
 // subdiv-indirect's per-depth rounds, glsl/levels/level.glsl): the node
 // memory (a region of child slots per depth 1..levels, then two ready
@@ -363,130 +350,15 @@ const uint FAULT_NO_DISCOVERY = 2;
 // cluster the early phase drew, for hidden.
 const uint FAULT_HIDE_LATE = 4;
 
-// Set 1 of the ground truth's grids: the visible patches and the counters
-// that hold its indexed indirect draw.
-const uint BIND_GRID_VISIBLE = 0;
-const uint BIND_GRID_COUNTERS = 1;
-const uint GRID_BINDINGS = 2;
-
-// Words of the ground truth's counters: patches culled, and from
-// G_DRAW_ARGS one VkDrawIndexedIndirectCommand per part of the frame
-// (G_ARGS_WORDS words each: index count, instance count = the part's
-// visible patches, first index, vertex offset, first instance), for up
-// to G_MAX_PARTS parts (the frame ring's MAX_FRAME_PARTS).
-const uint G_CULLED = 0;
-const uint G_DRAW_ARGS = 4;
-const uint G_ARGS_WORDS = 5;
-const uint G_MAX_PARTS = 64;
-const uint GRID_WORDS = 324;
-
-// Set 1 of the tessellation methods: their counters, and what validation
-// captures: the levels of every patch and the vertices on patch edges.
-const uint BIND_TESS_COUNTERS = 0;
-const uint BIND_TESS_LEVELS = 1;
-const uint BIND_TESS_EDGE_VERTICES = 2;
-const uint TESS_BINDINGS = 3;
-
-// Words of the tessellation counters: patches frustum-culled, back-face
-// culled and tessellated, and edge vertices captured (counted on past the
-// capture's capacity).
-const uint T_CULLED = 0;
-const uint T_BACKFACE = 1;
-const uint T_TESSELLATED = 2;
-const uint T_EDGE_VERTICES = 3;
-const uint TESS_WORDS = 8;
-
-// Tessellation capture records: per patch outer levels 0-3, the
-// metric's inner levels 0-1, the mixed bound, a culled flag and the
-// inner levels drawn (raised where border strips were narrowed); per
-// edge vertex the patch, the edge,
-// the tessellator's coordinate along it and the position.
-const uint TESS_LEVEL_WORDS = 10;
-const uint TESS_EDGE_VERTEX_WORDS = 6;
-
-// tess-reparam rounds re-parameterised edge samples to multiples of
-// 1 / TESS_WARP_STEPS, so the patch across the edge gets exactly 1 - s.
-const uint TESS_WARP_STEPS = 0x100000;
-
-// Set 1 of `cudatess` (src/methods/cudatess.rs): counters and the indexed
-// indirect draw's arguments, the edge of each patch side, the factor of
-// each edge, the per-patch records, the scan (counts, then offsets), the
-// vertices and the indices it writes.
-const uint BIND_CT_COUNTERS = 0;
-const uint BIND_CT_EDGE_IDS = 1;
-const uint BIND_CT_EDGE_FACTORS = 2;
-const uint BIND_CT_PATCHES = 3;
-const uint BIND_CT_SCAN = 4;
-const uint BIND_CT_VERTICES = 5;
-const uint BIND_CT_INDICES = 6;
-const uint BIND_CT_PN_VERTICES = 7;
-const uint BIND_CT_PN_TRIANGLES = 8;
-const uint BIND_CT_PN_EDGE_IDS = 9;
-const uint BIND_CT_PN_NETS = 10;
-const uint CT_BINDINGS = 11;
-
-// cudatess PN triangles (src/scene/pn.rs, glsl/common/pn.glsl): a vertex
-// word with bit CT_PN_SHIFT set belongs to PN triangle (low
-// CT_PATCH_BITS) rather than a patch; a triangle's converted net is
-// CT_PN_NET_VEC4 vec4s (10 points, 6 normal coefficients).
+// PN triangles (src/scene/pn.rs, glsl/common/pn.glsl), which cudatess
+// tessellates, the ground truth samples and the shading lights: the patch
+// id in a cudatess vertex word is its low CT_PATCH_BITS; with bit
+// CT_PN_SHIFT set it names a PN triangle rather than a patch; a
+// triangle's converted net is CT_PN_NET_VEC4 vec4s (10 points, 6 normal
+// coefficients).
+const uint CT_PATCH_BITS = 24;
 const uint CT_PN_SHIFT = 29;
 const uint CT_PN_NET_VEC4 = 16;
-
-// Words of the cudatess counters: patches culled (frustum), error bits,
-// the totals the scan found (vertices, indices), the largest factor,
-// patches culled as back-facing, and from CT_DRAW_ARGS the
-// VkDrawIndexedIndirectCommand of the draw.
-const uint CT_CULLED = 0;
-const uint CT_ERROR = 1;
-const uint CT_VERTEX_TOTAL = 2;
-const uint CT_INDEX_TOTAL = 3;
-const uint CT_MAX_FACTOR_SEEN = 4;
-const uint CT_BACKFACE = 5;
-const uint CT_DRAW_ARGS = 8;
-const uint CT_WORDS = 16;
-
-// cudatess error bits: the vertices or indices did not fit their buffers
-// (the frame is drawn again with bigger ones).
-const uint CT_ERR_VERTICES_FULL = 1;
-const uint CT_ERR_INDICES_FULL = 2;
-
-// Per-patch record of cudatess: the patch's own factors along u and v (0:
-// culled), the final factors of its edges 0-3 (u = 0, v = 0, u = 1, v = 1),
-// its vertex and index counts.
-const uint CT_REC_M = 0;
-const uint CT_REC_N = 1;
-const uint CT_REC_EDGES = 2;
-const uint CT_REC_VERTICES = 6;
-const uint CT_REC_INDICES = 7;
-const uint CT_PATCH_WORDS = 8;
-
-// A cudatess vertex: position xyz, the base patch's (u, v), and the patch
-// id (low CT_PATCH_BITS) with log2 of its larger factor and a transition
-// bit (the vertex lies on an edge with a transition strip) above it.
-const uint CT_VERTEX_WORDS = 6;
-const uint CT_PATCH_BITS = 24;
-const uint CT_DEPTH_SHIFT = 24;
-const uint CT_TRANSITION_SHIFT = 28;
-
-// cudatess factors are clamped to [1, CT_MAX_FACTOR] (the largest level
-// of hardware tessellation, so the two compare).
-const uint CT_MAX_FACTOR = 64;
-
-// cudatess workgroups: one invocation per patch (factors, counts,
-// indices); CT_VERTEX_THREADS invocations per patch for the vertices; the
-// scan's blocks of CT_SCAN_BLOCK entries (two per invocation).
-const uint CT_GROUP_SIZE = 64;
-const uint CT_VERTEX_THREADS = 8;
-const uint CT_SCAN_GROUP_SIZE = 256;
-const uint CT_SCAN_BLOCK = 512;
-
-// cudatess passes (CtPush.pass): the scan's block pass and its add pass.
-const uint CT_SCAN_PASS_BLOCKS = 0;
-const uint CT_SCAN_PASS_ADD = 1;
-
-// cudatess options (CtPush.options): interior vertices by forward
-// differencing along rows instead of plain evaluation.
-const uint CT_OPT_FORWARD_DIFF = 1;
 
 // Indices into the counters buffer (uint words).
 const uint C_READY_COUNT = 0;

@@ -22,6 +22,7 @@
 #define CUDATESS_GLSL
 
 #include "rational.glsl"
+#include "cudatess/constants.glsl"
 
 // The draw reads what the compute passes write: it defines CT_ACCESS as
 // readonly before this include.

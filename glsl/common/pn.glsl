@@ -26,6 +26,7 @@
 #define PN_GLSL
 
 #include "constants.glsl"
+#include "cudatess/constants.glsl"
 
 #ifndef CT_ACCESS
 #define CT_ACCESS

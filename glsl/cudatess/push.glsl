@@ -4,6 +4,7 @@
 #define CUDATESS_PUSH_GLSL
 
 #include "common/constants.glsl"
+#include "constants.glsl"
 
 layout(push_constant) uniform CtPush {
     uint patch_count;      // base patches

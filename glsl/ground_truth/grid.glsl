@@ -6,6 +6,7 @@
 #define GRID_GLSL
 
 #include "common/scene.glsl"
+#include "constants.glsl"
 
 layout(std430, set = SET_PASS, binding = BIND_GRID_VISIBLE) buffer GridVisible {
     uint visible[];

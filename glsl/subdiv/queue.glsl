@@ -1,5 +1,5 @@
 // Set 2 and the push block of the queue kernel (`subdiv --kernel queue`,
-// glsl/subdiv/queue.comp, src/methods/subdiv.rs): a bounded ring of QuadNodes with one sequence
+// glsl/subdiv/queue.comp, src/methods/subdiv/): a bounded ring of QuadNodes with one sequence
 // number per slot (after Vyukov's bounded MPMC queue), and its head and
 // tail. Slot s is free for position p when seq[s] == p and holds the item
 // of position p when seq[s] == p + 1; a consumer frees it for the next lap
@@ -8,6 +8,8 @@
 // valid empty queue for the next: nothing is reset between frames.
 #ifndef QUEUE_GLSL
 #define QUEUE_GLSL
+
+#include "constants.glsl"
 
 layout(std430, set = SET_PRODUCER, binding = BIND_QUEUE_ITEMS) coherent buffer QueueItems {
     uvec2 queue_items[];

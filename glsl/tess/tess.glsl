@@ -17,6 +17,7 @@
 #define TESS_GLSL
 
 #include "common/scene.glsl"
+#include "constants.glsl"
 
 // Set 1 of the tessellation methods.
 layout(std430, set = SET_PASS, binding = BIND_TESS_COUNTERS) buffer TessCounters {

@@ -41,6 +41,7 @@
 //! ([`CudaTess::read_frame`]).
 
 pub mod checks;
+pub mod constants;
 mod passes;
 pub mod pattern;
 mod records;
@@ -49,6 +50,7 @@ pub mod scan;
 use ash::vk;
 use serde_json::json;
 
+use self::constants::*;
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};

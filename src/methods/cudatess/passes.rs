@@ -1,8 +1,8 @@
 //! `cudatess`'s compute passes of one frame: the patches' and the PN
 //! triangles' stages, each reading what the last wrote.
 
+use super::constants::*;
 use super::{CudaTess, SceneBuffers};
-use crate::constants::*;
 use crate::frame::FrameRec;
 use crate::gpu::CtPush;
 use crate::vk::{Access, DescriptorSet, Pass, Pipeline, Recorder, Res, VkResult};

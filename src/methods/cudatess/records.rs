@@ -1,7 +1,7 @@
 //! What a frame leaves in `cudatess`'s buffers, read back for its checks
 //! and tests: per-patch records, the written vertices.
 
-use crate::constants::*;
+use crate::constants::{CT_PATCH_BITS, CT_PN_SHIFT};
 
 /// One patch's record after a frame (`CT_REC_*`). A PN triangle's record
 /// (after the patches') has `own` = its largest and smallest own factor and

@@ -10,6 +10,7 @@
 
 use ash::vk;
 
+use super::constants::*;
 use crate::constants::*;
 use crate::gpu::{CtPush, SceneLayout};
 use crate::vk::{

@@ -34,11 +34,13 @@
 //! PN triangles ([`pn`]) are drawn in the same pass as uniform triangular
 //! grids of the same size (grid² triangles each), not culled.
 
+pub mod constants;
 pub mod pn;
 
 use ash::vk;
 use serde_json::json;
 
+use self::constants::*;
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};

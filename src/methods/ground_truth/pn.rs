@@ -11,6 +11,7 @@ use ash::vk;
 use crate::constants::*;
 use crate::frame::FrameRec;
 use crate::gpu::DrawPush;
+use crate::methods::cudatess::constants::*;
 use crate::methods::cudatess::scan;
 use crate::methods::{MethodSetup, RenderError};
 use crate::scene::pn::PnScene;

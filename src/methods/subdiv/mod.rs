@@ -20,12 +20,14 @@
 //! the per-depth rounds of `subdiv-indirect`, and so is every later frame
 //! of this method; the stats say so (`kernel`, `fallback`).
 
+pub mod constants;
 use std::fmt;
 use std::str::FromStr;
 
 use ash::vk;
 use serde_json::json;
 
+use self::constants::*;
 use super::levels::{self, LevelState, Levels, PersistentRun};
 use super::levels::{
     finish_rounds, level_memory, level_parts, must_remake, recorded, GpuSubdivStats, RoundBudget,

@@ -22,10 +22,12 @@
 //! the renderer's primitive query, which is why the method needs one.
 
 pub mod checks;
+pub mod constants;
 
 use ash::vk;
 use serde_json::json;
 
+use self::constants::*;
 use super::edges::{EdgeVertex, PatchLevels};
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;

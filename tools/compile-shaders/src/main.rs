@@ -47,11 +47,15 @@
 //! is a link error in seconds instead of a silent source build. All archives
 //! end up in one rlib, so their order does not matter to GNU ld either.
 
-// The renderer's constants module, for its table `ALL`; the tool reads
-// nothing else of the renderer and does not depend on its crate.
+// The renderer's constants module, for its table `ALL`, and every method's
+// (found by build.rs); the tool reads nothing else of the renderer and does
+// not depend on its crate.
 #[path = "../../../src/constants.rs"]
 mod constants;
 mod header;
+mod method_constants {
+    include!(concat!(env!("OUT_DIR"), "/method_constants.rs"));
+}
 mod shaders;
 #[cfg(test)]
 mod temp_dir;
@@ -62,13 +66,16 @@ use std::process::ExitCode;
 use shaders::{show, Error, State};
 
 const USAGE: &str = "\
-Writes glsl/common/constants.glsl from src/constants.rs, then compiles
-glsl/*.{comp,task,mesh,vert,tesc,tese,geom,frag} to spirv/<name>.spv.
+Writes glsl/common/constants.glsl from src/constants.rs, and each
+glsl/<method>/constants.glsl from src/methods/<method>/constants.rs, then
+compiles glsl/*.{comp,task,mesh,vert,tesc,tese,geom,frag} and the same in
+glsl/<folder>/ (but common/, which holds include files) to spirv/, each to
+its own path with .spv appended.
 
 Usage: compile-shaders [--check] [--glsl DIR] [--spirv DIR]
 
 Options:
-  --check       write nothing: compare the constants header and the SPIR-V
+  --check       write nothing: compare the constants headers and the SPIR-V
                 directory with what would be written; list stale, missing
                 and orphaned files and exit 1 if there are any
   --glsl DIR    GLSL sources, with the header in DIR/common/ (default: glsl/
@@ -155,35 +162,43 @@ fn run(args: impl IntoIterator<Item = String>) -> Result<u8, Error> {
     let spirv = args.spirv.unwrap_or_else(|| root.join("spirv"));
     shaders::require_glsl_dir(&glsl)?;
 
-    // The header first: the shaders include it. A run writes it; either way
-    // the shaders are compiled with the generated text, so `--check` compiles
-    // what a run would even while the file on disk is stale or missing.
-    let header_path = header::path(&glsl);
-    let header_text = header::generate(constants::ALL)?;
-    let header_state = if args.check {
-        header::compare(&header_path, &header_text)?
-    } else {
-        header::write(&header_path, &header_text)?
-    };
-    let header_label = match (args.check, header_state) {
-        (_, State::Current) => None,
-        (true, state) => Some(state.label()),
-        (false, State::Missing) => Some("created"),
-        (false, _) => Some("updated"),
-    };
-    if let Some(label) = header_label {
-        println!(
-            "{:<9} {} (generated from src/constants.rs)",
-            format!("{label}:"),
-            show(&header_path)
-        );
+    // The headers first: the shaders include them. A run writes them;
+    // either way the shaders are compiled with the generated text, so
+    // `--check` compiles what a run would even while a file on disk is stale
+    // or missing.
+    let mut headers = vec![header::Header::shared(constants::ALL)];
+    for (method, table) in method_constants::METHODS {
+        headers.push(header::Header::method(method, table));
+    }
+    header::check_distinct(&headers)?;
+    let mut generated = Vec::new();
+    let mut stale_headers = 0;
+    for h in &headers {
+        let (path, text) = (h.path(&glsl), h.text()?);
+        let state = if args.check {
+            header::compare(&path, &text)?
+        } else {
+            header::write(&path, &text)?
+        };
+        stale_headers += usize::from(state != State::Current);
+        let label = match (args.check, state) {
+            (_, State::Current) => None,
+            (true, state) => Some(state.label()),
+            (false, State::Missing) => Some("created"),
+            (false, _) => Some("updated"),
+        };
+        if let Some(label) = label {
+            println!(
+                "{:<9} {} (generated from {})",
+                format!("{label}:"),
+                show(&path),
+                h.source
+            );
+        }
+        generated.push(shaders::Generated { path, text });
     }
 
-    let generated = shaders::Generated {
-        path: header_path.clone(),
-        text: header_text,
-    };
-    let batch = shaders::compile_all(&glsl, &[generated])?;
+    let batch = shaders::compile_all(&glsl, &generated)?;
     for (_, compiled) in &batch.modules {
         // glslang's warnings already start with `file:line: warning:`.
         if !compiled.warnings.is_empty() {
@@ -207,17 +222,16 @@ fn run(args: impl IntoIterator<Item = String>) -> Result<u8, Error> {
     }
 
     if args.check {
-        let header_stale = header_state != State::Current;
-        check(&header_path, header_stale, &spirv, &batch.modules)
+        check(headers.len(), stale_headers, &spirv, &batch.modules)
     } else {
         write(&glsl, &spirv, &batch.modules)
     }
 }
 
-/// Reports the SPIR-V's state (the header's is printed already) and the verdict.
+/// Reports the SPIR-V's state (the headers' is printed already) and the verdict.
 fn check(
-    header: &Path,
-    header_stale: bool,
+    headers: usize,
+    stale_headers: usize,
     spirv: &Path,
     modules: &[(shaders::Source, shaders::Compiled)],
 ) -> Result<u8, Error> {
@@ -233,11 +247,11 @@ fn check(
             show(&spirv.join(name))
         );
     }
-    let n_bad = bad.len() + usize::from(header_stale);
+    let n_bad = bad.len() + stale_headers;
     if n_bad == 0 {
         println!(
-            "{} and all {} SPIR-V module{} in {} are current",
-            show(header),
+            "the {headers} constants header{} and all {} SPIR-V module{} in {} are current",
+            if headers == 1 { "" } else { "s" },
             modules.len(),
             if modules.len() == 1 { "" } else { "s" },
             show(spirv)

@@ -170,11 +170,16 @@ fn a_run_writes_the_constants_header_first_and_check_catches_a_hand_edit() {
     );
     let generated = fs::read_to_string(dir.header()).unwrap();
     assert!(generated.starts_with("// Generated from src/constants.rs"));
+    // A method's header too, in its own folder.
+    assert!(
+        log.contains("created:  glsl/cudatess/constants.glsl (generated from src/methods/cudatess/constants.rs)"),
+        "{log}"
+    );
     let out = dir.run(&["--check"]);
     let log = text(&out);
     assert!(out.status.success(), "{log}");
     assert!(
-        log.contains("glsl/common/constants.glsl and all 1 SPIR-V module in spirv are current"),
+        log.contains("constants headers and all 1 SPIR-V module in spirv are current"),
         "{log}"
     );
 

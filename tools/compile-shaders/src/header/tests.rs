@@ -93,6 +93,63 @@ fn the_committed_header_is_what_src_constants_rs_generates() {
     );
 }
 
+/// Every method's header, as the tool writes them.
+fn method_headers() -> Vec<Header<'static>> {
+    crate::method_constants::METHODS
+        .iter()
+        .map(|(m, table)| Header::method(m, table))
+        .collect()
+}
+
+#[test]
+fn every_method_with_constants_has_its_committed_header() {
+    let headers = method_headers();
+    let names: Vec<&str> = crate::method_constants::METHODS
+        .iter()
+        .map(|(m, _)| *m)
+        .collect();
+    // build.rs found the methods that declare constants of their own.
+    for m in ["cudatess", "ground_truth", "subdiv", "tess"] {
+        assert!(names.contains(&m), "{names:?}");
+    }
+    let glsl = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../glsl");
+    for h in &headers {
+        let text = h.text().unwrap();
+        assert!(text.starts_with(&format!("// Generated from {}", h.source)));
+        assert!(text.contains(&format!("#define {}\n", h.guard)), "{text}");
+        let committed = fs::read_to_string(h.path(&glsl)).unwrap();
+        assert!(
+            committed == text,
+            "{} differs from what {} generates",
+            h.glsl,
+            h.source
+        );
+    }
+    let mut all = vec![Header::shared(ALL)];
+    all.extend(headers);
+    check_distinct(&all).unwrap();
+}
+
+#[test]
+fn a_name_in_two_headers_is_refused_naming_both_files() {
+    let one = [entry("X", 1, false, Some(&[]), &[])];
+    let headers = [Header::shared(&one), Header::method("toy", &one)];
+    let err = check_distinct(&headers).unwrap_err().0;
+    assert!(
+        err.contains("`X`")
+            && err.contains("src/constants.rs")
+            && err.contains("src/methods/toy/constants.rs"),
+        "{err}"
+    );
+    // A method's header refuses its own guard as a name, naming its file.
+    let guard = [entry("TOY_CONSTANTS_GLSL", 1, false, None, &[])];
+    let err = Header::method("toy", &guard).text().unwrap_err().0;
+    assert!(
+        err.contains("include guard") && err.contains("src/methods/toy/constants.rs"),
+        "{err}"
+    );
+}
+
 #[test]
 fn the_header_round_trips_every_constant_with_its_comments() {
     let text = generated();
@@ -245,7 +302,7 @@ fn names_and_comments_glsl_cannot_take_are_errors() {
 #[test]
 fn a_planted_wrong_value_is_stale_and_write_restores_the_header() {
     let dir = TempDir::new("stale");
-    let path = path(&dir.0.join("glsl"));
+    let path = Header::shared(ALL).path(&dir.0.join("glsl"));
     let text = generated();
     assert_eq!(compare(&path, &text).unwrap(), State::Missing);
     assert_eq!(write(&path, &text).unwrap(), State::Missing);

@@ -1,0 +1,82 @@
+// Generated from src/methods/cudatess/constants.rs by tools/compile-shaders; do not edit.
+// Every number the shaders share with the host is declared there, once: add
+// or change a constant in src/methods/cudatess/constants.rs, then run
+// `cargo run --release -p compile-shaders`, which rewrites this file and the
+// SPIR-V. `--check` (CI) fails while this file differs from what it writes.
+#ifndef CUDATESS_CONSTANTS_GLSL
+#define CUDATESS_CONSTANTS_GLSL
+
+// Set 1 of `cudatess`: counters and the indexed
+// indirect draw's arguments, the edge of each patch side, the factor of
+// each edge, the per-patch records, the scan (counts, then offsets), the
+// vertices and the indices it writes.
+const uint BIND_CT_COUNTERS = 0;
+const uint BIND_CT_EDGE_IDS = 1;
+const uint BIND_CT_EDGE_FACTORS = 2;
+const uint BIND_CT_PATCHES = 3;
+const uint BIND_CT_SCAN = 4;
+const uint BIND_CT_VERTICES = 5;
+const uint BIND_CT_INDICES = 6;
+const uint BIND_CT_PN_VERTICES = 7;
+const uint BIND_CT_PN_TRIANGLES = 8;
+const uint BIND_CT_PN_EDGE_IDS = 9;
+const uint BIND_CT_PN_NETS = 10;
+const uint CT_BINDINGS = 11;
+
+// Words of the cudatess counters: patches culled (frustum), error bits,
+// the totals the scan found (vertices, indices), the largest factor,
+// patches culled as back-facing, and from CT_DRAW_ARGS the
+// VkDrawIndexedIndirectCommand of the draw.
+const uint CT_CULLED = 0;
+const uint CT_ERROR = 1;
+const uint CT_VERTEX_TOTAL = 2;
+const uint CT_INDEX_TOTAL = 3;
+const uint CT_MAX_FACTOR_SEEN = 4;
+const uint CT_BACKFACE = 5;
+const uint CT_DRAW_ARGS = 8;
+const uint CT_WORDS = 16;
+
+// cudatess error bits: the vertices or indices did not fit their buffers
+// (the frame is drawn again with bigger ones).
+const uint CT_ERR_VERTICES_FULL = 1;
+const uint CT_ERR_INDICES_FULL = 2;
+
+// Per-patch record of cudatess: the patch's own factors along u and v (0:
+// culled), the final factors of its edges 0-3 (u = 0, v = 0, u = 1, v = 1),
+// its vertex and index counts.
+const uint CT_REC_M = 0;
+const uint CT_REC_N = 1;
+const uint CT_REC_EDGES = 2;
+const uint CT_REC_VERTICES = 6;
+const uint CT_REC_INDICES = 7;
+const uint CT_PATCH_WORDS = 8;
+
+// A cudatess vertex: position xyz, the base patch's (u, v), and the patch
+// id (low CT_PATCH_BITS, src/constants.rs) with log2 of its larger factor
+// and a transition bit (the vertex lies on an edge with a transition
+// strip) above it.
+const uint CT_VERTEX_WORDS = 6;
+const uint CT_DEPTH_SHIFT = 24;
+const uint CT_TRANSITION_SHIFT = 28;
+
+// cudatess factors are clamped to [1, CT_MAX_FACTOR] (the largest level
+// of hardware tessellation, so the two compare).
+const uint CT_MAX_FACTOR = 64;
+
+// cudatess workgroups: one invocation per patch (factors, counts,
+// indices); CT_VERTEX_THREADS invocations per patch for the vertices; the
+// scan's blocks of CT_SCAN_BLOCK entries (two per invocation).
+const uint CT_GROUP_SIZE = 64;
+const uint CT_VERTEX_THREADS = 8;
+const uint CT_SCAN_GROUP_SIZE = 256;
+const uint CT_SCAN_BLOCK = 512;
+
+// cudatess passes (CtPush.pass): the scan's block pass and its add pass.
+const uint CT_SCAN_PASS_BLOCKS = 0;
+const uint CT_SCAN_PASS_ADD = 1;
+
+// cudatess options (CtPush.options): interior vertices by forward
+// differencing along rows instead of plain evaluation.
+const uint CT_OPT_FORWARD_DIFF = 1;
+
+#endif
