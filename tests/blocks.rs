@@ -10,7 +10,8 @@ mod common;
 
 use std::collections::HashMap;
 
-use bezier_subdiv::gpu::blocks::{all_blocks, BlockField};
+use bezier_subdiv::gpu::blocks::BlockField;
+use bezier_subdiv::methods::all_blocks;
 use bezier_subdiv::vk::{embedded_shaders, load_spirv};
 use common::spirv::{id, lit};
 use rspirv::dr::{Instruction, Operand};
@@ -171,7 +172,7 @@ fn compare(shader: &str, r: &Reflected, t: u32) -> Result<&'static str, String> 
     let Some((rust_name, rust_size, rust_fields)) = blocks.iter().find(|(n, _, _)| *n == name)
     else {
         return Err(format!(
-            "{shader}: block `{name}` has no Rust twin in gpu::blocks::all_blocks"
+            "{shader}: block `{name}` has no Rust twin in methods::all_blocks (a method's own goes in its registry entry's `blocks`)"
         ));
     };
     let (fields, size) = r.fields(t);

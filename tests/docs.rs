@@ -110,7 +110,7 @@ fn stale_pointers_stay_gone() {
         ("src/methods/mod.rs", "later `subdiv-indirect`"),
         ("src/draw/mod.rs", "later\n//! `subdiv-indirect`"),
         (
-            "src/gpu/blocks.rs",
+            "src/methods/subdiv/push.rs",
             "`SubdivPush` in\n/// `glsl/levels/persistent.comp`",
         ),
         ("docs/BENCHMARKS.md", "DESIGN.md"),

@@ -1,6 +1,8 @@
-//! The constant blocks the host hands to shaders: one push-constant block
-//! per pass family, each the twin of a GLSL block of the same name, plus the
-//! criterion's [`ViewParams`] uniform block. [`GpuBlock`] lists each Rust
+//! The constant blocks the host hands to shaders that more than one method
+//! uses: one push-constant block per pass family, each the twin of a GLSL
+//! block of the same name, plus the criterion's [`ViewParams`] uniform
+//! block. A method's own blocks live in its folder (`push.rs`), declared
+//! with the same macro and listed by its registry entry. [`GpuBlock`] lists each Rust
 //! struct's fields with their offsets so a test can hold them against the
 //! blocks reflected from the compiled SPIR-V (`tests/blocks.rs`).
 
@@ -37,18 +39,20 @@ pub fn field_size<T, F>(_: fn(&T) -> &F) -> u32 {
 /// its field list.
 macro_rules! gpu_block {
     ($ty:ty, $glsl:literal, [$($field:ident),* $(,)?]) => {
-        impl GpuBlock for $ty {
+        impl $crate::gpu::blocks::GpuBlock for $ty {
             const GLSL_NAME: &'static str = $glsl;
-            fn fields() -> Vec<BlockField> {
-                vec![$(BlockField {
+            fn fields() -> Vec<$crate::gpu::blocks::BlockField> {
+                vec![$($crate::gpu::blocks::BlockField {
                     name: stringify!($field),
                     offset: std::mem::offset_of!($ty, $field) as u32,
-                    size: field_size(|b: &$ty| &b.$field),
+                    size: $crate::gpu::blocks::field_size(|b: &$ty| &b.$field),
                 }),*]
             }
         }
     };
 }
+// For the methods' own blocks, in their folders.
+pub(crate) use gpu_block;
 
 /// Push constants of every draw: the ready-list paths (mesh, fallback
 /// expansion and vertex stages) and the self-drawing methods' grids; the
@@ -121,92 +125,6 @@ gpu_block!(
     [kind, axis, other, pad, center, p]
 );
 
-/// Push constants of the queue kernel (`SubdivPush` in
-/// `glsl/subdiv/queue.glsl`, `subdiv --kernel queue`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct SubdivPush {
-    /// Entries in the ready list.
-    pub ready_capacity: u32,
-    /// Entries in the work queue.
-    pub queue_capacity: u32,
-    /// Base patches.
-    pub patch_count: u32,
-    /// Polls without any progress anywhere before the kernel gives up with
-    /// `ERR_ITERATION_CAP`.
-    pub idle_poll_cap: u32,
-    /// Deque entries a workgroup uses (at most `SUBDIV_LOCAL_CAP`).
-    pub local_cap: u32,
-    /// Base patches per claim (0: spread over the workgroups).
-    pub base_batch: u32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 2],
-}
-gpu_block!(
-    SubdivPush,
-    "SubdivPush",
-    [
-        ready_capacity,
-        queue_capacity,
-        patch_count,
-        idle_poll_cap,
-        local_cap,
-        base_batch,
-        pad
-    ]
-);
-
-/// Push constants of the level kernels: the persistent one, the per-depth
-/// rounds and their first step (`LevelPush` in `glsl/levels/level.glsl`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct LevelPush {
-    /// Base patches (the nodes of depth 0).
-    pub patch_count: u32,
-    /// Nodes per round at most (a multiple of `LEVEL_GROUP_SIZE`).
-    pub chunk: u32,
-    /// Entries in the ready list.
-    pub ready_capacity: u32,
-    /// Depths with a region in the node memory.
-    pub levels: u32,
-    /// Persistent kernel: polls without progress before its watchdog trips.
-    pub watchdog_polls: u32,
-    /// Persistent kernel: polls of an unchanged join count before the
-    /// occupancy window closes.
-    pub join_polls: u32,
-    /// Persistent kernel: workgroups launched.
-    pub launched: u32,
-    /// `FAULT_*` bits (tests).
-    pub faults: u32,
-    /// Per-depth rounds: blocks per workgroup.
-    pub group_blocks: u32,
-    /// `PHASE_*`: one pass, or a phase of occlusion culling.
-    pub phase: u32,
-    /// Blocks of 64 cluster slots the roots buffer holds after its
-    /// instance entries (occlusion culling's cluster filter).
-    pub cluster_blocks: u32,
-    /// Padding to 16 bytes.
-    pub pad: u32,
-}
-gpu_block!(
-    LevelPush,
-    "LevelPush",
-    [
-        patch_count,
-        chunk,
-        ready_capacity,
-        levels,
-        watchdog_polls,
-        join_polls,
-        launched,
-        faults,
-        group_blocks,
-        phase,
-        cluster_blocks,
-        pad
-    ]
-);
-
 /// Push constants of the ready-list passes that are not draws: the sort
 /// (`glsl/sort.comp`) and the §4.4 check (`glsl/reorder_check.comp`)
 /// (`ListPush` in `glsl/common/ready.glsl`).
@@ -223,70 +141,6 @@ pub struct ListPush {
     pub j: u32,
 }
 gpu_block!(ListPush, "ListPush", [ready_capacity, mode, k, j]);
-
-/// Push constants of the ground truth's culling pass (`GridPush` in
-/// `glsl/ground_truth/cull.comp`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct GridPush {
-    /// Base patches.
-    pub patch_count: u32,
-    /// Indices per patch (6 per grid cell).
-    pub indices_per_patch: u32,
-    /// Base patches one part of the frame draws.
-    pub patches_per_part: u32,
-    /// Padding to 16 bytes.
-    pub pad: u32,
-}
-gpu_block!(
-    GridPush,
-    "GridPush",
-    [patch_count, indices_per_patch, patches_per_part, pad]
-);
-
-/// Push constants of cudatess's compute passes (`CtPush` in
-/// `glsl/cudatess/push.glsl`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct CtPush {
-    /// Base patches.
-    pub patch_count: u32,
-    /// Vertices the vertex buffer holds.
-    pub vertex_capacity: u32,
-    /// Indices the index buffer holds.
-    pub index_capacity: u32,
-    /// `CT_OPT_*`.
-    pub options: u32,
-    /// Scan: the level's first entry.
-    pub scan_offset: u32,
-    /// Scan: entries in the level.
-    pub scan_count: u32,
-    /// Scan: the first entry of the level its block sums go to (`u32::MAX`:
-    /// none, the level fits one block).
-    pub scan_sums: u32,
-    /// Scan: `CT_SCAN_PASS_*`.
-    pub pass: u32,
-    /// PN triangles (their records and scan entries follow the patches').
-    pub tri_count: u32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 3],
-}
-gpu_block!(
-    CtPush,
-    "CtPush",
-    [
-        patch_count,
-        vertex_capacity,
-        index_capacity,
-        options,
-        scan_offset,
-        scan_count,
-        scan_sums,
-        pass,
-        tri_count,
-        pad
-    ]
-);
 
 gpu_block!(
     ViewParams,
@@ -329,23 +183,27 @@ gpu_block!(
     [rows, first, source, count, flags, lo, hi]
 );
 
-/// Every host block with its GLSL name and fields, for the reflection test.
-pub fn all_blocks() -> Vec<(&'static str, u32, Vec<BlockField>)> {
-    fn entry<T: GpuBlock>() -> (&'static str, u32, Vec<BlockField>) {
-        (T::GLSL_NAME, std::mem::size_of::<T>() as u32, T::fields())
-    }
+/// A block as the reflection test sees it: its GLSL name, its size in
+/// bytes and its fields.
+pub type BlockEntry = (&'static str, u32, Vec<BlockField>);
+
+/// `T`'s entry; a method's registry entry lists its blocks as these
+/// (`MethodInfo::blocks`).
+pub fn block<T: GpuBlock>() -> BlockEntry {
+    (T::GLSL_NAME, std::mem::size_of::<T>() as u32, T::fields())
+}
+
+/// The blocks more than one method's shaders use, with their GLSL names and
+/// fields; `methods::all_blocks` adds each method's own.
+pub fn shared_blocks() -> Vec<BlockEntry> {
     vec![
-        entry::<DrawPush>(),
-        entry::<SubdivPush>(),
-        entry::<LevelPush>(),
-        entry::<ListPush>(),
-        entry::<GridPush>(),
-        entry::<CtPush>(),
-        entry::<AnimPush>(),
-        entry::<crate::anim::deform::GpuDeformer>(),
-        entry::<HizPush>(),
-        entry::<ViewParams>(),
-        entry::<crate::scene::instances::Instance>(),
+        block::<DrawPush>(),
+        block::<ListPush>(),
+        block::<AnimPush>(),
+        block::<crate::anim::deform::GpuDeformer>(),
+        block::<HizPush>(),
+        block::<ViewParams>(),
+        block::<crate::scene::instances::Instance>(),
     ]
 }
 
@@ -355,7 +213,7 @@ mod tests {
 
     #[test]
     fn fields_cover_each_block_without_gaps() {
-        for (name, size, fields) in all_blocks() {
+        for (name, size, fields) in shared_blocks() {
             let mut end = 0;
             for f in &fields {
                 assert_eq!(f.offset, end, "{name}.{} starts after a gap", f.name);

@@ -16,9 +16,7 @@ use ash::vk;
 use crate::vk::{Context, GraphicsDesc, Pipeline, PipelineLayout, ShaderModule, VkResult};
 
 pub use crate::vk::all_stages;
-pub use blocks::{
-    AnimPush, CtPush, DrawPush, GpuBlock, GridPush, HizPush, LevelPush, ListPush, SubdivPush,
-};
+pub use blocks::{AnimPush, DrawPush, GpuBlock, HizPush, ListPush};
 pub use scene::{scene_set_types, SceneGpu, SceneLayout};
 pub use target::{sample_count, write_png, DrawTarget, ImageError, COLOR_FORMAT, DEPTH_FORMAT};
 

@@ -42,6 +42,7 @@ use serde_json::Value;
 
 use crate::draw::{DrawPath, ReadyStage};
 use crate::frame::{FrameOut, FrameRec, Retired};
+use crate::gpu::blocks::BlockEntry;
 use crate::gpu::{SceneGpu, SceneLayout, Shaders};
 use crate::patch::view::ViewParams;
 use crate::scene::geometry::SceneGeometry;
@@ -323,6 +324,10 @@ pub struct MethodInfo {
     /// Its own `validate` checks, beyond those every method gets (the
     /// oracle comparisons of a ready list, occlusion culling, the hole test).
     pub checks: Option<MakeCheck>,
+    /// Its own constant blocks (`gpu::blocks::block::<ItsPush>`), which
+    /// `tests/blocks.rs` holds against the shaders' (the shared ones are
+    /// `gpu::blocks::shared_blocks`).
+    pub blocks: &'static [fn() -> BlockEntry],
     /// Makes the method.
     pub build: fn(&mut MethodSetup<'_>) -> Result<Box<dyn Method>, RenderError>,
 }
@@ -350,6 +355,20 @@ impl MethodInfo {
     pub fn benched(&self) -> bool {
         matches!(self.role, Role::Compared | Role::Baseline)
     }
+}
+
+/// Every host constant block, each once: the shared ones and those the
+/// registry's entries declare (two methods may share one, as the level
+/// methods share `LevelPush`).
+pub fn all_blocks() -> Vec<BlockEntry> {
+    let mut all = crate::gpu::blocks::shared_blocks();
+    for make in METHODS.iter().flat_map(|m| m.blocks) {
+        let b = make();
+        if !all.iter().any(|a| a.0 == b.0) {
+            all.push(b);
+        }
+    }
+    all
 }
 
 /// The method the command line draws with unless told otherwise.
@@ -572,6 +591,20 @@ fn find_in<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each host block is a gapless run of fields filling a 16-byte multiple.
+    #[test]
+    fn fields_cover_each_block_without_gaps() {
+        for (name, size, fields) in all_blocks() {
+            let mut end = 0;
+            for f in &fields {
+                assert_eq!(f.offset, end, "{name}.{} starts after a gap", f.name);
+                end = f.offset + f.size;
+            }
+            assert_eq!(end, size, "{name}: fields do not fill the struct");
+            assert_eq!(size % 16, 0, "{name}: not a 16-byte multiple");
+        }
+    }
 
     /// Every built method says what it reads (none reads everything, as an
     /// unknown name does), only the subdivision methods read λ, l_max and

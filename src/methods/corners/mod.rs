@@ -34,6 +34,7 @@ pub const INFO: MethodInfo = MethodInfo {
     heat_map: "nothing (depth 0 everywhere)",
     seams: "wedges (none for this method)",
     checks: None,
+    blocks: &[],
     build: |setup| Ok(Box::new(Corners::new(setup)?)),
 };
 

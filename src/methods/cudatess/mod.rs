@@ -44,6 +44,7 @@ pub mod checks;
 pub mod constants;
 mod passes;
 pub mod pattern;
+pub mod push;
 mod records;
 pub mod scan;
 
@@ -51,10 +52,12 @@ use ash::vk;
 use serde_json::json;
 
 use self::constants::*;
+use self::push::CtPush;
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
-use crate::gpu::{CtPush, DrawPush};
+use crate::gpu::blocks::block;
+use crate::gpu::DrawPush;
 use crate::scene::pn::PnScene;
 use crate::vk::{
     Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pipeline,
@@ -78,6 +81,7 @@ pub const INFO: MethodInfo = MethodInfo {
     heat_map: "log2 of the patch's larger factor",
     seams: "transition strips",
     checks: Some(checks::make),
+    blocks: &[block::<push::CtPush>],
     build: |setup| Ok(Box::new(CudaTess::new(setup)?)),
 };
 

@@ -2,9 +2,9 @@
 //! triangles' stages, each reading what the last wrote.
 
 use super::constants::*;
+use super::push::CtPush;
 use super::{CudaTess, SceneBuffers};
 use crate::frame::FrameRec;
-use crate::gpu::CtPush;
 use crate::vk::{Access, DescriptorSet, Pass, Pipeline, Recorder, Res, VkResult};
 
 /// What every compute pass of one frame records with: the method (its

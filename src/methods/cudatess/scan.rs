@@ -11,8 +11,9 @@
 use ash::vk;
 
 use super::constants::*;
+use super::push::CtPush;
 use crate::constants::*;
-use crate::gpu::{CtPush, SceneLayout};
+use crate::gpu::SceneLayout;
 use crate::vk::{
     Access, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass, Pipeline,
     PipelineLayout, Recorder, Res, SetLayout, ShaderModule, VkResult,

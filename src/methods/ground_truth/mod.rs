@@ -36,15 +36,18 @@
 
 pub mod constants;
 pub mod pn;
+pub mod push;
 
 use ash::vk;
 use serde_json::json;
 
 use self::constants::*;
+use self::push::GridPush;
 use super::{Finished, Method, MethodInfo, MethodSetup, MethodStats, Reads, RenderError, Role};
 use crate::constants::*;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
-use crate::gpu::{DrawPush, GridPush};
+use crate::gpu::blocks::block;
+use crate::gpu::DrawPush;
 use crate::vk::{
     Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline, PipelineLayout,
     Recorder, Res, SetLayout, VkError, VkResult,
@@ -68,6 +71,7 @@ pub const INFO: MethodInfo = MethodInfo {
     heat_map: "log2 of the grid",
     seams: "wedges (none for this method)",
     checks: None,
+    blocks: &[block::<push::GridPush>],
     build: |setup| Ok(Box::new(GroundTruth::new(setup)?)),
 };
 

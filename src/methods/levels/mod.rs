@@ -16,6 +16,7 @@
 mod canonical;
 mod frame;
 mod plan;
+pub mod push;
 mod state;
 mod stats;
 
@@ -30,12 +31,13 @@ pub use stats::GpuSubdivStats;
 
 use ash::vk;
 
+use self::push::LevelPush;
 use super::RenderError;
 use crate::constants::*;
 use crate::draw::hiz::Hiz;
 use crate::draw::ReadyStage;
 use crate::frame::{CopyRange, FrameRec, Retired};
-use crate::gpu::{LevelPush, SceneLayout, Shaders};
+use crate::gpu::{SceneLayout, Shaders};
 use crate::vk::{
     Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline, PipelineLayout,
     Recorder, Res, SetLayout, VkResult,

@@ -21,6 +21,7 @@
 //! of this method; the stats say so (`kernel`, `fallback`).
 
 pub mod constants;
+pub mod push;
 use std::fmt;
 use std::str::FromStr;
 
@@ -28,6 +29,7 @@ use ash::vk;
 use serde_json::json;
 
 use self::constants::*;
+use self::push::SubdivPush;
 use super::levels::{self, LevelState, Levels, PersistentRun};
 use super::levels::{
     finish_rounds, level_memory, level_parts, must_remake, recorded, GpuSubdivStats, RoundBudget,
@@ -38,7 +40,7 @@ use crate::constants::*;
 use crate::draw::hiz::Hiz;
 use crate::draw::{ReadyStage, MAX_READY_CAPACITY};
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
-use crate::gpu::SubdivPush;
+use crate::gpu::blocks::block;
 use crate::vk::{
     Access, Buffer, Context, DescriptorSet, MemoryLocation, Pass, Pipeline, PipelineLayout,
     Recorder, Res, SetLayout, VkError, VkResult,
@@ -57,6 +59,10 @@ pub const INFO: MethodInfo = MethodInfo {
     heat_map: "subdivision depth",
     seams: "wedges (crack-closing triangles)",
     checks: None,
+    blocks: &[
+        block::<push::SubdivPush>,
+        block::<crate::methods::levels::push::LevelPush>,
+    ],
     build: |setup| Ok(Box::new(Subdiv::new(setup)?)),
 };
 

@@ -23,6 +23,7 @@ use crate::constants::*;
 use crate::draw::hiz::Hiz;
 use crate::draw::ReadyStage;
 use crate::frame::{CopyRange, FrameOut, FrameRec, Retired};
+use crate::gpu::blocks::block;
 use crate::patch::view::ViewParams;
 
 /// The registry entry.
@@ -38,6 +39,7 @@ pub const INFO: MethodInfo = MethodInfo {
     heat_map: "subdivision depth",
     seams: "wedges (crack-closing triangles)",
     checks: None,
+    blocks: &[block::<crate::methods::levels::push::LevelPush>],
     build: |setup| Ok(Box::new(SubdivIndirect::new(setup)?)),
 };
 

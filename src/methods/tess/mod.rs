@@ -50,6 +50,7 @@ pub const INFO: MethodInfo = MethodInfo {
     heat_map: "log2 of the inner tessellation level",
     seams: "wedges (none for this method)",
     checks: Some(checks::make),
+    blocks: &[],
     build: |setup| Ok(Box::new(Tess::new(setup, Variant::Uniform)?)),
 };
 
