@@ -232,6 +232,15 @@ impl<'a> FrameRec<'a> {
             .bind(self.ctx, self.cmd, bind_point, layout, self.slot);
     }
 
+    /// `pass` binding set 0 with this slot's view: a compute pass so
+    /// declares the scene buffers its pipeline uses.
+    pub fn with_scene<'p>(&self, pass: Pass<'p>) -> Pass<'p>
+    where
+        'a: 'p,
+    {
+        self.scene.bind_to(pass, self.slot)
+    }
+
     /// Records `f` between the timestamps of scope `name`.
     pub fn scoped<R>(
         &mut self,

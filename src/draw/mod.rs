@@ -36,7 +36,7 @@ use ash::vk;
 
 use crate::constants::{
     COUNTERS_BUFFER_WORDS, C_ERROR, C_READY_COUNT, ERR_READY_FULL, EXPAND_GROUP_SIZE,
-    FALLBACK_CHUNK_NODES, MESH_NODES, TASK_MESH_GROUPS,
+    FALLBACK_CHUNK_NODES, MESH_NODES, SET_PASS, TASK_MESH_GROUPS,
 };
 use crate::frame::{FrameRec, Retired};
 use crate::gpu::{DrawPush, ListPush, SceneLayout, Shaders};
@@ -319,6 +319,12 @@ impl ReadyStage {
     /// Records zeroing the counters (the start of a producer's frame).
     pub fn record_reset(&self, f: &FrameRec<'_>) {
         self.list.record_reset(f.ctx, f.cmd);
+    }
+
+    /// `pass` binding sets 0 and 1 (the scene, the list): a compute pass so
+    /// declares the buffers of both its pipeline uses.
+    pub fn bind_to<'p>(&'p self, f: &FrameRec<'p>, pass: Pass<'p>) -> Pass<'p> {
+        f.with_scene(pass.bind(SET_PASS, self.list.set()))
     }
 
     /// Records binding sets 0 and 1 for a pipeline with `layout`.

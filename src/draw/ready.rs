@@ -187,6 +187,11 @@ impl ReadyList {
         })
     }
 
+    /// Set 1: the list's buffers.
+    pub fn set(&self) -> &DescriptorSet {
+        &self.set
+    }
+
     /// Records binding set 1 for `layout`.
     pub fn bind(
         &self,

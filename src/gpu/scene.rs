@@ -28,8 +28,8 @@ use crate::scene::instances::{
 };
 use crate::scene::pn::PnScene;
 use crate::vk::{
-    all_stages, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, PipelineLayout,
-    SetLayout, VkError, VkResult,
+    all_stages, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass,
+    PipelineLayout, SetLayout, VkError, VkResult,
 };
 
 /// The layout of set 0: the view (a uniform buffer with a dynamic offset
@@ -310,6 +310,17 @@ impl SceneGpu {
         self.views.write(ctx, offset, std::slice::from_ref(vp))
     }
 
+    /// `pass` binding set 0 with slot `slot`'s view (for a compute pass,
+    /// which thereby declares the scene buffers its pipeline uses).
+    pub fn bind_to<'p>(&'p self, pass: Pass<'p>, slot: usize) -> Pass<'p> {
+        pass.bind_dynamic(SET_SCENE, &self.set, &[self.view_offset(slot)])
+    }
+
+    /// The dynamic offset of slot `slot`'s view in the view buffer.
+    fn view_offset(&self, slot: usize) -> u32 {
+        (slot.min(self.slots - 1) as u64 * self.view_stride) as u32
+    }
+
     /// Records binding set 0 for `layout` with slot `slot`'s view.
     pub fn bind(
         &self,
@@ -319,7 +330,7 @@ impl SceneGpu {
         layout: &PipelineLayout<impl bytemuck::Pod>,
         slot: usize,
     ) {
-        let offset = (slot.min(self.slots - 1) as u64 * self.view_stride) as u32;
+        let offset = self.view_offset(slot);
         self.set
             .bind(ctx, cmd, bind_point, layout, SET_SCENE, &[offset]);
     }

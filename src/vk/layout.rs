@@ -421,6 +421,9 @@ pub struct DescriptorSet {
     core: Arc<Core>,
     pool: vk::DescriptorPool,
     handle: vk::DescriptorSet,
+    /// The buffer each binding points at (`None` for an image), so that a
+    /// pass binding the set declares what it binds.
+    buffers: Vec<Option<vk::Buffer>>,
 }
 
 impl DescriptorSet {
@@ -467,11 +470,24 @@ impl DescriptorSet {
         };
         ctx.set_name(handle, name);
         write(ctx, handle, &layout.types, buffers);
+        let buffers = buffers
+            .iter()
+            .map(|b| match b {
+                Binding::Buffer(b) => Some(b.buffer.handle()),
+                Binding::Image { .. } => None,
+            })
+            .collect();
         Ok(Self {
             core: ctx.core.clone(),
             pool,
             handle,
+            buffers,
         })
+    }
+
+    /// The buffer each binding points at (`None`: an image).
+    pub fn buffers(&self) -> &[Option<vk::Buffer>] {
+        &self.buffers
     }
 
     /// The Vulkan handle.

@@ -10,14 +10,26 @@
 //! write it has not been made visible to, an image in another layout is
 //! transitioned. Two reads never get a barrier between them.
 //!
+//! A compute pass names its pipeline and binds its descriptor sets through
+//! the pass ([`Pass::pipeline`], [`Pass::bind`]): the recorder binds them,
+//! and declares each buffer they point at that the pipeline's shaders use,
+//! as a write where the SPIR-V may write it and a read elsewhere. What a
+//! pass binds is thus what it declares, and a shader cannot touch a buffer
+//! its pass did not declare (a set the pipeline uses but the pass does not
+//! bind is refused). Other uses (indirect arguments, images sampled through
+//! a set, transfers) are declared with [`Pass::read`] and [`Pass::write`].
+//!
 //! What happened before the recorder (earlier in the command buffer, or in
 //! an earlier submission) is declared with [`Recorder::after`]; what later,
 //! undeclared work needs is given with [`Recorder::hand_off`].
 
 use super::barrier::{buffer_barrier_info, image_barrier_info, memory_barrier_info, Access};
 use super::context::Context;
+use super::layout::DescriptorSet;
 use super::memory::{Buffer, Image};
+use super::pipeline::Pipeline;
 use ash::vk;
+use std::collections::BTreeMap;
 use std::ffi::CString;
 
 /// A resource a pass uses.
@@ -30,6 +42,8 @@ pub enum Res<'a> {
     Memory,
     /// A whole buffer.
     Buffer(&'a Buffer),
+    /// A whole buffer a set bound by the pass points at ([`Pass::bind`]).
+    Bound(vk::Buffer),
     /// A whole image, used in this layout.
     Image(&'a Image, vk::ImageLayout),
     /// A swapchain image (owned by the swapchain, one mip and layer of
@@ -50,6 +64,7 @@ impl Res<'_> {
         match self {
             Res::Memory => Key::Memory,
             Res::Buffer(b) => Key::Buffer(b.handle()),
+            Res::Bound(b) => Key::Buffer(*b),
             Res::Image(i, _) => Key::Image(i.handle()),
             Res::Swapchain(i, _) => Key::Image(*i),
         }
@@ -72,10 +87,24 @@ struct Use<'a> {
     write: bool,
 }
 
-/// A pass: a name (its debug label) and the uses it declares.
+/// A descriptor set a pass binds: its index, the set, its dynamic offsets.
+struct BoundSet<'a> {
+    index: u32,
+    handle: vk::DescriptorSet,
+    /// The buffer of each binding (`None`: an image).
+    buffers: &'a [Option<vk::Buffer>],
+    offsets: Vec<u32>,
+}
+
+/// A pass: a name (its debug label), the uses it declares, and for a compute
+/// pass its pipelines and the sets it binds.
 pub struct Pass<'a> {
     name: &'a str,
     uses: Vec<Use<'a>>,
+    /// The compute pipelines it runs, of one layout; the first is bound
+    /// with the sets, the others by [`Pass::dispatch`].
+    pipelines: Vec<&'a Pipeline>,
+    sets: Vec<BoundSet<'a>>,
 }
 
 impl<'a> Pass<'a> {
@@ -84,6 +113,8 @@ impl<'a> Pass<'a> {
         Self {
             name,
             uses: Vec::new(),
+            pipelines: Vec::new(),
+            sets: Vec::new(),
         }
     }
 
@@ -106,6 +137,140 @@ impl<'a> Pass<'a> {
         });
         self
     }
+
+    /// A compute pipeline the pass runs. The recorder binds the first, and
+    /// the sets the pass binds, before the pass's work; a pass that runs
+    /// several (in turn, no barrier between them: their writes must not
+    /// meet) names each and dispatches them with [`Pass::dispatch`].
+    pub fn pipeline(mut self, pipeline: &'a Pipeline) -> Self {
+        self.pipelines.push(pipeline);
+        self
+    }
+
+    /// Records binding `pipeline`, one the pass names, and a dispatch of
+    /// `groups` workgroups: for the work of a pass that runs several
+    /// pipelines. The sets stay bound (the pipelines share a layout).
+    ///
+    /// # Panics
+    ///
+    /// If the pass does not name `pipeline`.
+    pub fn dispatch(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        pipeline: &Pipeline,
+        groups: [u32; 3],
+    ) {
+        assert!(
+            self.pipelines.iter().any(|p| std::ptr::eq(*p, pipeline)),
+            "pass `{}` dispatches a pipeline it does not name",
+            self.name
+        );
+        pipeline.bind(cmd);
+        unsafe {
+            ctx.device()
+                .cmd_dispatch(cmd, groups[0], groups[1], groups[2])
+        };
+    }
+
+    /// Binds `set` as set `index` of the pipeline's layout, declaring every
+    /// buffer of it the pipeline's shaders use (see the module's comment).
+    pub fn bind(self, index: u32, set: &'a DescriptorSet) -> Self {
+        self.bind_dynamic(index, set, &[])
+    }
+
+    /// [`Pass::bind`] with one dynamic offset per dynamic descriptor.
+    pub fn bind_dynamic(mut self, index: u32, set: &'a DescriptorSet, offsets: &[u32]) -> Self {
+        self.sets.push(BoundSet {
+            index,
+            handle: set.handle(),
+            buffers: set.buffers(),
+            offsets: offsets.to_vec(),
+        });
+        self
+    }
+
+    /// The uses the pass declares and those of the sets it binds. Refuses
+    /// a set the pipeline uses that the pass does not bind (its buffers
+    /// would be used undeclared), sets bound without a compute pipeline,
+    /// and one index bound twice.
+    fn all_uses(&self) -> Result<Vec<Use<'a>>, String> {
+        let mut uses = self.uses.clone();
+        let Some(first) = self.pipelines.first() else {
+            return match self.sets.is_empty() {
+                true => Ok(uses),
+                false => Err("binds sets but names no pipeline".into()),
+            };
+        };
+        for p in &self.pipelines {
+            if p.bind_point() != vk::PipelineBindPoint::COMPUTE {
+                return Err("names a pipeline that is not a compute pipeline".into());
+            }
+            if p.layout() != first.layout() {
+                return Err("names pipelines of different layouts".into());
+            }
+            uses.extend(set_uses(p.uses(), &self.sets)?);
+        }
+        Ok(uses)
+    }
+
+    /// Records binding the first pipeline and the sets, if the pass names
+    /// any.
+    fn bind_all(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        let Some(pipeline) = self.pipelines.first() else {
+            return;
+        };
+        pipeline.bind(cmd);
+        for b in &self.sets {
+            unsafe {
+                ctx.device().cmd_bind_descriptor_sets(
+                    cmd,
+                    pipeline.bind_point(),
+                    pipeline.layout(),
+                    b.index,
+                    &[b.handle],
+                    &b.offsets,
+                )
+            };
+        }
+    }
+}
+
+/// The uses of the buffers in `sets` that a compute pipeline using
+/// `pipeline_uses` ((set, binding) → may write) touches: a write where it
+/// may write, a read elsewhere. Refuses a set index bound twice and a set
+/// the pipeline uses that is not bound.
+fn set_uses<'a>(
+    pipeline_uses: &BTreeMap<(u32, u32), bool>,
+    sets: &[BoundSet<'a>],
+) -> Result<Vec<Use<'a>>, String> {
+    for (k, b) in sets.iter().enumerate() {
+        if sets[..k].iter().any(|a| a.index == b.index) {
+            return Err(format!("binds set {} twice", b.index));
+        }
+    }
+    let mut uses = Vec::new();
+    for (&(set, binding), &written) in pipeline_uses {
+        let Some(bound) = sets.iter().find(|b| b.index == set) else {
+            return Err(format!(
+                "runs a pipeline that uses set {set} (binding {binding}), which the pass does not bind"
+            ));
+        };
+        // An image binding is declared by the pass itself.
+        if let Some(&Some(buffer)) = bound.buffers.get(binding as usize) {
+            let access = if written {
+                Access::COMPUTE_READ_WRITE
+            } else {
+                Access::COMPUTE_READ
+            };
+            uses.push(Use {
+                res: Res::Bound(buffer),
+                access,
+                write: written,
+            });
+        }
+    }
+    Ok(uses)
 }
 
 /// The tracked state of one resource.
@@ -198,6 +363,7 @@ impl Barriers {
                 self.buffers
                     .push(buffer_barrier_info(buffer.handle(), src, dst))
             }
+            Res::Bound(buffer) => self.buffers.push(buffer_barrier_info(buffer, src, dst)),
             Res::Image(image, layout) => self.images.push(
                 image_barrier_info(src, dst, old_layout, layout)
                     .image(image.handle())
@@ -285,9 +451,9 @@ impl Tracker {
     /// The barriers `pass` needs, and the states after it. Every use is
     /// checked against the state before the pass (a pass's uses are not
     /// ordered among themselves), then the state is moved on.
-    fn derive(&mut self, pass: &Pass<'_>) -> Barriers {
+    fn derive(&mut self, uses: &[Use<'_>]) -> Barriers {
         let mut barriers = Barriers::default();
-        for u in &pass.uses {
+        for u in uses {
             let key = u.res.key();
             let mut src = self
                 .moved_by(key)
@@ -305,8 +471,7 @@ impl Tracker {
             }
         }
         let touched = |key: Key, write: bool| {
-            pass.uses
-                .iter()
+            uses.iter()
                 .filter(|u| u.write == write && (u.res.key() == key || u.res.key() == Key::Memory))
                 .fold(Access::NONE, |a, u| a.union(u.access))
         };
@@ -316,7 +481,7 @@ impl Tracker {
                 s.apply(w, r);
             }
         }
-        for u in &pass.uses {
+        for u in uses {
             if let Some(layout) = u.res.layout() {
                 self.state(u.res.key()).layout = layout;
             }
@@ -389,11 +554,23 @@ impl<'c> Recorder<'c> {
         self
     }
 
-    /// Records `pass`: its barriers, then `work`, inside its debug label.
+    /// Records `pass`: its barriers, its pipeline and sets if it names them,
+    /// then `work`, inside its debug label.
+    ///
+    /// # Panics
+    ///
+    /// If the pass binds sets its pipeline does not account for, or its
+    /// pipeline uses a set the pass does not bind ([`Pass::bind`]): a
+    /// mistake in the code recording it, which every test that runs the
+    /// pass finds.
     pub fn run<R>(&mut self, pass: &Pass<'_>, work: impl FnOnce(vk::CommandBuffer) -> R) -> R {
         begin_label(self.ctx, self.cmd, pass.name);
-        let barriers = self.tracker.derive(pass);
+        let uses = pass
+            .all_uses()
+            .unwrap_or_else(|e| panic!("pass `{}` {e}", pass.name));
+        let barriers = self.tracker.derive(&uses);
         self.record(barriers);
+        pass.bind_all(self.ctx, self.cmd);
         let out = work(self.cmd);
         end_label(self.ctx, self.cmd);
         out
@@ -440,6 +617,14 @@ impl<'c> Recorder<'c> {
     pub fn hand_off(&mut self, res: Res<'_>, dst: Access) {
         let barriers = self.tracker.hand_off(res, dst);
         self.record(barriers);
+    }
+
+    /// [`Recorder::hand_off`] of every buffer `set` points at: for
+    /// undeclared work that reads the set (a draw).
+    pub fn hand_off_set(&mut self, set: &DescriptorSet, dst: Access) {
+        for &buffer in set.buffers().iter().flatten() {
+            self.hand_off(Res::Bound(buffer), dst);
+        }
     }
 
     /// Makes every device write visible to host reads after the fence.
@@ -554,26 +739,29 @@ mod tests {
             if seen_before {
                 t.after(image(1), Access::NONE);
             }
-            assert!(t.derive(&global_write()).is_empty());
+            assert!(t.derive(&global_write().uses).is_empty());
             if !seen_before {
                 t.after(image(1), Access::NONE);
-                t.derive(&global_write());
+                t.derive(&global_write().uses);
             }
             let read = Pass::new("draw").read(image(1), Access::COMPUTE_READ);
-            let first = t.derive(&read);
+            let first = t.derive(&read.uses);
             assert_eq!(first.images.len(), 1, "seen before: {seen_before}");
             assert!(first.memory.is_none());
-            assert!(t.derive(&read).is_empty(), "seen before: {seen_before}");
+            assert!(
+                t.derive(&read.uses).is_empty(),
+                "seen before: {seen_before}"
+            );
         }
     }
 
     #[test]
     fn a_hand_off_of_one_resource_makes_no_other_visible() {
         let mut t = Tracker::new();
-        t.derive(&global_write());
+        t.derive(&global_write().uses);
         assert_eq!(t.hand_off(image(1), Access::ALL).images.len(), 1);
         // Image 2, first seen now, was written by the global write too.
-        let read = t.derive(&Pass::new("draw").read(image(2), Access::COMPUTE_READ));
+        let read = t.derive(&Pass::new("draw").read(image(2), Access::COMPUTE_READ).uses);
         assert_eq!(read.images.len(), 1);
         let src = read.images[0].src_access_mask;
         assert!(
@@ -586,9 +774,86 @@ mod tests {
     fn a_global_read_waits_for_a_write_of_one_resource() {
         let mut t = Tracker::new();
         t.after(image(1), Access::NONE);
-        t.derive(&Pass::new("copy").write(image(1), Access::TRANSFER_WRITE));
-        let read = t.derive(&Pass::new("kernel").read(Res::Memory, Access::COMPUTE_READ));
+        t.derive(
+            &Pass::new("copy")
+                .write(image(1), Access::TRANSFER_WRITE)
+                .uses,
+        );
+        let read = t.derive(
+            &Pass::new("kernel")
+                .read(Res::Memory, Access::COMPUTE_READ)
+                .uses,
+        );
         let (src, _) = read.memory.expect("a global barrier");
         assert_eq!(src, Access::TRANSFER_WRITE);
+    }
+
+    fn buffer(raw: u64) -> vk::Buffer {
+        vk::Buffer::from_raw(raw)
+    }
+
+    fn bound(index: u32, buffers: &[Option<vk::Buffer>]) -> BoundSet<'_> {
+        BoundSet {
+            index,
+            handle: vk::DescriptorSet::null(),
+            buffers,
+            offsets: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_bound_set_declares_what_the_pipeline_uses_of_it() {
+        // Set 0: buffers 10, 11 and an image; set 1: buffers 20, 21.
+        let (scene, list) = (
+            [Some(buffer(10)), Some(buffer(11)), None],
+            [Some(buffer(20)), Some(buffer(21))],
+        );
+        let sets = [bound(0, &scene), bound(1, &list)];
+        // The pipeline reads 0.0 and the image 0.2, writes 1.1; it never
+        // touches 0.1 or 1.0.
+        let uses = BTreeMap::from([((0, 0), false), ((0, 2), false), ((1, 1), true)]);
+        let derived = set_uses(&uses, &sets).unwrap();
+        let got: Vec<(Key, bool)> = derived.iter().map(|u| (u.res.key(), u.write)).collect();
+        assert_eq!(
+            got,
+            [
+                (Key::Buffer(buffer(10)), false),
+                (Key::Buffer(buffer(21)), true)
+            ]
+        );
+        assert!(derived[0].access == Access::COMPUTE_READ);
+        assert!(derived[1].access == Access::COMPUTE_READ_WRITE);
+
+        // A write through a set, then a read of the same buffer through
+        // another pass's set: one buffer barrier, on that buffer.
+        let mut t = Tracker::new();
+        t.derive(&derived);
+        let reader = BTreeMap::from([((1, 1), false)]);
+        let read = t.derive(&set_uses(&reader, &sets).unwrap());
+        assert!(read.memory.is_none());
+        assert_eq!(read.buffers.len(), 1);
+        assert_eq!(read.buffers[0].buffer, buffer(21));
+        assert_eq!(
+            read.buffers[0].src_access_mask,
+            Access::COMPUTE_READ_WRITE.access
+        );
+    }
+
+    #[test]
+    fn a_set_the_pipeline_uses_must_be_bound_by_the_pass() {
+        let list = [Some(buffer(20))];
+        let uses = BTreeMap::from([((0, 0), false), ((1, 0), true)]);
+        let err = set_uses(&uses, &[bound(1, &list)]).err().unwrap();
+        assert!(
+            err.contains("uses set 0") && err.contains("does not bind"),
+            "{err}"
+        );
+        let err = set_uses(&uses, &[bound(1, &list), bound(1, &list)])
+            .err()
+            .unwrap();
+        assert!(err.contains("binds set 1 twice"), "{err}");
+        let mut pass = Pass::new("lost");
+        pass.sets.push(bound(1, &list));
+        assert!(pass.all_uses().err().unwrap().contains("no pipeline"));
     }
 }

@@ -3,6 +3,8 @@
 //! [`GraphicsDesc`] with room for every kind of draw the renderer has:
 //! vertex pulling, task + mesh, tessellation.
 
+use std::collections::BTreeMap;
+
 use super::context::{Context, Core};
 use super::error::{VkError, VkResult};
 use super::layout::PipelineLayout;
@@ -229,6 +231,11 @@ pub struct Pipeline {
     core: Arc<Core>,
     handle: vk::Pipeline,
     bind_point: vk::PipelineBindPoint,
+    /// The layout it was made with (owned by the method beside it), for
+    /// binding sets through a [`crate::vk::Pass`].
+    layout: vk::PipelineLayout,
+    /// Every (set, binding) its shaders use, and whether any may write it.
+    uses: BTreeMap<(u32, u32), bool>,
     /// Bound at least once (see [`Pipeline::bind`]).
     bound: AtomicBool,
 }
@@ -239,14 +246,35 @@ impl Pipeline {
         handle: vk::Pipeline,
         bind_point: vk::PipelineBindPoint,
         name: &str,
+        layout: vk::PipelineLayout,
+        modules: &[&ShaderModule],
     ) -> Self {
         ctx.set_name(handle, name);
+        let mut uses = BTreeMap::new();
+        for r in modules.iter().map(|m| m.reflection()) {
+            for key in r.bindings.keys() {
+                *uses.entry(*key).or_insert(false) |= r.written.contains(key);
+            }
+        }
         Self {
             core: ctx.core.clone(),
             handle,
             bind_point,
+            layout,
+            uses,
             bound: AtomicBool::new(false),
         }
+    }
+
+    /// The (set, binding)s its shaders use, each with whether they may write
+    /// it (from the SPIR-V: a storage resource not declared `readonly`).
+    pub fn uses(&self) -> &BTreeMap<(u32, u32), bool> {
+        &self.uses
+    }
+
+    /// The layout it was made with.
+    pub fn layout(&self) -> vk::PipelineLayout {
+        self.layout
     }
 
     /// A compute pipeline from `shader`'s `main` with `layout`.
@@ -282,6 +310,8 @@ impl Pipeline {
             handle,
             vk::PipelineBindPoint::COMPUTE,
             name,
+            layout.handle(),
+            &[shader],
         ))
     }
 
@@ -362,11 +392,14 @@ impl Pipeline {
             context: format!("vkCreateGraphicsPipelines({})", desc.name),
             result,
         })?[0];
+        let modules: Vec<&ShaderModule> = desc.stages.iter().map(|(_, m)| *m).collect();
         Ok(Self::from_handle(
             ctx,
             handle,
             vk::PipelineBindPoint::GRAPHICS,
             desc.name,
+            layout.handle(),
+            &modules,
         ))
     }
 

@@ -21,6 +21,11 @@ pub struct Reflection {
     pub bindings: BTreeMap<(u32, u32), (vk::DescriptorType, u32)>,
     /// Bytes of the push-constant block (0 when there is none).
     pub push_size: u32,
+    /// The (set, binding)s the module may write: storage buffers and images
+    /// not declared `readonly` (a block counts as read-only when every
+    /// member is). A pass running the module declares these as writes and
+    /// its other bindings as reads ([`crate::vk::Pass::bind`]).
+    pub written: std::collections::BTreeSet<(u32, u32)>,
 }
 
 // Opcodes, decorations, storage classes and execution models of the
@@ -44,6 +49,7 @@ const OP_DECORATE: u32 = 71;
 const OP_MEMBER_DECORATE: u32 = 72;
 
 const DEC_BUFFER_BLOCK: u32 = 3;
+const DEC_NON_WRITABLE: u32 = 24;
 const DEC_ARRAY_STRIDE: u32 = 6;
 const DEC_MATRIX_STRIDE: u32 = 7;
 const DEC_BINDING: u32 = 33;
@@ -118,6 +124,8 @@ struct Module {
     /// Offset decorations on struct members: (struct, member) -> bytes.
     offsets: HashMap<(u32, u32), u32>,
     matrix_strides: HashMap<(u32, u32), u32>,
+    /// Struct members decorated `NonWritable` (a `readonly` block's).
+    read_only_members: std::collections::HashSet<(u32, u32)>,
     /// (pointer type, variable id) per module-scope variable.
     variables: Vec<(u32, u32)>,
 }
@@ -145,6 +153,9 @@ pub fn reflect(words: &[u32]) -> Result<Reflection, String> {
         let (inner, count) = m.unarray(to)?;
         let ty = m.descriptor_type(class, inner)?;
         out.bindings.insert((set, binding), (ty, count));
+        if m.may_write(var, inner, ty) {
+            out.written.insert((set, binding));
+        }
     }
     Ok(out)
 }
@@ -236,6 +247,9 @@ fn scan(words: &[u32]) -> Result<Module, String> {
             OP_MEMBER_DECORATE if w(2) == DEC_MATRIX_STRIDE => {
                 m.matrix_strides.insert((w(0), w(1)), w(3));
             }
+            OP_MEMBER_DECORATE if w(2) == DEC_NON_WRITABLE => {
+                m.read_only_members.insert((w(0), w(1)));
+            }
             _ => {}
         }
         at += count;
@@ -261,6 +275,26 @@ impl Module {
                 ))
             }
             _ => Ok((id, 1)),
+        }
+    }
+
+    /// Whether variable `var` (of type `ty`, descriptor type `kind`) may be
+    /// written: a storage buffer or image not decorated `NonWritable`, on
+    /// the variable or on every member of its block.
+    fn may_write(&self, var: u32, ty: u32, kind: vk::DescriptorType) -> bool {
+        use vk::DescriptorType as D;
+        if !matches!(
+            kind,
+            D::STORAGE_BUFFER | D::STORAGE_IMAGE | D::STORAGE_TEXEL_BUFFER
+        ) || self.decorations.contains_key(&(var, DEC_NON_WRITABLE))
+        {
+            return false;
+        }
+        match self.types.get(&ty) {
+            Some(Type::Struct(members)) => {
+                (0..members.len() as u32).any(|k| !self.read_only_members.contains(&(ty, k)))
+            }
+            _ => true,
         }
     }
 

@@ -412,17 +412,18 @@ impl CudaTess {
             tris: s.tris,
         };
         passes.record(f, &mut rec, s)?;
-        rec.hand_off(
-            Res::Memory,
-            Access::new(
-                vk::PipelineStageFlags2::DRAW_INDIRECT
-                    | vk::PipelineStageFlags2::INDEX_INPUT
-                    | vk::PipelineStageFlags2::VERTEX_SHADER,
-                vk::AccessFlags2::INDIRECT_COMMAND_READ
-                    | vk::AccessFlags2::INDEX_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
+        // The draw reads set 1 (the counters hold its arguments, the index
+        // buffer is bound in it too).
+        let draw = Access::new(
+            vk::PipelineStageFlags2::DRAW_INDIRECT
+                | vk::PipelineStageFlags2::INDEX_INPUT
+                | vk::PipelineStageFlags2::VERTEX_SHADER
+                | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::INDIRECT_COMMAND_READ
+                | vk::AccessFlags2::INDEX_READ
+                | vk::AccessFlags2::SHADER_STORAGE_READ,
         );
+        rec.hand_off_set(set, draw);
         self.record_draw(f, set)
     }
 
@@ -476,20 +477,6 @@ impl CudaTess {
             f.target.end(ctx, cmd);
             Ok(())
         })
-    }
-
-    /// Binds `pipeline` with set 0 and set 1 for a compute pass.
-    fn bind_compute(
-        &self,
-        f: &FrameRec<'_>,
-        pipeline: &Pipeline,
-        set: &DescriptorSet,
-    ) -> VkResult<()> {
-        let compute = vk::PipelineBindPoint::COMPUTE;
-        pipeline.bind(f.cmd);
-        f.bind_scene(compute, &self.compute_layout);
-        set.bind(f.ctx, f.cmd, compute, &self.compute_layout, SET_PASS, &[]);
-        Ok(())
     }
 
     /// What the last finished frame left: every patch's record and offsets,

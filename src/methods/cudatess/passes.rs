@@ -5,7 +5,10 @@ use super::constants::*;
 use super::push::CtPush;
 use super::{CudaTess, SceneBuffers};
 use crate::frame::FrameRec;
-use crate::vk::{Access, DescriptorSet, Pass, Pipeline, Recorder, Res, VkResult};
+use ash::vk;
+
+use crate::constants::SET_PASS;
+use crate::vk::{DescriptorSet, Pass, Pipeline, Recorder, VkResult};
 
 /// What every compute pass of one frame records with: the method (its
 /// pipelines and layout), set 1 and the frame's push block.
@@ -15,12 +18,6 @@ pub(super) struct ComputePasses<'a> {
     pub(super) push: CtPush,
     /// PN triangles: their passes are recorded only where there are some.
     pub(super) tris: u32,
-}
-
-/// A compute stage of the frame: its passes (patches, PN triangles) read
-/// and write the method's buffers all over, each stage what the last wrote.
-fn compute_stage(name: &str) -> Pass<'_> {
-    Pass::new(name).write(Res::Memory, Access::COMPUTE_READ_WRITE)
 }
 
 impl ComputePasses<'_> {
@@ -38,22 +35,31 @@ impl ComputePasses<'_> {
         let per_patch = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE);
         let per_tri = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE);
         f.scoped("factors", |f| {
-            rec.run(&compute_stage("factors"), |_| {
-                self.both(f, [&m.factors, &m.pn.factors], [per_patch, per_tri])
-            })
+            let runs = self.runs([&m.factors, &m.pn.factors], [per_patch, per_tri]);
+            let pass = self.stage(f, "factors", &runs);
+            rec.run(&pass, |cmd| self.dispatch_all(f, &pass, cmd, &runs));
+            Ok(())
         })?;
         f.scoped("scan", |f| self.record_scan(f, rec, s, per_patch, per_tri))?;
         let vertex_groups = CudaTess::groups(ctx, s.patches, CT_GROUP_SIZE / CT_VERTEX_THREADS);
         let tri_vertex_groups = CudaTess::groups(ctx, s.tris, CT_GROUP_SIZE / CT_VERTEX_THREADS);
         // Neither stage reads what the other writes: one pass, so no
         // barrier between them.
-        rec.run(&compute_stage("vertices and indices"), |_| {
+        let vertices = self.runs(
+            [&m.vertices, &m.pn.vertices],
+            [vertex_groups, tri_vertex_groups],
+        );
+        let indices = self.runs([&m.indices, &m.pn.indices], [per_patch, per_tri]);
+        let all: Vec<_> = vertices.iter().chain(&indices).copied().collect();
+        let pass = self.stage(f, "vertices and indices", &all);
+        rec.run(&pass, |cmd| {
             f.scoped("vertices", |f| {
-                let groups = [vertex_groups, tri_vertex_groups];
-                self.both(f, [&m.vertices, &m.pn.vertices], groups)
+                self.dispatch_all(f, &pass, cmd, &vertices);
+                Ok(())
             })?;
             f.scoped("indices", |f| {
-                self.both(f, [&m.indices, &m.pn.indices], [per_patch, per_tri])
+                self.dispatch_all(f, &pass, cmd, &indices);
+                Ok(())
             })
         })
     }
@@ -69,33 +75,53 @@ impl ComputePasses<'_> {
         per_tri: u32,
     ) -> VkResult<()> {
         let m = self.method;
-        rec.run(&compute_stage("counts"), |_| {
-            self.both(f, [&m.counts, &m.pn.counts], [per_patch, per_tri])
-        })?;
-        m.bind_compute(f, &m.scan, self.set)?;
-        s.plan.record(rec, &m.compute_layout, self.push)?;
-        rec.run(&compute_stage("draw arguments"), |_| {
-            self.dispatch(f, &m.args, 1)
-        })
-    }
-
-    /// Binds `pipeline` with sets 0 and 1, pushes the frame's block and
-    /// dispatches `groups` workgroups.
-    fn dispatch(&self, f: &FrameRec<'_>, pipeline: &Pipeline, groups: u32) -> VkResult<()> {
-        self.method.bind_compute(f, pipeline, self.set)?;
-        self.method.compute_layout.push(f.cmd, &self.push);
-        unsafe { f.ctx.device().cmd_dispatch(f.cmd, groups, 1, 1) };
+        let runs = self.runs([&m.counts, &m.pn.counts], [per_patch, per_tri]);
+        let pass = self.stage(f, "counts", &runs);
+        rec.run(&pass, |cmd| self.dispatch_all(f, &pass, cmd, &runs));
+        let layout = &m.compute_layout;
+        s.plan.record(rec, &m.scan, self.set, layout, self.push)?;
+        let runs = [(&m.args, 1)];
+        let pass = self.stage(f, "draw arguments", &runs);
+        rec.run(&pass, |cmd| self.dispatch_all(f, &pass, cmd, &runs));
         Ok(())
     }
 
-    /// A stage's patch pass then its PN-triangle pass (`groups` each),
-    /// the latter only where there are triangles (a scene without them
-    /// records exactly what it did before PN triangles).
-    fn both(&self, f: &FrameRec<'_>, pipelines: [&Pipeline; 2], groups: [u32; 2]) -> VkResult<()> {
-        self.dispatch(f, pipelines[0], groups[0])?;
-        if self.tris > 0 {
-            self.dispatch(f, pipelines[1], groups[1])?;
+    /// A stage's patch pipeline with `groups[0]` workgroups, then its
+    /// PN-triangle pipeline with `groups[1]` where there are triangles (a
+    /// scene without them records exactly what it did before PN
+    /// triangles).
+    fn runs<'p>(&self, pipelines: [&'p Pipeline; 2], groups: [u32; 2]) -> Vec<(&'p Pipeline, u32)> {
+        let n = if self.tris > 0 { 2 } else { 1 };
+        (0..n).map(|k| (pipelines[k], groups[k])).collect()
+    }
+
+    /// The pass of a compute stage that runs `runs`' pipelines in turn:
+    /// sets 0 and 1 bound through it, so it declares what its shaders use
+    /// of them (the stage reads what the last wrote).
+    fn stage<'p>(
+        &'p self,
+        f: &FrameRec<'p>,
+        name: &'p str,
+        runs: &[(&'p Pipeline, u32)],
+    ) -> Pass<'p> {
+        let pass = runs
+            .iter()
+            .fold(Pass::new(name), |pass, (p, _)| pass.pipeline(p));
+        f.with_scene(pass.bind(SET_PASS, self.set))
+    }
+
+    /// The work of `pass`: the frame's push block, then each run's
+    /// dispatch.
+    fn dispatch_all(
+        &self,
+        f: &FrameRec<'_>,
+        pass: &Pass<'_>,
+        cmd: vk::CommandBuffer,
+        runs: &[(&Pipeline, u32)],
+    ) {
+        self.method.compute_layout.push(cmd, &self.push);
+        for &(pipeline, groups) in runs {
+            pass.dispatch(f.ctx, cmd, pipeline, [groups, 1, 1]);
         }
-        Ok(())
     }
 }

@@ -65,19 +65,23 @@ impl ScanPlan {
             .map_or(1, |l| (l.offset + l.count).max(1))
     }
 
-    /// Records the scan with `pipeline` (bound) and `layout` (its sets
-    /// bound), pushing `push` with the scan fields filled in per pass;
-    /// every pass waits for the one before (and the first for earlier
-    /// compute writes).
+    /// Records the scan with `pipeline` (the scan shader, of `layout`) and
+    /// `set` (cudatess's set 1, bound through each pass), pushing `push`
+    /// with the scan fields filled in per pass; every pass waits for the
+    /// one before (and the first for earlier writes of the scan buffer).
     pub fn record(
         &self,
         rec: &mut Recorder<'_>,
+        pipeline: &Pipeline,
+        set: &DescriptorSet,
         layout: &PipelineLayout<CtPush>,
         push: CtPush,
     ) -> VkResult<()> {
         let n = self.levels.len();
         // Each pass reads the sums the one before wrote, in place.
-        let scan = Pass::new("scan level").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+        let scan = Pass::new("scan level")
+            .pipeline(pipeline)
+            .bind(SET_PASS, set);
         let mut pass = |level: Level, sums: u32, kind: u32| -> VkResult<()> {
             if level.count == 0 {
                 return Ok(());
@@ -159,19 +163,11 @@ pub fn scan_on_gpu(ctx: &Context, input: &[[u32; 2]]) -> VkResult<Vec<[u32; 2]>>
     ctx.one_shot(|cmd| {
         // The upload was an earlier submission: order it before the scan.
         let mut rec = Recorder::new(ctx, cmd);
-        rec.after(Res::Memory, Access::TRANSFER_WRITE);
-        pipeline.bind(cmd);
-        set.bind(
-            ctx,
-            cmd,
-            vk::PipelineBindPoint::COMPUTE,
-            &layout,
-            SET_PASS,
-            &[],
-        );
-        plan.record(&mut rec, &layout, bytemuck::Zeroable::zeroed())?;
+        rec.after(Res::Buffer(&buffer), Access::TRANSFER_WRITE);
+        let push = bytemuck::Zeroable::zeroed();
+        plan.record(&mut rec, &pipeline, &set, &layout, push)?;
         // For the read-back copy.
-        rec.hand_off(Res::Memory, Access::TRANSFER_READ);
+        rec.hand_off(Res::Buffer(&buffer), Access::TRANSFER_READ);
         Ok(())
     })?;
     let out: Vec<[u32; 2]> = buffer.read(ctx)?;

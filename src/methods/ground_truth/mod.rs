@@ -363,12 +363,6 @@ impl GroundTruth {
             );
         });
         rec.hand_off(counters, Access::ALL);
-        let bind = vk::PipelineBindPoint::COMPUTE;
-        self.cull.bind(cmd);
-        f.bind_scene(bind, &self.cull_layout);
-        visible
-            .set
-            .bind(ctx, cmd, bind, &self.cull_layout, SET_PASS, &[]);
         let pc = GridPush {
             patch_count: f.scene.count,
             indices_per_patch: per_patch,
@@ -378,18 +372,20 @@ impl GroundTruth {
         self.cull_layout.push(cmd, &pc);
         let groups = f.scene.count.div_ceil(GRID_CULL_GROUP_SIZE);
         // The cull writes the draw's arguments and the visible list.
-        let cull = Pass::new("cull").write(Res::Memory, Access::COMPUTE_WRITE);
+        let cull = Pass::new("cull")
+            .pipeline(&self.cull)
+            .bind(SET_PASS, &visible.set);
+        let cull = f.with_scene(cull);
         f.scoped("cull", |_| {
             rec.dispatch(&cull, [groups, 1, 1]);
             Ok(())
         })?;
-        rec.hand_off(
-            Res::Memory,
-            Access::new(
-                vk::PipelineStageFlags2::DRAW_INDIRECT | vk::PipelineStageFlags2::VERTEX_SHADER,
-                vk::AccessFlags2::INDIRECT_COMMAND_READ | vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
+        let draw = Access::new(
+            vk::PipelineStageFlags2::DRAW_INDIRECT | vk::PipelineStageFlags2::VERTEX_SHADER,
+            vk::AccessFlags2::INDIRECT_COMMAND_READ | vk::AccessFlags2::SHADER_STORAGE_READ,
         );
+        rec.hand_off(counters, draw);
+        rec.hand_off(Res::Buffer(&visible.list), draw);
         Ok(())
     }
 

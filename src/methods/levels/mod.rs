@@ -320,7 +320,7 @@ impl Levels {
     }
 
     /// Records the counters' reset (not for the late phase, which adds to
-    /// the early one's), binding sets 0-2 and the push block.
+    /// the early one's) and the push block.
     fn record_start(
         &self,
         f: &FrameRec<'_>,
@@ -331,12 +331,36 @@ impl Levels {
         if phase != PHASE_LATE {
             stage.record_reset(f);
         }
-        let bind = vk::PipelineBindPoint::COMPUTE;
-        stage.bind_sets(f, bind, &self.layout);
-        self.memory
-            .set
-            .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
         self.push(f, stage, run, phase)
+    }
+
+    /// A pass of the level schedule running `pipeline`, with sets 0-2 (the
+    /// scene, the ready list, the node memory) bound through it: it
+    /// declares what its shader uses of them.
+    fn level_pass<'p>(
+        &'p self,
+        f: &FrameRec<'p>,
+        stage: &'p ReadyStage,
+        name: &'p str,
+        pipeline: &'p Pipeline,
+    ) -> Pass<'p> {
+        let pass = Pass::new(name)
+            .pipeline(pipeline)
+            .bind(SET_PRODUCER, &self.memory.set);
+        stage.bind_to(f, pass)
+    }
+
+    /// [`Levels::level_pass`] for an indirect dispatch: it also reads the
+    /// arguments the step before wrote into the state.
+    fn indirect_pass<'p>(
+        &'p self,
+        f: &FrameRec<'p>,
+        stage: &'p ReadyStage,
+        name: &'p str,
+        pipeline: &'p Pipeline,
+    ) -> Pass<'p> {
+        self.level_pass(f, stage, name, pipeline)
+            .read(Res::Buffer(&self.memory.state), Access::INDIRECT_READ)
     }
 
     /// Records a pass's first step, after the previous frame's rounds and
@@ -344,16 +368,15 @@ impl Levels {
     /// rounds continue: the state for the first round, or under occlusion
     /// culling (`phase` early or late) the arguments of the cluster filter,
     /// and the filter, which makes depth 0 and schedules the first round.
-    fn first_steps<'c>(&self, f: &FrameRec<'c>, phase: u32) -> Recorder<'c> {
+    fn first_steps<'c>(&self, f: &FrameRec<'c>, stage: &ReadyStage, phase: u32) -> Recorder<'c> {
         let mut rec = Recorder::new(f.ctx, f.cmd);
         rec.after(Res::Memory, Access::ALL);
-        self.init.bind(f.cmd);
-        let init = Pass::new("level init").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+        let init = self.level_pass(f, stage, "level init", &self.init);
         rec.dispatch(&init, [1, 1, 1]);
         if phase != PHASE_ALL {
-            self.filter.bind(f.cmd);
+            let filter = self.indirect_pass(f, stage, "cluster filter", &self.filter);
             let offset = u64::from(S_ARGS) * 4;
-            rec.dispatch_indirect(&round_pass("cluster filter"), &self.memory.state, offset);
+            rec.dispatch_indirect(&filter, &self.memory.state, offset);
         }
         rec
     }
@@ -382,11 +405,11 @@ impl Levels {
         self.record_start(f, stage, None, phase)?;
         let state = &self.memory.state;
         let mut rec = f.scoped("subdivide", |f| {
-            let mut rec = self.first_steps(f, phase);
-            self.round.bind(f.cmd);
+            let mut rec = self.first_steps(f, stage, phase);
+            let round = self.indirect_pass(f, stage, "level round", &self.round);
             for _ in 0..rounds {
                 let offset = u64::from(S_ARGS) * 4;
-                rec.dispatch_indirect(&round_pass("level round"), state, offset);
+                rec.dispatch_indirect(&round, state, offset);
             }
             Ok(rec)
         })?;
@@ -411,9 +434,11 @@ impl Levels {
         };
         self.record_start(f, stage, Some(run), phase)?;
         let mut rec = f.scoped("subdivide", |f| {
-            let mut rec = self.first_steps(f, phase);
-            pipeline.bind(f.cmd);
-            rec.dispatch(&round_pass("level kernel"), [run.groups, 1, 1]);
+            let mut rec = self.first_steps(f, stage, phase);
+            // It reads the state's words, not as arguments: the state is in
+            // set 2 like the rest of what it touches.
+            let kernel = self.level_pass(f, stage, "level kernel", pipeline);
+            rec.dispatch(&kernel, [run.groups, 1, 1]);
             Ok(rec)
         })?;
         rec.hand_off(Res::Memory, Access::ALL);
@@ -458,14 +483,4 @@ pub fn record_phases(
     hiz.record_build(f)?;
     subdivide(f, levels, PHASE_LATE)?;
     Ok(stage.record_draw_part(f, false, false, true)?)
-}
-
-/// A round (or the persistent kernel): it reads and writes the node pool,
-/// queues and state all over, so all memory, and the state's arguments of
-/// the next round (the kernel declares them too, as the barrier before the
-/// pass layer did).
-fn round_pass(name: &str) -> Pass<'_> {
-    Pass::new(name)
-        .write(Res::Memory, Access::COMPUTE_READ_WRITE)
-        .read(Res::Memory, Access::INDIRECT_READ)
 }
