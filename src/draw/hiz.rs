@@ -170,9 +170,6 @@ impl Hiz {
             rec.after(Res::Image(depth, attached), Access::DEPTH_ATTACHMENT);
             rec.after(Res::Memory, Access::ALL);
             let read_depth = Res::Image(depth, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
-            let bind = vk::PipelineBindPoint::COMPUTE;
-            f.scene.bind(ctx, cmd, bind, &self.layout, f.slot);
-            p.set.bind(ctx, cmd, bind, &self.layout, 1, &[]);
             let levels = pyramid_levels(p.size.0, p.size.1);
             for (k, &(offset, w, h)) in levels.iter().enumerate() {
                 let (src_offset, src_width, src_height) =
@@ -182,7 +179,6 @@ impl Hiz {
                     (0, _) => &self.init_ms,
                     _ => &self.reduce,
                 };
-                pipeline.bind(cmd);
                 self.layout.push(
                     cmd,
                     &HizPush {
@@ -196,10 +192,10 @@ impl Hiz {
                         pad: 0,
                     },
                 );
-                // Each level reads the last (the pyramid is in memory the
-                // set names, declared as all memory).
-                let mut pass =
-                    Pass::new("hiz level").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+                // Each level reads the last: the pyramid buffer, which the
+                // set it binds points at.
+                let pass = Pass::new("hiz level").pipeline(pipeline).bind(1, &p.set);
+                let mut pass = f.with_scene(pass);
                 if k == 0 {
                     pass = pass.read(read_depth, sampled);
                 }
@@ -207,7 +203,7 @@ impl Hiz {
             }
             // The late phase tests against the pyramid; what it drew stays
             // in the depth image for the next part.
-            rec.hand_off(Res::Memory, Access::COMPUTE_READ_WRITE);
+            rec.hand_off_set(&p.set, Access::COMPUTE_READ_WRITE);
             rec.hand_off(Res::Image(depth, attached), Access::DEPTH_ATTACHMENT);
             Ok(())
         })

@@ -8,8 +8,6 @@
 //! draw, for the producer that needs it (`subdiv --kernel queue`): the
 //! level kernels write the list in a canonical order already.
 
-use ash::vk;
-
 use super::ReadyStage;
 use crate::constants::*;
 use crate::frame::FrameRec;
@@ -57,11 +55,10 @@ impl ReadySort {
     pub fn record(&self, f: &mut FrameRec<'_>, stage: &ReadyStage) -> VkResult<()> {
         let cap = stage.list().caps.ready;
         let layout = stage.list_layout();
-        self.pipeline.bind(f.cmd);
-        stage.bind_sets(f, vk::PipelineBindPoint::COMPUTE, layout);
         let counters = &stage.list().counters;
         // The passes read and write the list, the count and each other's
-        // runs: all memory, as one compute pass after another.
+        // runs, all through the sets they bind; the arguments they are
+        // dispatched with are the producer's.
         let mut rec = Recorder::new(f.ctx, f.cmd);
         // The producer's writes (list, count, arguments) first.
         rec.after(Res::Memory, Access::ALL);
@@ -74,8 +71,9 @@ impl ReadySort {
             };
             layout.push(f.cmd, &pc);
             let pass = Pass::new(name)
-                .write(Res::Memory, Access::COMPUTE_READ_WRITE)
-                .read(Res::Memory, Access::INDIRECT_READ);
+                .pipeline(&self.pipeline)
+                .read(Res::Buffer(counters), Access::INDIRECT_READ);
+            let pass = stage.bind_to(f, pass);
             rec.dispatch_indirect(&pass, counters, u64::from(args) * 4);
             Ok(())
         };

@@ -450,18 +450,9 @@ impl AnimGpu {
         s.records.write(ctx, 0, records)?;
         s.inputs.write(ctx, 0, &inputs)?;
         // The frame before may still read the patches; the steps read each
-        // other's results all over the model buffers: all memory.
+        // other's results in the model buffers their set points at.
         let mut rec = Recorder::new(ctx, cmd);
         rec.after(Res::Memory, Access::ALL);
-        self.pipeline.bind(cmd);
-        s.set.bind(
-            ctx,
-            cmd,
-            vk::PipelineBindPoint::COMPUTE,
-            &self.layout,
-            0,
-            &[],
-        );
         let max = ctx.info().limits.max_compute_work_group_count[0].max(1);
         let steps = [
             (ANIM_PASS_DEFORM, self.vertices),
@@ -482,7 +473,9 @@ impl AnimGpu {
             };
             self.layout.push(cmd, &push);
             let groups = count.div_ceil(ANIM_GROUP_SIZE).clamp(1, max);
-            let step = Pass::new("anim step").write(Res::Memory, Access::COMPUTE_READ_WRITE);
+            let step = Pass::new("anim step")
+                .pipeline(&self.pipeline)
+                .bind(0, &s.set);
             rec.dispatch(&step, [groups, 1, 1]);
         }
         rec.hand_off(Res::Memory, Access::ALL);

@@ -10,7 +10,6 @@ pub mod coverage;
 pub mod holes;
 pub mod raster;
 
-use ash::vk;
 use glam::Vec3;
 
 use crate::constants::*;
@@ -157,12 +156,11 @@ impl ReorderCheck {
             // After everything the renderer recorded, before anything later.
             let mut rec = Recorder::new(ctx, cmd);
             rec.after(Res::Memory, Access::ALL);
-            self.pipeline.bind(cmd);
-            let bind = vk::PipelineBindPoint::COMPUTE;
-            renderer.scene().bind(ctx, cmd, bind, layout, 0);
-            list.bind(ctx, cmd, bind, layout);
             layout.push(cmd, &pc);
-            let pass = Pass::new("expand for validation").write(Res::Memory, Access::ALL);
+            let pass = Pass::new("expand for validation")
+                .pipeline(&self.pipeline)
+                .bind(SET_PASS, list.set());
+            let pass = renderer.scene().bind_to(pass, 0);
             rec.dispatch(&pass, [groups, 1, 1]);
             Ok(())
         })?;

@@ -471,24 +471,20 @@ impl QueueKernel {
             base_batch: self.base_batch,
             pad: [0; 2],
         };
-        let bind = vk::PipelineBindPoint::COMPUTE;
-        let rw = Access::COMPUTE_READ_WRITE;
-        stage.bind_sets(f, bind, &self.layout);
-        self.queue
-            .set
-            .bind(f.ctx, f.cmd, bind, &self.layout, SET_PRODUCER, &[]);
         self.layout.push(f.cmd, &pc);
+        // Both passes bind the ready list's sets and the queue's: the
+        // kernel reads and writes the queue, the node pool and the list.
+        let pass = |name, pipeline| {
+            let pass = Pass::new(name)
+                .pipeline(pipeline)
+                .bind(SET_PRODUCER, &self.queue.set);
+            stage.bind_to(f, pass)
+        };
         if self.queue.needs_reset {
-            self.reset.bind(f.cmd);
             let groups = self.queue.capacity.div_ceil(64);
-            rec.dispatch(
-                &Pass::new("queue reset").write(Res::Memory, rw),
-                [groups, 1, 1],
-            );
+            rec.dispatch(&pass("queue reset", &self.reset), [groups, 1, 1]);
         }
-        self.pipeline.bind(f.cmd);
-        // The kernel reads and writes the queue, the node pool and the list.
-        let kernel = Pass::new("queue kernel").write(Res::Memory, rw);
+        let kernel = pass("queue kernel", &self.pipeline);
         f.scoped("subdivide", |_| {
             rec.dispatch(&kernel, [groups, 1, 1]);
             Ok(())
