@@ -1,12 +1,13 @@
 // Method `corners`, the worked example of docs/ARCHITECTURE.md ("Adding a
-// method"): every base patch drawn as the two triangles of its four corner
-// control points, which lie on the surface. Vertex v is corner CORNER[v % 6]
-// of base patch v / 6, read placed by its instance (patch_point), so two
-// patches that share a corner share its bits and the coarse mesh is closed
-// wherever the cage is. Shaded by draw_vert.frag like the ground truth.
+// method"): every visible base patch drawn as the two triangles of its four
+// corner control points, which lie on the surface. Instance i is the
+// patch visible[i] (appended by cull.comp), vertex v its corner
+// CORNER[v], read placed by its instance (patch_point), so two patches that
+// share a corner share its bits and the coarse mesh is closed wherever the
+// cage is. Shaded by draw_vert.frag like the ground truth.
 #version 460
 
-#include "common/scene.glsl"
+#include "corners.glsl"
 #include "common/draw.glsl"
 
 layout(location = 0) out vec3 out_world;
@@ -20,8 +21,8 @@ layout(location = 4) flat out uint out_wedge;
 const uint CORNER[6] = uint[6](0u, 3u, 15u, 0u, 15u, 12u);
 
 void main() {
-    uint id = uint(gl_VertexIndex) / 6u;
-    uint k = CORNER[uint(gl_VertexIndex) % 6u];
+    uint id = visible[gl_InstanceIndex];
+    uint k = CORNER[gl_VertexIndex];
     vec3 p = patch_point(id, k);
     gl_Position = clip_position(p);
     out_world = p;
