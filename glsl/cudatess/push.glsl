@@ -1,5 +1,5 @@
-// The push constants of cudatess's compute passes (src/gpu/blocks.rs
-// CtPush). The draw uses DrawPush instead.
+// The push constants of cudatess's compute passes
+// (src/methods/cudatess/push.rs CtPush). The draw uses DrawPush instead.
 #ifndef CUDATESS_PUSH_GLSL
 #define CUDATESS_PUSH_GLSL
 

@@ -12,7 +12,7 @@
 
 layout(local_size_x = GRID_CULL_GROUP_SIZE) in;
 
-// src/gpu/blocks.rs GridPush.
+// src/methods/ground_truth/push.rs GridPush.
 layout(push_constant) uniform GridPush {
     uint patch_count;        // base patches
     uint indices_per_patch;  // 6 per grid cell (the host sets the draws' index counts)

@@ -102,7 +102,7 @@ uvec2 cluster_bit(uint c, uint s) {
 // that instance, so its clusters whose bit is set are drawn already.
 const uint ROOT_EARLY = 0x80000000u;
 
-// src/gpu/blocks.rs LevelPush.
+// src/methods/levels/push.rs LevelPush.
 layout(push_constant) uniform LevelPush {
     uint patch_count;     // base patches: the nodes of depth 0
     uint chunk;           // nodes per round at most (a multiple of LEVEL_GROUP_SIZE)

@@ -21,7 +21,7 @@ layout(std430, set = SET_PRODUCER, binding = BIND_QUEUE_STATE) coherent buffer Q
     uint queue_state[];
 };
 
-// src/gpu/blocks.rs SubdivPush.
+// src/methods/subdiv/push.rs SubdivPush.
 layout(push_constant) uniform SubdivPush {
     uint ready_capacity;  // entries in `ready`
     uint queue_capacity;  // entries in the work queue (a power of two)
