@@ -34,8 +34,9 @@ use std::path::Path;
 use super::acc::{self, Conversion};
 use super::mesh::{Cage, Topology};
 use super::model::{LevelCount, PatchOrigin};
+use super::probe;
 use super::refine::{sub_quad_uv, StepTopologies, SubFace, QUAD_UV};
-use super::stencil::{self, CageStencils};
+use super::stencil::CageStencils;
 use super::{fit, tangent};
 use crate::input::SceneError;
 use crate::patch::bezier::BezierPatch;
@@ -179,7 +180,7 @@ fn convert_refined(
         }
     }
     let linear = |probe: &Cage| linear_part(probe, topo, levels, &topos, path).map(|r| r.3);
-    let stencils = stencil::probe(
+    let stencils = probe::probe(
         cage,
         topo,
         &fine,

@@ -56,7 +56,6 @@ use std::collections::HashMap;
 
 use glam::Vec3;
 
-pub use super::probe::{probe, Linear};
 use crate::patch::bezier::BezierPatch;
 use crate::patch::shading::ShadingPatch;
 
