@@ -10,7 +10,6 @@ pub mod pareto;
 pub mod plot;
 pub mod record;
 pub mod report;
-mod targets;
 
 use crate::constants::{SHADE_DISTANCE, SHADE_PATCH_ID, SHADE_WEDGES};
 use crate::frame::View;

@@ -25,7 +25,7 @@ pub use frame::{
     base_rounds, finish_rounds, level_memory, level_parts, must_remake, recorded, RoundBudget,
     MAX_ROUNDS,
 };
-pub use plan::{levels_for, LevelPlan, Options, DEFAULT_NODE_MEMORY};
+pub use plan::{levels_for, LevelPlan, Options, DEFAULT_NODE_MEMORY, NODE_MEMORY_TARGET};
 pub use state::LevelState;
 pub use stats::GpuSubdivStats;
 

@@ -3,11 +3,19 @@
 //! reach; and the budget's flag.
 
 use crate::constants::*;
+use crate::methods::targets::{Figure, Target};
 
 /// Node memory of the level kernels unless asked otherwise: under the
 /// 26.39 MiB of backing memory the paper's work graph needs at depth 10,
 /// and enough that no kitchen keyframe at ε = 1 needs a depth in parts.
 pub const DEFAULT_NODE_MEMORY: u64 = 24 << 20;
+
+/// Node memory within 32 MiB on the whole path (the paper's work graph
+/// needs 26.39 MiB at depth 10): a target of both level methods.
+pub const NODE_MEMORY_TARGET: Target = Target::Worst {
+    figure: Figure::NodeMemory,
+    limit: 32.0 * 1024.0 * 1024.0,
+};
 
 /// The level schedule's knob, which `subdiv` and `subdiv-indirect` share
 /// ([`super::PerMethod::levels`]), and its flag, under their heading in

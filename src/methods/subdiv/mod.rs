@@ -126,15 +126,8 @@ const SUBDIV_TARGETS: &[Target] = &[
         against: Against::Method(super::subdiv_indirect::INFO.name),
         limit: 0.9,
     },
-    NODE_MEMORY_TARGET,
+    levels::NODE_MEMORY_TARGET,
 ];
-
-/// Node memory within 32 MiB on the whole path (the paper's work graph
-/// needs 26.39 MiB at depth 10): a target of both level methods.
-pub const NODE_MEMORY_TARGET: Target = Target::Worst {
-    figure: Figure::NodeMemory,
-    limit: 32.0 * 1024.0 * 1024.0,
-};
 
 /// Polls without observed progress before the queue kernel gives up. One
 /// idle poll costs about 8 µs on this project's lavapipe (2 cores), so the

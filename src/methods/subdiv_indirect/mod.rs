@@ -35,7 +35,7 @@ pub const INFO: MethodInfo = MethodInfo {
     pn: false,
     reads: Reads::SUBDIVIDES,
     role: Role::Compared,
-    targets: &[super::subdiv::NODE_MEMORY_TARGET],
+    targets: &[super::levels::NODE_MEMORY_TARGET],
     heat_map: "subdivision depth",
     seams: "wedges (crack-closing triangles)",
     checks: None,

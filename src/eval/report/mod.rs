@@ -4,6 +4,8 @@
 //! §4.3), and the targets, each figure computed from the frames
 //! measured (nothing here is typed in by hand).
 
+mod targets;
+
 use serde_json::{json, Value};
 
 use super::pareto::{self, against, median, Curve};
@@ -206,7 +208,7 @@ pub fn markdown(
     );
     md += &geometric_error(&ix);
     md += &error_sources(&ix, setup);
-    md += &super::targets::section(&ix, setup, &curves);
+    md += &targets::section(&ix, setup, &curves);
     md += "## Plots\n\n";
     for (file, what) in plots {
         md += &format!("![{what}]({file})\n\n");

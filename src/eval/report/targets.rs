@@ -2,8 +2,8 @@
 //! (`methods::targets`), each with what the run measured and its verdict.
 //! Nothing here names a method.
 
-use super::pareto::{against, median, Curve};
-use super::report::{mib, ms, Index, Setup};
+use super::{mib, ms, Index, Setup};
+use crate::eval::pareto::{against, median, Curve};
 use crate::figures::thousands;
 use crate::methods::targets::{Against, Figure, Target};
 use crate::methods::{self, METHODS};
