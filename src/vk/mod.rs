@@ -17,6 +17,7 @@ pub mod query;
 pub mod reflect;
 pub mod shader;
 pub mod swapchain;
+mod track;
 
 pub use barrier::{host_read_barrier, memory_barrier, Access};
 pub use context::{
