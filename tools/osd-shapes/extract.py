@@ -6,12 +6,15 @@ literal holding OBJ text (regression/shapes/catmark_*.h). This script reads
 those headers from an OpenSubdiv checkout -- a work tree, or a bare git
 directory such as the `fetch` tool's mirror, read with `git show` -- and
 writes each cage's OBJ text unchanged but for two things: `vt`/`vn` lines
-are dropped and face corners keep only their vertex index (the converter
-ignores texture coordinates and normals; the files shrink by half). No
+are dropped and face corners keep only their vertex index (the files
+shrink by half). With `--keep-uv` the texture coordinates stay (`vt` lines,
+`v/vt` corners; normals still go): the face-varying shapes
+(`--only fvar`) are written so into tests/data/osd-fvar/. No
 OpenSubdiv code is copied; the shapes are data under the Modified Apache
 2.0 licence (scenes/models/LICENSE-OpenSubdiv.txt, NOTICE-OpenSubdiv.txt).
 
     tools/osd-shapes/extract.py OPENSUBDIV_DIR OUT_DIR [--rev REV]
+        [--keep-uv] [--only SUBSTRING]
 
 OPENSUBDIV_DIR is either a work tree (regression/shapes/ is read from disk)
 or a git directory (the shapes are read at REV, default HEAD). Prints one
@@ -59,15 +62,18 @@ def obj_text(header: str, name: str) -> str:
     return "".join(unescape(m.group(1)) for m in LITERAL.finditer(body))
 
 
-def slim(text: str) -> str:
-    """Drops vt/vn lines and texture/normal indices of face corners."""
+def slim(text: str, keep_uv: bool = False) -> str:
+    """Drops vn lines and normal indices of face corners, and unless
+    `keep_uv` vt lines and texture indices too."""
+    drop = ("vn",) if keep_uv else ("vt", "vn")
+    parts = 2 if keep_uv else 1
     lines = []
     for line in text.splitlines():
         words = line.split()
-        if words and words[0] in ("vt", "vn"):
+        if words and words[0] in drop:
             continue
         if words and words[0] == "f":
-            line = "f " + " ".join(w.split("/")[0] for w in words[1:])
+            line = "f " + " ".join("/".join(w.split("/")[:parts]) for w in words[1:])
         lines.append(line.rstrip())
     return "\n".join(lines).rstrip() + "\n"
 
@@ -94,12 +100,18 @@ def main() -> int:
     ap.add_argument("opensubdiv", type=pathlib.Path)
     ap.add_argument("out", type=pathlib.Path)
     ap.add_argument("--rev", default="HEAD")
+    ap.add_argument("--keep-uv", action="store_true",
+                    help="keep texture coordinates (vt lines, v/vt corners)")
+    ap.add_argument("--only", default="",
+                    help="only the shapes whose name holds this")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     count = 0
     for name, header in shapes(args.opensubdiv, args.rev):
+        if args.only not in name:
+            continue
         try:
-            text = slim(obj_text(header, name))
+            text = slim(obj_text(header, name), args.keep_uv)
         except ValueError as e:
             print(f"{name}: {e}", file=sys.stderr)
             return 1
