@@ -751,6 +751,43 @@ fn bad_obj_inputs_are_refused_with_file_and_line() {
         Some(5),
         "texture",
     );
+    // Texture coordinates on some corners of a face, or on some faces
+    // only (issue 39's bad input): the model imports without them, and a
+    // warning names the face's line and says so.
+    for (name, text, needle) in [
+        (
+            "some-corners.obj",
+            quad_with(5, "f 1/1 2/2 3 4/1\nvt 0 0\nvt 1 0"),
+            "line 5: the face has texture coordinates on 3 of its 4 corners",
+        ),
+        (
+            "some-faces.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nvt 0 0\n\
+             f 1/1 2/1 3/1 4/1\nf 2 5 6 3\n"
+                .to_string(),
+            "line 9: this face has no texture coordinates, but 1 of the 2 faces do",
+        ),
+    ] {
+        let m = obj::parse(Path::new(name), &text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(
+            m.uvs.is_none() && m.cage.as_ref().unwrap().uv.is_none(),
+            "{name}"
+        );
+        assert_eq!(m.patches.len(), text.matches("\nf ").count(), "{name}");
+        assert!(
+            m.warnings
+                .iter()
+                .any(|w| w.starts_with("texture coordinates ignored") && w.contains(needle)),
+            "{name}: {:?}",
+            m.warnings
+        );
+    }
+    expect_error(
+        "vt-nan.obj",
+        &quad_with(5, "f 1/1 2/1 3/1 4/1\nvt NaN 0"),
+        Some(6),
+        "`vt` coordinate is NaN",
+    );
     // Three faces on one edge used to be refused; they are now three sheets
     // (tests/creases.rs).
     let fan3 = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
@@ -814,4 +851,78 @@ fn mangled_cages_never_panic() {
         }
     }
     assert!(loaded > 0);
+}
+
+/// Two quads side by side (vertices 2 and 3 shared), their texture
+/// coordinates continuous (`vt` = `v`) or cut along the shared edge.
+fn two_quads(cut: bool) -> String {
+    let right = if cut {
+        "f 2/7 5/5 6/6 3/8"
+    } else {
+        "f 2/2 5/5 6/6 3/3"
+    };
+    let mut s = String::from("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n");
+    for uv in [
+        "0 0", "0.5 0", "0.5 1", "0 1", "1 0", "1 1", "0.5 0", "0.5 1",
+    ] {
+        s += &format!("vt {uv}\n");
+    }
+    s + "f 1/1 2/2 3/3 4/4\n" + right + "\n"
+}
+
+/// A cage's texture coordinates are read per face corner and its seams
+/// found by `vt` index (OpenSubdiv's face-varying topology), also where
+/// the two sides' values are equal; OpenSubdiv's face-varying shapes
+/// import with theirs.
+#[test]
+fn texture_coordinates_are_read_per_corner_with_their_seams() {
+    let info = |text: &str| {
+        let m = obj::parse(Path::new("two.obj"), text).unwrap();
+        let uvs = m.uvs.clone().expect("texture coordinates");
+        (m.cage.unwrap().uv.unwrap(), uvs)
+    };
+    let (whole, uvs) = info(&two_quads(false));
+    assert_eq!(
+        (whole.values, whole.seam_edges, whole.seam_vertices),
+        (8, 0, 0)
+    );
+    assert_eq!(uvs.faces, vec![vec![0, 1, 2, 3], vec![1, 4, 5, 2]]);
+    assert_eq!(uvs.values[4], [1.0, 0.0]);
+    let (cut, uvs) = info(&two_quads(true));
+    assert_eq!((cut.values, cut.seam_edges, cut.seam_vertices), (8, 1, 2));
+    assert_eq!(uvs.faces[1], vec![6, 4, 5, 7]);
+    assert!(obj::parse(Path::new("quad.obj"), QUAD)
+        .unwrap()
+        .uvs
+        .is_none());
+
+    // catmark_fvar_bound0: a 4×4 grid whose third row of faces takes new
+    // `vt`s along the row of vertices 11..15 (4 edges), and whose last
+    // face gives vertex 23 a value of its own (edge 18–23): 5 seam edges
+    // through 6 vertices, as read off its `f` lines by hand.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/osd-fvar");
+    let expected = [
+        ("catmark_fvar_bound0", Some((5, 6))),
+        ("catmark_fvar_bound1", None),
+        ("catmark_fvar_bound2", None),
+        ("catmark_fvar_bound3", None),
+        ("catmark_fvar_bound4", None),
+        ("catmark_fvar_project0", Some((0, 0))),
+    ];
+    for (name, seams) in expected {
+        let path = dir.join(format!("{name}.obj"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let vt = text.lines().filter(|l| l.starts_with("vt ")).count();
+        let faces = text.lines().filter(|l| l.starts_with("f ")).count();
+        let m = obj::read(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let uv = m.cage.as_ref().unwrap().uv.expect(name);
+        let uvs = m.uvs.as_ref().expect(name);
+        assert_eq!((uv.values, uvs.faces.len()), (vt, faces), "{name}");
+        assert!(uvs.faces.iter().flatten().all(|&t| t < vt), "{name}");
+        match seams {
+            Some(s) => assert_eq!((uv.seam_edges, uv.seam_vertices), s, "{name}"),
+            // The seam shapes: each cuts its layout somewhere.
+            None => assert!(uv.seam_edges > 0, "{name}: no seam"),
+        }
+    }
 }

@@ -44,5 +44,6 @@ pub mod sharpness;
 pub mod stencil;
 pub mod tags;
 pub mod tangent;
+pub mod uv;
 
 pub use model::{CageInfo, ImportedModel, LevelCount, PatchOrigin, RuleSource};

@@ -5,6 +5,7 @@ use crate::patch::bezier::BezierPatch;
 
 use super::acc::PatchRule;
 use super::sharpness::BoundaryRule;
+use super::uv::{FaceUvs, UvInfo};
 use super::{mesh, stencil};
 use crate::patch::shading::ShadingPatch;
 
@@ -80,6 +81,8 @@ pub struct CageInfo {
     /// With `isolate` > 0: the parts refined, and patches and GPU memory
     /// per level, as one line for the import report.
     pub isolation: Option<String>,
+    /// The texture coordinates found, for a cage with them.
+    pub uv: Option<UvInfo>,
 }
 
 /// The result of importing one model file.
@@ -100,6 +103,9 @@ pub struct ImportedModel {
     /// For cages: the patches and shading patches as functions of the
     /// cage's vertices, for animation (`stencil.rs`).
     pub stencils: Option<std::sync::Arc<stencil::CageModel>>,
+    /// For cages with texture coordinates: each face corner's, by the
+    /// cage's face order (`PatchOrigin::face`).
+    pub uvs: Option<std::sync::Arc<FaceUvs>>,
     /// Things the user should know that did not stop the import.
     pub warnings: Vec<String>,
 }

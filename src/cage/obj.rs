@@ -113,6 +113,7 @@ use super::mesh::{Cage, Scheme, Topology};
 use super::model::{CageInfo, ImportedModel, RuleSource};
 use super::scan::{scan, Scan};
 use super::sharpness::{self, BoundaryRule, INFINITE};
+use super::uv::FaceUvs;
 use super::{isolate, orient};
 use crate::input::SceneError;
 
@@ -156,6 +157,7 @@ pub fn parse_with(
     let mut warnings = Vec::new();
     warnings.extend(scan.tags.ignored_warning());
     let (mut cage, joined) = cage_from_models(path, &models, &scan.face_lines)?;
+    let uvs = FaceUvs::from_scan(path, &scan, &cage, &mut warnings)?;
     if joined > 1 {
         warnings.push(format!(
             "{joined} objects/groups joined into one cage by merging vertices with bit-identical positions"
@@ -208,8 +210,11 @@ pub fn parse_with(
         isolate: options.isolate,
         levels: conv.levels.clone(),
         isolation: (options.isolate > 0).then(|| isolate_note(&conv, options.isolate)),
+        uv: uvs.as_ref().map(|u| u.info(&cage)),
     };
-    Ok(imported_model(&cage, &scan, conv, info, warnings))
+    let mut model = imported_model(&cage, &scan, conv, info, warnings);
+    model.uvs = uvs.map(std::sync::Arc::new);
+    Ok(model)
 }
 
 /// Reads the text with `tobj` (faces as polygons), after refusing a file
@@ -328,6 +333,7 @@ fn imported_model(
         origins: conv.origins,
         shading: conv.shading,
         cage: Some(info),
+        uvs: None,
         stencils: file_vertices(cage, scan).map(|file_vertex| {
             std::sync::Arc::new(super::stencil::CageModel {
                 stencils: conv.stencils,

@@ -16,6 +16,15 @@ pub(super) struct Scan {
     pub(super) face_lines: Vec<usize>,
     /// The 0-based file vertex index of each corner of each `f` statement.
     pub(super) faces: Vec<Vec<usize>>,
+    /// The `vt` statements' (u, v), in order.
+    pub(super) uvs: Vec<[f32; 2]>,
+    /// The 0-based `vt` index of each corner of each `f` statement, `None`
+    /// for a face without texture coordinates.
+    pub(super) uv_faces: Vec<Option<Vec<usize>>>,
+    /// Why the texture coordinates cannot be used, and the line that
+    /// shows it: a face with them on some corners only, or a face without
+    /// them where others have them.
+    pub(super) uv_problem: Option<(usize, String)>,
     /// The OpenSubdiv tags.
     pub(super) tags: Tags,
 }
@@ -38,6 +47,9 @@ pub(super) fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
         vertices: total[0],
         face_lines: Vec::new(),
         faces: Vec::new(),
+        uvs: Vec::new(),
+        uv_faces: Vec::new(),
+        uv_problem: None,
         tags: Tags::default(),
     };
     for (line_no, keyword, rest) in statements(text) {
@@ -52,12 +64,24 @@ pub(super) fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
                 if rest.len() < need || rest[..need].iter().any(|w| w.parse::<f32>().is_err()) {
                     return Err(err(format!("`{keyword}` needs {need} numbers")));
                 }
+                if keyword == "vt" {
+                    let uv = [rest[0], rest[1]].map(|w| w.parse::<f32>().unwrap_or(f32::NAN));
+                    if uv.iter().any(|c| !c.is_finite()) {
+                        return Err(err("`vt` coordinate is NaN or infinite".into()));
+                    }
+                    out.uvs.push(uv);
+                }
                 seen[if keyword == "vt" { 1 } else { 2 }] += 1;
             }
             "f" => {
-                let face =
+                let corners =
                     face_corners(&rest, |r| check_face_ref(r, &seen, &total)).map_err(err)?;
-                out.faces.push(face);
+                let uvs = face_uvs(&corners).unwrap_or_else(|why| {
+                    out.uv_problem.get_or_insert((line_no, why));
+                    None
+                });
+                out.uv_faces.push(uvs);
+                out.faces.push(corners.iter().map(|c| c.vertex).collect());
                 out.face_lines.push(line_no);
             }
             "l" => {
@@ -73,7 +97,43 @@ pub(super) fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
             _ => {}
         }
     }
+    if out.uv_problem.is_none() {
+        out.uv_problem = faces_without_uvs(&out);
+    }
     Ok(out)
+}
+
+/// A face's texture indices: every corner's, or `None` where no corner
+/// has one; a face with some corners only is a problem (OpenSubdiv's
+/// face-varying data gives every corner of a face a value).
+fn face_uvs(corners: &[Corner]) -> Result<Option<Vec<usize>>, String> {
+    let with = corners.iter().filter(|c| c.uv.is_some()).count();
+    match with {
+        0 => Ok(None),
+        n if n == corners.len() => Ok(Some(corners.iter().filter_map(|c| c.uv).collect())),
+        n => Err(format!(
+            "the face has texture coordinates on {n} of its {} corners",
+            corners.len()
+        )),
+    }
+}
+
+/// A file where some faces have texture coordinates and others none: the
+/// first face without, and why that is a problem (the surface's UVs would
+/// stop there, and a texture could not be mapped across it).
+fn faces_without_uvs(scan: &Scan) -> Option<(usize, String)> {
+    let with = scan.uv_faces.iter().filter(|f| f.is_some()).count();
+    if with == 0 || with == scan.uv_faces.len() {
+        return None;
+    }
+    let first = scan.uv_faces.iter().position(Option::is_none)?;
+    Some((
+        scan.face_lines[first],
+        format!(
+            "this face has no texture coordinates, but {with} of the {} faces do",
+            scan.uv_faces.len()
+        ),
+    ))
 }
 
 /// The statements of OBJ text: each line that is not blank as its number
@@ -142,16 +202,26 @@ fn check_vertex(words: &[&str]) -> Result<(), String> {
     Ok(())
 }
 
+/// One corner of a face: its file vertex and `vt` (0-based).
+#[derive(Clone, Copy)]
+struct Corner {
+    vertex: usize,
+    uv: Option<usize>,
+}
+
 /// One `v`, `v/vt`, `v//vn` or `v/vt/vn` reference of a face; returns
-/// the 0-based index of its vertex in the file.
-fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<usize, String> {
+/// the 0-based indices of its vertex and texture coordinate in the file.
+fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<Corner, String> {
     let parts: Vec<&str> = r.split('/').collect();
     if parts.len() > 3 {
         return Err(format!("face vertex {r:?} has more than three parts"));
     }
     const WHAT: [&str; 3] = ["vertex", "texture coordinate", "normal"];
     const WHATS: [&str; 3] = ["vertices", "texture coordinates", "normals"];
-    let mut vertex = 0;
+    let mut corner = Corner {
+        vertex: 0,
+        uv: None,
+    };
     for (slot, s) in parts.iter().enumerate() {
         if s.is_empty() {
             if slot == 0 {
@@ -186,13 +256,16 @@ fn check_face_ref(r: &str, seen: &[usize; 3], total: &[usize; 3]) -> Result<usiz
             }
             _ => {}
         }
-        if slot == 0 {
-            vertex = if x > 0 {
-                x as usize - 1
-            } else {
-                (seen[0] as i64 + x) as usize
-            };
+        let index = if x > 0 {
+            x as usize - 1
+        } else {
+            (seen[slot] as i64 + x) as usize
+        };
+        match slot {
+            0 => corner.vertex = index,
+            1 => corner.uv = Some(index),
+            _ => {}
         }
     }
-    Ok(vertex)
+    Ok(corner)
 }

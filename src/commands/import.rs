@@ -92,6 +92,12 @@ fn cage_lines(info: &CageInfo) -> String {
 "
         );
     }
+    if let Some(uv) = &info.uv {
+        s += &format!(
+            "  texture coords  {} values, seams along {} edges through {} vertices\n",
+            uv.values, uv.seam_edges, uv.seam_vertices
+        );
+    }
     s
 }
 
@@ -178,8 +184,16 @@ pub fn sidecar_json(model: &ImportedModel) -> String {
         };
         serde_json::json!({ "rule": c.boundary.name(), "from": from, "line": line })
     });
+    let uv = model.cage.as_ref().and_then(|c| c.uv).map(|u| {
+        serde_json::json!({
+            "values": u.values,
+            "seam_edges": u.seam_edges,
+            "seam_vertices": u.seam_vertices,
+        })
+    });
     let doc = serde_json::json!({
         "boundary": boundary,
+        "uv": uv,
         "semi_sharp": "sharpness >= 1 is converted as infinitely sharp; below 1 the points near the vertex are smooth + s x (sharp - smooth)",
         "patches": entries,
     });
