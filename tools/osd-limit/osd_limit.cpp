@@ -3,6 +3,7 @@
 //
 // Usage: osd_limit CAGE.obj [--boundary none|edge-only|edge-and-corner]
 //                  [--samples grid|nine|four|dense|corners:M|rings:M]
+//                  [--fvar corners-only|all]
 //
 // Reads `v` and `f` lines and OpenSubdiv's `t crease`, `t corner`,
 // `t interpolateboundary`, `t hole`, `t creasemethod` and
@@ -15,7 +16,10 @@
 // FACE is the 0-based `f` line, SUB the ptex sub-face (0 for quads, k for the
 // quad of an n-gon at its corner k), (U, V) the sub-face parameters, and
 // X Y Z the limit point in double precision, or the word `hole` for faces the
-// boundary rule removes.
+// boundary rule removes. With `--fvar RULE` the cage's texture coordinates
+// (`vt`, `f v/vt`) are a face-varying channel interpolated by OpenSubdiv's
+// FVAR_LINEAR_CORNERS_ONLY or FVAR_LINEAR_ALL, and each line ends with the
+// channel's limit S T there as well.
 //
 // Sample sets: `grid` 5x5 per (sub-)face, edges included; `nine` 3x3;
 // `four` four points; `dense` 17x17 (every 1/16: between the quarters,
@@ -66,6 +70,9 @@ struct Cage {
     std::vector<Point> points;
     std::vector<int> faceSizes;
     std::vector<int> faceVerts;
+    std::vector<Point> uvs;     // `vt` (u, v, 0)
+    std::vector<int> faceUvs;   // per face corner, as faceVerts; empty without
+    bool uvMissing = false;     // some corner had no `vt`
     std::vector<int> creasePairs;
     std::vector<float> creaseSharpness;
     std::vector<int> corners;
@@ -109,11 +116,23 @@ Cage readCage(char const *path) {
             p.y = (float)p.y;
             p.z = (float)p.z;
             cage.points.push_back(p);
+        } else if (key == "vt") {
+            Point t;
+            if (!(words >> t.x >> t.y)) fail(where, "bad texture coordinate");
+            t.x = (float)t.x;
+            t.y = (float)t.y;
+            cage.uvs.push_back(t);
         } else if (key == "f") {
             std::string w;
             int n = 0;
             while (words >> w) {
                 cage.faceVerts.push_back(vertexIndex(w, (int)cage.points.size(), where));
+                size_t slash = w.find('/');
+                if (slash == std::string::npos || slash + 1 >= w.size() || w[slash + 1] == '/')
+                    cage.uvMissing = true;
+                else
+                    cage.faceUvs.push_back(
+                        vertexIndex(w.substr(slash + 1), (int)cage.uvs.size(), where));
                 ++n;
             }
             cage.faceSizes.push_back(n);
@@ -177,20 +196,26 @@ Sdc::Options::VtxBoundaryInterpolation boundaryRule(int tag, std::string const &
 
 } // namespace
 
-// The level-`level` vertex at (u, v) of `face` at level `at` (quad faces
-// only below level 1): a quad's child j keeps its parent's orientation and
-// covers the quadrant at corner j, so the descent halves (u, v) each step.
-int sampleVertex(Far::TopologyRefiner const &refiner, int at, int face, double u, double v,
-                 int level) {
+// A corner of a face at the last level: where a sample's vertex and its
+// face-varying value are read.
+struct FaceCorner {
+    int face, corner;
+};
+
+// The level-`level` face corner at (u, v) of `face` at level `at` (quad
+// faces only below level 1): a quad's child j keeps its parent's orientation
+// and covers the quadrant at corner j, so the descent halves (u, v) each
+// step; a corner's child face c has the corner's child vertex as its corner c.
+FaceCorner sampleCorner(Far::TopologyRefiner const &refiner, int at, int face, double u,
+                        double v, int level) {
     static const double cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
     for (;;) {
         Far::TopologyLevel const &here = refiner.GetLevel(at);
         for (int c = 0; c < 4; ++c) {
             if (std::abs(u - cu[c]) < 1e-12 && std::abs(v - cv[c]) < 1e-12) {
-                int vert = here.GetFaceVertices(face)[c];
                 for (int l = at; l < level; ++l)
-                    vert = refiner.GetLevel(l).GetVertexChildVertex(vert);
-                return vert;
+                    face = refiner.GetLevel(l).GetFaceChildFaces(face)[c];
+                return {face, c};
             }
         }
         if (at == level) fail("sample", "a parameter is finer than the refinement level");
@@ -200,6 +225,13 @@ int sampleVertex(Far::TopologyRefiner const &refiner, int at, int face, double u
         v = 2 * v - cv[j];
         ++at;
     }
+}
+
+// The face-varying rule a `--fvar` option names.
+Sdc::Options::FVarLinearInterpolation fvarRule(std::string const &option) {
+    if (option == "corners-only") return Sdc::Options::FVAR_LINEAR_CORNERS_ONLY;
+    if (option == "all") return Sdc::Options::FVAR_LINEAR_ALL;
+    fail("--fvar", "expected corners-only or all");
 }
 
 // A sample set: the (u, v) of the whole (sub-)face, and per corner c the
@@ -344,14 +376,18 @@ int main(int argc, char **argv) {
         std::fprintf(stderr, "usage: osd_limit CAGE.obj [--boundary RULE] [--samples grid|nine|four|dense|corners:M|rings:M]\n");
         return 2;
     }
-    std::string boundary = "edge-and-corner", samples = "grid";
+    std::string boundary = "edge-and-corner", samples = "grid", fvar;
     for (int i = 2; i + 1 < argc; i += 2) {
         std::string flag = argv[i];
         if (flag == "--boundary") boundary = argv[i + 1];
         else if (flag == "--samples") samples = argv[i + 1];
+        else if (flag == "--fvar") fvar = argv[i + 1];
         else fail(flag, "unknown option");
     }
     Cage cage = readCage(argv[1]);
+    bool uv = !fvar.empty();
+    if (uv && (cage.uvMissing || cage.faceUvs.size() != cage.faceVerts.size()))
+        fail(argv[1], "--fvar needs a `vt` at every face corner");
 
     Sdc::Options sdc;
     sdc.SetVtxBoundaryInterpolation(boundaryRule(cage.boundaryTag, boundary));
@@ -359,6 +395,7 @@ int main(int argc, char **argv) {
                                        : Sdc::Options::CREASE_UNIFORM);
     sdc.SetTriangleSubdivision(cage.smoothTriangles ? Sdc::Options::TRI_SUB_SMOOTH
                                                     : Sdc::Options::TRI_SUB_CATMARK);
+    if (uv) sdc.SetFVarLinearInterpolation(fvarRule(fvar));
 
     Far::TopologyDescriptor desc;
     desc.numVertices = (int)cage.points.size();
@@ -373,6 +410,13 @@ int main(int argc, char **argv) {
     desc.cornerWeights = cage.cornerSharpness.data();
     desc.numHoles = (int)cage.holes.size();
     desc.holeIndices = cage.holes.data();
+    Far::TopologyDescriptor::FVarChannel channel;
+    channel.numValues = (int)cage.uvs.size();
+    channel.valueIndices = cage.faceUvs.data();
+    if (uv) {
+        desc.numFVarChannels = 1;
+        desc.fvarChannels = &channel;
+    }
 
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     Far::TopologyRefiner *refiner =
@@ -407,6 +451,21 @@ int main(int argc, char **argv) {
     Point const *src = coarse.data();
     Point *dst = limit.data();
     primvar.Limit(src, dst);
+    // The face-varying channel the same way, its values per level.
+    std::vector<Point> uvCoarse(cage.uvs), uvFine, uvLimit;
+    if (uv) {
+        for (int l = 1; l <= level; ++l) {
+            uvFine.assign(refiner->GetLevel(l).GetNumFVarValues(), Point());
+            Point const *s = uvCoarse.data();
+            Point *d = uvFine.data();
+            primvar.InterpolateFaceVarying(l, s, d);
+            uvCoarse.swap(uvFine);
+        }
+        uvLimit.assign(uvCoarse.size(), Point());
+        Point const *s = uvCoarse.data();
+        Point *d = uvLimit.data();
+        primvar.LimitFaceVarying(s, d);
+    }
     Far::TopologyLevel const &last = refiner->GetLevel(level);
     int iterated = 0;
     for (int v = 0; v < last.GetNumVertices(); ++v) {
@@ -416,8 +475,9 @@ int main(int argc, char **argv) {
         if ((dart || val2) && iteratedLimit(last, coarse, v, limit[v])) ++iterated;
     }
 
-    std::printf("# osd_limit %s boundary=%d level=%d samples=%s iterated=%d\n", argv[1],
-                (int)sdc.GetVtxBoundaryInterpolation(), level, samples.c_str(), iterated);
+    std::printf("# osd_limit %s boundary=%d level=%d samples=%s iterated=%d fvar=%s\n", argv[1],
+                (int)sdc.GetVtxBoundaryInterpolation(), level, samples.c_str(), iterated,
+                uv ? fvar.c_str() : "-");
     Far::TopologyLevel const &base = refiner->GetLevel(0);
     for (int f = 0; f < desc.numFaces; ++f) {
         int n = cage.faceSizes[f];
@@ -441,11 +501,17 @@ int main(int argc, char **argv) {
                 }
                 // The quad of an n-gon at its corner k is child face k,
                 // whose corner 0 is the n-gon's vertex k (ptex sub-face k).
-                int vert = subs == 1 ? sampleVertex(*refiner, 0, f, u, v, level)
-                                     : sampleVertex(*refiner, 1, base.GetFaceChildFaces(f)[k],
-                                                    u, v, level);
-                Point const &p = limit[vert];
-                std::printf("%d %d %.17g %.17g %.9g %.9g %.9g\n", f, k, u, v, p.x, p.y, p.z);
+                FaceCorner at = subs == 1 ? sampleCorner(*refiner, 0, f, u, v, level)
+                                          : sampleCorner(*refiner, 1,
+                                                         base.GetFaceChildFaces(f)[k], u, v,
+                                                         level);
+                Point const &p = limit[last.GetFaceVertices(at.face)[at.corner]];
+                std::printf("%d %d %.17g %.17g %.9g %.9g %.9g", f, k, u, v, p.x, p.y, p.z);
+                if (uv) {
+                    Point const &t = uvLimit[last.GetFaceFVarValues(at.face)[at.corner]];
+                    std::printf(" %.9g %.9g", t.x, t.y);
+                }
+                std::printf("\n");
             }
         }
     }

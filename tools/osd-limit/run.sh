@@ -28,7 +28,7 @@ out="$root/tests/data/osd"
 mkdir -p "$out"
 
 run() {
-    name=$1 model=$2 boundary=$3 creases=$4 samples=$5 isolate=${6:-0} dir=${7:-$out}
+    name=$1 model=$2 boundary=$3 creases=$4 samples=$5 isolate=${6:-0} dir=${7:-$out} fvar=${8:-}
     src="$root/$model"
     if [ "$creases" != keep ]; then
         # Same rewrite as the test: the last word of each crease line.
@@ -37,8 +37,10 @@ run() {
     fi
     opt=
     if [ "$boundary" != tag ]; then opt="--boundary $boundary"; else opt="--boundary edge-and-corner"; fi
+    head="# case $name model=$model boundary=$boundary creases=$creases samples=$samples isolate=$isolate"
+    if [ -n "$fvar" ]; then opt="$opt --fvar $fvar"; head="$head fvar=$fvar"; fi
     {
-        echo "# case $name model=$model boundary=$boundary creases=$creases samples=$samples isolate=$isolate"
+        echo "$head"
         # shellcheck disable=SC2086
         "$tool/osd_limit" "$src" $opt --samples "$samples" | grep -v '^#'
     } > "$dir/$name.txt"
@@ -95,4 +97,19 @@ for obj in "$root"/tests/data/osd-shapes/catmark_*.obj; do
     else samples=four
     fi
     run "$name" "tests/data/osd-shapes/$name.obj" tag keep "$samples" 0 "$shapes"
+done
+
+# Texture coordinates: OpenSubdiv's face-varying shapes, the scenes' cube
+# and torus and a seam-free warped layout (grid_uv), under both rules; each
+# line ends with the UV limit
+# (tests/osd_reference.rs, `uv_patches_follow_opensubdivs_face_varying_limit`).
+fvar_dir="$out/fvar"
+mkdir -p "$fvar_dir"
+for model in tests/data/osd-fvar/catmark_fvar_bound0.obj tests/data/osd-fvar/catmark_fvar_bound1.obj \
+    tests/data/osd-fvar/catmark_fvar_bound2.obj tests/data/osd-fvar/catmark_fvar_bound3.obj \
+    tests/data/osd-fvar/catmark_fvar_bound4.obj tests/data/osd-fvar/catmark_fvar_project0.obj \
+    scenes/models/catmark_cube.obj scenes/models/catmark_torus.obj tests/data/cages/grid_uv.obj; do
+    for rule in corners-only all; do
+        run "$(basename "$model" .obj)_$rule" "$model" tag keep grid 0 "$fvar_dir" "$rule"
+    done
 done
