@@ -216,6 +216,12 @@ enum Command {
         #[arg(long, value_name = "N", default_value_t = 0,
               value_parser = clap::value_parser!(u32).range(0..=bezier_subdiv::cage::isolate::MAX_ISOLATE as i64))]
         isolate: u32,
+        /// How a cage's texture coordinates are interpolated:
+        /// corners-only (OpenSubdiv's and USD's default: smooth, UV seams
+        /// kept, their corners pinned) or all (bilinear in each face); the
+        /// scene key `fvar`.
+        #[arg(long, value_name = "RULE", default_value = "corners-only")]
+        fvar: bezier_subdiv::cage::uv::FvarRule,
     },
 }
 
@@ -547,8 +553,13 @@ fn run(command: Command) -> anyhow::Result<()> {
             out,
             boundary,
             isolate,
+            fvar,
         } => {
-            let options = bezier_subdiv::cage::obj::CageOptions { boundary, isolate };
+            let options = bezier_subdiv::cage::obj::CageOptions {
+                boundary,
+                isolate,
+                fvar,
+            };
             emit(&commands::import::run(&file, out.as_deref(), &options)?)
         }
     }

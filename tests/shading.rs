@@ -166,8 +166,8 @@ fn shading_normals_follow_a_crease_whose_sharpness_remains() {
         .join("tests/data/osd-shapes/catmark_chaikin0.obj");
     for isolate in [0, 3, 4] {
         let options = CageOptions {
-            boundary: None,
             isolate,
+            ..CageOptions::default()
         };
         let m = read_with(&path, &options).unwrap_or_else(|e| panic!("{e}"));
         let worst = widest_from_surface(&m);

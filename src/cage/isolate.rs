@@ -33,7 +33,8 @@ use std::path::Path;
 
 use super::acc::{self, Conversion};
 use super::mesh::{Cage, Topology};
-use super::model::{LevelCount, PatchOrigin};
+use super::model::LevelCount;
+use super::origin::PatchOrigin;
 use super::probe;
 use super::refine::{sub_quad_uv, StepTopologies, SubFace, QUAD_UV};
 use super::stencil::CageStencils;
@@ -258,6 +259,7 @@ fn origin(
         corners_uv,
         rule,
         level,
+        turned: false,
     }
 }
 

@@ -37,6 +37,7 @@ pub mod mesh;
 pub mod model;
 pub mod obj;
 pub mod orient;
+pub mod origin;
 mod probe;
 pub mod refine;
 pub mod scan;
@@ -46,4 +47,5 @@ pub mod tags;
 pub mod tangent;
 pub mod uv;
 
-pub use model::{CageInfo, ImportedModel, LevelCount, PatchOrigin, RuleSource};
+pub use model::{CageInfo, ImportedModel, LevelCount, RuleSource};
+pub use origin::PatchOrigin;

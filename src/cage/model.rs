@@ -3,32 +3,11 @@
 
 use crate::patch::bezier::BezierPatch;
 
-use super::acc::PatchRule;
+use super::origin::PatchOrigin;
 use super::sharpness::BoundaryRule;
-use super::uv::{FaceUvs, UvInfo};
+use super::uv::{FaceUvs, UvInfo, UvPatches};
 use super::{mesh, stencil};
 use crate::patch::shading::ShadingPatch;
-
-/// Where one imported patch came from, for the `.bpt.json` sidecar.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PatchOrigin {
-    /// Index of the cage face (0-based, file order) the patch came from.
-    pub face: usize,
-    /// For a refined cage, which sub-quad of the face (its corner k) the
-    /// first step made; 0 otherwise. For a face that is not a quad this is
-    /// OpenSubdiv's ptex sub-face.
-    pub sub: usize,
-    /// Face-parameter coordinates of the patch's parameter corners (0,0),
-    /// (1,0), (1,1), (0,1) in OpenSubdiv's quad-face convention: in the
-    /// quad face, or, for a face that is not a quad, in its sub-face `sub`;
-    /// `None` for a patch that is a whole sub-face.
-    pub corners_uv: Option<[[f32; 2]; 4]>,
-    /// The conversion rules at its corners and its feature edges.
-    pub rule: PatchRule,
-    /// Catmull–Clark steps before conversion: 1 for a cage with non-quads,
-    /// the model's `isolate` where it refines, else 0.
-    pub level: u32,
-}
 
 /// How a cage's boundary rule was chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -106,19 +85,11 @@ pub struct ImportedModel {
     /// For cages with texture coordinates: each face corner's, by the
     /// cage's face order (`PatchOrigin::face`).
     pub uvs: Option<std::sync::Arc<FaceUvs>>,
+    /// For cages with texture coordinates: each patch's, by the rule the
+    /// import was asked for.
+    pub uv_patches: Option<UvPatches>,
     /// Things the user should know that did not stop the import.
     pub warnings: Vec<String>,
-}
-
-impl PatchOrigin {
-    /// The origin of the patch with u and v swapped (`orient::flip_patch`):
-    /// corners 1 and 3 trade places, and so do the rules.
-    pub fn flip(&mut self) {
-        if let Some(c) = &mut self.corners_uv {
-            c.swap(1, 3);
-        }
-        self.rule = self.rule.flipped();
-    }
 }
 
 impl ImportedModel {

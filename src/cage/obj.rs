@@ -113,7 +113,7 @@ use super::mesh::{Cage, Scheme, Topology};
 use super::model::{CageInfo, ImportedModel, RuleSource};
 use super::scan::{scan, Scan};
 use super::sharpness::{self, BoundaryRule, INFINITE};
-use super::uv::FaceUvs;
+use super::uv::{self, FaceUvs, FvarRule};
 use super::{isolate, orient};
 use crate::input::SceneError;
 
@@ -126,6 +126,9 @@ pub struct CageOptions {
     /// Catmull–Clark steps before conversion where the conversion is not
     /// exact (`isolate.rs`); 0 converts the cage as it is.
     pub isolate: u32,
+    /// How the cage's texture coordinates, if it has any, are
+    /// interpolated (`uv.rs`).
+    pub fvar: FvarRule,
 }
 
 /// Reads an OBJ control cage and converts it to Bézier patches.
@@ -212,8 +215,19 @@ pub fn parse_with(
         isolation: (options.isolate > 0).then(|| isolate_note(&conv, options.isolate)),
         uv: uvs.as_ref().map(|u| u.info(&cage)),
     };
+    let uv_patches = uvs.as_ref().map(|u| {
+        let converted = uv::Converted {
+            faces: &cage.faces,
+            vertices: cage.positions.len(),
+            origins: &conv.origins,
+            stencils: &conv.stencils,
+            boundary,
+        };
+        uv::uv_patches(u, &converted, options.fvar)
+    });
     let mut model = imported_model(&cage, &scan, conv, info, warnings);
     model.uvs = uvs.map(std::sync::Arc::new);
+    model.uv_patches = uv_patches;
     Ok(model)
 }
 
@@ -334,6 +348,7 @@ fn imported_model(
         shading: conv.shading,
         cage: Some(info),
         uvs: None,
+        uv_patches: None,
         stencils: file_vertices(cage, scan).map(|file_vertex| {
             std::sync::Arc::new(super::stencil::CageModel {
                 stencils: conv.stencils,

@@ -36,6 +36,15 @@ pub fn summary(path: &Path, model: &ImportedModel) -> String {
     }
     if let Some(info) = &model.cage {
         s += &cage_lines(info);
+        if let Some(uv) = &model.uv_patches {
+            let exact = uv.exact.iter().filter(|&&e| e).count();
+            s += &format!(
+                "  UV patches      {} ({}): {exact} of {} exact (the others near a seam, or on approximated patches)\n",
+                uv.patches.len(),
+                uv.rule.name(),
+                uv.patches.len()
+            );
+        }
         s += &format!("  patch rules     {}\n", rule_counts(&model.origins));
     }
     s += &format!("  patches         {}\n", model.patches.len());

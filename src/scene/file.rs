@@ -43,6 +43,9 @@
 //!                             # where the patches would approximate the
 //!                             # limit surface (0..6, default 0; see
 //!                             # src/cage/isolate.rs)
+//! fvar = "all"                # cages with texture coordinates: how they are
+//!                             # interpolated, corners-only (default) | all
+//!                             # (src/cage/uv.rs)
 //! [[model.instance]]          # none given: one instance, identity
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
@@ -71,6 +74,7 @@ use super::desc::{ModelAnim, ModelDesc, Scene, Surface, ViewDefaults};
 use super::orbit::Orbit;
 use crate::cage::obj::CageOptions;
 use crate::cage::sharpness::BoundaryRule;
+use crate::cage::uv::FvarRule;
 use crate::figures::{bytes_text, thousands};
 use crate::input::limits::{GEOMETRY_BYTES_PER_PATCH, MAX_BASE_PATCHES};
 use crate::input::SceneError;
@@ -112,6 +116,8 @@ struct ModelToml {
     boundary: Option<BoundaryRule>,
     #[serde(default)]
     isolate: u32,
+    #[serde(default)]
+    fvar: FvarRule,
     #[serde(default)]
     surface: Surface,
     #[serde(default)]
@@ -308,6 +314,7 @@ fn model_desc(
         options: CageOptions {
             boundary: m.boundary,
             isolate: m.isolate,
+            fvar: m.fvar,
         },
         surface: m.surface,
         instances,
@@ -567,6 +574,22 @@ file = "teapot.bpt"
             .to_string();
         assert!(
             e.contains("scene.toml:8") && e.contains("none, edge-only, edge-and-corner"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn fvar_is_a_model_option() {
+        let text = MINIMAL.replace("file = \"teapot.bpt\"", "file = \"c.obj\"\nfvar = \"all\"");
+        let s = parse(&text).unwrap();
+        assert_eq!(s.models[0].options.fvar, FvarRule::All);
+        let plain = parse(MINIMAL).unwrap();
+        assert_eq!(plain.models[0].options.fvar, FvarRule::CornersOnly);
+        let e = parse(&text.replace("\"all\"", "\"smooth\""))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("scene.toml:8") && e.contains("expected corners-only or all"),
             "{e}"
         );
     }
