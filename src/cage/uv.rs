@@ -195,9 +195,10 @@ pub struct Converted<'a> {
 /// vertex, the face-varying topology there is the vertices' and OpenSubdiv
 /// applies the vertices' rules, so the position stencils applied to the
 /// vertices' UVs give the UV patch, exact wherever the positions are
-/// (isolation included) and as close as they are elsewhere; under another
-/// boundary rule than edge-and-corner, and near a seam, the bilinear patch
-/// stands in (not exact, counted).
+/// (isolation included) and as close as they are elsewhere; a quad whose
+/// corners no other face shares is an island, bilinear, exact; under
+/// another boundary rule than edge-and-corner, and near a seam, the
+/// bilinear patch stands in (not exact, counted).
 pub fn uv_patches(uvs: &FaceUvs, cage: &Converted<'_>, rule: FvarRule) -> UvPatches {
     let bilinear: Vec<UvPatch> = cage
         .origins
@@ -223,11 +224,40 @@ pub fn uv_patches(uvs: &FaceUvs, cage: &Converted<'_>, rule: FvarRule) -> UvPatc
             }
         }
     }
+    if rule == FvarRule::CornersOnly {
+        // A quad that shares no corner's value with another face is a UV
+        // island of one face: every edge a seam, every corner pinned, so
+        // its limit is the bilinear map (per-face layouts, ptex-like).
+        let alone = lone_quads(uvs, cage.faces);
+        for (p, o) in cage.origins.iter().enumerate() {
+            if !exact[p] && alone[o.face] {
+                exact[p] = true;
+            }
+        }
+    }
     UvPatches {
         rule,
         patches,
         exact,
     }
+}
+
+/// Per face: a quad none of whose corners shares its (vertex, `vt`) pair
+/// with another face.
+fn lone_quads(uvs: &FaceUvs, faces: &[Vec<usize>]) -> Vec<bool> {
+    let mut users: HashMap<(usize, usize), u32> = HashMap::new();
+    for (face, corners) in faces.iter().zip(&uvs.faces) {
+        for (&v, &t) in face.iter().zip(corners) {
+            *users.entry((v, t)).or_default() += 1;
+        }
+    }
+    faces
+        .iter()
+        .zip(&uvs.faces)
+        .map(|(face, corners)| {
+            face.len() == 4 && face.iter().zip(corners).all(|(&v, &t)| users[&(v, t)] == 1)
+        })
+        .collect()
 }
 
 /// Each cage vertex's UV as a point (u, v, 0), and whether it has exactly

@@ -99,16 +99,17 @@ for obj in "$root"/tests/data/osd-shapes/catmark_*.obj; do
     run "$name" "tests/data/osd-shapes/$name.obj" tag keep "$samples" 0 "$shapes"
 done
 
-# Texture coordinates: OpenSubdiv's face-varying shapes, the scenes' cube
-# and torus and a seam-free warped layout (grid_uv), under both rules; each
-# line ends with the UV limit
+# Texture coordinates: OpenSubdiv's face-varying shapes, the scenes' cube,
+# torus and helmet (its faces' own UV squares) and a seam-free warped layout
+# (grid_uv), under both rules; each line ends with the UV limit
 # (tests/osd_reference.rs, `uv_patches_follow_opensubdivs_face_varying_limit`).
 fvar_dir="$out/fvar"
 mkdir -p "$fvar_dir"
 for model in tests/data/osd-fvar/catmark_fvar_bound0.obj tests/data/osd-fvar/catmark_fvar_bound1.obj \
     tests/data/osd-fvar/catmark_fvar_bound2.obj tests/data/osd-fvar/catmark_fvar_bound3.obj \
     tests/data/osd-fvar/catmark_fvar_bound4.obj tests/data/osd-fvar/catmark_fvar_project0.obj \
-    scenes/models/catmark_cube.obj scenes/models/catmark_torus.obj tests/data/cages/grid_uv.obj; do
+    scenes/models/catmark_cube.obj scenes/models/catmark_torus.obj scenes/models/catmark_helmet.obj \
+    tests/data/cages/grid_uv.obj; do
     for rule in corners-only all; do
         run "$(basename "$model" .obj)_$rule" "$model" tag keep grid 0 "$fvar_dir" "$rule"
     done
