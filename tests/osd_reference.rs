@@ -870,10 +870,27 @@ fn uv_patches_follow_opensubdivs_face_varying_limit() {
             uv.patches.len()
         );
         assert!(exact_worst <= 1e-5, "{}: {exact_worst:e}", case.name);
-        // Under `all` every patch is exact; under `corners-only` so is
-        // every patch of the seam-free, regular grid_uv (the stencil path).
-        if rule == FvarRule::All || case.name.starts_with("grid_uv") {
-            assert_eq!(exact, uv.patches.len(), "{}", case.name);
-        }
+        // Under `all` every patch is exact; under `corners-only` as many as
+        // today (docs/OPENSUBDIV.md): grid_uv by the stencils, the
+        // helmet's islands, and next to seams by the UV cage's conversion
+        // (all but the patches at its extraordinary vertices).
+        let expected = match case.name.as_str() {
+            _ if rule == FvarRule::All => uv.patches.len(),
+            "catmark_cube_corners-only" => 2,
+            "catmark_fvar_bound0_corners-only" | "catmark_fvar_bound1_corners-only" => 12,
+            "catmark_fvar_bound2_corners-only" => 8,
+            "catmark_fvar_bound3_corners-only" => 6,
+            "catmark_fvar_bound4_corners-only" => 1,
+            "catmark_fvar_project0_corners-only" => 0,
+            "catmark_helmet_corners-only" => 58,
+            "catmark_torus_corners-only" => 32,
+            "grid_uv_corners-only" => 16,
+            other => panic!("no expected count for {other}"),
+        };
+        assert!(
+            exact >= expected,
+            "{}: {exact} exact patches, {expected} before",
+            case.name
+        );
     }
 }

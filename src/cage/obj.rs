@@ -217,8 +217,7 @@ pub fn parse_with(
     };
     let uv_patches = uvs.as_ref().map(|u| {
         let converted = uv::Converted {
-            faces: &cage.faces,
-            vertices: cage.positions.len(),
+            cage: &cage,
             origins: &conv.origins,
             stencils: &conv.stencils,
             boundary,

@@ -9,10 +9,11 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::mesh::Cage;
+use super::acc;
+use super::mesh::{Cage, Topology};
 use super::origin::PatchOrigin;
 use super::scan::Scan;
-use super::sharpness::BoundaryRule;
+use super::sharpness::{self, BoundaryRule};
 use super::stencil::CageStencils;
 use crate::input::SceneError;
 
@@ -174,10 +175,8 @@ pub struct UvPatches {
 
 /// What [`uv_patches`] needs of a converted cage.
 pub struct Converted<'a> {
-    /// The cage's faces.
-    pub faces: &'a [Vec<usize>],
-    /// Its vertices.
-    pub vertices: usize,
+    /// The cage, its sharpness resolved.
+    pub cage: &'a Cage,
     /// Where each patch came from.
     pub origins: &'a [PatchOrigin],
     /// The patches as combinations of the cage's vertices.
@@ -190,25 +189,27 @@ pub struct Converted<'a> {
 ///
 /// `all`: bilinear across each face (each patch lies in one face, or one
 /// sub-face of an n-gon, whose corners' UVs are those of the face's `vt`s,
-/// its edges' midpoints and its centroid), exact. `corners-only`: where
-/// none of the cage vertices a patch's control points combine is a seam
-/// vertex, the face-varying topology there is the vertices' and OpenSubdiv
-/// applies the vertices' rules, so the position stencils applied to the
-/// vertices' UVs give the UV patch, exact wherever the positions are
-/// (isolation included) and as close as they are elsewhere; a quad whose
-/// corners no other face shares is an island, bilinear, exact; under
-/// another boundary rule than edge-and-corner, and near a seam, the
-/// bilinear patch stands in (not exact, counted).
+/// its edges' midpoints and its centroid), exact. `corners-only`, in turn:
+/// where none of the cage vertices a patch's control points combine is a
+/// seam vertex, the face-varying topology there is the vertices' and
+/// OpenSubdiv applies the vertices' rules, so the position stencils
+/// applied to the vertices' UVs give the UV patch (exact wherever the
+/// positions are); a quad whose corners no other face shares is an
+/// island, bilinear, exact; the rest take their region of the UV cage's
+/// conversion ([`uv_cage`]), exact where its patch is. Where that cannot
+/// be had (a boundary rule other than edge-and-corner, a face that is not
+/// a quad) the bilinear patch stands in, counted as not exact.
 pub fn uv_patches(uvs: &FaceUvs, cage: &Converted<'_>, rule: FvarRule) -> UvPatches {
+    let faces = &cage.cage.faces;
     let bilinear: Vec<UvPatch> = cage
         .origins
         .iter()
-        .map(|o| bilinear_patch(uvs, cage.faces, o))
+        .map(|o| bilinear_patch(uvs, faces, o))
         .collect();
     let mut exact = vec![rule == FvarRule::All; bilinear.len()];
     let mut patches = bilinear;
     if rule == FvarRule::CornersOnly && cage.boundary == BoundaryRule::EdgeAndCorner {
-        let (vertex_uv, single) = vertex_uvs(uvs, cage.faces, cage.vertices);
+        let (vertex_uv, single) = vertex_uvs(uvs, faces, cage.cage.positions.len());
         let points = cage.stencils.points.points(&vertex_uv);
         let clean: Vec<bool> = (0..cage.stencils.points.rows())
             .map(|r| {
@@ -228,10 +229,23 @@ pub fn uv_patches(uvs: &FaceUvs, cage: &Converted<'_>, rule: FvarRule) -> UvPatc
         // A quad that shares no corner's value with another face is a UV
         // island of one face: every edge a seam, every corner pinned, so
         // its limit is the bilinear map (per-face layouts, ptex-like).
-        let alone = lone_quads(uvs, cage.faces);
+        let alone = lone_quads(uvs, faces);
         for (p, o) in cage.origins.iter().enumerate() {
             if !exact[p] && alone[o.face] {
                 exact[p] = true;
+            }
+        }
+    }
+    let seams_left = exact.iter().any(|e| !e);
+    if rule == FvarRule::CornersOnly && cage.boundary == BoundaryRule::EdgeAndCorner && seams_left {
+        // Next to a seam: the UV cage's own conversion, each patch the
+        // region of its face's UV patch it covers.
+        if let Some(face_patches) = uv_face_patches(uvs, cage.cage) {
+            for (p, o) in cage.origins.iter().enumerate() {
+                if let (false, Some((fp, ex))) = (exact[p], face_patches[o.face]) {
+                    patches[p] = restrict(&fp, region(o));
+                    exact[p] = ex;
+                }
             }
         }
     }
@@ -290,6 +304,16 @@ fn vertex_uvs(uvs: &FaceUvs, faces: &[Vec<usize>], vertices: usize) -> (Vec<Vec3
     (points, single)
 }
 
+/// The corners of the patch in its (sub-)face; a turned whole sub-face has
+/// its u and v swapped.
+fn region(o: &PatchOrigin) -> [[f32; 2]; 4] {
+    o.corners_uv.unwrap_or(if o.turned {
+        [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
+    } else {
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    })
+}
+
 /// The bilinear UV patch of the (sub-)face region `o` covers.
 fn bilinear_patch(uvs: &FaceUvs, faces: &[Vec<usize>], o: &PatchOrigin) -> UvPatch {
     let t: Vec<[f32; 2]> = uvs.faces[o.face].iter().map(|&i| uvs.values[i]).collect();
@@ -320,18 +344,130 @@ fn bilinear_patch(uvs: &FaceUvs, faces: &[Vec<usize>], o: &PatchOrigin) -> UvPat
             u,
         )
     };
-    // The patch's corners in the (sub-)face; a turned whole sub-face has
-    // its u and v swapped.
-    let corners = o.corners_uv.unwrap_or(if o.turned {
-        [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
-    } else {
-        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
-    });
-    let c = corners.map(at);
+    let c = region(o).map(at);
     std::array::from_fn(|k| {
         let (i, j) = ((k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0);
         let lerp =
             |a: [f32; 2], b: [f32; 2], x: f32| [a[0] + (b[0] - a[0]) * x, a[1] + (b[1] - a[1]) * x];
         lerp(lerp(c[0], c[1], i), lerp(c[3], c[2], i), j)
     })
+}
+
+/// The face-varying channel as a cage of its own: one vertex per (cage
+/// vertex, `vt`) pair (OpenSubdiv's sibling values: a `vt` index shared by
+/// faces at different vertices is not one vertex), placed at its (u, v);
+/// the faces, holes, sharpness and scheme of `cage` (sharpness resolved,
+/// so the surface's boundary and corners come along). Its own boundary,
+/// the UV seams, then takes the edge-and-corner rule, which is
+/// `corners-only`'s.
+fn uv_cage(uvs: &FaceUvs, cage: &Cage) -> Cage {
+    let mut id: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut out = Cage {
+        scheme: cage.scheme,
+        holes: cage.holes.clone(),
+        face_lines: cage.face_lines.clone(),
+        ..Cage::default()
+    };
+    let mut vertex_of = Vec::new();
+    for (face, corners) in cage.faces.iter().zip(&uvs.faces) {
+        let ids: Vec<usize> = face
+            .iter()
+            .zip(corners)
+            .map(|(&v, &t)| {
+                *id.entry((v, t)).or_insert_with(|| {
+                    let [u, w] = uvs.values[t];
+                    out.positions
+                        .push(glam::DVec3::new(f64::from(u), f64::from(w), 0.0));
+                    vertex_of.push(v);
+                    out.positions.len() - 1
+                })
+            })
+            .collect();
+        let n = face.len();
+        for k in 0..n {
+            let (a, b) = (face[k], face[(k + 1) % n]);
+            if let Some(&s) = cage.edge_sharpness.get(&(a.min(b), a.max(b))) {
+                let (x, y) = (ids[k], ids[(k + 1) % n]);
+                out.edge_sharpness.insert((x.min(y), x.max(y)), s);
+            }
+        }
+        out.faces.push(ids);
+    }
+    for (i, &v) in vertex_of.iter().enumerate() {
+        if let Some(&s) = cage.vertex_sharpness.get(&v) {
+            out.vertex_sharpness.insert(i, s);
+        }
+    }
+    out
+}
+
+/// Per cage face, the UV cage's patch of it and whether that patch is
+/// exact; `None` where the UV cage cannot be converted as it is (a face
+/// that is not a quad, or a topology the converter refuses), in which
+/// case the callers keep their stand-ins.
+fn uv_face_patches(uvs: &FaceUvs, cage: &Cage) -> Option<Vec<Option<(UvPatch, bool)>>> {
+    if cage.faces.iter().any(|f| f.len() != 4) {
+        return None;
+    }
+    let path = Path::new("texture coordinates");
+    let mut uvc = uv_cage(uvs, cage);
+    let topo = Topology::build(&uvc, path).ok()?;
+    sharpness::resolve(&mut uvc, &topo, BoundaryRule::EdgeAndCorner);
+    let conv = acc::convert(&uvc, &topo, path).ok()?;
+    let mut out = vec![None; cage.faces.len()];
+    for ((patch, &face), rule) in conv.patches.iter().zip(&conv.faces).zip(&conv.rules) {
+        out[face] = Some((patch.pts.map(|p| [p.x, p.y]), rule.exact()));
+    }
+    Some(out)
+}
+
+/// `patch` restricted to the region of its parameter square whose corners
+/// (0,0), (1,0), (1,1), (0,1) lie at `corners` (an axis-aligned rectangle,
+/// its axes possibly swapped), by de Casteljau in f64.
+fn restrict(patch: &UvPatch, corners: [[f32; 2]; 4]) -> UvPatch {
+    let c = corners.map(|p| [f64::from(p[0]), f64::from(p[1])]);
+    // The rectangle's ranges and whether the patch's u runs along v.
+    let swapped = c[1][0] == c[0][0];
+    let (u0, u1) = (c[0][0], c[2][0]);
+    let (v0, v1) = (c[0][1], c[2][1]);
+    let net: Vec<[f64; 2]> = patch
+        .iter()
+        .map(|p| [f64::from(p[0]), f64::from(p[1])])
+        .collect();
+    // Rows (along u) restricted to [u0, u1], then columns to [v0, v1].
+    let mut rows = [[[0.0f64; 2]; 4]; 4];
+    for (j, row) in rows.iter_mut().enumerate() {
+        *row = segment(
+            [net[4 * j], net[4 * j + 1], net[4 * j + 2], net[4 * j + 3]],
+            u0,
+            u1,
+        );
+    }
+    let mut out = [[0.0f32; 2]; 16];
+    for i in 0..4 {
+        let col = segment(rows.map(|row| row[i]), v0, v1);
+        for (j, p) in col.iter().enumerate() {
+            let k = if swapped { 4 * i + j } else { 4 * j + i };
+            out[k] = [p[0] as f32, p[1] as f32];
+        }
+    }
+    out
+}
+
+/// The cubic `c` on [a, b] as a cubic on [0, 1] (de Casteljau: split at
+/// b, then the left part at a / b).
+fn segment(c: [[f64; 2]; 4], a: f64, b: f64) -> [[f64; 2]; 4] {
+    let split = |c: [[f64; 2]; 4], t: f64| -> ([[f64; 2]; 4], [[f64; 2]; 4]) {
+        let l = |p: [f64; 2], q: [f64; 2]| [p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t];
+        let (a1, b1, c1) = (l(c[0], c[1]), l(c[1], c[2]), l(c[2], c[3]));
+        let (a2, b2) = (l(a1, b1), l(b1, c1));
+        let m = l(a2, b2);
+        ([c[0], a1, a2, m], [m, b2, c1, c[3]])
+    };
+    let left = if b < 1.0 { split(c, b).0 } else { c };
+    if a > 0.0 {
+        split(left, a / b).1
+    } else {
+        left
+    }
 }

@@ -39,7 +39,7 @@ pub fn summary(path: &Path, model: &ImportedModel) -> String {
         if let Some(uv) = &model.uv_patches {
             let exact = uv.exact.iter().filter(|&&e| e).count();
             s += &format!(
-                "  UV patches      {} ({}): {exact} of {} exact (the others near a seam, or on approximated patches)\n",
+                "  UV patches      {} ({}): {exact} of {} exact (the others approximated, docs/OPENSUBDIV.md)\n",
                 uv.patches.len(),
                 uv.rule.name(),
                 uv.patches.len()
