@@ -851,6 +851,25 @@ fn mangled_cages_never_panic() {
         }
     }
     assert!(loaded > 0);
+    // With texture coordinates, seams and a triangle (issue 39): no panic,
+    // and UV patches, when there are any, one per patch and finite.
+    let base = two_quads(true) + "v 1 2 0\nvt 0.7 0.9\nf 3/8 6/6 7/9\n";
+    let alphabet = b"0123456789 -./\nvftgl#eNaI";
+    let mut loaded = 0;
+    for _ in 0..3000 {
+        let text = common::fuzz::mangle(&mut rng, &base, alphabet);
+        if let Ok(m) = obj::parse(Path::new("fuzz-uv.obj"), &text) {
+            if let Some(uv) = &m.uv_patches {
+                assert_eq!(uv.patches.len(), m.patches.len(), "{text}");
+                assert!(
+                    uv.patches.iter().flatten().flatten().all(|c| c.is_finite()),
+                    "{text}"
+                );
+                loaded += 1;
+            }
+        }
+    }
+    assert!(loaded > 0);
 }
 
 /// Two quads side by side (vertices 2 and 3 shared), their texture
