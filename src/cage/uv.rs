@@ -335,22 +335,16 @@ fn bilinear_patch(uvs: &FaceUvs, faces: &[Vec<usize>], o: &PatchOrigin) -> UvPat
             mid(t[(k + n - 1) % n], t[k]),
         ]
     };
-    let at = |[s, u]: [f32; 2]| {
-        let lerp =
-            |a: [f32; 2], b: [f32; 2], x: f32| [a[0] + (b[0] - a[0]) * x, a[1] + (b[1] - a[1]) * x];
-        lerp(
-            lerp(square[0], square[1], s),
-            lerp(square[3], square[2], s),
-            u,
-        )
-    };
-    let c = region(o).map(at);
-    std::array::from_fn(|k| {
-        let (i, j) = ((k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0);
-        let lerp =
-            |a: [f32; 2], b: [f32; 2], x: f32| [a[0] + (b[0] - a[0]) * x, a[1] + (b[1] - a[1]) * x];
-        lerp(lerp(c[0], c[1], i), lerp(c[3], c[2], i), j)
-    })
+    let c = region(o).map(|[s, u]| bilinear(square, s, u));
+    std::array::from_fn(|k| bilinear(c, (k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0))
+}
+
+/// The point at (s, t) of the bilinear map whose corners (0,0), (1,0),
+/// (1,1), (0,1) lie at `c`.
+fn bilinear(c: [[f32; 2]; 4], s: f32, t: f32) -> [f32; 2] {
+    let lerp =
+        |a: [f32; 2], b: [f32; 2], x: f32| [a[0] + (b[0] - a[0]) * x, a[1] + (b[1] - a[1]) * x];
+    lerp(lerp(c[0], c[1], s), lerp(c[3], c[2], s), t)
 }
 
 /// The face-varying channel as a cage of its own: one vertex per (cage

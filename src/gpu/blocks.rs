@@ -206,21 +206,3 @@ pub fn shared_blocks() -> Vec<BlockEntry> {
         block::<crate::scene::instances::Instance>(),
     ]
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fields_cover_each_block_without_gaps() {
-        for (name, size, fields) in shared_blocks() {
-            let mut end = 0;
-            for f in &fields {
-                assert_eq!(f.offset, end, "{name}.{} starts after a gap", f.name);
-                end = f.offset + f.size;
-            }
-            assert_eq!(end, size, "{name}: fields do not fill the struct");
-            assert_eq!(size % 16, 0, "{name}: not a 16-byte multiple");
-        }
-    }
-}
