@@ -35,6 +35,7 @@ pub mod limit;
 pub mod linear;
 pub mod mesh;
 pub mod model;
+pub mod mtl;
 pub mod obj;
 pub mod orient;
 pub mod origin;

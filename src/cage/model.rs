@@ -88,6 +88,8 @@ pub struct ImportedModel {
     /// For cages with texture coordinates: each patch's, by the rule the
     /// import was asked for.
     pub uv_patches: Option<UvPatches>,
+    /// For cages whose material names one: the albedo map (`mtl.rs`).
+    pub albedo: Option<super::mtl::AlbedoMap>,
     /// Things the user should know that did not stop the import.
     pub warnings: Vec<String>,
 }

@@ -224,7 +224,9 @@ pub fn parse_with(
         };
         uv::uv_patches(u, &converted, options.fvar)
     });
+    let albedo = super::mtl::albedo_map(path, &scan.materials, &mut warnings)?;
     let mut model = imported_model(&cage, &scan, conv, info, warnings);
+    model.albedo = albedo;
     model.uvs = uvs.map(std::sync::Arc::new);
     model.uv_patches = uv_patches;
     Ok(model)
@@ -348,6 +350,7 @@ fn imported_model(
         cage: Some(info),
         uvs: None,
         uv_patches: None,
+        albedo: None,
         stencils: file_vertices(cage, scan).map(|file_vertex| {
             std::sync::Arc::new(super::stencil::CageModel {
                 stencils: conv.stencils,

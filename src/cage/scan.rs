@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use super::mtl::MaterialUse;
 use super::tags::Tags;
 use crate::input::limits::MAX_COORD;
 use crate::input::SceneError;
@@ -27,6 +28,8 @@ pub(super) struct Scan {
     pub(super) uv_problem: Option<(usize, String)>,
     /// The OpenSubdiv tags.
     pub(super) tags: Tags,
+    /// The `mtllib` and `usemtl` statements (`mtl.rs`).
+    pub(super) materials: MaterialUse,
 }
 
 /// Checks the text line by line for what we refuse, with line numbers.
@@ -51,6 +54,7 @@ pub(super) fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
         uv_faces: Vec::new(),
         uv_problem: None,
         tags: Tags::default(),
+        materials: MaterialUse::default(),
     };
     for (line_no, keyword, rest) in statements(text) {
         let err = |msg: String| SceneError::at(path, line_no, msg);
@@ -93,6 +97,7 @@ pub(super) fn scan(path: &Path, text: &str) -> Result<Scan, SceneError> {
             "usemtl" if rest.is_empty() => {
                 return Err(err("`usemtl` without a material name".into()))
             }
+            "usemtl" | "mtllib" => out.materials.record(line_no, keyword, &rest),
             "t" => out.tags.read(line_no, &rest, total[0]).map_err(err)?,
             _ => {}
         }

@@ -68,6 +68,9 @@ pub struct ModelDesc {
     pub options: CageOptions,
     /// A cage or PN triangles.
     pub surface: Surface,
+    /// The albedo map the scene file names (`texture`), which takes the
+    /// place of the one the model's material names.
+    pub texture: Option<PathBuf>,
     /// Object → world transforms.
     pub instances: Vec<DMat4>,
     /// What moves: deformers, an OBJ sequence, keyed instances.

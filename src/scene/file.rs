@@ -46,6 +46,9 @@
 //! fvar = "all"                # cages with texture coordinates: how they are
 //!                             # interpolated, corners-only (default) | all
 //!                             # (src/cage/uv.rs)
+//! texture = "textures/a.png"  # albedo map (PNG, sRGB), in place of the one
+//!                             # the OBJ's material (`map_Kd`) names; mapped
+//!                             # by the cage's UVs, else each patch's (u, v)
 //! [[model.instance]]          # none given: one instance, identity
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
@@ -120,6 +123,7 @@ struct ModelToml {
     fvar: FvarRule,
     #[serde(default)]
     surface: Surface,
+    texture: Option<String>,
     #[serde(default)]
     instance: Vec<InstanceToml>,
     #[serde(default)]
@@ -317,6 +321,7 @@ fn model_desc(
             fvar: m.fvar,
         },
         surface: m.surface,
+        texture: m.texture.as_ref().map(|t| dir.join(t)),
         instances,
         anim,
     })

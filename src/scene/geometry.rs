@@ -9,6 +9,7 @@ use glam::DMat4;
 use super::bpt;
 use super::desc::{ModelDesc, Scene, Surface};
 use super::instances::{Instance, InstanceTable};
+use super::material::{parametric_uv_patch, SceneMaterials};
 use super::pn::{self, PnMesh, PnScene};
 use crate::cage::model::ImportedModel;
 use crate::cage::obj;
@@ -61,6 +62,9 @@ pub struct SceneGeometry {
     /// (empty for a geometry made by hand: the GPU then reads `patches` as
     /// they are).
     pub instances: InstanceTable,
+    /// UV patches parallel to `instances.patches` and the models' albedo
+    /// maps (empty for a geometry made by hand).
+    pub materials: SceneMaterials,
 }
 
 impl SceneGeometry {
@@ -79,6 +83,21 @@ impl SceneGeometry {
         self.weights.get(k).copied().unwrap_or(UNIT_WEIGHTS)
     }
 
+    /// The texture coordinates at base patch `patch`'s (u, v): its model
+    /// patch's UV patch there, at (v, u) for a mirrored instance (the
+    /// twin of `surface_uv` in `glsl/common/texture.glsl`); (u, v) itself
+    /// for a geometry without UV patches.
+    pub fn surface_uv(&self, patch: usize, u: f32, v: f32) -> [f32; 2] {
+        if self.materials.uv_patches.len() != self.instances.patches.len()
+            || self.instances.instances.is_empty()
+        {
+            return [u, v];
+        }
+        let (t, k) = self.instances.locate(patch);
+        let (u, v) = if t.mirrored() { (v, u) } else { (u, v) };
+        uv_patch_at(&self.materials.uv_patches[k], u, v)
+    }
+
     /// The patches `range` of this geometry with their flags, weights and
     /// the one model summary `model` (a model's instance, for the hole test).
     pub fn subset(&self, range: std::ops::Range<usize>, model: ModelSummary) -> SceneGeometry {
@@ -94,6 +113,7 @@ impl SceneGeometry {
             weights,
             pn: PnScene::default(),
             instances: InstanceTable::default(),
+            materials: SceneMaterials::default(),
         };
         if !geo.is_rational() {
             geo.weights.clear();
@@ -395,12 +415,27 @@ impl Builder<'_> {
                 .insert(source_key.clone(), self.geo.instances.patches.len() as u32);
             add_model_patches(&mut self.geo.instances, model, self.rational);
             self.shading.model.extend_from_slice(&tangents);
+            add_uv_patches(&mut self.geo.materials, model);
         }
         if placed {
             let source = self.sources[&source_key];
             self.place_instances(m, model, source, flags, &tangents)?;
         }
         self.place_pn(m, flags)?;
+        let texture = match m
+            .texture
+            .as_ref()
+            .or(model.albedo.as_ref().map(|a| &a.path))
+        {
+            Some(path) if m.surface != Surface::PnTriangles => Some(
+                self.geo
+                    .materials
+                    .texture_index(path)
+                    .map_err(|e| self.scene.model_error(m, e.to_string()))?,
+            ),
+            _ => None,
+        };
+        self.geo.materials.model_texture.push(texture);
         self.geo.models.push(ModelSummary {
             name: m.name.clone(),
             file: m.file.clone(),
@@ -497,6 +532,44 @@ fn add_model_patches(table: &mut InstanceTable, model: &ImportedModel, rational:
         if rational {
             table.weights.push(weights);
         }
+    }
+}
+
+/// A UV patch at (u, v): Bernstein weights, each row in u, then the rows
+/// in v.
+fn uv_patch_at(p: &crate::cage::uv::UvPatch, u: f32, v: f32) -> [f32; 2] {
+    let basis = |t: f32| {
+        let a = 1.0 - t;
+        [a * a * a, 3.0 * t * a * a, 3.0 * t * t * a, t * t * t]
+    };
+    let (bu, bv) = (basis(u), basis(v));
+    let mut s = [0.0f32; 2];
+    for j in 0..4 {
+        let mut row = [0.0f32; 2];
+        for i in 0..4 {
+            for c in 0..2 {
+                row[c] += bu[i] * p[4 * j + i][c];
+            }
+        }
+        for c in 0..2 {
+            s[c] += bv[j] * row[c];
+        }
+    }
+    s
+}
+
+/// Appends `model`'s UV patches to `materials`, parallel to its model
+/// patches: the cage's where it has texture coordinates, else parametric.
+fn add_uv_patches(materials: &mut SceneMaterials, model: &ImportedModel) {
+    match &model.uv_patches {
+        Some(uv) if uv.patches.len() == model.patches.len() => {
+            materials.uv_patches.extend_from_slice(&uv.patches);
+            materials.cage_uv_patches += uv.patches.len();
+        }
+        _ => materials.uv_patches.extend(std::iter::repeat_n(
+            parametric_uv_patch(),
+            model.patches.len(),
+        )),
     }
 }
 

@@ -13,10 +13,12 @@ pub mod file;
 pub mod geometry;
 pub mod instances;
 pub mod keys;
+pub mod material;
 pub mod orbit;
 pub mod path;
 pub mod pn;
 pub mod sequence;
+pub mod texture;
 
 // Every reader of the scene reports this error; it lives below the scene
 // (`crate::input`), where the cage converter reports it too.
