@@ -228,6 +228,9 @@ shared_constants! {
         /// Bool: the scene has patches flagged PATCH_RATIONAL (default true:
         /// a pipeline made without it keeps the rational paths).
         SPEC_SCENE_RATIONAL = 16;
+        /// Bool: the scene has albedo maps or UVs from a cage (default true);
+        /// false: the shading reads no UV patch, material or texel.
+        SPEC_SCENE_MATERIALS = 17;
     }
 
     /// An instance's flags word (set 0's BIND_INSTANCES): PATCH_TWO_SIDED and
@@ -287,7 +290,21 @@ shared_constants! {
         /// floats: lo xyz, hi xyz), a little enlarged: the late phase of
         /// occlusion culling tests the clusters the early phase drew by them.
         BIND_PATCH_BOXES = 8;
-        SCENE_BINDINGS = 9;
+        /// Per model patch, its UV patch: 16 (s, t) pairs, u fastest
+        /// (src/scene/material.rs); one placeholder for a scene without
+        /// UVs or maps.
+        BIND_UV_PATCHES = 9;
+        /// MATERIAL_WORDS per scene model: its albedo map's first texel
+        /// word, width (0: no map), height and mip levels.
+        BIND_MATERIALS = 10;
+        /// The albedo maps' mip chains: sRGB-encoded RGBA8 words, red in
+        /// the low byte, rows top to bottom, level after level.
+        BIND_TEXELS = 11;
+        SCENE_BINDINGS = 12;
+    }
+    /// Words per model in set 0's BIND_MATERIALS.
+    group {
+        MATERIAL_WORDS = 4;
     }
     /// Floats per base patch in the shading buffer: the 12 control vectors of
     /// the u tangent patch, then the 12 of the v tangent patch, x, y, z each.
@@ -689,6 +706,11 @@ shared_constants! {
         /// Tests: the model's tint unlit (`palette::model_tint`, the
         /// shaders' `model_tint`).
         SHADE_TINT = 10;
+        /// The surface's texture coordinates (s, t) as red and green, a
+        /// checker of eighths in blue, unlit.
+        SHADE_UV = 11;
+        /// The albedo unlit: the model's map where it has one, else its tint.
+        SHADE_TEXTURE = 12;
     }
 
     /// The depth heat map's colours (0xRRGGBB, display values): depth 0

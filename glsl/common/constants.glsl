@@ -106,6 +106,9 @@ const uint PATCH_MODEL_SHIFT = 16;
 // Bool: the scene has patches flagged PATCH_RATIONAL (default true:
 // a pipeline made without it keeps the rational paths).
 const uint SPEC_SCENE_RATIONAL = 16;
+// Bool: the scene has albedo maps or UVs from a cage (default true);
+// false: the shading reads no UV patch, material or texel.
+const uint SPEC_SCENE_MATERIALS = 17;
 
 // An instance's flags word (set 0's BIND_INSTANCES): PATCH_TWO_SIDED and
 // the model index << PATCH_MODEL_SHIFT as in a patch's flags, and these.
@@ -160,7 +163,20 @@ const uint BIND_ROOTS = 6;
 // floats: lo xyz, hi xyz), a little enlarged: the late phase of
 // occlusion culling tests the clusters the early phase drew by them.
 const uint BIND_PATCH_BOXES = 8;
-const uint SCENE_BINDINGS = 9;
+// Per model patch, its UV patch: 16 (s, t) pairs, u fastest
+// (src/scene/material.rs); one placeholder for a scene without
+// UVs or maps.
+const uint BIND_UV_PATCHES = 9;
+// MATERIAL_WORDS per scene model: its albedo map's first texel
+// word, width (0: no map), height and mip levels.
+const uint BIND_MATERIALS = 10;
+// The albedo maps' mip chains: sRGB-encoded RGBA8 words, red in
+// the low byte, rows top to bottom, level after level.
+const uint BIND_TEXELS = 11;
+const uint SCENE_BINDINGS = 12;
+
+// Words per model in set 0's BIND_MATERIALS.
+const uint MATERIAL_WORDS = 4;
 
 // Floats per base patch in the shading buffer: the 12 control vectors of
 // the u tangent patch, then the 12 of the v tangent patch, x, y, z each.
@@ -524,6 +540,11 @@ const uint SHADE_PARAMS = 9;
 // Tests: the model's tint unlit (`palette::model_tint`, the
 // shaders' `model_tint`).
 const uint SHADE_TINT = 10;
+// The surface's texture coordinates (s, t) as red and green, a
+// checker of eighths in blue, unlit.
+const uint SHADE_UV = 11;
+// The albedo unlit: the model's map where it has one, else its tint.
+const uint SHADE_TEXTURE = 12;
 
 // The depth heat map's colours (0xRRGGBB, display values): depth 0
 // dark blue through cyan, green and yellow to dark red at 10, the

@@ -6,6 +6,7 @@
 #define SHADE_GLSL
 
 #include "shading.glsl"
+#include "texture.glsl"
 // A shader that draws rational patches defines SHADE_RATIONAL before this
 // include: patches flagged PATCH_RATIONAL are then lit (and keyed) with
 // their own rational normal; everything else is shaded exactly as before.
@@ -56,6 +57,30 @@ vec3 model_tint(uint index) {
     float v = index % 3u == 0u ? 0.92 : (index % 3u == 1u ? 0.78 : 0.64);
     vec3 c = clamp(abs(fract(h + vec3(1.0, 2.0 / 3.0, 1.0 / 3.0)) * 6.0 - 3.0) - 1.0, 0.0, 1.0);
     return v * ((1.0 - 0.55) + 0.55 * c);
+}
+
+// The texture coordinates at the base patch's (u, v) (texture.glsl); a PN
+// triangle has none but its own (u, v).
+vec2 shade_surface_uv(uint patch_id, vec2 uv) {
+#ifdef SHADE_PN
+    if (shade_is_pn(patch_id)) {
+        return uv;
+    }
+#endif
+    return surface_uv(patch_id, uv);
+}
+
+// The surface's colour before lighting, a display value: its model's
+// albedo map at `st` (screen derivatives `dx`, `dy`), else its tint.
+vec3 surface_albedo(uint patch_id, vec2 st, vec2 dx, vec2 dy) {
+    uint model = shade_flags(patch_id) >> PATCH_MODEL_SHIFT;
+    uvec4 mat = material_of(model);
+#ifdef SHADE_PN
+    if (shade_is_pn(patch_id)) {
+        mat = uvec4(0u);
+    }
+#endif
+    return has_map(mat) ? map_albedo(mat, st, dx, dy) : model_tint(model);
 }
 
 // QuadNode depth 0..L_MAX as the heat map's colours (constants.glsl, where
@@ -199,6 +224,12 @@ vec4 code_color(uint code) {
 // darkened wedges of open cages under MSAA (tests/shading_wedges.rs,
 // tests/shading_msaa.rs; issue 21).
 vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, uint wedge_side, bool front) {
+    // Texture coordinates and their screen derivatives first, while every
+    // invocation of the quad is here (derivatives need uniform control
+    // flow); a scene without maps or UVs compiles this away.
+    vec2 st = shade_surface_uv(patch_id, uv);
+    vec2 st_dx = dFdx(st);
+    vec2 st_dy = dFdy(st);
     bool wedge = wedge_side != WEDGE_NONE;
     uvec2 depths = cell_depths(depth_code);
     uint depth = max(depths.x, depths.y);
@@ -210,6 +241,14 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, uint wedge_side,
     }
     if (pc.shade == SHADE_TINT) {
         return vec4(model_tint(shade_flags(patch_id) >> PATCH_MODEL_SHIFT), 1.0);
+    }
+    if (pc.shade == SHADE_UV) {
+        vec2 f = fract(st);
+        ivec2 cell = ivec2(floor(st * 8.0));
+        return vec4(f, ((cell.x + cell.y) & 1) == 0 ? 0.85 : 0.25, 1.0);
+    }
+    if (pc.shade == SHADE_TEXTURE) {
+        return vec4(surface_albedo(patch_id, st, st_dx, st_dy), 1.0);
     }
     if (pc.shade == SHADE_PARAMS) {
         uvec2 q = uvec2(clamp(uv, 0.0, 1.0) * 4095.0 + 0.5);
@@ -251,7 +290,7 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, uint wedge_side,
         return vec4(c, 1.0);
     }
     // SHADE_NORMAL: Lambert + ambient + a little Blinn-Phong.
-    vec3 base = model_tint(shade_flags(patch_id) >> PATCH_MODEL_SHIFT);
+    vec3 base = surface_albedo(patch_id, st, st_dx, st_dy);
     vec3 l = pc.light_dir.xyz;
     l = dot(l, l) > 0.0 ? normalize(l) : to_eye;
     vec3 h = l + to_eye;

@@ -191,12 +191,14 @@ pub struct FlipView {
     pub legend: egui::TextureHandle,
 }
 
-const SHADES: [(Shade, &str); 5] = [
+const SHADES: [(Shade, &str); 7] = [
     (Shade::Normal, "shaded"),
     (Shade::Wireframe, "wireframe"),
     (Shade::Depth, "depth heat map"),
     (Shade::Wedges, "wedges"),
     (Shade::Normals, "normals"),
+    (Shade::Uv, "texture coordinates"),
+    (Shade::Texture, "albedo (texture)"),
 ];
 
 impl Controls {
@@ -414,6 +416,12 @@ fn legend_ui(ui: &mut egui::Ui, shade: Shade, method: &str) {
         }
         Shade::Wireframe => {
             ui.label("lines: the outline of every drawn cell");
+        }
+        Shade::Uv => {
+            ui.label("colour: s → red, t → green (repeating), eighths as a checker in blue; a model without UVs shows each patch's (u, v)");
+        }
+        Shade::Texture => {
+            ui.label("colour: each model's albedo map, unlit (its tint where it has none)");
         }
         Shade::Normal => {}
     }

@@ -7,7 +7,10 @@ use anyhow::{anyhow, Context as _};
 use serde_json::{json, Map, Value};
 
 use super::{keyframe, GpuRequest, ViewRequest};
-use crate::constants::{SHADE_DEPTH, SHADE_NORMAL, SHADE_NORMALS, SHADE_WEDGES, SHADE_WIREFRAME};
+use crate::constants::{
+    SHADE_DEPTH, SHADE_NORMAL, SHADE_NORMALS, SHADE_TEXTURE, SHADE_UV, SHADE_WEDGES,
+    SHADE_WIREFRAME,
+};
 use crate::eval::flip::{flip, FlipResult};
 use crate::eval::ground_truth_image;
 use crate::figures::{thousands, Timing};
@@ -37,6 +40,13 @@ pub enum Shade {
     Wireframe,
     /// The shading normal as colour.
     Normals,
+    /// The texture coordinates (s, t) as red and green, with a checker of
+    /// eighths in blue: a cage's UVs through the conversion, else each
+    /// patch's own (u, v).
+    Uv,
+    /// The albedo unlit: each model's map where it has one (MTL `map_Kd` or
+    /// the scene's `texture`), else its tint.
+    Texture,
 }
 
 impl Shade {
@@ -48,6 +58,8 @@ impl Shade {
             Shade::Wedges => SHADE_WEDGES,
             Shade::Wireframe => SHADE_WIREFRAME,
             Shade::Normals => SHADE_NORMALS,
+            Shade::Uv => SHADE_UV,
+            Shade::Texture => SHADE_TEXTURE,
         }
     }
 
@@ -59,6 +71,8 @@ impl Shade {
             Shade::Wedges => "wedges",
             Shade::Wireframe => "wireframe",
             Shade::Normals => "normals",
+            Shade::Uv => "uv",
+            Shade::Texture => "texture",
         }
     }
 }

@@ -28,12 +28,17 @@ pub use target::{sample_count, write_png, DrawTarget, ImageError, COLOR_FORMAT, 
 pub struct SceneSpec {
     /// The scene has rational patches (`SPEC_SCENE_RATIONAL`).
     pub rational: bool,
+    /// The scene has albedo maps or UVs from a cage (`SPEC_SCENE_MATERIALS`).
+    pub materials: bool,
 }
 
 impl Default for SceneSpec {
     /// Every path kept: right for any scene.
     fn default() -> Self {
-        Self { rational: true }
+        Self {
+            rational: true,
+            materials: true,
+        }
     }
 }
 
@@ -42,6 +47,7 @@ impl SceneSpec {
     pub fn of(scene: &SceneGpu) -> Self {
         Self {
             rational: scene.rational_patches > 0,
+            materials: scene.materials,
         }
     }
 
@@ -52,6 +58,10 @@ impl SceneSpec {
         all.push((
             crate::constants::SPEC_SCENE_RATIONAL,
             u32::from(self.rational),
+        ));
+        all.push((
+            crate::constants::SPEC_SCENE_MATERIALS,
+            u32::from(self.materials),
         ));
         all
     }

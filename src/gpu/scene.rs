@@ -13,9 +13,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use ash::vk;
 
 use crate::constants::{
-    BIND_INSTANCES, BIND_PATCHES, BIND_PATCH_BOXES, BIND_PATCH_FLAGS, BIND_ROOTS, BIND_SHADING,
-    BIND_VIEW, BIND_VISIBILITY, BIND_WEIGHTS, PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE,
-    SHADING_FLOATS,
+    BIND_INSTANCES, BIND_MATERIALS, BIND_PATCHES, BIND_PATCH_BOXES, BIND_PATCH_FLAGS, BIND_ROOTS,
+    BIND_SHADING, BIND_TEXELS, BIND_UV_PATCHES, BIND_VIEW, BIND_VISIBILITY, BIND_WEIGHTS,
+    PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
 };
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
@@ -26,6 +26,7 @@ use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::scene::instances::{
     cluster_blocks, cluster_set_words, root_entries, Instance, InstanceTable, INSTANCE_BYTES,
 };
+use crate::scene::material::SceneMaterials;
 use crate::scene::pn::PnScene;
 use crate::vk::{
     all_stages, Buffer, BufferBinding, Context, DescriptorSet, MemoryLocation, Pass,
@@ -116,6 +117,13 @@ pub struct SceneGpu {
     pub cluster_blocks: u32,
     /// Occlusion culling's verdict of the last frame: 1 word per instance.
     pub visibility: Buffer,
+    /// The UV patches (per model patch), the models' material records and
+    /// the albedo maps' texels (placeholders where `materials` is false).
+    pub uv_patches: Buffer,
+    pub material_records: Buffer,
+    pub texels: Buffer,
+    /// The scene has albedo maps or UVs from a cage (`SceneMaterials::in_use`).
+    pub materials: bool,
     /// The instance records as uploaded (the level schedule's CPU twin
     /// culls by their boxes).
     pub instance_records: Vec<Instance>,
@@ -181,22 +189,28 @@ impl SceneGpu {
             )));
         }
         let table = InstanceTable::identity(patches, flags, weights);
-        Self::upload(ctx, layout, &table, shading, patches, weights, slots)
+        let materials = SceneMaterials::default();
+        Self::upload(
+            ctx, layout, &table, shading, &materials, patches, weights, slots,
+        )
     }
 
     /// Uploads `table` (model patches, flags, weights and instances) with
-    /// `shading` parallel to its model patches; `world` and `world_weights`
-    /// are the base patches it places (the host's edge table is theirs).
+    /// `shading` and `materials`' UV patches parallel to its model patches;
+    /// `world` and `world_weights` are the base patches it places (the
+    /// host's edge table is theirs).
+    #[allow(clippy::too_many_arguments)]
     fn upload(
         ctx: &Context,
         layout: &SceneLayout,
         table: &InstanceTable,
         shading: &[ShadingPatch],
+        materials: &SceneMaterials,
         world: &[BezierPatch],
         world_weights: &[Weights],
         slots: usize,
     ) -> VkResult<Self> {
-        check_upload(ctx, table, shading)?;
+        check_upload(ctx, table, shading, materials)?;
         let rational_patches = world_weights.iter().filter(|w| !is_polynomial(w)).count() as u32;
         let edges = edge_table(
             world,
@@ -206,7 +220,7 @@ impl SceneGpu {
                 &[]
             },
         );
-        let b = SceneBuffers::new(ctx, table, shading, rational_patches, slots)?;
+        let b = SceneBuffers::new(ctx, table, shading, materials, rational_patches, slots)?;
         let set = b.bind(ctx, layout, table.instances.len())?;
         Ok(Self {
             count: table.base_patches() as u32,
@@ -221,6 +235,10 @@ impl SceneGpu {
             patch_boxes: b.patch_boxes,
             cluster_blocks: cluster_blocks(&table.instances),
             visibility: b.visibility,
+            uv_patches: b.uv_patches,
+            material_records: b.material_records,
+            texels: b.texels,
+            materials: materials.in_use(),
             instance_records: table.instances.clone(),
             rational_patches,
             edges,
@@ -270,6 +288,7 @@ impl SceneGpu {
                     layout,
                     &geo.instances,
                     &shading.model,
+                    &geo.materials,
                     &geo.patches,
                     &geo.weights,
                     slots,
@@ -366,6 +385,13 @@ impl SceneGpu {
         self.shading.size()
     }
 
+    /// Bytes of the UV patches, material records and albedo maps, where
+    /// the scene has them.
+    pub fn material_bytes(&self) -> Option<u64> {
+        self.materials
+            .then(|| self.uv_patches.size() + self.material_records.size() + self.texels.size())
+    }
+
     /// Bytes of the weights, where the scene has rational patches (a
     /// polynomial scene's 16 ones are not worth a line).
     pub fn weight_bytes(&self) -> Option<u64> {
@@ -377,8 +403,19 @@ impl SceneGpu {
 /// allocated: shading patches that are not one per model patch, or a
 /// buffer beyond the device's storage-buffer range (a binding beyond the
 /// range is invalid usage, not an allocation failure).
-fn check_upload(ctx: &Context, table: &InstanceTable, shading: &[ShadingPatch]) -> VkResult<()> {
+fn check_upload(
+    ctx: &Context,
+    table: &InstanceTable,
+    shading: &[ShadingPatch],
+    materials: &SceneMaterials,
+) -> VkResult<()> {
     let models = table.patches.len();
+    if materials.in_use() && materials.uv_patches.len() != models {
+        return Err(VkError::Usage(format!(
+            "{models} model patches with {} UV patches",
+            materials.uv_patches.len()
+        )));
+    }
     if shading.len() != models {
         return Err(VkError::Usage(format!(
             "{models} model patches with {} shading patches",
@@ -391,6 +428,7 @@ fn check_upload(ctx: &Context, table: &InstanceTable, shading: &[ShadingPatch]) 
         ("model patches", n * 48 * 4),
         ("shading patches", n * u64::from(SHADING_FLOATS) * 4),
         ("instances", table.instances.len() as u64 * INSTANCE_BYTES),
+        ("albedo maps", 4 * materials.texel_words_len()),
     ] {
         if bytes > limit {
             return Err(VkError::OverDeviceLimit {
@@ -448,6 +486,9 @@ struct SceneBuffers {
     roots: Buffer,
     patch_boxes: Buffer,
     visibility: Buffer,
+    uv_patches: Buffer,
+    material_records: Buffer,
+    texels: Buffer,
     views: Buffer,
     view_stride: u64,
 }
@@ -461,6 +502,7 @@ impl SceneBuffers {
         ctx: &Context,
         table: &InstanceTable,
         shading: &[ShadingPatch],
+        materials: &SceneMaterials,
         rational_patches: u32,
         slots: usize,
     ) -> VkResult<Self> {
@@ -499,6 +541,18 @@ impl SceneBuffers {
             storage,
             gpu,
         )?;
+        // A scene without maps or cage UVs binds one placeholder each: its
+        // pipelines are specialized not to read them (SPEC_SCENE_MATERIALS).
+        let unused = SceneMaterials::default();
+        let m = if materials.in_use() {
+            materials
+        } else {
+            &unused
+        };
+        let uv_patches = Buffer::with_data(ctx, "UV patches", &m.uv_floats(), storage, gpu)?;
+        let material_records =
+            Buffer::with_data(ctx, "material records", &m.material_words(), storage, gpu)?;
+        let texels = Buffer::with_data(ctx, "albedo texels", &m.texel_words(), storage, gpu)?;
         let align = ctx.info().limits.min_uniform_buffer_offset_alignment.max(1);
         let view_stride = VIEW_BYTES.div_ceil(align) * align;
         let views = Buffer::new(
@@ -517,6 +571,9 @@ impl SceneBuffers {
             roots,
             patch_boxes,
             visibility,
+            uv_patches,
+            material_records,
+            texels,
             views,
             view_stride,
         })
@@ -546,6 +603,9 @@ impl SceneBuffers {
         bound[BIND_ROOTS as usize] = BufferBinding::from(&self.roots);
         bound[BIND_PATCH_BOXES as usize] = BufferBinding::from(&self.patch_boxes);
         bound[BIND_VISIBILITY as usize] = BufferBinding::from(&self.visibility);
+        bound[BIND_UV_PATCHES as usize] = BufferBinding::from(&self.uv_patches);
+        bound[BIND_MATERIALS as usize] = BufferBinding::from(&self.material_records);
+        bound[BIND_TEXELS as usize] = BufferBinding::from(&self.texels);
         DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)
     }
 }
