@@ -26,6 +26,7 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("herd.toml", 1_008_406, 6),
     ("anim.toml", 2_608, 1),
     ("kitchen-anim.toml", 35_940, 8),
+    ("textured.toml", 199, 3),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),
@@ -267,4 +268,37 @@ fn stats_writes_a_preview_and_refuses_a_bad_path_first() {
         "{e}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The maps under scenes/textures/ are what `tools/textures/make.py`
+/// writes, texel for texel (compared decoded: zlib's bytes may differ
+/// between versions, the pixels may not).
+#[test]
+fn the_textures_are_what_their_script_writes() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!("bezier-subdiv-textures-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let run = std::process::Command::new("python3")
+        .arg(root.join("tools/textures/make.py"))
+        .arg(&out)
+        .output()
+        .expect("python3 runs tools/textures/make.py");
+    common::cli::assert_success(&run, "");
+    let mut shipped: Vec<_> = std::fs::read_dir(scenes_dir().join("textures"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    shipped.sort();
+    assert!(shipped.len() >= 2, "{shipped:?}");
+    for name in &shipped {
+        let written = out.join(name);
+        let a = image::open(scenes_dir().join("textures").join(name)).unwrap();
+        let b = image::open(&written)
+            .unwrap_or_else(|e| panic!("the script does not write {name:?}: {e}"));
+        assert!(
+            a.to_rgba8() == b.to_rgba8(),
+            "scenes/textures/{name:?} is not what tools/textures/make.py writes: run it"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }

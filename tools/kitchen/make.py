@@ -60,6 +60,10 @@ class Cage:
         self.creases = []
         self.comments = []
         self.boundary = False
+        # Optional: a texture coordinate per vertex (written as one `vt`
+        # per vertex, faces as v/vt) and a material (library, name).
+        self.vt = None
+        self.material = None
 
     def vertex(self, p):
         self.v.append(tuple(float(c) for c in p))
@@ -68,10 +72,20 @@ class Cage:
     def write(self, path, header):
         lines = ["# " + h for h in header]
         lines += ["# " + c for c in self.comments]
+        if self.material:
+            lines.append(f"mtllib {self.material[0]}")
         for x, y, z in self.v:
             lines.append(f"v {fmt(x)} {fmt(y)} {fmt(z)}")
+        if self.vt:
+            for s, t in self.vt:
+                lines.append(f"vt {fmt(s)} {fmt(t)}")
+        if self.material:
+            lines.append(f"usemtl {self.material[1]}")
         for q in self.f:
-            lines.append("f " + " ".join(str(i + 1) for i in q))
+            if self.vt:
+                lines.append("f " + " ".join(f"{i + 1}/{i + 1}" for i in q))
+            else:
+                lines.append("f " + " ".join(str(i + 1) for i in q))
         for a, b in self.creases:
             lines.append(f"t crease 2/1/0 {a} {b} 10")
         if self.boundary:
@@ -80,6 +94,20 @@ class Cage:
         with open(tmp, "w") as out:
             out.write("\n".join(lines) + "\n")
         os.replace(tmp, path)
+
+
+MATERIAL_MAPS = {"stone_tiles": "../textures/kitchen_floor.png"}
+
+
+def write_material(path, material, obj):
+    """The material library of `obj`: `material` with its albedo map."""
+    text = (f"# {os.path.basename(path)}: written by tools/kitchen/make.py for {obj}.\n"
+            f"# The map is made by tools/textures/make.py.\n"
+            f"newmtl {material}\nKd 1 1 1\nmap_Kd {MATERIAL_MAPS[material]}\n")
+    tmp = path + ".tmp"
+    with open(tmp, "w") as out:
+        out.write(text)
+    os.replace(tmp, path)
 
 
 def fmt(x):
@@ -184,6 +212,11 @@ def floor_cage():
     grid_sheet(c, (-30.0, -30.0, 0.0), (p, 0.0, 0.0), (0.0, p, 0.0), TILES, TILES)
     c.boundary = True
     c.comments.append(f"a planar sheet of {TILES} x {TILES} quads of {p} over [-30, 30]^2 at z = 0, facing +z")
+    # Stone tiles: the map (tools/textures/make.py) holds 4 x 4 tiles, so
+    # s, t = (x, y) / (4 p) puts one tile on each quad.
+    c.vt = [((x + 30.0) / (4 * p), (y + 30.0) / (4 * p)) for x, y, _ in c.v]
+    c.material = ("kitchen_floor.mtl", "stone_tiles")
+    c.comments.append("texture coordinates: one stone tile of ../textures/kitchen_floor.png per quad (kitchen_floor.mtl)")
     return c
 
 
@@ -575,6 +608,8 @@ def main():
             [f"{name}: written by tools/kitchen/make.py for scenes/kitchen.toml.",
              f"{len(cage.f)} quads, {len(cage.creases)} infinitely sharp edges."],
         )
+        if cage.material:
+            write_material(os.path.join(models, cage.material[0]), cage.material[1], name)
         patches[name] = len(cage.f)
     patches.update(SHIPPED)
 
