@@ -510,6 +510,9 @@ impl Renderer {
         if let Some(bytes) = self.scene.weight_bytes() {
             v.push(("patch_weights", bytes));
         }
+        if let Some(bytes) = self.scene.material_bytes() {
+            v.push(("uv_patches_and_maps", bytes));
+        }
         if let Some((_, gpu)) = &self.anim {
             v.push(("animation", gpu.bytes()));
         }

@@ -47,6 +47,13 @@ pub fn summary(path: &Path, model: &ImportedModel) -> String {
         }
         s += &format!("  patch rules     {}\n", rule_counts(&model.origins));
     }
+    if let Some(map) = &model.albedo {
+        s += &format!(
+            "  albedo map      {} (named at {})\n",
+            map.path.display(),
+            map.from
+        );
+    }
     s += &format!("  patches         {}\n", model.patches.len());
     if let Some((lo, hi)) = BezierPatch::bounds(&model.patches) {
         let f = |v: Vec3| format!("[{:.4}, {:.4}, {:.4}]", v.x, v.y, v.z);
@@ -200,9 +207,14 @@ pub fn sidecar_json(model: &ImportedModel) -> String {
             "seam_vertices": u.seam_vertices,
         })
     });
+    let albedo = model
+        .albedo
+        .as_ref()
+        .map(|m| serde_json::json!({ "path": m.path.display().to_string(), "from": m.from }));
     let doc = serde_json::json!({
         "boundary": boundary,
         "uv": uv,
+        "albedo_map": albedo,
         "semi_sharp": "sharpness >= 1 is converted as infinitely sharp; below 1 the points near the vertex are smooth + s x (sharp - smooth)",
         "patches": entries,
     });
