@@ -33,7 +33,6 @@ use std::path::Path;
 
 use super::acc::{self, Conversion};
 use super::mesh::{Cage, Topology};
-use super::model::LevelCount;
 use super::origin::PatchOrigin;
 use super::probe;
 use super::refine::{sub_quad_uv, StepTopologies, SubFace, QUAD_UV};
@@ -68,11 +67,15 @@ pub struct Converted {
 }
 
 /// Converts `cage` (sharpness resolved, `topo` its adjacency) with `isolate`
-/// refinement steps where they help (see the module doc).
+/// refinement steps where they help (see the module doc), and in every
+/// part holding a face `uv_inexact` marks (its texture coordinates would
+/// be approximated unrefined: OpenSubdiv's adaptive refinement considers
+/// the face-varying channel too; empty: none).
 pub fn convert(
     cage: &Cage,
     topo: &Topology,
     isolate: u32,
+    uv_inexact: &[bool],
     path: &Path,
 ) -> Result<Converted, SceneError> {
     if isolate == 0 {
@@ -98,7 +101,8 @@ pub fn convert(
         // Whether a part of quads converts exactly is known from its
         // rules alone (the fits change no rule), before any stencil is
         // probed.
-        let refined = base > 0 || {
+        let for_uvs = faces.iter().any(|&f| uv_inexact.get(f) == Some(&true));
+        let refined = base > 0 || for_uvs || {
             let rules = acc::convert(&sub, &sub_topo, path)?.rules;
             rules.iter().any(|r| !r.exact())
         };
@@ -353,6 +357,17 @@ fn merge(vertices: usize, pieces: Vec<(Vec<usize>, Vec<usize>, Converted)>) -> C
     }
     out.stencils = CageStencils::join(vertices, &parts, &order);
     out
+}
+
+/// Patches by the refinement level they were made at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LevelCount {
+    /// Refinement steps before conversion.
+    pub level: u32,
+    /// Patches made at that level.
+    pub patches: usize,
+    /// Of those, exactly OpenSubdiv's limit surface.
+    pub exact: usize,
 }
 
 #[cfg(test)]

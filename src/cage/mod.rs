@@ -48,5 +48,6 @@ pub mod tags;
 pub mod tangent;
 pub mod uv;
 
-pub use model::{CageInfo, ImportedModel, LevelCount, RuleSource};
+pub use isolate::LevelCount;
+pub use model::{CageInfo, ImportedModel, RuleSource};
 pub use origin::PatchOrigin;

@@ -3,6 +3,7 @@
 
 use crate::patch::bezier::BezierPatch;
 
+use super::isolate::LevelCount;
 use super::origin::PatchOrigin;
 use super::sharpness::BoundaryRule;
 use super::uv::{FaceUvs, UvInfo, UvPatches};
@@ -107,15 +108,4 @@ impl ImportedModel {
                 .collect()
         }
     }
-}
-
-/// Patches by the refinement level they were made at.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LevelCount {
-    /// Refinement steps before conversion.
-    pub level: u32,
-    /// Patches made at that level.
-    pub patches: usize,
-    /// Of those, exactly OpenSubdiv's limit surface.
-    pub exact: usize,
 }

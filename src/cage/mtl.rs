@@ -10,7 +10,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::scan::statements;
+use crate::input::text::statements;
 use crate::input::SceneError;
 
 /// The material statements of an OBJ file.

@@ -193,7 +193,19 @@ pub fn parse_with(
         ));
     }
 
-    let conv = convert_oriented(path, &cage, &topo, options, &orientation, &mut warnings)?;
+    let uv_inexact = match (&uvs, options.isolate) {
+        (Some(u), 1..) => uv::inexact_faces(u, &cage, options.fvar, boundary),
+        _ => Vec::new(),
+    };
+    let conv = convert_oriented(
+        path,
+        &cage,
+        &topo,
+        options,
+        &uv_inexact,
+        &orientation,
+        &mut warnings,
+    )?;
     let info = CageInfo {
         boundary,
         boundary_from,
@@ -221,6 +233,7 @@ pub fn parse_with(
             origins: &conv.origins,
             stencils: &conv.stencils,
             boundary,
+            isolate: options.isolate,
         };
         uv::uv_patches(u, &converted, options.fvar)
     });
@@ -298,10 +311,11 @@ fn convert_oriented(
     cage: &Cage,
     topo: &Topology,
     options: &CageOptions,
+    uv_inexact: &[bool],
     orientation: &orient::Orientation,
     warnings: &mut Vec<String>,
 ) -> Result<isolate::Converted, SceneError> {
-    let mut conv = isolate::convert(cage, topo, options.isolate, path)?;
+    let mut conv = isolate::convert(cage, topo, options.isolate, uv_inexact, path)?;
     if options.isolate == 0 {
         let non_quads = cage.faces.iter().filter(|f| f.len() != 4).count();
         if non_quads > 0 {
@@ -631,12 +645,12 @@ mod tests {
     fn the_isolate_note_gives_patches_and_memory_per_level() {
         let conv = isolate::Converted {
             levels: vec![
-                crate::cage::model::LevelCount {
+                crate::cage::isolate::LevelCount {
                     level: 0,
                     patches: 1000,
                     exact: 900,
                 },
-                crate::cage::model::LevelCount {
+                crate::cage::isolate::LevelCount {
                     level: 2,
                     patches: 4096,
                     exact: 4000,

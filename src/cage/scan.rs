@@ -1,12 +1,13 @@
 //! OBJ text checked line by line before `tobj` reads it, so that every
 //! refusal names its line: vertices, faces and their references, tags
-//! (`tags`); and the statements as the readers of OBJ text walk them.
+//! (`tags`), materials (`mtl`).
 
 use std::path::Path;
 
 use super::mtl::MaterialUse;
 use super::tags::Tags;
 use crate::input::limits::MAX_COORD;
+use crate::input::text::statements;
 use crate::input::SceneError;
 
 /// What the line scan found.
@@ -139,16 +140,6 @@ fn faces_without_uvs(scan: &Scan) -> Option<(usize, String)> {
             scan.uv_faces.len()
         ),
     ))
-}
-
-/// The statements of OBJ text: each line that is not blank as its number
-/// (from 1, for errors), its keyword and the words after it.
-pub(crate) fn statements(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&str>)> {
-    text.lines().enumerate().filter_map(|(i, line)| {
-        let mut words = line.split_whitespace();
-        let keyword = words.next()?;
-        Some((i + 1, keyword, words.collect()))
-    })
 }
 
 /// The corners of an `f` statement's words `refs`, each read by `corner`;

@@ -10,8 +10,10 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::acc;
+use super::isolate;
 use super::mesh::{Cage, Topology};
 use super::origin::PatchOrigin;
+use super::refine::QUAD_UV;
 use super::scan::Scan;
 use super::sharpness::{self, BoundaryRule};
 use super::stencil::CageStencils;
@@ -183,6 +185,8 @@ pub struct Converted<'a> {
     pub stencils: &'a CageStencils,
     /// The cage's boundary rule.
     pub boundary: BoundaryRule,
+    /// The model's `isolate`: the UV cage is refined as the cage is.
+    pub isolate: u32,
 }
 
 /// The UV patches of `cage`'s patches under `rule`.
@@ -240,11 +244,15 @@ pub fn uv_patches(uvs: &FaceUvs, cage: &Converted<'_>, rule: FvarRule) -> UvPatc
     if rule == FvarRule::CornersOnly && cage.boundary == BoundaryRule::EdgeAndCorner && seams_left {
         // Next to a seam: the UV cage's own conversion, each patch the
         // region of its face's UV patch it covers.
-        if let Some(face_patches) = uv_face_patches(uvs, cage.cage) {
+        if let Some(pieces) = uv_face_pieces(uvs, cage.cage, cage.isolate) {
             for (p, o) in cage.origins.iter().enumerate() {
-                if let (false, Some((fp, ex))) = (exact[p], face_patches[o.face]) {
-                    patches[p] = restrict(&fp, region(o));
-                    exact[p] = ex;
+                if exact[p] {
+                    continue;
+                }
+                let r = region(o);
+                if let Some(piece) = pieces[o.face].iter().find(|q| covers(&q.corners, &r)) {
+                    patches[p] = restrict(&piece.patch, r.map(|x| local(&piece.corners, x)));
+                    exact[p] = piece.exact;
                 }
             }
         }
@@ -395,11 +403,20 @@ fn uv_cage(uvs: &FaceUvs, cage: &Cage) -> Cage {
     out
 }
 
-/// Per cage face, the UV cage's patch of it and whether that patch is
-/// exact; `None` where the UV cage cannot be converted as it is (a face
-/// that is not a quad, or a topology the converter refuses), in which
-/// case the callers keep their stand-ins.
-fn uv_face_patches(uvs: &FaceUvs, cage: &Cage) -> Option<Vec<Option<(UvPatch, bool)>>> {
+/// A patch of the UV cage's conversion: where it lies in its cage face,
+/// its points, and whether it is exactly the face-varying limit.
+struct Piece {
+    corners: [[f32; 2]; 4],
+    patch: UvPatch,
+    exact: bool,
+}
+
+/// Per cage face, the pieces of the UV cage's conversion that lie in it:
+/// with `isolate` > 0 the patches of its refinement (where the UV cage
+/// needs it), then in any case its unrefined patch; `None` where the UV cage cannot be converted as it is
+/// (a face that is not a quad, or a topology the converter refuses), in
+/// which case the callers keep their stand-ins.
+fn uv_face_pieces(uvs: &FaceUvs, cage: &Cage, isolate: u32) -> Option<Vec<Vec<Piece>>> {
     if cage.faces.iter().any(|f| f.len() != 4) {
         return None;
     }
@@ -407,28 +424,106 @@ fn uv_face_patches(uvs: &FaceUvs, cage: &Cage) -> Option<Vec<Option<(UvPatch, bo
     let mut uvc = uv_cage(uvs, cage);
     let topo = Topology::build(&uvc, path).ok()?;
     sharpness::resolve(&mut uvc, &topo, BoundaryRule::EdgeAndCorner);
+    let mut out: Vec<Vec<Piece>> = (0..cage.faces.len()).map(|_| Vec::new()).collect();
+    let points = |p: &crate::patch::bezier::BezierPatch| p.pts.map(|q| [q.x, q.y]);
+    if isolate > 0 {
+        // The refinement's pieces first: a patch takes the first piece
+        // that covers it.
+        let conv = isolate::convert(&uvc, &topo, isolate, &[], path).ok()?;
+        for (patch, o) in conv.patches.iter().zip(&conv.origins) {
+            out[o.face].push(Piece {
+                corners: region(o),
+                patch: points(patch),
+                exact: o.rule.exact(),
+            });
+        }
+    }
+    // Then each face's unrefined patch, for a patch the refinement's
+    // pieces are smaller than (its part of the cage was not refined, the
+    // UV cage's was).
     let conv = acc::convert(&uvc, &topo, path).ok()?;
-    let mut out = vec![None; cage.faces.len()];
     for ((patch, &face), rule) in conv.patches.iter().zip(&conv.faces).zip(&conv.rules) {
-        out[face] = Some((patch.pts.map(|p| [p.x, p.y]), rule.exact()));
+        out[face].push(Piece {
+            corners: QUAD_UV,
+            patch: points(patch),
+            exact: rule.exact(),
+        });
     }
     Some(out)
 }
 
+/// Per cage face: its texture coordinates would be approximated without
+/// refinement (`corners-only` under edge-and-corner, next to a seam, where
+/// the UV cage's own patch of the face is not exact: an extraordinary
+/// vertex of the UV layout). Isolation refines the parts holding such
+/// faces, so their UV patches come out exact as their positions do.
+/// Empty where nothing is known to need it.
+pub fn inexact_faces(
+    uvs: &FaceUvs,
+    cage: &Cage,
+    rule: FvarRule,
+    boundary: BoundaryRule,
+) -> Vec<bool> {
+    if rule != FvarRule::CornersOnly || boundary != BoundaryRule::EdgeAndCorner {
+        return Vec::new();
+    }
+    let Some(pieces) = uv_face_pieces(uvs, cage, 0) else {
+        return Vec::new();
+    };
+    let alone = lone_quads(uvs, &cage.faces);
+    pieces
+        .iter()
+        .zip(alone)
+        .map(|(p, alone)| !alone && p.iter().any(|q| !q.exact))
+        .collect()
+}
+
+/// Whether the rectangle with corners `outer` holds the one with corners
+/// `inner` (both in one face's parameters).
+fn covers(outer: &[[f32; 2]; 4], inner: &[[f32; 2]; 4]) -> bool {
+    let range = |c: &[[f32; 2]; 4], a: usize| {
+        c.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| {
+            (lo.min(p[a]), hi.max(p[a]))
+        })
+    };
+    (0..2).all(|a| {
+        let ((olo, ohi), (ilo, ihi)) = (range(outer, a), range(inner, a));
+        olo <= ilo && ihi <= ohi
+    })
+}
+
+/// Face point `x` in the parameters of the rectangle whose corners (0,0),
+/// (1,0), (1,1), (0,1) lie at `c` (axis-aligned, any orientation).
+fn local(c: &[[f32; 2]; 4], x: [f32; 2]) -> [f32; 2] {
+    let d = [x[0] - c[0][0], x[1] - c[0][1]];
+    let along = |e: [f32; 2]| (d[0] * e[0] + d[1] * e[1]) / (e[0] * e[0] + e[1] * e[1]);
+    [
+        along([c[1][0] - c[0][0], c[1][1] - c[0][1]]),
+        along([c[3][0] - c[0][0], c[3][1] - c[0][1]]),
+    ]
+}
+
 /// `patch` restricted to the region of its parameter square whose corners
-/// (0,0), (1,0), (1,1), (0,1) lie at `corners` (an axis-aligned rectangle,
-/// its axes possibly swapped), by de Casteljau in f64.
+/// (0,0), (1,0), (1,1), (0,1) lie at `corners`: an axis-aligned rectangle
+/// in any of the square's eight orientations (a sub-quad of a refined face
+/// runs its u along the face's v, or backwards), by de Casteljau in f64.
+/// The rectangle's box is cut out first (rows along the patch's u), then
+/// the net is read in the region's orientation: a Bézier net under a
+/// symmetry of the square is the same points, reordered.
 fn restrict(patch: &UvPatch, corners: [[f32; 2]; 4]) -> UvPatch {
     let c = corners.map(|p| [f64::from(p[0]), f64::from(p[1])]);
-    // The rectangle's ranges and whether the patch's u runs along v.
-    let swapped = c[1][0] == c[0][0];
-    let (u0, u1) = (c[0][0], c[2][0]);
-    let (v0, v1) = (c[0][1], c[2][1]);
+    let range = |axis: usize| {
+        c.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+            (lo.min(p[axis]), hi.max(p[axis]))
+        })
+    };
+    let ((u0, u1), (v0, v1)) = (range(0), range(1));
     let net: Vec<[f64; 2]> = patch
         .iter()
         .map(|p| [f64::from(p[0]), f64::from(p[1])])
         .collect();
-    // Rows (along u) restricted to [u0, u1], then columns to [v0, v1].
+    // Rows (along u) restricted to [u0, u1], then columns to [v0, v1]:
+    // boxed[j][i], i along u.
     let mut rows = [[[0.0f64; 2]; 4]; 4];
     for (j, row) in rows.iter_mut().enumerate() {
         *row = segment(
@@ -437,15 +532,22 @@ fn restrict(patch: &UvPatch, corners: [[f32; 2]; 4]) -> UvPatch {
             u1,
         );
     }
-    let mut out = [[0.0f32; 2]; 16];
+    let mut boxed = [[[0.0f64; 2]; 4]; 4];
     for i in 0..4 {
         let col = segment(rows.map(|row| row[i]), v0, v1);
         for (j, p) in col.iter().enumerate() {
-            let k = if swapped { 4 * i + j } else { 4 * j + i };
-            out[k] = [p[0] as f32, p[1] as f32];
+            boxed[j][i] = *p;
         }
     }
-    out
+    // Output point (i, j) lies at c0 + i/3 (c1 - c0) + j/3 (c3 - c0):
+    // the box's grid point there.
+    let index = |x: f64, lo: f64, hi: f64| ((x - lo) / (hi - lo) * 3.0).round() as usize;
+    std::array::from_fn(|k| {
+        let (i, j) = ((k % 4) as f64 / 3.0, (k / 4) as f64 / 3.0);
+        let at = |a: usize| c[0][a] + i * (c[1][a] - c[0][a]) + j * (c[3][a] - c[0][a]);
+        let p = boxed[index(at(1), v0, v1)][index(at(0), u0, u1)];
+        [p[0] as f32, p[1] as f32]
+    })
 }
 
 /// The cubic `c` on [a, b] as a cubic on [0, 1] (de Casteljau: split at

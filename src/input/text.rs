@@ -16,3 +16,13 @@ pub fn read_text(path: &std::path::Path) -> Result<String, SceneError> {
         )
     })
 }
+
+/// The statements of OBJ text: each line that is not blank as its number
+/// (from 1, for errors), its keyword and the words after it.
+pub fn statements(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(i, line)| {
+        let mut words = line.split_whitespace();
+        let keyword = words.next()?;
+        Some((i + 1, keyword, words.collect()))
+    })
+}

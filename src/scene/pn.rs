@@ -182,7 +182,7 @@ pub fn parse(path: &Path, text: &str) -> Result<PnMesh, SceneError> {
     let mut positions: Vec<Vec3> = Vec::new();
     let mut file_normals: Vec<Vec3> = Vec::new();
     let mut faces: Vec<(usize, Vec<Corner>)> = Vec::new();
-    for (line_no, keyword, rest) in crate::cage::scan::statements(text) {
+    for (line_no, keyword, rest) in crate::input::text::statements(text) {
         let err = |msg: String| SceneError::at(path, line_no, msg);
         match keyword {
             "v" | "vn" => {
