@@ -250,7 +250,11 @@ pub fn uv_patches(uvs: &FaceUvs, cage: &Converted<'_>, rule: FvarRule) -> UvPatc
                     continue;
                 }
                 let r = region(o);
-                if let Some(piece) = pieces[o.face].iter().find(|q| covers(&q.corners, &r)) {
+                let sub = (cage.cage.faces[o.face].len() != 4).then_some(o.sub);
+                let found = pieces[o.face]
+                    .iter()
+                    .find(|q| q.sub == sub && covers(&q.corners, &r));
+                if let Some(piece) = found {
                     patches[p] = restrict(&piece.patch, r.map(|x| local(&piece.corners, x)));
                     exact[p] = piece.exact;
                 }
@@ -406,6 +410,9 @@ fn uv_cage(uvs: &FaceUvs, cage: &Cage) -> Cage {
 /// A patch of the UV cage's conversion: where it lies in its cage face,
 /// its points, and whether it is exactly the face-varying limit.
 struct Piece {
+    /// For a face that is not a quad, the sub-face the piece lies in
+    /// (its corners are in that sub-face's parameters).
+    sub: Option<usize>,
     corners: [[f32; 2]; 4],
     patch: UvPatch,
     exact: bool,
@@ -413,41 +420,45 @@ struct Piece {
 
 /// Per cage face, the pieces of the UV cage's conversion that lie in it:
 /// with `isolate` > 0 the patches of its refinement (where the UV cage
-/// needs it), then in any case its unrefined patch; `None` where the UV cage cannot be converted as it is
-/// (a face that is not a quad, or a topology the converter refuses), in
-/// which case the callers keep their stand-ins.
+/// needs it), for a cage with faces that are not quads those of its one
+/// refinement step, then for a cage of quads its unrefined patch; `None`
+/// where the converter refuses the UV cage's topology, in which case the
+/// callers keep their stand-ins.
 fn uv_face_pieces(uvs: &FaceUvs, cage: &Cage, isolate: u32) -> Option<Vec<Vec<Piece>>> {
-    if cage.faces.iter().any(|f| f.len() != 4) {
-        return None;
-    }
     let path = Path::new("texture coordinates");
     let mut uvc = uv_cage(uvs, cage);
     let topo = Topology::build(&uvc, path).ok()?;
     sharpness::resolve(&mut uvc, &topo, BoundaryRule::EdgeAndCorner);
     let mut out: Vec<Vec<Piece>> = (0..cage.faces.len()).map(|_| Vec::new()).collect();
     let points = |p: &crate::patch::bezier::BezierPatch| p.pts.map(|q| [q.x, q.y]);
-    if isolate > 0 {
-        // The refinement's pieces first: a patch takes the first piece
-        // that covers it.
+    let quads = cage.faces.iter().all(|f| f.len() == 4);
+    if isolate > 0 || !quads {
+        // The refinement's pieces (a cage with faces that are not quads
+        // is refined once, as the surface is): a patch takes the first
+        // piece that covers it.
         let conv = isolate::convert(&uvc, &topo, isolate, &[], path).ok()?;
         for (patch, o) in conv.patches.iter().zip(&conv.origins) {
             out[o.face].push(Piece {
+                sub: (cage.faces[o.face].len() != 4).then_some(o.sub),
                 corners: region(o),
                 patch: points(patch),
                 exact: o.rule.exact(),
             });
         }
     }
-    // Then each face's unrefined patch, for a patch the refinement's
-    // pieces are smaller than (its part of the cage was not refined, the
-    // UV cage's was).
-    let conv = acc::convert(&uvc, &topo, path).ok()?;
-    for ((patch, &face), rule) in conv.patches.iter().zip(&conv.faces).zip(&conv.rules) {
-        out[face].push(Piece {
-            corners: QUAD_UV,
-            patch: points(patch),
-            exact: rule.exact(),
-        });
+    if quads {
+        // Then each face's unrefined patch, for a patch the refinement's
+        // pieces are smaller than (its part of the cage was not refined,
+        // the UV cage's was).
+        let conv = acc::convert(&uvc, &topo, path).ok()?;
+        for ((patch, &face), rule) in conv.patches.iter().zip(&conv.faces).zip(&conv.rules) {
+            out[face].push(Piece {
+                sub: None,
+                corners: QUAD_UV,
+                patch: points(patch),
+                exact: rule.exact(),
+            });
+        }
     }
     Some(out)
 }

@@ -101,7 +101,8 @@ done
 
 # Texture coordinates: OpenSubdiv's face-varying shapes, the scenes' cube,
 # torus and helmet (its faces' own UV squares) and a seam-free warped layout
-# (grid_uv), under both rules; each line ends with the UV limit
+# (grid_uv) and a sheet with a hexagon and triangles across a seam
+# (ngon_uv), under both rules; each line ends with the UV limit
 # (tests/osd_reference.rs, `uv_patches_follow_opensubdivs_face_varying_limit`).
 fvar_dir="$out/fvar"
 mkdir -p "$fvar_dir"
@@ -109,7 +110,7 @@ for model in tests/data/osd-fvar/catmark_fvar_bound0.obj tests/data/osd-fvar/cat
     tests/data/osd-fvar/catmark_fvar_bound2.obj tests/data/osd-fvar/catmark_fvar_bound3.obj \
     tests/data/osd-fvar/catmark_fvar_bound4.obj tests/data/osd-fvar/catmark_fvar_project0.obj \
     scenes/models/catmark_cube.obj scenes/models/catmark_torus.obj scenes/models/catmark_helmet.obj \
-    tests/data/cages/grid_uv.obj; do
+    tests/data/cages/grid_uv.obj tests/data/cages/ngon_uv.obj; do
     for rule in corners-only all; do
         run "$(basename "$model" .obj)_$rule" "$model" tag keep grid 0 "$fvar_dir" "$rule"
     done
