@@ -40,6 +40,11 @@ fn cell_color(i: u32, j: u32) -> [u8; 3] {
 
 /// The textured sheet scene, written to a scratch folder.
 fn sheet_scene() -> (Scene, SceneGeometry) {
+    sheet_scene_with("sheet.toml", "")
+}
+
+/// [`sheet_scene`] with `extra` model keys (a deformer), as `name`.
+fn sheet_scene_with(name: &str, extra: &str) -> (Scene, SceneGeometry) {
     let dir = common::output_dir("textures");
     let side = CELLS * CELL_TEXELS;
     let map = image::RgbImage::from_fn(side, side, |x, y| {
@@ -60,6 +65,7 @@ name = "sheet"
 file = "{}"
 texture = "cells.png"
 two_sided = true
+{extra}
 [[model.instance]]
 translate = [-1.05, 0.0, 0.0]
 [[model.instance]]
@@ -68,7 +74,7 @@ translate = [1.05, 0.0, 0.0]
 "#,
         model.display()
     );
-    let path = dir.join("sheet.toml");
+    let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     let scene = Scene::load(&path).unwrap();
     let geo = scene.geometry().unwrap();
@@ -103,6 +109,17 @@ fn check_textured(
     cells: bool,
 ) -> Seen {
     let mut r = common::renderer(gpu, geo, method, SIZE, MethodOptions::new(draw));
+    check_drawn(&mut r, camera, geo, &format!("{method} ({draw:?})"), cells)
+}
+
+/// [`check_textured`] with a renderer made by the caller (`label` names it).
+fn check_drawn(
+    r: &mut bezier_subdiv::renderer::Renderer,
+    camera: &bezier_subdiv::scene::camera::Camera,
+    geo: &SceneGeometry,
+    label: &str,
+    cells: bool,
+) -> Seen {
     r.set_background([1.0; 4]);
     let mut image = |shade: u32| {
         r.render(&View::new(camera, SIZE, 1.0, 0.5, shade)).unwrap();
@@ -175,11 +192,11 @@ fn check_textured(
         }
     }
     println!(
-        "{method} ({draw:?}): UVs {uv_wrong} of {} pixels off, map {map_wrong} of {} off ({} pixels of a mirrored instance)",
+        "{label}: UVs {uv_wrong} of {} pixels off, map {map_wrong} of {} off ({} pixels of a mirrored instance)",
         seen.uv, seen.map, seen.mirrored
     );
-    assert_eq!(uv_wrong, 0, "{method} ({draw:?}): texture coordinates");
-    assert_eq!(map_wrong, 0, "{method} ({draw:?}): albedo");
+    assert_eq!(uv_wrong, 0, "{label}: texture coordinates");
+    assert_eq!(map_wrong, 0, "{label}: albedo");
     seen
 }
 
@@ -211,6 +228,51 @@ fn every_method_samples_the_map_at_the_surfaces_uvs() {
             "{method}: the mirrored instance must be in view"
         );
     }
+    gpu.finish();
+}
+
+/// An animated cage keeps its texture coordinates: the sheet twisted by a
+/// deformer (the GPU's update pass moves its patches) is still mapped by
+/// its UV patches, pixel by pixel, and the frame did move.
+#[test]
+fn a_deformed_cage_keeps_its_uvs() {
+    let gpu = common::gpu();
+    let twist = "[[model.deform]]\nkind = \"twist\"\naxis = \"y\"\ncenter = [0.5, 0.5, 0.0]\nangle_deg = [[0.0, 0.0], [2.0, 80.0]]\nlength = 1.0";
+    let (scene, _) = sheet_scene_with("twisted.toml", twist);
+    let loaded = scene.load_animated().unwrap();
+    assert!(loaded.animation.is_some(), "the sheet must move");
+    let camera = scene.frame_camera(0).unwrap();
+    let options = bezier_subdiv::renderer::RendererOptions {
+        size: SIZE,
+        background: [1.0; 4],
+        frames_in_flight: 2,
+        methods: MethodOptions::new(DrawPath::Mesh),
+    };
+    let mut r = bezier_subdiv::renderer::Renderer::new(
+        gpu.arc(),
+        &loaded.geometry,
+        &loaded.shading,
+        "subdiv",
+        options,
+    )
+    .unwrap();
+    r.set_animation(loaded.animation.clone()).unwrap();
+    r.set_time(0.0);
+    r.render(&View::new(&camera, SIZE, 1.0, 0.5, SHADE_PATCH_ID))
+        .unwrap();
+    let rest = r.read_image().unwrap();
+    r.set_time(1.0);
+    let seen = check_drawn(&mut r, &camera, &loaded.geometry, "twisted sheet", true);
+    assert!(
+        seen.uv > 5_000 && seen.map > 1_000,
+        "too few pixels checked"
+    );
+    r.render(&View::new(&camera, SIZE, 1.0, 0.5, SHADE_PATCH_ID))
+        .unwrap();
+    assert!(
+        r.read_image().unwrap() != rest,
+        "the twist must move the sheet"
+    );
     gpu.finish();
 }
 
