@@ -151,18 +151,25 @@ fn header_table_matches(name: &str, total: &str) {
     );
 }
 
+/// Runs `tools/<tool>/make.py` into a fresh scratch folder, which it returns.
+fn run_make(tool: &str) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!("bezier-subdiv-{tool}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    let run = std::process::Command::new("python3")
+        .arg(root.join(format!("tools/{tool}/make.py")))
+        .arg(&out)
+        .output()
+        .unwrap_or_else(|e| panic!("python3 runs tools/{tool}/make.py: {e}"));
+    common::cli::assert_success(&run, "");
+    out
+}
+
 /// The herd is what `tools/herd/make.py` writes.
 #[test]
 fn the_herd_is_what_its_script_writes() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = std::env::temp_dir().join(format!("bezier-subdiv-herd-{}", std::process::id()));
-    std::fs::create_dir_all(&out).unwrap();
-    let run = std::process::Command::new("python3")
-        .arg(root.join("tools/herd/make.py"))
-        .arg(&out)
-        .output()
-        .expect("python3 runs tools/herd/make.py");
-    common::cli::assert_success(&run, "");
+    let out = run_make("herd");
     assert!(
         std::fs::read(out.join("herd.toml")).unwrap()
             == std::fs::read(scenes_dir().join("herd.toml")).unwrap(),
@@ -175,15 +182,7 @@ fn the_herd_is_what_its_script_writes() {
 /// writes: the script, not the files, is what gets edited.
 #[test]
 fn the_kitchen_is_what_its_script_writes() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = std::env::temp_dir().join(format!("bezier-subdiv-kitchen-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
-    let run = std::process::Command::new("python3")
-        .arg(root.join("tools/kitchen/make.py"))
-        .arg(&out)
-        .output()
-        .expect("python3 runs tools/kitchen/make.py");
-    common::cli::assert_success(&run, "");
+    let out = run_make("kitchen");
     let mut written = vec![out.join("kitchen.toml")];
     for e in std::fs::read_dir(out.join("models")).unwrap() {
         written.push(e.unwrap().path());
@@ -275,15 +274,7 @@ fn stats_writes_a_preview_and_refuses_a_bad_path_first() {
 /// between versions, the pixels may not).
 #[test]
 fn the_textures_are_what_their_script_writes() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = std::env::temp_dir().join(format!("bezier-subdiv-textures-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
-    let run = std::process::Command::new("python3")
-        .arg(root.join("tools/textures/make.py"))
-        .arg(&out)
-        .output()
-        .expect("python3 runs tools/textures/make.py");
-    common::cli::assert_success(&run, "");
+    let out = run_make("textures");
     let mut shipped: Vec<_> = std::fs::read_dir(scenes_dir().join("textures"))
         .unwrap()
         .map(|e| e.unwrap().file_name())
