@@ -442,7 +442,16 @@ impl Builder<'_> {
             patches_per_instance: model.patches.len(),
             instances: m.instances.len(),
             two_sided: m.two_sided,
-            warnings: model.warnings.clone(),
+            warnings: model
+                .warnings
+                .iter()
+                .cloned()
+                .chain(
+                    (m.texture.is_some() && m.surface == Surface::PnTriangles).then(|| {
+                        "texture ignored: PN triangles carry no texture coordinates".to_string()
+                    }),
+                )
+                .collect(),
         });
         Ok(())
     }
