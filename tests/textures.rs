@@ -512,3 +512,59 @@ fn every_method_draws_the_textured_scene_like_the_ground_truth() {
     }
     gpu.finish();
 }
+
+/// Where two patches share an edge and their UVs agree along it, they
+/// agree bit for bit (the UV patches' boundary control points are the
+/// same floats on both sides): what a crack-free displacement across
+/// patch edges will stand on (issue 40). Elsewhere the edge is a seam (of
+/// the cage's layout, or between two patches' parametric mappings).
+#[test]
+fn uv_patches_share_their_bits_along_shared_edges() {
+    use bezier_subdiv::scene::adjacency::edge_table;
+    let side = |k: usize| match k {
+        0 => [0, 4, 8, 12],
+        1 => [0, 1, 2, 3],
+        2 => [3, 7, 11, 15],
+        _ => [12, 13, 14, 15],
+    };
+    for name in ["textured.toml", "kitchen.toml"] {
+        let (_, geo) = common::scene(name);
+        let table = edge_table(&geo.patches, &[]);
+        let mut by_edge: std::collections::HashMap<u32, Vec<(usize, usize)>> = Default::default();
+        for (p, ids) in table.ids.iter().enumerate() {
+            for (k, id) in ids.iter().enumerate() {
+                by_edge.entry(*id).or_default().push((p, k));
+            }
+        }
+        // The UV control points along side k of base patch p, and its
+        // first control point (to find which way the neighbour runs).
+        let along = |(p, k): (usize, usize)| {
+            let (instance, m) = geo.instances.locate(p);
+            assert!(!instance.mirrored(), "{name}: no mirrored instance here");
+            let uv: Vec<[f32; 2]> = side(k)
+                .iter()
+                .map(|&i| geo.materials.uv_patches[m][i])
+                .collect();
+            (uv, geo.patches[p].pts[side(k)[0]])
+        };
+        let (mut bitwise, mut close, mut seams) = (0, 0, 0);
+        for sides in by_edge.values().filter(|s| s.len() == 2) {
+            let ((a, start_a), (mut b, start_b)) = (along(sides[0]), along(sides[1]));
+            if start_a != start_b {
+                b.reverse();
+            }
+            let near = a
+                .iter()
+                .zip(&b)
+                .all(|(x, y)| (x[0] - y[0]).abs() < 1e-5 && (x[1] - y[1]).abs() < 1e-5);
+            match (a == b, near) {
+                (true, _) => bitwise += 1,
+                (false, true) => close += 1,
+                (false, false) => seams += 1,
+            }
+        }
+        println!("{name}: shared edges {bitwise} bitwise equal in UV, {close} close but not bitwise, {seams} seams");
+        assert!(bitwise > 100, "{name}: {bitwise}");
+        assert_eq!(close, 0, "{name}: UVs equal in value but not in bits");
+    }
+}
