@@ -24,6 +24,13 @@ layout(std430, set = SET_SCENE, binding = BIND_TEXELS) readonly buffer Texels {
     uint texels[];
 };
 
+// curve2(), eval_patch2(): the patches' evaluation (bezier_template.glsl)
+// on (s, t) points, the operation order of the CPU twin
+// (`SceneGeometry::surface_uv`).
+#define BEZ_T vec2
+#define BEZ_FN(name) name##2
+#include "bezier_template.glsl"
+
 // Whether the scene has maps or UVs from a cage: false drops every read
 // below (the UVs are then the patch's own parameters).
 layout(constant_id = SPEC_SCENE_MATERIALS) const bool SCENE_MATERIALS = true;
@@ -41,19 +48,11 @@ vec2 surface_uv(uint id, vec2 uv) {
         return uv;
     }
     vec2 p = (t.flags & INSTANCE_MIRRORED) != 0u ? uv.yx : uv;
-    vec2 a = 1.0 - p;
-    vec4 bu = vec4(a.x * a.x * a.x, 3.0 * p.x * a.x * a.x, 3.0 * p.x * p.x * a.x, p.x * p.x * p.x);
-    vec4 bv = vec4(a.y * a.y * a.y, 3.0 * p.y * a.y * a.y, 3.0 * p.y * p.y * a.y, p.y * p.y * p.y);
-    vec2 s = vec2(0.0);
-    for (uint j = 0u; j < 4u; ++j) {
-        vec2 row = vec2(0.0);
-        for (uint i = 0u; i < 4u; ++i) {
-            uint k = o + 2u * (4u * j + i);
-            row += bu[i] * vec2(uv_patch_data[k], uv_patch_data[k + 1u]);
-        }
-        s += bv[j] * row;
+    vec2 P[16];
+    for (uint k = 0u; k < 16u; ++k) {
+        P[k] = vec2(uv_patch_data[o + 2u * k], uv_patch_data[o + 2u * k + 1u]);
     }
-    return s;
+    return eval_patch2(P, p.x, p.y);
 }
 
 // Model `model`'s material record (all zero: no map).

@@ -9,7 +9,7 @@ use glam::DMat4;
 use super::bpt;
 use super::desc::{ModelDesc, Scene, Surface};
 use super::instances::{Instance, InstanceTable};
-use super::material::{parametric_uv_patch, SceneMaterials};
+use super::material::{eval_uv_patch, parametric_uv_patch, SceneMaterials};
 use super::pn::{self, PnMesh, PnScene};
 use crate::cage::model::ImportedModel;
 use crate::cage::obj;
@@ -95,7 +95,7 @@ impl SceneGeometry {
         }
         let (t, k) = self.instances.locate(patch);
         let (u, v) = if t.mirrored() { (v, u) } else { (u, v) };
-        uv_patch_at(&self.materials.uv_patches[k], u, v)
+        eval_uv_patch(&self.materials.uv_patches[k], u, v)
     }
 
     /// The patches `range` of this geometry with their flags, weights and
@@ -542,29 +542,6 @@ fn add_model_patches(table: &mut InstanceTable, model: &ImportedModel, rational:
             table.weights.push(weights);
         }
     }
-}
-
-/// A UV patch at (u, v): Bernstein weights, each row in u, then the rows
-/// in v.
-fn uv_patch_at(p: &crate::cage::uv::UvPatch, u: f32, v: f32) -> [f32; 2] {
-    let basis = |t: f32| {
-        let a = 1.0 - t;
-        [a * a * a, 3.0 * t * a * a, 3.0 * t * t * a, t * t * t]
-    };
-    let (bu, bv) = (basis(u), basis(v));
-    let mut s = [0.0f32; 2];
-    for j in 0..4 {
-        let mut row = [0.0f32; 2];
-        for i in 0..4 {
-            for c in 0..2 {
-                row[c] += bu[i] * p[4 * j + i][c];
-            }
-        }
-        for c in 0..2 {
-            s[c] += bv[j] * row[c];
-        }
-    }
-    s
 }
 
 /// Appends `model`'s UV patches to `materials`, parallel to its model

@@ -10,11 +10,31 @@ use std::path::PathBuf;
 use super::texture::Texture;
 use crate::cage::uv::UvPatch;
 use crate::constants::MATERIAL_WORDS;
+use crate::patch::bezier::curve;
 
 /// The UV patch of a model without texture coordinates: the patch's own
 /// parameters, (u, v) at every point (control points i/3, j/3).
 pub fn parametric_uv_patch() -> UvPatch {
     std::array::from_fn(|k| [(k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0])
+}
+
+/// UV patch `p` at (u, v): rows at u, then the column at v, in the
+/// patches' own operation order (`patch::bezier::curve`; the shaders'
+/// `eval_patch2` is its twin).
+pub fn eval_uv_patch(p: &UvPatch, u: f32, v: f32) -> [f32; 2] {
+    let point = |k: usize| glam::Vec2::from(p[k]);
+    let rows: [glam::Vec2; 4] = std::array::from_fn(|j| {
+        curve(
+            u,
+            &[
+                point(4 * j),
+                point(4 * j + 1),
+                point(4 * j + 2),
+                point(4 * j + 3),
+            ],
+        )
+    });
+    curve(v, &rows).to_array()
 }
 
 /// A scene's UV patches and albedo maps.
@@ -125,25 +145,7 @@ mod tests {
     #[test]
     fn the_parametric_patch_is_the_identity_map() {
         let p = parametric_uv_patch();
-        let at = |u: f32, v: f32| {
-            let b = |t: f32| {
-                [
-                    (1.0 - t).powi(3),
-                    3.0 * t * (1.0 - t).powi(2),
-                    3.0 * t * t * (1.0 - t),
-                    t.powi(3),
-                ]
-            };
-            let (bu, bv) = (b(u), b(v));
-            let mut s = [0.0f32; 2];
-            for (k, q) in p.iter().enumerate() {
-                let w = bu[k % 4] * bv[k / 4];
-                s[0] += w * q[0];
-                s[1] += w * q[1];
-            }
-            s
-        };
-        let s = at(0.3, 0.8);
+        let s = eval_uv_patch(&p, 0.3, 0.8);
         assert!(
             (s[0] - 0.3).abs() < 1e-6 && (s[1] - 0.8).abs() < 1e-6,
             "{s:?}"
