@@ -43,6 +43,22 @@ pub fn tolerance2(p: Vec3, vp: &ViewParams) -> f32 {
     t * t
 }
 
+/// `t²` for a tolerance measured at world point `p` and reduced by `reach`
+/// (world units the drawn surface may move beyond what the control points
+/// say: a displaced node's height range), or -1 where nothing is left of it
+/// (no sample can then pass). With `reach` 0 it is [`tolerance2`] bit for
+/// bit.
+#[inline]
+pub fn tolerance2_within(p: Vec3, vp: &ViewParams, reach: f32) -> f32 {
+    let z = maxf(affine_row(vp.depth_row, p), vp.near);
+    let t = vp.eps_k * z - reach;
+    if t > 0.0 {
+        t * t
+    } else {
+        -1.0
+    }
+}
+
 /// The two sides of the line test for sample `s` against the line `a → b`,
 /// whose point at `s`'s parameter `t` is `a·(1-t) + b·t`: the sample is flat
 /// when `lhs <= rhs`. Returned (rather than only the verdict) so tests can
@@ -193,6 +209,13 @@ pub fn edge_flat(p: &[Vec3; 4], vp: &ViewParams) -> bool {
     edge_samples_flat(edge_samples(p), t2, vp)
 }
 
+/// [`edge_flat`] with the tolerance reduced by `reach` (a displaced edge's
+/// height range; see [`tolerance2_within`]).
+pub fn edge_flat_within(p: &[Vec3; 4], vp: &ViewParams, reach: f32) -> bool {
+    let t2 = tolerance2_within((p[0] + p[3]) * 0.5, vp, reach);
+    edge_samples_flat(edge_samples(p), t2, vp)
+}
+
 /// The edge tier's verdict on its two samples (polynomial or projected
 /// rational ones) at tolerance `t2`: both are evaluated, no short circuit,
 /// as on the GPU.
@@ -219,6 +242,21 @@ pub fn inner_flat(s: &BezierPatch, vp: &ViewParams) -> bool {
 pub fn inner_flat_of(q: [Vec3; 4], eval: impl Fn(f32, f32) -> Vec3, vp: &ViewParams) -> bool {
     let [q00, q10, q11, q01] = q;
     let t2 = tolerance2(((q00 + q11) + (q10 + q01)) * 0.25, vp);
+    inner_flat_at(q, eval, t2, vp)
+}
+
+/// [`inner_flat`] with the tolerance reduced by `reach` (a displaced
+/// node's height range; see [`tolerance2_within`]).
+pub fn inner_flat_within(s: &BezierPatch, vp: &ViewParams, reach: f32) -> bool {
+    let q = [s.at(0, 0), s.at(3, 0), s.at(3, 3), s.at(0, 3)];
+    let [q00, q10, q11, q01] = q;
+    let t2 = tolerance2_within(((q00 + q11) + (q10 + q01)) * 0.25, vp, reach);
+    inner_flat_at(q, |u, v| s.eval(u, v), t2, vp)
+}
+
+/// The inner tier's four samples at tolerance `t2`.
+fn inner_flat_at(q: [Vec3; 4], eval: impl Fn(f32, f32) -> Vec3, t2: f32, vp: &ViewParams) -> bool {
+    let [q00, q10, q11, q01] = q;
     let on_diagonal = |t: f32| q00 * (1.0 - t) + q11 * t;
     let centroid = |a: Vec3, b: Vec3, c: Vec3| (a * THIRD + b * THIRD) + c * THIRD;
     let d1 = inner_sample_flat(eval(THIRD, THIRD), on_diagonal(THIRD), &q, t2, vp);

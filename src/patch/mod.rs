@@ -5,6 +5,7 @@ pub mod bezier;
 pub mod blossom;
 pub mod criterion;
 pub mod cull;
+pub mod displace;
 #[cfg(test)]
 pub(crate) mod fixtures;
 pub mod homogeneous;

@@ -16,7 +16,7 @@ use glam::Vec3;
 
 use super::bezier::{BezierPatch, EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
 use super::blossom::reconstruct;
-use super::criterion::{edge_flat, inner_flat};
+use super::criterion::{edge_flat, edge_flat_within, inner_flat, inner_flat_within};
 use super::cull::{back_facing, outside_frustum, wedges_face_away, wedges_face_away_with};
 use super::homogeneous::{self, HomPatch};
 use super::ops::{max3, min3};
@@ -24,6 +24,7 @@ use super::quadnode::QuadNode;
 use super::rational::{RationalPatch, Weights};
 use super::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
 use super::wedge::{children, node_mesh, pending, resolve, wedge_pivots, NodeMesh, Split};
+use crate::scene::displacement::{Displaced, ModelDisplacement};
 
 /// Per-patch flag: the patch has weights; see [`process_rational`].
 pub use crate::constants::PATCH_RATIONAL;
@@ -146,6 +147,55 @@ pub fn process_any(
         }
         _ => process(base, flags, node, vp),
     }
+}
+
+/// Processes one node of base patch `g` of a displaced model (settings
+/// `m`): [`process`] with the criterion's tolerance reduced by the node's
+/// height range (its edges' from the edge owners, see
+/// `scene::displacement`), its box grown by the largest displacement, and
+/// no back-face test (a displaced surface can face the eye where its base
+/// patch does not).
+pub fn process_displaced(
+    dc: &Displaced<'_>,
+    g: usize,
+    m: &ModelDisplacement,
+    node: QuadNode,
+    vp: &ViewParams,
+) -> Outcome {
+    let base = &dc.geo.patches[g];
+    let (a, b, c, d) = node.domain();
+    let sub = reconstruct(base, a, b, c, d);
+    if vp.has(FLAG_FRUSTUM_CULL) {
+        let (lo, hi) = displaced_box(&sub, node, base, m);
+        if outside_frustum(lo, hi, vp) {
+            return Outcome::Culled;
+        }
+    }
+    let edge = |e| edge_flat_within(&sub.edge(e), vp, dc.edge_reach(g, m, node, e));
+    let inner = || inner_flat_within(&sub, vp, dc.inner_reach(g, m, node));
+    match split(node, vp, edge, inner) {
+        Some(kids) => Outcome::Split(kids),
+        None => Outcome::Ready,
+    }
+}
+
+/// The box of everything a displaced node and its descendants draw: its
+/// control points and wedge pivots, grown by the model's largest
+/// displacement (twin of the displaced branch of process_points).
+pub fn displaced_box(
+    sub: &BezierPatch,
+    node: QuadNode,
+    base: &BezierPatch,
+    m: &ModelDisplacement,
+) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = sub.bbox();
+    for (u, v) in wedge_pivots(node).into_iter().flatten() {
+        let p = base.eval(u, v);
+        lo = min3(lo, p);
+        hi = max3(hi, p);
+    }
+    let grow = Vec3::splat(m.margin());
+    (lo - grow, hi + grow)
 }
 
 /// The frustum test of a node whose control-point box is [lo, hi]. The
@@ -314,6 +364,23 @@ pub fn explain(
     }
 }
 
+/// [`explain`] for base patch `g` of a displaced model (settings `m`), as
+/// [`process_displaced`] reaches it.
+pub fn explain_displaced(
+    dc: &Displaced<'_>,
+    g: usize,
+    m: &ModelDisplacement,
+    node: QuadNode,
+    vp: &ViewParams,
+) -> Option<Verdict> {
+    let (a, b, c, d) = node.domain();
+    let sub = reconstruct(&dc.geo.patches[g], a, b, c, d);
+    let edge = |e| edge_flat_within(&sub.edge(e), vp, dc.edge_reach(g, m, node, e));
+    verdict(node, vp, edge, || {
+        inner_flat_within(&sub, vp, dc.inner_reach(g, m, node))
+    })
+}
+
 /// Counts gathered by one subdivision run.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SubdivStats {
@@ -356,6 +423,20 @@ pub fn subdivide_weighted(
     flags: &[u32],
     vp: &ViewParams,
 ) -> SubdivResult {
+    subdivide_range(patches, weights, flags, vp, 0, None)
+}
+
+/// [`subdivide_weighted`] on patches that are base patches `first..` of
+/// the displaced geometry `dc` (those of displaced models take
+/// [`process_displaced`]).
+fn subdivide_range(
+    patches: &[BezierPatch],
+    weights: &[Weights],
+    flags: &[u32],
+    vp: &ViewParams,
+    first: usize,
+    dc: Option<&Displaced<'_>>,
+) -> SubdivResult {
     assert_eq!(patches.len(), flags.len());
     assert!(weights.is_empty() || weights.len() == patches.len());
     let mut out = SubdivResult::default();
@@ -365,7 +446,12 @@ pub fn subdivide_weighted(
         stack.push(QuadNode::root(id as u32));
         while let Some(node) = stack.pop() {
             out.stats.nodes_processed += 1;
-            match process_any(base, weights.get(id), flags[id], node, vp) {
+            let g = first + id;
+            let outcome = match dc.and_then(|dc| Some((dc, dc.model_of(g)?))) {
+                Some((dc, m)) => process_displaced(dc, g, m, node, vp),
+                None => process_any(base, weights.get(id), flags[id], node, vp),
+            };
+            match outcome {
                 Outcome::Culled => out.stats.culled_patches += 1,
                 Outcome::BackFacing => out.stats.backface_culled += 1,
                 Outcome::Ready => {
@@ -403,9 +489,33 @@ pub fn subdivide_parallel_weighted(
     vp: &ViewParams,
     threads: usize,
 ) -> SubdivResult {
+    subdivide_parallel_in(patches, weights, flags, vp, threads, None)
+}
+
+/// [`subdivide_parallel_weighted`] on the whole of a displaced geometry.
+pub fn subdivide_displaced(dc: &Displaced<'_>, vp: &ViewParams, threads: usize) -> SubdivResult {
+    let geo = dc.geo;
+    subdivide_parallel_in(
+        &geo.patches,
+        &geo.weights,
+        &geo.flags,
+        vp,
+        threads,
+        Some(dc),
+    )
+}
+
+fn subdivide_parallel_in(
+    patches: &[BezierPatch],
+    weights: &[Weights],
+    flags: &[u32],
+    vp: &ViewParams,
+    threads: usize,
+    dc: Option<&Displaced<'_>>,
+) -> SubdivResult {
     let threads = threads.clamp(1, 64);
     if threads == 1 || patches.len() < 64 {
-        return subdivide_weighted(patches, weights, flags, vp);
+        return subdivide_range(patches, weights, flags, vp, 0, dc);
     }
     // Small chunks handed out from a counter balance the uneven cost of
     // patches; results are stored by chunk index to keep the order.
@@ -427,7 +537,9 @@ pub fn subdivide_parallel_weighted(
                 } else {
                     &weights[range.clone()]
                 };
-                let mut r = subdivide_weighted(&patches[range.clone()], w, &flags[range], vp);
+                let first = range.start;
+                let mut r =
+                    subdivide_range(&patches[range.clone()], w, &flags[range], vp, first, dc);
                 for q in &mut r.ready {
                     *q = q.with_patch(q.patch() + (k * chunk) as u32);
                 }
@@ -535,6 +647,27 @@ impl Surfaces for WeightedPatches<'_> {
             Some(r) => node_positions_rational(&r, mesh),
             None => node_positions(&self.patches[k], mesh),
         }
+    }
+}
+
+impl Surfaces for Displaced<'_> {
+    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
+        let g = node.patch() as usize;
+        let Some(m) = self.model_of(g) else {
+            let geo = self.geo;
+            let w = WeightedPatches {
+                patches: &geo.patches,
+                weights: &geo.weights,
+                flags: &geo.flags,
+            };
+            return w.node_positions(node, mesh);
+        };
+        let base = &self.geo.patches[g];
+        let mut p = [Vec3::ZERO; 8];
+        for (i, &(u, v)) in mesh.uv.iter().enumerate().take(mesh.vertex_count) {
+            p[i] = base.eval(u, v) + self.offset(g, m, u, v);
+        }
+        p
     }
 }
 

@@ -71,6 +71,8 @@ pub struct ModelDesc {
     /// The albedo map the scene file names (`texture`), which takes the
     /// place of the one the model's material names.
     pub texture: Option<PathBuf>,
+    /// The height map that displaces the surface (`displacement`).
+    pub displacement: Option<crate::scene::displacement::DisplacementDesc>,
     /// Object → world transforms.
     pub instances: Vec<DMat4>,
     /// What moves: deformers, an OBJ sequence, keyed instances.

@@ -49,6 +49,10 @@
 //! texture = "textures/a.png"  # albedo map (PNG, sRGB), in place of the one
 //!                             # the OBJ's material (`map_Kd`) names; mapped
 //!                             # by the cage's UVs, else each patch's (u, v)
+//! displacement = { map = "textures/h.png", scale = 0.05, bias = 0.0 }
+//!                             # height map (PNG, grey, power-of-two sides):
+//!                             # the surface moves bias + scale·h along its
+//!                             # unit normal, h in [0, 1] (src/scene/displacement.rs)
 //! [[model.instance]]          # none given: one instance, identity
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_deg = [0.0, 0.0, 0.0]  # about x, then y, then z
@@ -74,6 +78,7 @@ use serde::Deserialize;
 
 use super::camera::Camera;
 use super::desc::{ModelAnim, ModelDesc, Scene, Surface, ViewDefaults};
+use super::displacement::DisplacementDesc;
 use super::orbit::Orbit;
 use crate::cage::obj::CageOptions;
 use crate::cage::sharpness::BoundaryRule;
@@ -124,10 +129,20 @@ struct ModelToml {
     #[serde(default)]
     surface: Surface,
     texture: Option<String>,
+    displacement: Option<DisplacementToml>,
     #[serde(default)]
     instance: Vec<InstanceToml>,
     #[serde(default)]
     deform: Vec<crate::scene::keys::DeformToml>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DisplacementToml {
+    map: String,
+    scale: f32,
+    #[serde(default)]
+    bias: f32,
 }
 
 #[derive(Deserialize)]
@@ -311,6 +326,8 @@ fn model_desc(
         .first()
         .cloned()
         .unwrap_or_else(|| dir.join(&m.file));
+    let displacement =
+        model_displacement(m, dir).map_err(|msg| invalid(format!("model '{name}': {msg}")))?;
     Ok(ModelDesc {
         name,
         file,
@@ -322,9 +339,32 @@ fn model_desc(
         },
         surface: m.surface,
         texture: m.texture.as_ref().map(|t| dir.join(t)),
+        displacement,
         instances,
         anim,
     })
+}
+
+/// The model's `displacement` table, checked: finite scale and bias, a
+/// surface that can carry it.
+fn model_displacement(m: &ModelToml, dir: &Path) -> Result<Option<DisplacementDesc>, String> {
+    let Some(d) = &m.displacement else {
+        return Ok(None);
+    };
+    if !d.scale.is_finite() || !d.bias.is_finite() {
+        return Err(format!(
+            "displacement scale {} and bias {} must be finite",
+            d.scale, d.bias
+        ));
+    }
+    if m.surface == Surface::PnTriangles {
+        return Err("displacement needs a patch surface, not PN triangles".to_string());
+    }
+    Ok(Some(DisplacementDesc {
+        map: dir.join(&d.map),
+        scale: d.scale,
+        bias: d.bias,
+    }))
 }
 
 /// The model's deformers, sequence and instance keys, checked; an error is

@@ -8,6 +8,7 @@ use glam::DMat4;
 
 use super::bpt;
 use super::desc::{ModelDesc, Scene, Surface};
+use super::displacement::{ModelDisplacement, SceneDisplacement};
 use super::instances::{Instance, InstanceTable};
 use super::material::{eval_uv_patch, parametric_uv_patch, SceneMaterials};
 use super::pn::{self, PnMesh, PnScene};
@@ -65,6 +66,9 @@ pub struct SceneGeometry {
     /// UV patches parallel to `instances.patches` and the models' albedo
     /// maps (empty for a geometry made by hand).
     pub materials: SceneMaterials,
+    /// The displaced models' maps and the owner records (empty when no
+    /// model is displaced).
+    pub displacement: SceneDisplacement,
 }
 
 impl SceneGeometry {
@@ -114,6 +118,7 @@ impl SceneGeometry {
             pn: PnScene::default(),
             instances: InstanceTable::default(),
             materials: SceneMaterials::default(),
+            displacement: SceneDisplacement::default(),
         };
         if !geo.is_rational() {
             geo.weights.clear();
@@ -276,6 +281,13 @@ impl Scene {
         } = builder;
         self.check_pn_triangles(&geo)?;
         geo.pn.number_edges();
+        let SceneGeometry {
+            instances,
+            materials,
+            displacement,
+            ..
+        } = &mut geo;
+        displacement.finish(instances, &materials.uv_patches);
         Ok((geo, shading, cache))
     }
 
@@ -436,6 +448,28 @@ impl Builder<'_> {
             _ => None,
         };
         self.geo.materials.model_texture.push(texture);
+        let displacement = match &m.displacement {
+            Some(d) => {
+                if model.weights.iter().any(|w| !is_polynomial(w)) {
+                    return Err(self.scene.model_error(
+                        m,
+                        "displacement needs polynomial patches; this model has weights".into(),
+                    ));
+                }
+                let map = self
+                    .geo
+                    .displacement
+                    .map_index(&d.map)
+                    .map_err(|e| self.scene.model_error(m, e.to_string()))?;
+                Some(ModelDisplacement {
+                    map,
+                    scale: d.scale,
+                    bias: d.bias,
+                })
+            }
+            None => None,
+        };
+        self.geo.displacement.models.push(displacement);
         self.geo.models.push(ModelSummary {
             name: m.name.clone(),
             file: m.file.clone(),

@@ -1,0 +1,472 @@
+//! Displaced models (issue 40): per scene model a height map, a scale and a
+//! bias (the scene's `displacement` key), and per model patch where each of
+//! its edges and corners takes its displacement from.
+//!
+//! Why the latter: a displaced vertex is `P + n̂·d`, and two patches sharing
+//! an edge share `P` there bit for bit (invariant 4) but not `n̂` or the
+//! texture coordinates: the normal comes from each side's own cross-boundary
+//! derivative, and at a UV seam the coordinates differ outright. So every
+//! point on a shared edge is displaced by one **owner** of that edge, the
+//! side with the least (patch, edge), at the owner's own parameters; every
+//! shared corner by the owner of the corner point; a collapsed edge (a pole)
+//! by its corner's owner, since it is one point. Both sides then evaluate
+//! the same function on the same inputs. The edge tier of the criterion
+//! bounds an edge's displacement from the owner's texture coordinates too,
+//! so both sides still decide a shared edge identically.
+//!
+//! Records are in model-patch terms (u, v as the model has them) and shared
+//! by every instance; a mirrored instance swaps u and v on the way in and
+//! out (`glsl/common/displace.glsl` is the shaders' twin).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use crate::input::error::SceneError;
+use crate::patch::bezier::{BezierPatch, EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
+use crate::patch::displace::{unit_normal, uv_box, uv_curvature, HeightMap};
+use crate::patch::quadnode::QuadNode;
+use crate::scene::geometry::SceneGeometry;
+use crate::scene::instances::InstanceTable;
+
+/// Owner records per model patch: 4 edges (`EDGE_*`), then 4 corners
+/// ((0,0), (1,0), (1,1), (0,1)).
+pub const OWNER_WORDS: usize = 8;
+/// In an owner word: the owner's edge or corner (low 2 bits).
+pub const OWNER_INDEX_MASK: u32 = 3;
+/// In an edge's owner word: the owner runs the edge the other way.
+pub const OWNER_REVERSED: u32 = 4;
+/// In an edge's owner word: the edge is one point (all four control points
+/// equal); its points take the corner's owner.
+pub const OWNER_COLLAPSED: u32 = 8;
+/// The owner's model patch is the word shifted down by this.
+pub const OWNER_PATCH_SHIFT: u32 = 4;
+/// The largest height map side accepted.
+pub const MAX_HEIGHT_MAP_SIDE: u32 = 8192;
+
+/// A model's displacement as the scene file gives it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DisplacementDesc {
+    /// The height map (PNG, power-of-two sides; grey, or the luma of colour).
+    pub map: PathBuf,
+    /// World units per unit of height.
+    pub scale: f32,
+    /// World units added to every height's displacement.
+    pub bias: f32,
+}
+
+/// One scene model's displacement, resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelDisplacement {
+    /// Index into [`SceneDisplacement::maps`].
+    pub map: usize,
+    /// See [`DisplacementDesc`].
+    pub scale: f32,
+    /// See [`DisplacementDesc`].
+    pub bias: f32,
+}
+
+impl ModelDisplacement {
+    /// Displacement of height `h`: `bias + scale·h`.
+    #[inline]
+    pub fn at(&self, h: f32) -> f32 {
+        self.bias + self.scale * h
+    }
+
+    /// The world-space reach of a height variation: how far the displaced
+    /// surface may stray from what its corners span.
+    #[inline]
+    pub fn reach(&self, variation: f32) -> f32 {
+        variation * self.scale.abs()
+    }
+
+    /// The largest |displacement| any height gives (heights lie in [0, 1]),
+    /// a little enlarged: what a node's box grows by.
+    pub fn margin(&self) -> f32 {
+        let m = self.bias.abs().max((self.bias + self.scale).abs());
+        m * (1.0 + 1.0 / 1024.0)
+    }
+}
+
+/// Reads a height map: a PNG whose sides are powers of two, as 16-bit grey
+/// (colour is reduced to its luma), heights `grey / 65535`, rows flipped so
+/// t = 0 is the image's bottom row (as albedo maps are read).
+pub fn load_height_map(path: &Path) -> Result<HeightMap, SceneError> {
+    let bytes = std::fs::read(path).map_err(|cause| SceneError::Io {
+        path: path.to_path_buf(),
+        cause,
+    })?;
+    let invalid = |msg: String| SceneError::Invalid {
+        path: path.to_path_buf(),
+        msg,
+    };
+    let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+        .map_err(|e| invalid(format!("not a readable PNG height map: {e}")))?
+        .to_luma16();
+    let (w, h) = image.dimensions();
+    if !w.is_power_of_two() || !h.is_power_of_two() || w.max(h) > MAX_HEIGHT_MAP_SIDE {
+        return Err(invalid(format!(
+            "height map of {w}x{h} texels: its sides must be powers of two, at most \
+             {MAX_HEIGHT_MAP_SIDE} (so its min/max pyramid wraps exactly)"
+        )));
+    }
+    let mut heights = Vec::with_capacity((w * h) as usize);
+    for y in (0..h).rev() {
+        for x in 0..w {
+            heights.push(image.get_pixel(x, y).0[0] as f32 / 65535.0);
+        }
+    }
+    Ok(HeightMap::new(w, h, heights))
+}
+
+/// A scene's displacement: the maps, each model's settings and the owner
+/// records (empty when no model is displaced).
+#[derive(Clone, Debug, Default)]
+pub struct SceneDisplacement {
+    /// Each height map once, with the file it came from.
+    pub maps: Vec<(PathBuf, HeightMap)>,
+    /// Per scene model, in scene order.
+    pub models: Vec<Option<ModelDisplacement>>,
+    /// Per model patch (`InstanceTable::patches`): [`OWNER_WORDS`] words.
+    pub owners: Vec<[u32; OWNER_WORDS]>,
+    /// Per model patch: its UV patch's second-derivative bounds
+    /// ([`uv_curvature`]).
+    pub uv_curvature: Vec<[f32; 2]>,
+}
+
+impl SceneDisplacement {
+    /// Whether some model is displaced.
+    pub fn in_use(&self) -> bool {
+        self.models.iter().any(Option::is_some)
+    }
+
+    /// The index of the map read from `path`, loading it on first use.
+    pub fn map_index(&mut self, path: &Path) -> Result<usize, SceneError> {
+        if let Some(k) = self.maps.iter().position(|(p, _)| p == path) {
+            return Ok(k);
+        }
+        self.maps.push((path.to_path_buf(), load_height_map(path)?));
+        Ok(self.maps.len() - 1)
+    }
+
+    /// Fills the owner records and UV bounds for the table's model patches
+    /// (after every model is placed).
+    pub fn finish(&mut self, table: &InstanceTable, uv_patches: &[[[f32; 2]; 16]]) {
+        if !self.in_use() {
+            return;
+        }
+        self.owners = owners(table);
+        self.uv_curvature = uv_patches.iter().map(uv_curvature).collect();
+    }
+}
+
+/// The ranges of model patches that belong to one import (owners are never
+/// looked for across them).
+fn model_ranges(table: &InstanceTable) -> Vec<std::ops::Range<usize>> {
+    let mut ranges: Vec<_> = table
+        .instances
+        .iter()
+        .map(|t| t.source as usize..(t.source + t.count) as usize)
+        .collect();
+    ranges.sort_by_key(|r| (r.start, r.end));
+    ranges.dedup();
+    ranges
+}
+
+fn bits(p: Vec3) -> [u32; 3] {
+    p.to_array().map(f32::to_bits)
+}
+
+/// The corner points of a patch, in owner-record order.
+fn corners(p: &BezierPatch) -> [Vec3; 4] {
+    [p.at(0, 0), p.at(3, 0), p.at(3, 3), p.at(0, 3)]
+}
+
+/// Every model patch's owner records: per import, the least (patch, edge)
+/// holding an edge's control points (either way round) owns it, the least
+/// (patch, corner) holding a corner point owns it.
+pub fn owners(table: &InstanceTable) -> Vec<[u32; OWNER_WORDS]> {
+    let mut out = vec![[0u32; OWNER_WORDS]; table.patches.len()];
+    for range in model_ranges(table) {
+        let mut edge_owner: HashMap<[u32; 12], (usize, usize, bool)> = HashMap::new();
+        let mut corner_owner: HashMap<[u32; 3], (usize, usize)> = HashMap::new();
+        for k in range.clone() {
+            let p = &table.patches[k];
+            for e in 0..4 {
+                let (key, reversed) = edge_key(&p.edge(e));
+                edge_owner.entry(key).or_insert((k, e, reversed));
+            }
+            for (c, q) in corners(p).into_iter().enumerate() {
+                corner_owner.entry(bits(q)).or_insert((k, c));
+            }
+        }
+        for k in range {
+            let p = &table.patches[k];
+            for (e, word) in out[k][..4].iter_mut().enumerate() {
+                let c = p.edge(e);
+                let (key, reversed) = edge_key(&c);
+                let (o, oe, orev) = edge_owner[&key];
+                let collapsed = c.iter().all(|q| bits(*q) == bits(c[0]));
+                *word = (o as u32) << OWNER_PATCH_SHIFT
+                    | oe as u32
+                    | if reversed != orev { OWNER_REVERSED } else { 0 }
+                    | if collapsed { OWNER_COLLAPSED } else { 0 };
+            }
+            for (c, q) in corners(p).into_iter().enumerate() {
+                let (o, oc) = corner_owner[&bits(q)];
+                out[k][4 + c] = (o as u32) << OWNER_PATCH_SHIFT | oc as u32;
+            }
+        }
+    }
+    out
+}
+
+/// The key of a boundary curve (its control points' bits, in the lesser of
+/// its two directions) and whether that is the curve reversed.
+fn edge_key(c: &[Vec3; 4]) -> ([u32; 12], bool) {
+    let key = |pts: [Vec3; 4]| -> [u32; 12] {
+        let mut k = [0u32; 12];
+        for (i, p) in pts.iter().enumerate() {
+            k[3 * i..3 * i + 3].copy_from_slice(&bits(*p));
+        }
+        k
+    };
+    let fwd = key(*c);
+    let rev = key([c[3], c[2], c[1], c[0]]);
+    if rev < fwd {
+        (rev, true)
+    } else {
+        (fwd, false)
+    }
+}
+
+/// The parameter along edge `e`'s counter-clockwise direction of its point
+/// (u, v) (exact for the dyadic parameters nodes have).
+#[inline]
+pub fn edge_param(e: usize, u: f32, v: f32) -> f32 {
+    match e {
+        EDGE_BOTTOM => u,
+        EDGE_RIGHT => v,
+        EDGE_TOP => 1.0 - u,
+        _ => 1.0 - v,
+    }
+}
+
+/// The point of edge `e` at counter-clockwise parameter `s`.
+#[inline]
+pub fn edge_point(e: usize, s: f32) -> (f32, f32) {
+    match e {
+        EDGE_BOTTOM => (s, 0.0),
+        EDGE_RIGHT => (1.0, s),
+        EDGE_TOP => (1.0 - s, 1.0),
+        _ => (0.0, 1.0 - s),
+    }
+}
+
+/// Corner `c`'s parameters.
+#[inline]
+pub fn corner_point(c: usize) -> (f32, f32) {
+    [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][c]
+}
+
+/// The corner at (u, v), if it is one.
+#[inline]
+fn corner_at(u: f32, v: f32) -> Option<usize> {
+    match (u, v) {
+        (0.0, 0.0) => Some(0),
+        (1.0, 0.0) => Some(1),
+        (1.0, 1.0) => Some(2),
+        (0.0, 1.0) => Some(3),
+        _ => None,
+    }
+}
+
+/// The edge (u, v) lies on (not at a corner), if any.
+#[inline]
+fn edge_at(u: f32, v: f32) -> Option<usize> {
+    if v == 0.0 {
+        Some(EDGE_BOTTOM)
+    } else if u == 1.0 {
+        Some(EDGE_RIGHT)
+    } else if v == 1.0 {
+        Some(EDGE_TOP)
+    } else if u == 0.0 {
+        Some(EDGE_LEFT)
+    } else {
+        None
+    }
+}
+
+/// Where model patch `k`'s point (u, v) takes its displacement from: the
+/// owning model patch and the point's parameters there.
+pub fn owner_of(owners: &[[u32; OWNER_WORDS]], k: usize, u: f32, v: f32) -> (usize, f32, f32) {
+    let rec = &owners[k];
+    let corner = |c: usize| {
+        let w = rec[4 + c];
+        let (u, v) = corner_point((w & OWNER_INDEX_MASK) as usize);
+        ((w >> OWNER_PATCH_SHIFT) as usize, u, v)
+    };
+    if let Some(c) = corner_at(u, v) {
+        return corner(c);
+    }
+    let Some(e) = edge_at(u, v) else {
+        return (k, u, v);
+    };
+    let w = rec[e];
+    if w & OWNER_COLLAPSED != 0 {
+        return corner(e);
+    }
+    let s = edge_param(e, u, v);
+    let s = if w & OWNER_REVERSED != 0 { 1.0 - s } else { s };
+    let (u, v) = edge_point((w & OWNER_INDEX_MASK) as usize, s);
+    ((w >> OWNER_PATCH_SHIFT) as usize, u, v)
+}
+
+/// The displacement context of one geometry: what the oracle and the
+/// checks evaluate displaced positions and bounds with.
+#[derive(Clone, Copy)]
+pub struct Displaced<'a> {
+    /// The scene's geometry (world patches, instances, UV patches).
+    pub geo: &'a SceneGeometry,
+    /// Its displacement.
+    pub disp: &'a SceneDisplacement,
+}
+
+impl<'a> Displaced<'a> {
+    /// The context of `geo`, if some model of it is displaced.
+    pub fn of(geo: &'a SceneGeometry) -> Option<Self> {
+        geo.displacement.in_use().then_some(Self {
+            geo,
+            disp: &geo.displacement,
+        })
+    }
+
+    /// Base patch `g`'s displacement settings, if its model is displaced.
+    pub fn model_of(&self, g: usize) -> Option<&'a ModelDisplacement> {
+        let model = (self.geo.flags[g] >> crate::constants::PATCH_MODEL_SHIFT) as usize;
+        self.disp.models.get(model)?.as_ref()
+    }
+
+    /// The offset `n̂·d` of base patch `g`'s point (u, v), evaluated by its
+    /// owner (twin of `displacement_offset` in displace.glsl).
+    pub fn offset(&self, g: usize, m: &ModelDisplacement, u: f32, v: f32) -> Vec3 {
+        let (t, k) = self.geo.instances.locate(g);
+        let mirrored = t.mirrored();
+        let (um, vm) = if mirrored { (v, u) } else { (u, v) };
+        let (o, uo, vo) = owner_of(&self.disp.owners, k, um, vm);
+        let og = t.first as usize + (o - t.source as usize);
+        let (ub, vb) = if mirrored { (vo, uo) } else { (uo, vo) };
+        let n = unit_normal(&self.geo.patches[og], ub, vb);
+        let st = crate::patch::displace::uv_at(&self.geo.materials.uv_patches[o], uo, vo);
+        let h = self.disp.maps[m.map].1.sample(st[0], st[1]);
+        n * m.at(h)
+    }
+
+    /// Base patch `g`'s drawn point at (u, v): the surface point, displaced
+    /// when its model is.
+    pub fn point(&self, g: usize, u: f32, v: f32) -> Vec3 {
+        let p = self.geo.patches[g].eval(u, v);
+        match self.model_of(g) {
+            Some(m) => p + self.offset(g, m, u, v),
+            None => p,
+        }
+    }
+
+    /// How far the displacement over the domain `dom` of model patch `k`
+    /// may stray from the blend of its corners' (world units; see
+    /// [`HeightMap::variation`]).
+    fn reach_of_box(&self, m: &ModelDisplacement, k: usize, dom: [f32; 4]) -> f32 {
+        let uvp = &self.geo.materials.uv_patches[k];
+        let (lo, hi, grow) = uv_box(uvp, self.disp.uv_curvature[k], dom);
+        m.reach(self.disp.maps[m.map].1.variation(lo, hi, grow))
+    }
+
+    /// How far the displacement can vary along edge `e` of `node` (world
+    /// units): from the edge owner's texture coordinates where the edge lies
+    /// on the base patch's boundary, so both sides compute the same bits;
+    /// 0 on a collapsed edge (one point, displaced once).
+    pub fn edge_reach(&self, g: usize, m: &ModelDisplacement, node: QuadNode, e: usize) -> f32 {
+        let (inst, k) = self.geo.instances.locate(g);
+        let (a, b, c, d) = node.domain();
+        // The edge as a line of the base domain: (along u?, fixed, t0, t1).
+        let (along_u, fixed, t0, t1) = match e {
+            EDGE_BOTTOM => (true, c, a, b),
+            EDGE_TOP => (true, d, a, b),
+            EDGE_LEFT => (false, a, c, d),
+            _ => (false, b, c, d),
+        };
+        // A mirrored instance's base patch is the model patch with u and
+        // v swapped.
+        let along_u = along_u != inst.mirrored();
+        let (o, along_u, fixed, t0, t1) = self.owned_line(k, along_u, fixed, t0, t1);
+        if o == usize::MAX {
+            return 0.0;
+        }
+        let dom = if along_u {
+            [t0, t1, fixed, fixed]
+        } else {
+            [fixed, fixed, t0, t1]
+        };
+        self.reach_of_box(m, o, dom)
+    }
+
+    /// A line of model patch `k`'s domain (along u or v at `fixed`, from
+    /// `t0` to `t1`) in its owner's terms: the owner, the line there and
+    /// its ends in increasing order; `usize::MAX` for a collapsed edge.
+    fn owned_line(
+        &self,
+        k: usize,
+        along_u: bool,
+        fixed: f32,
+        t0: f32,
+        t1: f32,
+    ) -> (usize, bool, f32, f32, f32) {
+        let e = match (along_u, fixed) {
+            (true, 0.0) => EDGE_BOTTOM,
+            (true, 1.0) => EDGE_TOP,
+            (false, 0.0) => EDGE_LEFT,
+            (false, 1.0) => EDGE_RIGHT,
+            _ => return (k, along_u, fixed, t0, t1),
+        };
+        let w = self.disp.owners[k][e];
+        if w & OWNER_COLLAPSED != 0 {
+            return (usize::MAX, along_u, fixed, t0, t1);
+        }
+        let map = |t: f32| {
+            let (u, v) = if along_u { (t, fixed) } else { (fixed, t) };
+            let s = edge_param(e, u, v);
+            let s = if w & OWNER_REVERSED != 0 { 1.0 - s } else { s };
+            edge_point((w & OWNER_INDEX_MASK) as usize, s)
+        };
+        let (p0, p1) = (map(t0), map(t1));
+        let oe = (w & OWNER_INDEX_MASK) as usize;
+        let o_along_u = oe == EDGE_BOTTOM || oe == EDGE_TOP;
+        let (o_fixed, s0, s1) = if o_along_u {
+            (p0.1, p0.0, p1.0)
+        } else {
+            (p0.0, p0.1, p1.1)
+        };
+        let (lo, hi) = if s1 < s0 { (s1, s0) } else { (s0, s1) };
+        (
+            (w >> OWNER_PATCH_SHIFT) as usize,
+            o_along_u,
+            o_fixed,
+            lo,
+            hi,
+        )
+    }
+
+    /// How far the displacement can vary over `node` (world units): from
+    /// its own texture coordinates (the inner tier is the node's alone).
+    pub fn inner_reach(&self, g: usize, m: &ModelDisplacement, node: QuadNode) -> f32 {
+        let (t, k) = self.geo.instances.locate(g);
+        let (a, b, c, d) = node.domain();
+        let dom = if t.mirrored() {
+            [c, d, a, b]
+        } else {
+            [a, b, c, d]
+        };
+        self.reach_of_box(m, k, dom)
+    }
+}
