@@ -27,6 +27,7 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("anim.toml", 2_608, 1),
     ("kitchen-anim.toml", 35_940, 8),
     ("textured.toml", 199, 3),
+    ("displaced.toml", 506, 2),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),

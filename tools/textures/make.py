@@ -15,9 +15,17 @@ this file. Python's standard library only (zlib for the PNG stream).
   each cell's upper-left corner: where a map is stretched, mirrored or
   turned, the marks show it (scenes/textured.toml).
 
+- kitchen_floor_height.png (256 x 256, 16-bit grey): the floor's height
+  map at half the albedo's resolution, the same 4 x 4 tiles: grout at 0,
+  each tile a bevelled slab at 0.6-0.8 with a slight tilt and a fine grain
+  (displaced in scenes/displaced.toml and the kitchen's displaced frame).
+- bumps_height.png (128 x 128, 16-bit grey): smooth round bumps, 8 x 8 to
+  a repeat, for curved models (the teapot, the torus).
+
 Usage: tools/textures/make.py [OUT_DIR]   (default: scenes/textures beside tools/)
 """
 import colorsys
+import math
 import os
 import struct
 import sys
@@ -39,6 +47,28 @@ def write_png(path, width, height, pixel):
     png = b"\x89PNG\r\n\x1a\n"
     png += chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
     png += chunk(b"sRGB", b"\x00")
+    png += chunk(b"IDAT", zlib.compress(bytes(rows), 9))
+    png += chunk(b"IEND", b"")
+    tmp = path + ".tmp"
+    with open(tmp, "wb") as out:
+        out.write(png)
+    os.replace(tmp, path)
+
+
+def write_grey16_png(path, width, height, height_at):
+    """Writes `height_at(x, y) -> [0, 1]` (y = 0 the top row) as 16-bit grey PNG."""
+    rows = bytearray()
+    for y in range(height):
+        rows.append(0)
+        for x in range(width):
+            rows.extend(struct.pack(">H", int(round(max(0.0, min(1.0, height_at(x, y))) * 65535))))
+
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    png = b"\x89PNG\r\n\x1a\n"
+    png += chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 16, 0, 0, 0, 0))
     png += chunk(b"IDAT", zlib.compress(bytes(rows), 9))
     png += chunk(b"IEND", b"")
     tmp = path + ".tmp"
@@ -69,6 +99,31 @@ def floor_pixel(x, y):
     return bytes(int(max(0, min(255, c * (1 + shade) + grain))) for c in warm)
 
 
+def floor_height(x, y):
+    tile = 64
+    # Texel centres, in tile units from the tile's grout corner.
+    gx, gy = (x % tile) + 0.5, (y % tile) + 0.5
+    grout = 1.5
+    bevel = 3.0
+    edge = min(gx, gy, tile - gx + grout, tile - gy + grout) - grout
+    if edge <= 0:
+        return 0.02 + hash2(x, y, 11) * 0.02
+    tx, ty = x // tile, y // tile
+    top = 0.6 + hash2(tx, ty, 13) * 0.2
+    tilt = (hash2(tx, ty, 17) - 0.5) * 0.1 * (gx / tile) + (hash2(tx, ty, 19) - 0.5) * 0.1 * (gy / tile)
+    slab = top + tilt + (hash2(x // 2, y // 2, 23) - 0.5) * 0.03
+    ramp = min(1.0, edge / bevel)
+    return slab * (ramp * (2 - ramp))
+
+
+def bumps_height(x, y):
+    period = 16
+    fx = ((x + 0.5) % period) / period - 0.5
+    fy = ((y + 0.5) % period) / period - 0.5
+    r = math.sqrt(fx * fx + fy * fy) * 2.2
+    return 0.5 * (1 + math.cos(math.pi * min(1.0, r)))
+
+
 def grid_pixel(x, y):
     cell = 64
     i, j = x // cell, y // cell
@@ -90,6 +145,13 @@ def main():
     for name, pixel in (("kitchen_floor.png", floor_pixel), ("uv_grid.png", grid_pixel)):
         path = os.path.join(out, name)
         write_png(path, 512, 512, pixel)
+        print(f"wrote {path}")
+    for name, size, height_at in (
+        ("kitchen_floor_height.png", 256, floor_height),
+        ("bumps_height.png", 128, bumps_height),
+    ):
+        path = os.path.join(out, name)
+        write_grey16_png(path, size, size, height_at)
         print(f"wrote {path}")
 
 

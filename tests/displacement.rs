@@ -1,0 +1,295 @@
+//! Displaced surfaces on the CPU (issue 40): the oracle's displaced mesh of
+//! scenes/displaced.toml is watertight (every open edge lies on a model's
+//! own boundary) across UV seams, poles and a mirrored instance, with
+//! wedges, and shows cracks without them; shared edges are displaced to
+//! the same bits from both sides; a constant map draws what the undisplaced
+//! surface draws, offset.
+
+mod common;
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use bezier_subdiv::patch::bezier::BezierPatch;
+use bezier_subdiv::patch::oracle::{
+    subdivide_displaced, subdivide_parallel, triangulate, triangulate_surfaces, Triangle,
+};
+use bezier_subdiv::patch::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
+use bezier_subdiv::scene::desc::Scene;
+use bezier_subdiv::scene::displacement::{edge_point, Displaced};
+use bezier_subdiv::scene::geometry::SceneGeometry;
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+fn displaced_scene() -> (Scene, SceneGeometry) {
+    let scene = Scene::load(&scene_path("displaced.toml")).unwrap();
+    let geo = scene.geometry().unwrap();
+    (scene, geo)
+}
+
+fn curve_bits(c: &[Vec3; 4]) -> [[u32; 3]; 4] {
+    c.map(|p| p.to_array().map(f32::to_bits))
+}
+
+/// (patch, edge) sides that another side shares (collapsed edges aside).
+fn shared_sides(patches: &[BezierPatch]) -> HashSet<(u32, usize)> {
+    let mut out = HashSet::new();
+    for se in common::edges::shared_edges(patches.len(), |k, e| {
+        let c = patches[k].edge(e);
+        if c.iter().all(|q| *q == c[0]) {
+            return None;
+        }
+        Some((curve_bits(&c), curve_bits(&[c[3], c[2], c[1], c[0]])))
+    }) {
+        out.insert(se.a);
+        out.insert(se.b);
+    }
+    out
+}
+
+/// Open edges of `tris` that do not lie on an unshared side of a base
+/// patch: cracks.
+fn cracks(patches: &[BezierPatch], tris: &[Triangle]) -> usize {
+    let shared = shared_sides(patches);
+    let on_model_boundary = |t: &Triangle, i: usize, j: usize| {
+        let (a, b) = (t.uv[i], t.uv[j]);
+        let sides = [
+            a.1 == 0.0 && b.1 == 0.0,
+            a.0 == 1.0 && b.0 == 1.0,
+            a.1 == 1.0 && b.1 == 1.0,
+            a.0 == 0.0 && b.0 == 0.0,
+        ];
+        (0..4).any(|e| sides[e] && !shared.contains(&(t.node.patch(), e)))
+    };
+    common::edges::unmatched_edges(tris, on_model_boundary).len()
+}
+
+/// Frame 0 of the scene and a view of it all from afar, each with `iso`
+/// and `aniso` splits; no culling (every edge is checked).
+fn views(scene: &Scene, geo: &SceneGeometry) -> Vec<ViewParams> {
+    let cams = [
+        scene.frame_camera(0).unwrap(),
+        common::cameras::around(&geo.patches)[0],
+    ];
+    let mut out = Vec::new();
+    for cam in cams {
+        for aniso in [false, true] {
+            let mut vp = cam.view_params(640, 360, 1.0, 0.5);
+            vp.flags &= !(FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL);
+            if aniso {
+                vp.flags |= FLAG_ANISO;
+            }
+            out.push(vp);
+        }
+    }
+    out
+}
+
+/// The displaced oracle mesh is closed wherever the base surface is, with
+/// wedges; without them it cracks (the test sees cracks), and the
+/// displacement does move the surface and refine it.
+#[test]
+fn displaced_meshes_are_watertight_across_seams_poles_and_mirrors() {
+    let (scene, geo) = displaced_scene();
+    let dc = Displaced::of(&geo).expect("displaced models");
+    for vp in views(&scene, &geo) {
+        let res = subdivide_displaced(&dc, &vp, 2);
+        let plain = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
+        let tris = triangulate_surfaces(&dc, &res.ready, true);
+        let open = cracks(&geo.patches, &tris);
+        let without = cracks(&geo.patches, &triangulate_surfaces(&dc, &res.ready, false));
+        let moved = {
+            let flat = triangulate(&geo.patches, &res.ready, true);
+            flat.iter().zip(&tris).filter(|(a, b)| a.v != b.v).count()
+        };
+        println!(
+            "aniso {}: {} ready nodes ({} undisplaced), {} triangles, {} moved, {} cracks, {} without wedges",
+            vp.has(FLAG_ANISO),
+            res.ready.len(),
+            plain.ready.len(),
+            tris.len(),
+            moved,
+            open,
+            without
+        );
+        assert_eq!(open, 0, "cracks in the displaced mesh");
+        assert!(without > 0, "without wedges the test must see cracks");
+        assert!(moved > tris.len() / 2, "the displacement moves the surface");
+        assert!(res.ready.len() > plain.ready.len(), "bumps need more nodes");
+    }
+}
+
+/// Every point of every shared edge (at the dyadic parameters nodes have,
+/// down to depth 6) is displaced to the same bits from both sides: across
+/// UV seams, where the two sides' texture coordinates differ, across the
+/// mirrored instance, and at poles. The checks see seams: some shared
+/// edges' UVs differ between the sides.
+#[test]
+fn shared_edges_are_displaced_identically_from_both_sides() {
+    let (_, geo) = displaced_scene();
+    let dc = Displaced::of(&geo).unwrap();
+    let patches = &geo.patches;
+    let shared = common::edges::shared_edges(patches.len(), |k, e| {
+        let c = patches[k].edge(e);
+        Some((curve_bits(&c), curve_bits(&[c[3], c[2], c[1], c[0]])))
+    });
+    let (mut points, mut seam_points, mut collapsed, mut moved) = (0u64, 0u64, 0u64, 0u64);
+    let along = |e: usize, s: f32| edge_point(e, s);
+    for se in &shared {
+        let ((pa, ea), (pb, eb)) = (se.a, se.b);
+        let (pa, pb) = (pa as usize, pb as usize);
+        if dc.model_of(pa).is_none() {
+            continue;
+        }
+        let pole = {
+            let c = patches[pa].edge(ea);
+            c.iter().all(|q| *q == c[0])
+        };
+        for k in 0..=64u32 {
+            let s = k as f32 / 64.0;
+            let sb = if se.reversed { 1.0 - s } else { s };
+            let (ua, va) = along(ea, s);
+            let (ub, vb) = along(eb, sb);
+            let (a, b) = (dc.point(pa, ua, va), dc.point(pb, ub, vb));
+            assert_eq!(
+                a.to_array().map(f32::to_bits),
+                b.to_array().map(f32::to_bits),
+                "patch {pa} edge {ea} and patch {pb} edge {eb} at {s}: {a} vs {b}"
+            );
+            moved += (a != patches[pa].eval(ua, va)) as u64;
+            points += 1;
+            seam_points += (geo.surface_uv(pa, ua, va) != geo.surface_uv(pb, ub, vb)) as u64;
+            collapsed += pole as u64;
+        }
+    }
+    println!(
+        "{points} edge points ({moved} moved), {seam_points} on UV seams, {collapsed} on poles"
+    );
+    assert!(
+        seam_points > 1000 && collapsed > 100,
+        "the scene must have seams and poles"
+    );
+    assert!(moved > points / 2, "the edges must be displaced");
+}
+
+/// Writes a 16-bit grey PNG of `w × h` heights `h(x, y)`.
+fn write_height_map(path: &Path, w: u32, h: u32, f: impl Fn(u32, u32) -> u16) {
+    let img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(w, h, |x, y| {
+        image::Luma([f(x, y)])
+    });
+    img.save(path).unwrap();
+}
+
+/// A scene of the teapot, the torus (seams) and the pillow, displaced by
+/// `map` (or not), in a temporary directory.
+fn small_scene(dir: &Path, displacement: Option<&str>) -> (Scene, SceneGeometry) {
+    let models = scene_path("models");
+    let disp = displacement
+        .map(|d| format!("displacement = {{ map = \"{d}\", scale = 0.1, bias = 0.02 }}\n"))
+        .unwrap_or_default();
+    let text = format!(
+        "[camera]\nposition = [4.0, -9.0, 5.0]\ntarget = [1.0, 0.0, 0.5]\n\
+         [[model]]\nfile = \"{m}/teapot.bpt\"\n{disp}\
+         [[model]]\nfile = \"{m}/catmark_torus.obj\"\n{disp}[[model.instance]]\ntranslate = [4.0, 0.0, 0.5]\n\
+         [[model]]\nfile = \"{m}/pillow.bpt\"\ntwo_sided = true\n{disp}[[model.instance]]\ntranslate = [-3.0, 2.0, 0.5]\n",
+        m = models.display()
+    );
+    let path = dir.join(format!("scene_{}.toml", displacement.is_some()));
+    std::fs::write(&path, text).unwrap();
+    let scene = Scene::load(&path).unwrap();
+    let geo = scene.geometry().unwrap();
+    (scene, geo)
+}
+
+/// A constant map costs no nodes: the ready set is the undisplaced one
+/// node for node, and every vertex moves by the constant along its normal.
+#[test]
+fn a_constant_map_draws_the_undisplaced_nodes_offset() {
+    let dir = common::output_dir("displacement_constant");
+    write_height_map(&dir.join("flat.png"), 16, 8, |_, _| 32768);
+    let (scene, plain) = small_scene(&dir, None);
+    let (_, geo) = small_scene(&dir, Some("flat.png"));
+    let dc = Displaced::of(&geo).unwrap();
+    let h = 32768.0f32 / 65535.0;
+    let d = 0.02 + 0.1 * h;
+    let mut vp = scene
+        .frame_camera(0)
+        .unwrap()
+        .view_params(640, 360, 1.0, 0.5);
+    vp.flags &= !(FLAG_FRUSTUM_CULL | FLAG_BACKFACE_CULL);
+    for aniso in [false, true] {
+        if aniso {
+            vp.flags |= FLAG_ANISO;
+        }
+        let want = subdivide_parallel(&plain.patches, &plain.flags, &vp, 2);
+        let got = subdivide_displaced(&dc, &vp, 2);
+        assert_eq!(got.ready, want.ready, "aniso {aniso}");
+        let moved = triangulate_surfaces(&dc, &got.ready, true);
+        let base = triangulate(&geo.patches, &got.ready, true);
+        let mut worst = 0.0f32;
+        for (a, b) in moved.iter().zip(&base) {
+            for k in 0..3 {
+                worst = worst.max(((a.v[k] - b.v[k]).length() - d).abs());
+            }
+        }
+        assert!(worst < 1e-5, "offsets differ from {d} by up to {worst}");
+        println!(
+            "aniso {aniso}: {} nodes as undisplaced, offsets within {worst:e}",
+            got.ready.len()
+        );
+    }
+}
+
+/// Bad displacement input is an error naming the model and what is wrong,
+/// never a panic: a missing map, a map whose sides are not powers of two,
+/// not a PNG, a scale that is not finite, PN triangles.
+#[test]
+fn bad_displacement_input_is_a_clear_error() {
+    let dir = common::output_dir("displacement_bad");
+    write_height_map(&dir.join("odd.png"), 12, 8, |x, _| (x * 1000) as u16);
+    std::fs::write(dir.join("text.png"), "not a png").unwrap();
+    let teapot = scene_path("models/teapot.bpt");
+    let load = |disp: &str, surface: &str| {
+        let text = format!(
+            "[camera]\nposition = [4.0, -9.0, 5.0]\ntarget = [0.0, 0.0, 0.5]\n\
+             [[model]]\nname = \"pot\"\nfile = \"{}\"\n{surface}displacement = {disp}\n",
+            teapot.display()
+        );
+        let path = dir.join("bad.toml");
+        std::fs::write(&path, text).unwrap();
+        Scene::load(&path)
+            .and_then(|s| s.geometry().map(|_| ()))
+            .unwrap_err()
+            .to_string()
+    };
+    let cases = [
+        (r#"{ map = "missing.png", scale = 0.1 }"#, "", "missing.png"),
+        (r#"{ map = "odd.png", scale = 0.1 }"#, "", "powers of two"),
+        (
+            r#"{ map = "text.png", scale = 0.1 }"#,
+            "",
+            "not a readable PNG",
+        ),
+        (r#"{ map = "odd.png", scale = nan }"#, "", "must be finite"),
+        (r#"{ map = "odd.png" }"#, "", "scale"),
+        (
+            r#"{ map = "odd.png", scale = 0.1 }"#,
+            "surface = \"pn-triangles\"\n",
+            "PN triangles",
+        ),
+    ];
+    for (disp, surface, want) in cases {
+        let err = load(disp, surface);
+        assert!(err.contains(want), "{disp}: {err}");
+        assert!(
+            err.contains("pot") || err.contains("bad.toml"),
+            "{disp}: {err}"
+        );
+    }
+}
