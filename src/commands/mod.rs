@@ -197,6 +197,26 @@ pub fn print_notice(message: &str) {
     eprintln!("{message}");
 }
 
+/// Tells a user of a GPU command which of the scene's models it draws
+/// without their displacement: so far only the CPU reference (`stats`)
+/// displaces surfaces (issue 40).
+pub fn note_undisplaced(geo: &crate::scene::geometry::SceneGeometry) {
+    let names: Vec<&str> = geo
+        .models
+        .iter()
+        .zip(&geo.displacement.models)
+        .filter(|(_, d)| d.is_some())
+        .map(|(m, _)| m.name.as_str())
+        .collect();
+    if !names.is_empty() {
+        eprintln!(
+            "note: displaced models ({}) are drawn undisplaced: only `stats` (the CPU reference) \
+             displaces surfaces so far",
+            names.join(", ")
+        );
+    }
+}
+
 /// Keyframe `k` of `scene` (read from `path`), or an error naming the
 /// frames there are.
 pub fn keyframe(scene: &Scene, path: &Path, k: usize) -> anyhow::Result<Camera> {

@@ -155,6 +155,7 @@ fn render_to(
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     args.gpu.seconds(loaded.animation.as_ref())?;
+    super::note_undisplaced(&loaded.geometry);
 
     let ctx = args.gpu.context()?;
     let mut renderer = args.gpu.renderer(&ctx, &loaded.geometry, &loaded.shading)?;

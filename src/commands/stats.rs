@@ -10,12 +10,14 @@ use super::{keyframe, ViewRequest};
 use crate::constants::PATCH_MODEL_SHIFT;
 use crate::figures::thousands;
 use crate::patch::oracle::{
-    explain, process_any, subdivide_parallel_weighted, triangle_counts, triangulate_surfaces,
-    Outcome, SplitCause, WeightedPatches,
+    explain, explain_displaced, process_any, process_displaced, subdivide_displaced,
+    subdivide_parallel_weighted, triangle_counts, triangulate_surfaces, Outcome, SplitCause,
+    WeightedPatches,
 };
 use crate::patch::quadnode::QuadNode;
 use crate::patch::view::{ViewParams, FLAGS_DEFAULT, FLAG_WEDGES};
 use crate::scene::desc::Scene;
+use crate::scene::displacement::Displaced;
 use crate::scene::geometry::SceneGeometry;
 use crate::validate::raster::{PreviewShade, Raster};
 
@@ -247,7 +249,11 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
     vp.flags = args.flags | split.flag();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let start = Instant::now();
-    let res = subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, threads);
+    let displaced = Displaced::of(&geo);
+    let res = match &displaced {
+        Some(dc) => subdivide_displaced(dc, &vp, threads),
+        None => subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &vp, threads),
+    };
     let (triangles, wedge_triangles) = triangle_counts(&res.ready, vp.has(FLAG_WEDGES));
     let oracle_seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.preview {
@@ -259,7 +265,10 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<StatsReport> {
                 weights: &geo.weights,
                 flags: &geo.flags,
             };
-            let tris = triangulate_surfaces(&surfaces, batch, vp.has(FLAG_WEDGES));
+            let tris = match &displaced {
+                Some(dc) => triangulate_surfaces(dc, batch, vp.has(FLAG_WEDGES)),
+                None => triangulate_surfaces(&surfaces, batch, vp.has(FLAG_WEDGES)),
+            };
             img.draw_triangles(
                 &tris,
                 &geo.patches,
@@ -326,13 +335,27 @@ fn model_stats(geo: &SceneGeometry, ready: &[QuadNode], vp: &ViewParams) -> Vec<
         }
     }
     let mut stack = Vec::new();
+    let displaced = Displaced::of(geo);
     for (id, base) in geo.patches.iter().enumerate() {
         let (w, flags) = (geo.weights.get(id), geo.flags[id]);
+        let disp = displaced
+            .as_ref()
+            .and_then(|dc| Some((dc, dc.model_of(id)?)));
         let m = &mut out[model_of(id)];
         stack.push(QuadNode::root(id as u32));
         while let Some(node) = stack.pop() {
-            if let Outcome::Split(kids) = process_any(base, w, flags, node, vp) {
-                match explain(base, w, flags, node, vp).and_then(|v| v.cause()) {
+            let (outcome, verdict) = match disp {
+                Some((dc, d)) => (
+                    process_displaced(dc, id, d, node, vp),
+                    explain_displaced(dc, id, d, node, vp),
+                ),
+                None => (
+                    process_any(base, w, flags, node, vp),
+                    explain(base, w, flags, node, vp),
+                ),
+            };
+            if let Outcome::Split(kids) = outcome {
+                match verdict.and_then(|v| v.cause()) {
                     Some(SplitCause::BothDirections) => m.splits_both_directions += 1,
                     Some(SplitCause::OneDirection) => m.splits_one_direction += 1,
                     Some(SplitCause::InnerOnly) | None => m.splits_inner_only += 1,

@@ -75,6 +75,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     // An animated scene is checked at one time: the GPU converts it in its
     // update pass, the oracle's scene is the CPU twin's at that time.
     let time = args.gpu.seconds(loaded.animation.as_ref())?;
+    super::note_undisplaced(&loaded.geometry);
     let (geo, _) = loaded.at(time);
     let ctx = args.gpu.context()?;
     // Single-sampled: the hole test counts exact key colours. Without
