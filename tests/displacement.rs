@@ -293,3 +293,44 @@ fn bad_displacement_input_is_a_clear_error() {
         );
     }
 }
+
+/// Both sides of every shared edge bound its displacement with the same
+/// bits, at every depth down to 6 and for every segment (the edge tier's
+/// decision depends on it: a bound that differed would open a crack), and
+/// the bound is computed from the edge owner's UVs also where the sides'
+/// UVs differ (seams).
+#[test]
+fn shared_edges_get_the_same_displacement_bound_from_both_sides() {
+    let (_, geo) = displaced_scene();
+    let dc = Displaced::of(&geo).unwrap();
+    let patches = &geo.patches;
+    let shared = common::edges::shared_edges(patches.len(), |k, e| {
+        let c = patches[k].edge(e);
+        Some((curve_bits(&c), curve_bits(&[c[3], c[2], c[1], c[0]])))
+    });
+    let (mut checked, mut nonzero) = (0u64, 0u64);
+    for se in &shared {
+        let ((pa, ea), (pb, eb)) = (se.a, se.b);
+        let Some(m) = dc.model_of(pa as usize) else {
+            continue;
+        };
+        for l in 0..=6u32 {
+            for k in 0..(1u32 << l) {
+                let kb = if se.reversed { (1 << l) - 1 - k } else { k };
+                let a = common::edges::edge_node(pa, ea, l, k);
+                let b = common::edges::edge_node(pb, eb, l, kb);
+                let ra = dc.edge_reach(pa as usize, m, a, ea);
+                let rb = dc.edge_reach(pb as usize, m, b, eb);
+                assert_eq!(
+                    ra.to_bits(),
+                    rb.to_bits(),
+                    "patch {pa} edge {ea} / patch {pb} edge {eb}, depth {l} segment {k}"
+                );
+                checked += 1;
+                nonzero += (ra > 0.0) as u64;
+            }
+        }
+    }
+    println!("{checked} edge segments, {nonzero} with a bound above 0");
+    assert!(nonzero > checked / 2);
+}
