@@ -334,3 +334,90 @@ fn shared_edges_get_the_same_displacement_bound_from_both_sides() {
     println!("{checked} edge segments, {nonzero} with a bound above 0");
     assert!(nonzero > checked / 2);
 }
+
+/// The drawn point of a ready node at (x, y) of its domain: the node's two
+/// triangles (diagonal from corner 00 to 11) over its corners `q` (00, 10,
+/// 11, 01).
+fn drawn(q: [Vec3; 4], x: f32, y: f32) -> Vec3 {
+    let [q00, q10, q11, q01] = q;
+    if x >= y {
+        q00 + (q10 - q00) * x + (q11 - q10) * y
+    } else {
+        q00 + (q11 - q01) * x + (q01 - q00) * y
+    }
+}
+
+/// Percentiles of the distance in pixels between the surface and what the
+/// ready nodes draw at the same parameters (the parametric error, the
+/// stricter of the criterion's two measures), over a 5×5 grid inside every
+/// node: (p50, p99, max).
+fn parametric_error(
+    ready: &[bezier_subdiv::patch::quadnode::QuadNode],
+    point: impl Fn(usize, f32, f32) -> Vec3,
+    vp: &ViewParams,
+    keep: impl Fn(usize) -> bool,
+) -> (f32, f32, f32, usize) {
+    let mut errs = Vec::new();
+    for q in ready {
+        let g = q.patch() as usize;
+        if !keep(g) {
+            continue;
+        }
+        let (a, b, c, d) = q.domain();
+        let corners = [
+            point(g, a, c),
+            point(g, b, c),
+            point(g, b, d),
+            point(g, a, d),
+        ];
+        for i in 1..5 {
+            for j in 1..5 {
+                let (x, y) = (i as f32 / 5.0, j as f32 / 5.0);
+                let s = point(g, a + (b - a) * x, c + (d - c) * y);
+                let z = bezier_subdiv::patch::ops::affine_row(vp.depth_row, s).max(vp.near);
+                errs.push((s - drawn(corners, x, y)).length() / (vp.eps_k * z));
+            }
+        }
+    }
+    errs.sort_by(f32::total_cmp);
+    let at = |p: f64| errs[((errs.len() - 1) as f64 * p) as usize];
+    (at(0.5), at(0.99), *errs.last().unwrap(), errs.len())
+}
+
+/// ε still holds on the displaced surface: the parametric error of what
+/// the displaced nodes draw, in pixels, against the displaced surface
+/// itself, is within what the criterion promises at λ = 0.5 (δp ≤ √2·ε
+/// where the orthogonal distance is 0) at the 99th percentile, as for the
+/// undisplaced surface.
+#[test]
+fn eps_holds_on_the_displaced_surface() {
+    let (scene, geo) = displaced_scene();
+    let dc = Displaced::of(&geo).unwrap();
+    for vp in views(&scene, &geo) {
+        let res = subdivide_displaced(&dc, &vp, 2);
+        let plain = subdivide_parallel(&geo.patches, &geo.flags, &vp, 2);
+        let disp = parametric_error(&res.ready, |g, u, v| dc.point(g, u, v), &vp, |_| true);
+        let base = parametric_error(
+            &plain.ready,
+            |g, u, v| geo.patches[g].eval(u, v),
+            &vp,
+            |_| true,
+        );
+        println!(
+            "aniso {}: displaced p50 {:.3} p99 {:.3} max {:.2} px ({} points); undisplaced p50 {:.3} p99 {:.3} max {:.2} px",
+            vp.has(FLAG_ANISO),
+            disp.0,
+            disp.1,
+            disp.2,
+            disp.3,
+            base.0,
+            base.1,
+            base.2
+        );
+        assert!(
+            disp.1 <= std::f32::consts::SQRT_2,
+            "displaced p99 {} px",
+            disp.1
+        );
+    }
+}
