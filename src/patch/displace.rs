@@ -214,7 +214,9 @@ impl HeightMap {
     /// - a linear function, which the blend reproduces exactly, taken out:
     ///   with slopes halfway between the least and greatest texel
     ///   differences there, what is left has slopes within half their
-    ///   spreads, so it strays by at most that times the box's extent;
+    ///   spreads, so it strays from the blend by at most that times half
+    ///   the corners' extent plus the UVs' stray (a blend's weighted
+    ///   distance from the points it blends is at most half their extent);
     ///   plus the linear part's slope times the UVs' own stray. A ramp
     ///   costs nothing, a smooth bump in proportion to its curvature times
     ///   the node's size squared;
@@ -229,16 +231,20 @@ impl HeightMap {
         let (w, h) = (self.width as f32, self.height as f32);
         let (gx, sx) = ((c[2] + c[3]) * 0.5, (c[3] - c[2]) * 0.5);
         let (gy, sy) = ((c[4] + c[5]) * 0.5, (c[5] - c[4]) * 0.5);
-        let (ex, ey) = ((ghi[0] - glo[0]) * w, (ghi[1] - glo[1]) * h);
+        let (wx, wy) = ((hi[0] - lo[0]) * w, (hi[1] - lo[1]) * h);
         let (grow_x, grow_y) = (grow * w, grow * h);
-        let detrended = (sx * ex + sy * ey) + (gx.abs() * grow_x + gy.abs() * grow_y);
+        // A drawn point's texture coordinates are its corners' blend, so
+        // their weighted distance from the corners' is at most half the
+        // corners' extent (each axis), the surface's a stray further.
+        let reach_x = wx * 0.5 + grow_x;
+        let reach_y = wy * 0.5 + grow_y;
+        let detrended = (sx * reach_x + sy * reach_y) + (gx.abs() * grow_x + gy.abs() * grow_y);
         let mut bound = minf(c[1] - c[0], detrended);
         if one_cell {
             // In one cell the x differences are a (bottom) and a + c (top).
             let a = maxf(c[2].abs(), c[3].abs());
             let b = maxf(c[4].abs(), c[5].abs());
             let twist = c[3] - c[2];
-            let (wx, wy) = ((hi[0] - lo[0]) * w, (hi[1] - lo[1]) * h);
             let bilinear = ((twist * wx) * wy * 0.5) + (a * grow_x + b * grow_y);
             bound = minf(bound, bilinear);
         }
