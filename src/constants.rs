@@ -231,6 +231,9 @@ shared_constants! {
         /// Bool: the scene has albedo maps or UVs from a cage (default true);
         /// false: the shading reads no UV patch, material or texel.
         SPEC_SCENE_MATERIALS = 17;
+        /// Bool: some model is displaced (default true); false: no node
+        /// reads the displacement buffer.
+        SPEC_SCENE_DISPLACED = 18;
     }
 
     /// An instance's flags word (set 0's BIND_INSTANCES): PATCH_TWO_SIDED and
@@ -300,11 +303,47 @@ shared_constants! {
         /// The albedo maps' mip chains: sRGB-encoded RGBA8 words, red in
         /// the low byte, rows top to bottom, level after level.
         BIND_TEXELS = 11;
-        SCENE_BINDINGS = 12;
+        /// The displaced models (src/scene/displacement.rs `gpu_words`):
+        /// a header, DISPLACEMENT_MODEL_WORDS per scene model, the owner
+        /// words and UV curvature bounds per model patch, the height maps
+        /// and their pyramids; one placeholder word for a scene without.
+        BIND_DISPLACEMENT = 12;
+        SCENE_BINDINGS = 13;
     }
     /// Words per model in set 0's BIND_MATERIALS.
     group {
         MATERIAL_WORDS = 4;
+    }
+    /// The layout of set 0's BIND_DISPLACEMENT.
+    group {
+        /// Header: the owner words' first word, the curvature bounds'
+        /// first word, the number of model records, unused.
+        DISPLACEMENT_HEADER_WORDS = 4;
+        /// Per scene model: heights' first word, width (0: not displaced),
+        /// height, pyramid's first word, pyramid levels, scale, bias and
+        /// margin (f32 bits).
+        DISPLACEMENT_MODEL_WORDS = 8;
+        /// Owner words per model patch: 4 edges, then 4 corners.
+        OWNER_WORDS = 8;
+        /// In an owner word: the owner's edge or corner (low 2 bits).
+        OWNER_INDEX_MASK = 3;
+        /// In an edge's owner word: the owner runs the edge the other way.
+        OWNER_REVERSED = 4;
+        /// In an edge's owner word: the edge is one point; its points take
+        /// the corner's owner.
+        OWNER_COLLAPSED = 8;
+        /// The owner's model patch is the word shifted down by this.
+        OWNER_PATCH_SHIFT = 4;
+        /// Floats per height-pyramid cell: height, x-slope and y-slope
+        /// ranges (lo, hi each).
+        PYRAMID_CELL_FLOATS = 6;
+        /// The software reciprocal square root's first guess (bit pattern).
+        RSQRT_MAGIC = 0x5f375a86;
+        /// Its Newton steps.
+        RSQRT_STEPS = 4;
+        /// Texture coordinates are clamped to ±2^UV_LIMIT_LOG2 before
+        /// height lookups, so texel indices fit an int on every device.
+        UV_LIMIT_LOG2 = 16;
     }
     /// Floats per base patch in the shading buffer: the 12 control vectors of
     /// the u tangent patch, then the 12 of the v tangent patch, x, y, z each.

@@ -180,6 +180,7 @@ fn bindings_number_each_set_from_zero() {
                 BIND_UV_PATCHES,
                 BIND_MATERIALS,
                 BIND_TEXELS,
+                BIND_DISPLACEMENT,
                 BIND_VISIBILITY,
             ],
             SCENE_BINDINGS,

@@ -10,6 +10,8 @@
 
 #include "draw.glsl"
 #include "rational_subdiv.glsl"
+#include "texture.glsl"
+#include "displace.glsl"
 
 void patch_node_positions(uint id, NodeMesh mesh, out vec3 pos[NODE_MESH_SLOTS]) {
     Instance t = instances[instance_of(id)];
@@ -24,6 +26,17 @@ void patch_node_positions(uint id, NodeMesh mesh, out vec3 pos[NODE_MESH_SLOTS])
     vec3 P[16];
     load_patch_in(t, id, P);
     node_positions(P, mesh, pos);
+    // A displaced model's vertices move by n̂·d, each evaluated by the
+    // owner of the point (twin of Displaced::node_positions).
+    DispModel dm;
+    if (displaced_model(patch_flags_in(t, id) >> PATCH_MODEL_SHIFT, dm)) {
+        for (uint s = 0u; s < NODE_MESH_SLOTS; ++s) {
+            if (slot_used(mesh, s)) {
+                precise vec3 p = pos[s] + displacement_offset(t, id, dm, mesh.uv[s]);
+                pos[s] = p;
+            }
+        }
+    }
 }
 
 // Base patch `id`'s drawn point at (u, v), rational patches divided.

@@ -124,6 +124,15 @@ precise float tolerance2(vec3 p, ViewParams vp) {
     return t2;
 }
 
+// tolerance2 with t reduced by `reach` (a displaced node's height
+// variation), or -1 where nothing is left (twin of tolerance2_within).
+precise float tolerance2_within(vec3 p, ViewParams vp, float reach) {
+    precise float z = maxf(affine_row(vp.depth_row, p), vp.near);
+    precise float t = vp.eps_k * z - reach;
+    precise float t2 = t * t;
+    return t > 0.0 ? t2 : -1.0;
+}
+
 // Flat when lhs <= rhs: see src/patch/criterion.rs for the derivation.
 precise vec2 line_sample_terms(vec3 s, vec3 a, vec3 b, float t, float t2, ViewParams vp) {
     precise vec3 chord = b - a;
@@ -188,9 +197,8 @@ bool inner_sample_flat(vec3 s, vec3 p, vec3 q00, vec3 q10, vec3 q11, vec3 q01, f
 
 // The inner tier on the corners and the samples at (1/3,1/3), (2/3,2/3),
 // (2/3,1/3), (1/3,2/3), in that order.
-bool inner_flat_of(vec3 q00, vec3 q10, vec3 q11, vec3 q01, vec3 s[4], ViewParams vp) {
-    precise vec3 center = ((q00 + q11) + (q10 + q01)) * 0.25;
-    precise float t2 = tolerance2(center, vp);
+// The inner tier's four samples at tolerance t2.
+bool inner_flat_at(vec3 q00, vec3 q10, vec3 q11, vec3 q01, vec3 s[4], float t2, ViewParams vp) {
     precise vec3 l1 = q00 * (1.0 - THIRD) + q11 * THIRD;
     precise vec3 l2 = q00 * (1.0 - TWO_THIRDS) + q11 * TWO_THIRDS;
     precise vec3 m0 = (q00 * THIRD + q10 * THIRD) + q11 * THIRD;
@@ -200,6 +208,20 @@ bool inner_flat_of(vec3 q00, vec3 q10, vec3 q11, vec3 q01, vec3 s[4], ViewParams
     bool t0 = inner_sample_flat(s[2], m0, q00, q10, q11, q01, t2, vp);
     bool t1 = inner_sample_flat(s[3], m1, q00, q10, q11, q01, t2, vp);
     return (d1 && d2) && (t0 && t1);
+}
+
+bool inner_flat_of(vec3 q00, vec3 q10, vec3 q11, vec3 q01, vec3 s[4], ViewParams vp) {
+    precise vec3 center = ((q00 + q11) + (q10 + q01)) * 0.25;
+    precise float t2 = tolerance2(center, vp);
+    return inner_flat_at(q00, q10, q11, q01, s, t2, vp);
+}
+
+// inner_flat_of with the tolerance reduced by `reach` (a displaced node).
+bool inner_flat_of_within(vec3 q00, vec3 q10, vec3 q11, vec3 q01, vec3 s[4], ViewParams vp,
+                          float reach) {
+    precise vec3 center = ((q00 + q11) + (q10 + q01)) * 0.25;
+    precise float t2 = tolerance2_within(center, vp, reach);
+    return inner_flat_at(q00, q10, q11, q01, s, t2, vp);
 }
 
 // Edge tier: samples at 1/3 on the curve and at 1/3 on the reversed curve,
@@ -215,11 +237,30 @@ bool edge_flat(vec3 p[4], ViewParams vp) {
     return f && b;
 }
 
+// edge_flat with the tolerance reduced by `reach` (a displaced edge's
+// height variation, the same from both sides).
+bool edge_flat_within(vec3 p[4], ViewParams vp, float reach) {
+    precise vec3 mid = (p[0] + p[3]) * 0.5;
+    precise float t2 = tolerance2_within(mid, vp, reach);
+    precise vec3 fwd = curve(THIRD, p[0], p[1], p[2], p[3]);
+    precise vec3 bwd = curve(THIRD, p[3], p[2], p[1], p[0]);
+    bool f = line_sample_flat(fwd, p[0], p[3], THIRD, t2, vp);
+    bool b = line_sample_flat(bwd, p[3], p[0], THIRD, t2, vp);
+    return f && b;
+}
+
 // Inner tier against the closest of the triangles (00,10,11) and (00,11,01).
 bool inner_flat(vec3 S[16], ViewParams vp) {
     vec3 s[4] = vec3[4](eval_patch(S, THIRD, THIRD), eval_patch(S, TWO_THIRDS, TWO_THIRDS),
                         eval_patch(S, TWO_THIRDS, THIRD), eval_patch(S, THIRD, TWO_THIRDS));
     return inner_flat_of(S[0], S[3], S[15], S[12], s, vp);
+}
+
+// inner_flat with the tolerance reduced by `reach`.
+bool inner_flat_within(vec3 S[16], ViewParams vp, float reach) {
+    vec3 s[4] = vec3[4](eval_patch(S, THIRD, THIRD), eval_patch(S, TWO_THIRDS, TWO_THIRDS),
+                        eval_patch(S, TWO_THIRDS, THIRD), eval_patch(S, THIRD, TWO_THIRDS));
+    return inner_flat_of_within(S[0], S[3], S[15], S[12], s, vp, reach);
 }
 
 // ---------------------------------------------------------------- culling

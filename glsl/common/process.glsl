@@ -5,6 +5,8 @@
 #define PROCESS_GLSL
 
 #include "rational_subdiv.glsl"
+#include "texture.glsl"
+#include "displace.glsl"
 
 const uint OUT_CULLED = 0u;
 const uint OUT_BACKFACE = 1u;
@@ -85,6 +87,62 @@ void grow_box(inout vec3 lo, inout vec3 hi, vec3 p) {
 #define BEZ_BACK_FACING(S, lo, hi, eye) back_facing4(S, eye)
 #include "process_template.glsl"
 
+// One work item of a displaced model (twin of oracle::process_displaced):
+// the criterion's tolerance less the node's height variation (its edges'
+// from the edge owners), the box grown by the largest displacement, no
+// back-face test.
+uint process_displaced(uvec2 q, vec3 P[16], Instance t, DispModel dm, out uvec2 kids[4],
+                       out uint nkids) {
+    kids = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
+    nkids = 0u;
+    uint id = node_patch(q);
+    vec4 dom = node_domain(q);
+    vec3 S[16];
+    reconstruct(P, dom.x, dom.y, dom.z, dom.w, S);
+    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
+        vec3 lo, hi;
+        patch_bbox(S, lo, hi);
+        vec2 pivots[4];
+        bvec4 has = wedge_pivots(q, pivots);
+        for (uint e = 0u; e < 4u; ++e) {
+            if (has[e]) {
+                grow_box(lo, hi, eval_patch(P, pivots[e].x, pivots[e].y));
+            }
+        }
+        precise vec3 g = vec3(dm.margin);
+        precise vec3 glo = lo - g;
+        precise vec3 ghi = hi + g;
+        if (outside_frustum(glo, ghi, view)) {
+            return OUT_CULLED;
+        }
+        if (node_occluded(glo, ghi)) {
+            return OUT_OCCLUDED;
+        }
+    }
+    bvec2 can = can_split(q);
+    if (can.x || can.y) {
+        uvec4 states = edge_states(q);
+        bvec4 flat_now = bvec4(true);
+        bool edges_flat = true;
+        for (uint e = 0u; e < 4u; ++e) {
+            if (states[e] == NODE_EDGE_PENDING) {
+                vec3 c[4];
+                patch_edge(S, e, c);
+                flat_now[e] = edge_flat_within(c, view, displaced_edge_reach(t, id, dm, q, e));
+                edges_flat = edges_flat && flat_now[e];
+            }
+        }
+        bool inner_fails =
+            edges_flat && !inner_flat_within(S, view, displaced_inner_reach(t, id, dm, q));
+        bvec2 split = split_of(q, flat_now, inner_fails);
+        if (split.x || split.y) {
+            nkids = node_children(q, split, resolve_states(q, flat_now), kids);
+            return OUT_SPLIT;
+        }
+    }
+    return OUT_READY;
+}
+
 // One work item: the GPU twin of oracle::process_any (see process_points).
 // The patch's instance is looked up once for the whole item.
 uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
@@ -97,6 +155,10 @@ uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
     }
     vec3 P[16];
     load_patch_in(t, node_patch(q), P);
+    DispModel dm;
+    if (displaced_model(flags >> PATCH_MODEL_SHIFT, dm)) {
+        return process_displaced(q, P, t, dm, kids, nkids);
+    }
     return process_points(q, P, flags, kids, nkids);
 }
 

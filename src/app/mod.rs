@@ -66,7 +66,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<String> {
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     let time = args.gpu.seconds(loaded.animation.as_ref())?;
-    crate::commands::note_undisplaced(&loaded.geometry);
+    crate::commands::note_undisplaced(&loaded.geometry, std::slice::from_ref(&args.gpu.method));
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: {e} (is DISPLAY set? without a display, run under \

@@ -155,7 +155,7 @@ fn render_to(
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.gpu.scene.display()))?;
     args.gpu.seconds(loaded.animation.as_ref())?;
-    super::note_undisplaced(&loaded.geometry);
+    super::note_undisplaced(&loaded.geometry, std::slice::from_ref(&args.gpu.method));
 
     let ctx = args.gpu.context()?;
     let mut renderer = args.gpu.renderer(&ctx, &loaded.geometry, &loaded.shading)?;

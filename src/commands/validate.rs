@@ -17,10 +17,13 @@ use crate::constants::{FALLBACK_CHUNK_NODES, NODE_MESH_SLOTS, SHADE_NORMAL};
 use crate::draw::{DrawPath, ReadyList, ReadyStage};
 use crate::figures::thousands;
 use crate::frame::View;
-use crate::patch::oracle::{subdivide_parallel_weighted, WeightedPatches};
+use crate::patch::oracle::{
+    subdivide_displaced, subdivide_parallel_weighted, Surfaces, WeightedPatches,
+};
 use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
 use crate::scene::desc::Scene;
+use crate::scene::displacement::Displaced;
 use crate::scene::geometry::SceneGeometry;
 use crate::validate::holes::{self, run_model};
 use crate::validate::{
@@ -75,7 +78,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     // An animated scene is checked at one time: the GPU converts it in its
     // update pass, the oracle's scene is the CPU twin's at that time.
     let time = args.gpu.seconds(loaded.animation.as_ref())?;
-    super::note_undisplaced(&loaded.geometry);
+    super::note_undisplaced(&loaded.geometry, std::slice::from_ref(&args.gpu.method));
     let (geo, _) = loaded.at(time);
     let ctx = args.gpu.context()?;
     // Single-sampled: the hole test counts exact key colours. Without
@@ -189,12 +192,21 @@ fn oracle_checks(
     let gpu_ready = list.read_ready(&ctx, ready_count)?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let params = renderer.effective_params(view);
-    let oracle =
-        subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &params, threads);
-    let surfaces = WeightedPatches {
+    let displaced = Displaced::of(geo);
+    let oracle = match &displaced {
+        Some(dc) => subdivide_displaced(dc, &params, threads),
+        None => {
+            subdivide_parallel_weighted(&geo.patches, &geo.weights, &geo.flags, &params, threads)
+        }
+    };
+    let weighted = WeightedPatches {
         patches: &geo.patches,
         weights: &geo.weights,
         flags: &geo.flags,
+    };
+    let surfaces: &dyn Surfaces = match &displaced {
+        Some(dc) => dc,
+        None => &weighted,
     };
     let (ok, detail) = compare_ready(&gpu_ready, &oracle.ready);
     let mut out = vec![CheckResult::new("ready set", Some(k), ok, detail)];
@@ -203,7 +215,7 @@ fn oracle_checks(
     let (compared, bad, source) = match stage.path() {
         DrawPath::Mesh => {
             let capture = read_capture(&ctx, list, gpu_ready.len())?;
-            let (compared, bad) = compare_capture(&surfaces, &gpu_ready, &capture, wedges);
+            let (compared, bad) = compare_capture(surfaces, &gpu_ready, &capture, wedges);
             (compared, bad, positions_source(DrawPath::Mesh).to_owned())
         }
         DrawPath::Fallback => {
@@ -213,11 +225,11 @@ fn oracle_checks(
             let last = gpu_ready.len().saturating_sub(1) / chunk * chunk;
             let words: Vec<u32> = list.vertices.read(&ctx)?;
             let (mut compared, mut bad) =
-                compare_vertices(&surfaces, &gpu_ready[last..], &words, wedges);
+                compare_vertices(surfaces, &gpu_ready[last..], &words, wedges);
             let mut source = positions_source(DrawPath::Fallback).to_owned();
             if last > 0 {
                 let capture = read_capture(&ctx, list, last)?;
-                let (c, b) = compare_capture(&surfaces, &gpu_ready[..last], &capture, wedges);
+                let (c, b) = compare_capture(surfaces, &gpu_ready[..last], &capture, wedges);
                 (compared, bad) = (compared + c, bad + b);
                 let chunks = gpu_ready.len().div_ceil(chunk);
                 source = format!(
@@ -459,7 +471,7 @@ fn hole_checks(
     let mut out = Vec::new();
     let mut seen = HashSet::new();
     let mut offset = 0usize;
-    for m in &geo.models {
+    for (index, m) in geo.models.iter().enumerate() {
         let start = offset;
         offset += m.patches_per_instance * m.instances;
         if !seen.insert(m.file.clone()) || m.patches_per_instance == 0 {
@@ -472,7 +484,12 @@ fn hole_checks(
             .file_name()
             .map_or("model".into(), |f| f.to_string_lossy().into_owned());
         let views = run_model(renderer, &one, eps_lambda, &name, debug_dir)?;
-        let (ok, detail) = holes::verdict(&views);
+        let (ok, mut detail) = holes::verdict(&views);
+        // The model is tested alone and its ground truth does not displace
+        // yet: what this checks is its undisplaced surface.
+        if matches!(geo.displacement.models.get(index), Some(Some(_))) {
+            detail += " (undisplaced: the ground truth does not displace yet)";
+        }
         out.push(CheckResult::new(&format!("holes {name}"), None, ok, detail));
     }
     Ok(out)

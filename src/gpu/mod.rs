@@ -30,6 +30,8 @@ pub struct SceneSpec {
     pub rational: bool,
     /// The scene has albedo maps or UVs from a cage (`SPEC_SCENE_MATERIALS`).
     pub materials: bool,
+    /// Some model is displaced (`SPEC_SCENE_DISPLACED`).
+    pub displaced: bool,
 }
 
 impl Default for SceneSpec {
@@ -38,6 +40,7 @@ impl Default for SceneSpec {
         Self {
             rational: true,
             materials: true,
+            displaced: true,
         }
     }
 }
@@ -48,6 +51,7 @@ impl SceneSpec {
         Self {
             rational: scene.rational_patches > 0,
             materials: scene.materials,
+            displaced: scene.displaced,
         }
     }
 
@@ -62,6 +66,10 @@ impl SceneSpec {
         all.push((
             crate::constants::SPEC_SCENE_MATERIALS,
             u32::from(self.materials),
+        ));
+        all.push((
+            crate::constants::SPEC_SCENE_DISPLACED,
+            u32::from(self.displaced),
         ));
         all
     }

@@ -13,15 +13,16 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use ash::vk;
 
 use crate::constants::{
-    BIND_INSTANCES, BIND_MATERIALS, BIND_PATCHES, BIND_PATCH_BOXES, BIND_PATCH_FLAGS, BIND_ROOTS,
-    BIND_SHADING, BIND_TEXELS, BIND_UV_PATCHES, BIND_VIEW, BIND_VISIBILITY, BIND_WEIGHTS,
-    PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
+    BIND_DISPLACEMENT, BIND_INSTANCES, BIND_MATERIALS, BIND_PATCHES, BIND_PATCH_BOXES,
+    BIND_PATCH_FLAGS, BIND_ROOTS, BIND_SHADING, BIND_TEXELS, BIND_UV_PATCHES, BIND_VIEW,
+    BIND_VISIBILITY, BIND_WEIGHTS, PATCH_RATIONAL, SCENE_BINDINGS, SET_SCENE, SHADING_FLOATS,
 };
 use crate::patch::bezier::BezierPatch;
 use crate::patch::rational::{is_polynomial, Weights, UNIT_WEIGHTS};
 use crate::patch::shading::ShadingPatch;
 use crate::patch::view::ViewParams;
 use crate::scene::adjacency::{edge_table, EdgeTable};
+use crate::scene::displacement::SceneDisplacement;
 use crate::scene::geometry::{SceneGeometry, SceneShading};
 use crate::scene::instances::{
     cluster_blocks, cluster_set_words, root_entries, Instance, InstanceTable, INSTANCE_BYTES,
@@ -124,6 +125,11 @@ pub struct SceneGpu {
     pub texels: Buffer,
     /// The scene has albedo maps or UVs from a cage (`SceneMaterials::in_use`).
     pub materials: bool,
+    /// The displaced models' records, owners, UV bounds and height maps
+    /// (`SceneDisplacement::gpu_words`; one placeholder word without).
+    pub displacement: Buffer,
+    /// Some model is displaced (`SceneDisplacement::in_use`).
+    pub displaced: bool,
     /// The instance records as uploaded (the level schedule's CPU twin
     /// culls by their boxes).
     pub instance_records: Vec<Instance>,
@@ -190,8 +196,16 @@ impl SceneGpu {
         }
         let table = InstanceTable::identity(patches, flags, weights);
         let materials = SceneMaterials::default();
+        let displacement = SceneDisplacement::default();
         Self::upload(
-            ctx, layout, &table, shading, &materials, patches, weights, slots,
+            ctx,
+            layout,
+            &table,
+            shading,
+            (&materials, &displacement),
+            patches,
+            weights,
+            slots,
         )
     }
 
@@ -205,12 +219,12 @@ impl SceneGpu {
         layout: &SceneLayout,
         table: &InstanceTable,
         shading: &[ShadingPatch],
-        materials: &SceneMaterials,
+        (materials, displacement): (&SceneMaterials, &SceneDisplacement),
         world: &[BezierPatch],
         world_weights: &[Weights],
         slots: usize,
     ) -> VkResult<Self> {
-        check_upload(ctx, table, shading, materials)?;
+        check_upload(ctx, table, shading, materials, displacement)?;
         let rational_patches = world_weights.iter().filter(|w| !is_polynomial(w)).count() as u32;
         let edges = edge_table(
             world,
@@ -220,7 +234,14 @@ impl SceneGpu {
                 &[]
             },
         );
-        let b = SceneBuffers::new(ctx, table, shading, materials, rational_patches, slots)?;
+        let b = SceneBuffers::new(
+            ctx,
+            table,
+            shading,
+            (materials, displacement),
+            rational_patches,
+            slots,
+        )?;
         let set = b.bind(ctx, layout, table.instances.len())?;
         Ok(Self {
             count: table.base_patches() as u32,
@@ -239,6 +260,8 @@ impl SceneGpu {
             material_records: b.material_records,
             texels: b.texels,
             materials: materials.in_use(),
+            displacement: b.displacement,
+            displaced: displacement.in_use(),
             instance_records: table.instances.clone(),
             rational_patches,
             edges,
@@ -288,7 +311,7 @@ impl SceneGpu {
                     layout,
                     &geo.instances,
                     &shading.model,
-                    &geo.materials,
+                    (&geo.materials, &geo.displacement),
                     &geo.patches,
                     &geo.weights,
                     slots,
@@ -408,12 +431,20 @@ fn check_upload(
     table: &InstanceTable,
     shading: &[ShadingPatch],
     materials: &SceneMaterials,
+    displacement: &SceneDisplacement,
 ) -> VkResult<()> {
     let models = table.patches.len();
-    if materials.in_use() && materials.uv_patches.len() != models {
+    let uvs = materials.in_use() || displacement.in_use();
+    if uvs && materials.uv_patches.len() != models {
         return Err(VkError::Usage(format!(
             "{models} model patches with {} UV patches",
             materials.uv_patches.len()
+        )));
+    }
+    if displacement.in_use() && displacement.owners.len() != models {
+        return Err(VkError::Usage(format!(
+            "{models} model patches with {} displacement owner records",
+            displacement.owners.len()
         )));
     }
     if shading.len() != models {
@@ -429,6 +460,7 @@ fn check_upload(
         ("shading patches", n * u64::from(SHADING_FLOATS) * 4),
         ("instances", table.instances.len() as u64 * INSTANCE_BYTES),
         ("albedo maps", 4 * materials.texel_words_len()),
+        ("height maps", 4 * displacement.gpu_words_len()),
     ] {
         if bytes > limit {
             return Err(VkError::OverDeviceLimit {
@@ -489,6 +521,7 @@ struct SceneBuffers {
     uv_patches: Buffer,
     material_records: Buffer,
     texels: Buffer,
+    displacement: Buffer,
     views: Buffer,
     view_stride: u64,
 }
@@ -502,7 +535,7 @@ impl SceneBuffers {
         ctx: &Context,
         table: &InstanceTable,
         shading: &[ShadingPatch],
-        materials: &SceneMaterials,
+        (materials, displacement): (&SceneMaterials, &SceneDisplacement),
         rational_patches: u32,
         slots: usize,
     ) -> VkResult<Self> {
@@ -543,13 +576,21 @@ impl SceneBuffers {
         )?;
         // A scene without maps or cage UVs binds one placeholder each: its
         // pipelines are specialized not to read them (SPEC_SCENE_MATERIALS).
+        // A displaced scene needs the UV patches whatever its maps.
         let unused = SceneMaterials::default();
         let m = if materials.in_use() {
             materials
         } else {
             &unused
         };
-        let uv_patches = Buffer::with_data(ctx, "UV patches", &m.uv_floats(), storage, gpu)?;
+        let uv_floats = if displacement.in_use() {
+            materials.uv_floats()
+        } else {
+            m.uv_floats()
+        };
+        let uv_patches = Buffer::with_data(ctx, "UV patches", &uv_floats, storage, gpu)?;
+        let displacement =
+            Buffer::with_data(ctx, "displacement", &displacement.gpu_words(), storage, gpu)?;
         let material_records =
             Buffer::with_data(ctx, "material records", &m.material_words(), storage, gpu)?;
         let texels = Buffer::with_data(ctx, "albedo texels", &m.texel_words(), storage, gpu)?;
@@ -574,6 +615,7 @@ impl SceneBuffers {
             uv_patches,
             material_records,
             texels,
+            displacement,
             views,
             view_stride,
         })
@@ -606,6 +648,7 @@ impl SceneBuffers {
         bound[BIND_UV_PATCHES as usize] = BufferBinding::from(&self.uv_patches);
         bound[BIND_MATERIALS as usize] = BufferBinding::from(&self.material_records);
         bound[BIND_TEXELS as usize] = BufferBinding::from(&self.texels);
+        bound[BIND_DISPLACEMENT as usize] = BufferBinding::from(&self.displacement);
         DescriptorSet::new(ctx, "scene set", layout.set_layout(), &bound)
     }
 }

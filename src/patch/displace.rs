@@ -25,15 +25,14 @@ use glam::Vec3;
 use super::bezier::{curve, BezierPatch};
 use super::ops::{cross3, dot3};
 
-/// The first guess of [`rsqrt`]: a bit pattern that puts `1/√x` within
-/// 3.5 % for every normal f32 `x`.
-pub const RSQRT_MAGIC: u32 = 0x5f37_5a86;
-/// Newton steps of [`rsqrt`]: each squares the relative error (3.5e-2,
-/// 1.8e-3, 5e-6, 4e-11): four reach f32's own rounding.
-pub const RSQRT_STEPS: u32 = 4;
-/// Texture coordinates are clamped to ±2^24 before lookups, so their
-/// conversion to texel indices is defined on every device.
-pub const UV_LIMIT: f32 = 16_777_216.0;
+/// The first guess of [`rsqrt`] (`RSQRT_MAGIC`) puts `1/√x` within 3.5 %
+/// for every normal f32 `x`; each Newton step (`RSQRT_STEPS` of them)
+/// squares the relative error (3.5e-2, 1.8e-3, 5e-6, 4e-11): four reach
+/// f32's own rounding.
+pub use crate::constants::{RSQRT_MAGIC, RSQRT_STEPS};
+/// Texture coordinates are clamped to ±2^16 before lookups, so their
+/// texel indices (at most 8192 a side) fit an int on every device.
+pub const UV_LIMIT: f32 = (1u32 << crate::constants::UV_LIMIT_LOG2) as f32;
 
 /// `1/√x` for a positive, normal `x`, to within a few ulp, by the same
 /// operations on every device (see the module notes).

@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
+use crate::constants::{DISPLACEMENT_HEADER_WORDS, DISPLACEMENT_MODEL_WORDS, PYRAMID_CELL_FLOATS};
 use crate::input::error::SceneError;
 use crate::patch::bezier::{BezierPatch, EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
 use crate::patch::displace::{unit_normal, uv_box, uv_curvature, HeightMap};
@@ -32,16 +33,8 @@ use crate::scene::instances::InstanceTable;
 
 /// Owner records per model patch: 4 edges (`EDGE_*`), then 4 corners
 /// ((0,0), (1,0), (1,1), (0,1)).
-pub const OWNER_WORDS: usize = 8;
-/// In an owner word: the owner's edge or corner (low 2 bits).
-pub const OWNER_INDEX_MASK: u32 = 3;
-/// In an edge's owner word: the owner runs the edge the other way.
-pub const OWNER_REVERSED: u32 = 4;
-/// In an edge's owner word: the edge is one point (all four control points
-/// equal); its points take the corner's owner.
-pub const OWNER_COLLAPSED: u32 = 8;
-/// The owner's model patch is the word shifted down by this.
-pub const OWNER_PATCH_SHIFT: u32 = 4;
+pub const OWNER_WORDS: usize = crate::constants::OWNER_WORDS as usize;
+pub use crate::constants::{OWNER_COLLAPSED, OWNER_INDEX_MASK, OWNER_PATCH_SHIFT, OWNER_REVERSED};
 /// The largest height map side accepted.
 pub const MAX_HEIGHT_MAP_SIDE: u32 = 8192;
 
@@ -54,6 +47,18 @@ pub struct DisplacementDesc {
     pub scale: f32,
     /// World units added to every height's displacement.
     pub bias: f32,
+}
+
+impl DisplacementDesc {
+    /// The largest |displacement| (see [`ModelDisplacement::margin`]).
+    pub fn margin(&self) -> f32 {
+        ModelDisplacement {
+            map: 0,
+            scale: self.scale,
+            bias: self.bias,
+        }
+        .margin()
+    }
 }
 
 /// One scene model's displacement, resolved.
@@ -158,6 +163,83 @@ impl SceneDisplacement {
         }
         self.owners = owners(table);
         self.uv_curvature = uv_patches.iter().map(uv_curvature).collect();
+    }
+}
+
+impl SceneDisplacement {
+    /// How many words [`SceneDisplacement::gpu_words`] makes.
+    pub fn gpu_words_len(&self) -> u64 {
+        if !self.in_use() {
+            return 1;
+        }
+        let maps: usize = self
+            .maps
+            .iter()
+            .map(|(_, m)| {
+                m.heights.len()
+                    + PYRAMID_CELL_FLOATS as usize * m.pyramid.iter().map(Vec::len).sum::<usize>()
+            })
+            .sum();
+        (DISPLACEMENT_HEADER_WORDS as usize
+            + self.models.len() * DISPLACEMENT_MODEL_WORDS as usize
+            + self.owners.len() * OWNER_WORDS
+            + 2 * self.uv_curvature.len()
+            + maps) as u64
+    }
+
+    /// Set 0's BIND_DISPLACEMENT words (see the constant's comment): one
+    /// placeholder word for a scene without displacement.
+    pub fn gpu_words(&self) -> Vec<u32> {
+        if !self.in_use() {
+            return vec![0];
+        }
+        let header = DISPLACEMENT_HEADER_WORDS as usize;
+        let records = self.models.len() * DISPLACEMENT_MODEL_WORDS as usize;
+        let owners_at = header + records;
+        let curvature_at = owners_at + self.owners.len() * OWNER_WORDS;
+        let mut maps_at = curvature_at + 2 * self.uv_curvature.len();
+        let mut map_words = Vec::new();
+        let mut placed = Vec::new();
+        for (_, map) in &self.maps {
+            let heights = maps_at;
+            let pyramid = heights + map.heights.len();
+            let cells: usize = map.pyramid.iter().map(Vec::len).sum();
+            maps_at = pyramid + PYRAMID_CELL_FLOATS as usize * cells;
+            placed.push((heights, pyramid, map.pyramid.len()));
+            map_words.extend(map.heights.iter().map(|h| h.to_bits()));
+            for level in &map.pyramid {
+                map_words.extend(level.iter().flatten().map(|x| x.to_bits()));
+            }
+        }
+        let mut w = vec![
+            owners_at as u32,
+            curvature_at as u32,
+            self.models.len() as u32,
+            0,
+        ];
+        for m in &self.models {
+            match m {
+                Some(m) => {
+                    let (heights, pyramid, levels) = placed[m.map];
+                    let map = &self.maps[m.map].1;
+                    w.extend([
+                        heights as u32,
+                        map.width,
+                        map.height,
+                        pyramid as u32,
+                        levels as u32,
+                        m.scale.to_bits(),
+                        m.bias.to_bits(),
+                        m.margin().to_bits(),
+                    ]);
+                }
+                None => w.extend([0; DISPLACEMENT_MODEL_WORDS as usize]),
+            }
+        }
+        w.extend(self.owners.iter().flatten());
+        w.extend(self.uv_curvature.iter().flatten().map(|x| x.to_bits()));
+        w.extend(map_words);
+        w
     }
 }
 

@@ -526,7 +526,16 @@ impl Builder<'_> {
                 }
             }
             let world = &geo.patches[first as usize..];
-            geo.instances.instances.push(instance.bounded(world));
+            let mut record = instance.bounded(world);
+            // A displaced surface reaches beyond its control points.
+            if let Some(d) = &m.displacement {
+                let g = d.margin();
+                for k in 0..3 {
+                    record.lo[k] -= g;
+                    record.hi[k] += g;
+                }
+            }
+            geo.instances.instances.push(record);
         }
         Ok(())
     }

@@ -384,8 +384,8 @@ pub fn run_on(
         .load_animated()
         .with_context(|| format!("loading the models of {}", args.scene.display()))?;
     let geo = &loaded.geometry;
-    crate::commands::note_undisplaced(geo);
     fit_methods_to_scene(&mut plan, geo, args.methods.is_some())?;
+    crate::commands::note_undisplaced(geo, &plan.methods());
     prepare_output(&args.out, plan.flip_frames)?;
     let path = ScenePath::of(&plan.scene, geo);
     if plan.frames == 0 {
