@@ -18,7 +18,8 @@ use bezier_subdiv::patch::oracle::{
 };
 use bezier_subdiv::patch::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL};
 use bezier_subdiv::scene::desc::Scene;
-use bezier_subdiv::scene::displacement::{edge_point, Displaced};
+use bezier_subdiv::scene::displaced::Displaced;
+use bezier_subdiv::scene::displacement::edge_point;
 use bezier_subdiv::scene::geometry::SceneGeometry;
 
 fn scene_path(name: &str) -> PathBuf {

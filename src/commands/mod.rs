@@ -206,11 +206,6 @@ pub fn print_notice(message: &str) {
     eprintln!("{message}");
 }
 
-/// The methods that draw displaced models displaced (the subdivision
-/// kernels, through `glsl/common/displace.glsl`); the others draw them
-/// undisplaced so far (issue 40).
-pub const DISPLACING_METHODS: &[&str] = &["subdiv", "subdiv-indirect"];
-
 /// Tells a user of a GPU command that `methods` (those of them that do
 /// not displace) draw the scene's displaced models undisplaced.
 pub fn note_undisplaced(geo: &crate::scene::geometry::SceneGeometry, methods: &[String]) {
@@ -224,7 +219,7 @@ pub fn note_undisplaced(geo: &crate::scene::geometry::SceneGeometry, methods: &[
     let plain: Vec<&str> = methods
         .iter()
         .map(String::as_str)
-        .filter(|m| !DISPLACING_METHODS.contains(m))
+        .filter(|m| !crate::methods::reads(m).displacement)
         .collect();
     if !names.is_empty() && !plain.is_empty() {
         eprintln!(
@@ -232,7 +227,7 @@ pub fn note_undisplaced(geo: &crate::scene::geometry::SceneGeometry, methods: &[
             plain.join(", "),
             if plain.len() == 1 { "s" } else { "" },
             names.join(", "),
-            DISPLACING_METHODS.join(" and ")
+            crate::methods::names_that_read(|r| r.displacement)
         );
     }
 }

@@ -17,7 +17,7 @@ use crate::patch::oracle::{
 use crate::patch::quadnode::QuadNode;
 use crate::patch::view::{ViewParams, FLAGS_DEFAULT, FLAG_WEDGES};
 use crate::scene::desc::Scene;
-use crate::scene::displacement::Displaced;
+use crate::scene::displaced::Displaced;
 use crate::scene::geometry::SceneGeometry;
 use crate::validate::raster::{PreviewShade, Raster};
 

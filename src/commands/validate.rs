@@ -23,7 +23,7 @@ use crate::patch::oracle::{
 use crate::patch::view::{Split, FLAG_WEDGES};
 use crate::renderer::Renderer;
 use crate::scene::desc::Scene;
-use crate::scene::displacement::Displaced;
+use crate::scene::displaced::Displaced;
 use crate::scene::geometry::SceneGeometry;
 use crate::validate::holes::{self, run_model};
 use crate::validate::{

@@ -444,6 +444,9 @@ pub struct Reads {
     pub occlusion: bool,
     /// The ground truth's grid.
     pub grid: bool,
+    /// A model's displacement (scene key `displacement`): a method that
+    /// does not read it draws displaced models undisplaced.
+    pub displacement: bool,
 }
 
 impl Reads {
@@ -459,6 +462,7 @@ impl Reads {
         backface: true,
         occlusion: true,
         grid: true,
+        displacement: true,
     };
 
     /// What a subdivision method with a ready list reads: all but the grid.
@@ -476,6 +480,7 @@ impl Reads {
         split: false,
         wedges: false,
         occlusion: false,
+        displacement: false,
         ..Reads::SUBDIVIDES
     };
 }

@@ -24,6 +24,7 @@ use glam::Vec3;
 
 use super::bezier::{curve, BezierPatch};
 use super::ops::{cross3, dot3};
+use super::quadnode::QuadNode;
 
 /// The first guess of [`rsqrt`] (`RSQRT_MAGIC`) puts `1/√x` within 3.5 %
 /// for every normal f32 `x`; each Newton step (`RSQRT_STEPS` of them)
@@ -97,6 +98,58 @@ const EMPTY: Cell = [
     f32::INFINITY,
     f32::NEG_INFINITY,
 ];
+
+/// One displaced model's settings: its height map (an index into the
+/// scene's maps), scale and bias.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelDisplacement {
+    /// Index into the scene's height maps.
+    pub map: usize,
+    /// World units per unit of height.
+    pub scale: f32,
+    /// World units added to every height's displacement.
+    pub bias: f32,
+}
+
+impl ModelDisplacement {
+    /// Displacement of height `h`: `bias + scale·h`.
+    #[inline]
+    pub fn at(&self, h: f32) -> f32 {
+        self.bias + self.scale * h
+    }
+
+    /// The world-space reach of a height variation: how far the displaced
+    /// surface may stray from what its corners span.
+    #[inline]
+    pub fn reach(&self, variation: f32) -> f32 {
+        variation * self.scale.abs()
+    }
+
+    /// The largest |displacement| any height gives (heights lie in [0, 1]),
+    /// a little enlarged: what a node's box grows by.
+    pub fn margin(&self) -> f32 {
+        let m = self.bias.abs().max((self.bias + self.scale).abs());
+        m * (1.0 + 1.0 / 1024.0)
+    }
+}
+
+/// What the oracle needs of a displaced scene (`scene::displaced` has the
+/// scene's): its world patches, which of them are displaced and how, the
+/// bounds of the criterion and the offsets of drawn points.
+pub trait Displacer: Sync {
+    /// The world-space base patches, their weights (empty: all 1) and flags.
+    fn patches(&self) -> (&[BezierPatch], &[super::rational::Weights], &[u32]);
+    /// Base patch `g`'s displacement, if its model is displaced.
+    fn model_of(&self, g: usize) -> Option<&ModelDisplacement>;
+    /// How far the displacement along edge `e` of `node` of base patch `g`
+    /// can stray from its ends' blend (world units), the same bits from
+    /// both sides of a shared edge.
+    fn edge_reach(&self, g: usize, m: &ModelDisplacement, node: QuadNode, e: usize) -> f32;
+    /// How far the displacement over `node` can stray (world units).
+    fn inner_reach(&self, g: usize, m: &ModelDisplacement, node: QuadNode) -> f32;
+    /// The offset `n̂·d` of base patch `g`'s point (u, v).
+    fn offset(&self, g: usize, m: &ModelDisplacement, u: f32, v: f32) -> Vec3;
+}
 
 /// A height map: heights in [0, 1], rows from t = 0 (the image's bottom)
 /// up, repeating in both directions; its sides are powers of two so that

@@ -18,13 +18,13 @@ use super::bezier::{BezierPatch, EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE_TOP};
 use super::blossom::reconstruct;
 use super::criterion::{edge_flat, edge_flat_within, inner_flat, inner_flat_within};
 use super::cull::{back_facing, outside_frustum, wedges_face_away, wedges_face_away_with};
+use super::displace::{Displacer, ModelDisplacement};
 use super::homogeneous::{self, HomPatch};
 use super::ops::{max3, min3};
 use super::quadnode::QuadNode;
 use super::rational::{RationalPatch, Weights};
 use super::view::{ViewParams, FLAG_ANISO, FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES};
 use super::wedge::{children, node_mesh, pending, resolve, wedge_pivots, NodeMesh, Split};
-use crate::scene::displacement::{Displaced, ModelDisplacement};
 
 /// Per-patch flag: the patch has weights; see [`process_rational`].
 pub use crate::constants::PATCH_RATIONAL;
@@ -156,13 +156,13 @@ pub fn process_any(
 /// no back-face test (a displaced surface can face the eye where its base
 /// patch does not).
 pub fn process_displaced(
-    dc: &Displaced<'_>,
+    dc: &dyn Displacer,
     g: usize,
     m: &ModelDisplacement,
     node: QuadNode,
     vp: &ViewParams,
 ) -> Outcome {
-    let base = &dc.geo.patches[g];
+    let base = &dc.patches().0[g];
     let (a, b, c, d) = node.domain();
     let sub = reconstruct(base, a, b, c, d);
     if vp.has(FLAG_FRUSTUM_CULL) {
@@ -367,14 +367,14 @@ pub fn explain(
 /// [`explain`] for base patch `g` of a displaced model (settings `m`), as
 /// [`process_displaced`] reaches it.
 pub fn explain_displaced(
-    dc: &Displaced<'_>,
+    dc: &dyn Displacer,
     g: usize,
     m: &ModelDisplacement,
     node: QuadNode,
     vp: &ViewParams,
 ) -> Option<Verdict> {
     let (a, b, c, d) = node.domain();
-    let sub = reconstruct(&dc.geo.patches[g], a, b, c, d);
+    let sub = reconstruct(&dc.patches().0[g], a, b, c, d);
     let edge = |e| edge_flat_within(&sub.edge(e), vp, dc.edge_reach(g, m, node, e));
     verdict(node, vp, edge, || {
         inner_flat_within(&sub, vp, dc.inner_reach(g, m, node))
@@ -435,7 +435,7 @@ fn subdivide_range(
     flags: &[u32],
     vp: &ViewParams,
     first: usize,
-    dc: Option<&Displaced<'_>>,
+    dc: Option<&dyn Displacer>,
 ) -> SubdivResult {
     assert_eq!(patches.len(), flags.len());
     assert!(weights.is_empty() || weights.len() == patches.len());
@@ -493,16 +493,9 @@ pub fn subdivide_parallel_weighted(
 }
 
 /// [`subdivide_parallel_weighted`] on the whole of a displaced geometry.
-pub fn subdivide_displaced(dc: &Displaced<'_>, vp: &ViewParams, threads: usize) -> SubdivResult {
-    let geo = dc.geo;
-    subdivide_parallel_in(
-        &geo.patches,
-        &geo.weights,
-        &geo.flags,
-        vp,
-        threads,
-        Some(dc),
-    )
+pub fn subdivide_displaced(dc: &dyn Displacer, vp: &ViewParams, threads: usize) -> SubdivResult {
+    let (patches, weights, flags) = dc.patches();
+    subdivide_parallel_in(patches, weights, flags, vp, threads, Some(dc))
 }
 
 fn subdivide_parallel_in(
@@ -511,7 +504,7 @@ fn subdivide_parallel_in(
     flags: &[u32],
     vp: &ViewParams,
     threads: usize,
-    dc: Option<&Displaced<'_>>,
+    dc: Option<&dyn Displacer>,
 ) -> SubdivResult {
     let threads = threads.clamp(1, 64);
     if threads == 1 || patches.len() < 64 {
@@ -647,27 +640,6 @@ impl Surfaces for WeightedPatches<'_> {
             Some(r) => node_positions_rational(&r, mesh),
             None => node_positions(&self.patches[k], mesh),
         }
-    }
-}
-
-impl Surfaces for Displaced<'_> {
-    fn node_positions(&self, node: QuadNode, mesh: &NodeMesh) -> [Vec3; 8] {
-        let g = node.patch() as usize;
-        let Some(m) = self.model_of(g) else {
-            let geo = self.geo;
-            let w = WeightedPatches {
-                patches: &geo.patches,
-                weights: &geo.weights,
-                flags: &geo.flags,
-            };
-            return w.node_positions(node, mesh);
-        };
-        let base = &self.geo.patches[g];
-        let mut p = [Vec3::ZERO; 8];
-        for (i, &(u, v)) in mesh.uv.iter().enumerate().take(mesh.vertex_count) {
-            p[i] = base.eval(u, v) + self.offset(g, m, u, v);
-        }
-        p
     }
 }
 

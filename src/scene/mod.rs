@@ -9,6 +9,7 @@ pub mod adjacency;
 pub mod bpt;
 pub mod camera;
 pub mod desc;
+pub mod displaced;
 pub mod displacement;
 pub mod file;
 pub mod geometry;

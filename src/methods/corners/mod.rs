@@ -44,6 +44,7 @@ pub const INFO: MethodInfo = MethodInfo {
         backface: false,
         occlusion: false,
         grid: false,
+        displacement: false,
     },
     role: Role::Example,
     targets: &[],
