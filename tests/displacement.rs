@@ -38,6 +38,14 @@ fn curve_bits(c: &[Vec3; 4]) -> [[u32; 3]; 4] {
     c.map(|p| p.to_array().map(f32::to_bits))
 }
 
+/// Every pair of sides of one boundary curve (collapsed edges included).
+fn edge_pairs(patches: &[BezierPatch]) -> Vec<common::edges::SharedEdge> {
+    common::edges::shared_edges(patches.len(), |k, e| {
+        let c = patches[k].edge(e);
+        Some((curve_bits(&c), curve_bits(&[c[3], c[2], c[1], c[0]])))
+    })
+}
+
 /// (patch, edge) sides that another side shares (collapsed edges aside).
 fn shared_sides(patches: &[BezierPatch]) -> HashSet<(u32, usize)> {
     let mut out = HashSet::new();
@@ -136,10 +144,7 @@ fn shared_edges_are_displaced_identically_from_both_sides() {
     let (_, geo) = displaced_scene();
     let dc = Displaced::of(&geo).unwrap();
     let patches = &geo.patches;
-    let shared = common::edges::shared_edges(patches.len(), |k, e| {
-        let c = patches[k].edge(e);
-        Some((curve_bits(&c), curve_bits(&[c[3], c[2], c[1], c[0]])))
-    });
+    let shared = edge_pairs(patches);
     let (mut points, mut seam_points, mut collapsed, mut moved) = (0u64, 0u64, 0u64, 0u64);
     let along = |e: usize, s: f32| edge_point(e, s);
     for se in &shared {
@@ -305,10 +310,7 @@ fn shared_edges_get_the_same_displacement_bound_from_both_sides() {
     let (_, geo) = displaced_scene();
     let dc = Displaced::of(&geo).unwrap();
     let patches = &geo.patches;
-    let shared = common::edges::shared_edges(patches.len(), |k, e| {
-        let c = patches[k].edge(e);
-        Some((curve_bits(&c), curve_bits(&[c[3], c[2], c[1], c[0]])))
-    });
+    let shared = edge_pairs(patches);
     let (mut checked, mut nonzero) = (0u64, 0u64);
     for se in &shared {
         let ((pa, ea), (pb, eb)) = (se.a, se.b);

@@ -29,6 +29,7 @@ use crate::patch::bezier::{BezierPatch, EDGE_BOTTOM, EDGE_LEFT, EDGE_RIGHT, EDGE
 pub use crate::patch::displace::ModelDisplacement;
 use crate::patch::displace::{uv_curvature, HeightMap};
 use crate::scene::instances::InstanceTable;
+use crate::scene::texture::{invalid_map, read_png};
 
 /// Owner records per model patch: 4 edges (`EDGE_*`), then 4 corners
 /// ((0,0), (1,0), (1,1), (0,1)).
@@ -64,23 +65,16 @@ impl DisplacementDesc {
 /// (colour is reduced to its luma), heights `grey / 65535`, rows flipped so
 /// t = 0 is the image's bottom row (as albedo maps are read).
 pub fn load_height_map(path: &Path) -> Result<HeightMap, SceneError> {
-    let bytes = std::fs::read(path).map_err(|cause| SceneError::Io {
-        path: path.to_path_buf(),
-        cause,
-    })?;
-    let invalid = |msg: String| SceneError::Invalid {
-        path: path.to_path_buf(),
-        msg,
-    };
-    let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-        .map_err(|e| invalid(format!("not a readable PNG height map: {e}")))?
-        .to_luma16();
+    let image = read_png(path, "height map")?.to_luma16();
     let (w, h) = image.dimensions();
     if !w.is_power_of_two() || !h.is_power_of_two() || w.max(h) > MAX_HEIGHT_MAP_SIDE {
-        return Err(invalid(format!(
-            "height map of {w}x{h} texels: its sides must be powers of two, at most \
-             {MAX_HEIGHT_MAP_SIDE} (so its min/max pyramid wraps exactly)"
-        )));
+        return Err(invalid_map(
+            path,
+            format!(
+                "height map of {w}x{h} texels: its sides must be powers of two, at most \
+                 {MAX_HEIGHT_MAP_SIDE} (so its min/max pyramid wraps exactly)"
+            ),
+        ));
     }
     let mut heights = Vec::with_capacity((w * h) as usize);
     for y in (0..h).rev() {

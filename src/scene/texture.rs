@@ -38,22 +38,13 @@ impl Texture {
     /// undecodable file, or one beyond [`MAX_TEXTURE_SIDE`], is an error
     /// naming the file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let bytes = std::fs::read(path).map_err(|cause| SceneError::Io {
-            path: path.to_path_buf(),
-            cause,
-        })?;
-        let invalid = |msg: String| SceneError::Invalid {
-            path: path.to_path_buf(),
-            msg,
-        };
-        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-            .map_err(|e| invalid(format!("not a readable PNG texture: {e}")))?
-            .to_rgba8();
+        let image = read_png(path, "texture")?.to_rgba8();
         let (width, height) = image.dimensions();
         if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
-            return Err(invalid(format!(
-                "texture of {width}x{height} texels: at most {MAX_TEXTURE_SIDE} on a side"
-            )));
+            return Err(invalid_map(
+                path,
+                format!("texture of {width}x{height} texels: at most {MAX_TEXTURE_SIDE} on a side"),
+            ));
         }
         let words = image.pixels().map(|p| u32::from_le_bytes(p.0)).collect();
         Ok(Self::from_rgba(path.to_path_buf(), width, height, words))
@@ -82,6 +73,25 @@ impl Texture {
     /// Words in all levels.
     pub fn words(&self) -> usize {
         self.levels.iter().map(Vec::len).sum()
+    }
+}
+
+/// Decodes the PNG at `path` (a `what`: texture, height map); a missing,
+/// unreadable or undecodable file is an error naming it.
+pub fn read_png(path: &Path, what: &str) -> Result<image::DynamicImage, SceneError> {
+    let bytes = std::fs::read(path).map_err(|cause| SceneError::Io {
+        path: path.to_path_buf(),
+        cause,
+    })?;
+    image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+        .map_err(|e| invalid_map(path, format!("not a readable PNG {what}: {e}")))
+}
+
+/// The error for a map at `path` that cannot be used.
+pub fn invalid_map(path: &Path, msg: String) -> SceneError {
+    SceneError::Invalid {
+        path: path.to_path_buf(),
+        msg,
     }
 }
 

@@ -32,49 +32,44 @@ import sys
 import zlib
 
 
-def write_png(path, width, height, pixel):
-    """Writes `pixel(x, y) -> (r, g, b)` (bytes, y = 0 the top row) as PNG."""
+def save_png(path, width, height, depth, colour, texel, extra=()):
+    """Writes a PNG of `texel(x, y) -> bytes` (y = 0 the top row), `depth`
+    bits per channel, colour type `colour`, with `extra` chunks before the
+    pixels; written beside and renamed, so a failure leaves no half file."""
     rows = bytearray()
     for y in range(height):
         rows.append(0)  # filter: none
         for x in range(width):
-            rows.extend(pixel(x, y))
+            rows.extend(texel(x, y))
 
     def chunk(kind, data):
         body = kind + data
         return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
 
     png = b"\x89PNG\r\n\x1a\n"
-    png += chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
-    png += chunk(b"sRGB", b"\x00")
+    png += chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, depth, colour, 0, 0, 0))
+    for kind, data in extra:
+        png += chunk(kind, data)
     png += chunk(b"IDAT", zlib.compress(bytes(rows), 9))
     png += chunk(b"IEND", b"")
     tmp = path + ".tmp"
     with open(tmp, "wb") as out:
         out.write(png)
     os.replace(tmp, path)
+
+
+def write_png(path, width, height, pixel):
+    """Writes `pixel(x, y) -> (r, g, b)` (bytes, y = 0 the top row) as sRGB PNG."""
+    save_png(path, width, height, 8, 2, pixel, [(b"sRGB", b"\x00")])
 
 
 def write_grey16_png(path, width, height, height_at):
     """Writes `height_at(x, y) -> [0, 1]` (y = 0 the top row) as 16-bit grey PNG."""
-    rows = bytearray()
-    for y in range(height):
-        rows.append(0)
-        for x in range(width):
-            rows.extend(struct.pack(">H", int(round(max(0.0, min(1.0, height_at(x, y))) * 65535))))
 
-    def chunk(kind, data):
-        body = kind + data
-        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+    def texel(x, y):
+        return struct.pack(">H", int(round(max(0.0, min(1.0, height_at(x, y))) * 65535)))
 
-    png = b"\x89PNG\r\n\x1a\n"
-    png += chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 16, 0, 0, 0, 0))
-    png += chunk(b"IDAT", zlib.compress(bytes(rows), 9))
-    png += chunk(b"IEND", b"")
-    tmp = path + ".tmp"
-    with open(tmp, "wb") as out:
-        out.write(png)
-    os.replace(tmp, path)
+    save_png(path, width, height, 16, 0, texel)
 
 
 def hash2(x, y, seed):
