@@ -72,7 +72,8 @@ pub struct KeyedInstance {
     pub keys: keys::InstanceKeys,
     /// The model-space box of its patches' control points, each frame's
     /// record gets it placed (`Instance::placed_box`); `None` where the
-    /// model's cage moves too, so the record holds everything.
+    /// model's cage moves too or the model is displaced, so the record
+    /// holds everything.
     pub model_box: Option<(DVec3, DVec3)>,
 }
 
@@ -150,8 +151,12 @@ impl Animation {
                         index: first_instance + k,
                         base,
                         keys: keys.clone(),
-                        model_box: (!m.anim.deforms() && !model.is_empty())
-                            .then(|| control_box(model)),
+                        // A displaced model reaches beyond its control
+                        // points: unbounded, as a deforming one.
+                        model_box: (!m.anim.deforms()
+                            && !model.is_empty()
+                            && m.displacement.is_none())
+                        .then(|| control_box(model)),
                     });
                 }
             }
