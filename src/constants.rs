@@ -750,6 +750,9 @@ shared_constants! {
         SHADE_UV = 11;
         /// The albedo unlit: the model's map where it has one, else its tint.
         SHADE_TEXTURE = 12;
+        /// The height the displaced models' maps give at the fragment, dark
+        /// blue (0) to yellow (1), unlit; grey where a model is not displaced.
+        SHADE_DISPLACEMENT = 13;
     }
 
     /// The depth heat map's colours (0xRRGGBB, display values): depth 0

@@ -469,3 +469,52 @@ fn the_gpu_displaces_bit_for_bit_as_the_oracle() {
         }
     }
 }
+
+/// `--shade displacement` shows the maps' heights on displaced models
+/// (from dark blue at 0 to yellow at 1: both low and high and much between on
+/// scenes/displaced.toml, whose grout is 0 and bump tops 1) and grey on
+/// a model that is not displaced (the teapot scene).
+#[test]
+fn the_displacement_view_shows_heights_where_models_are_displaced() {
+    use bezier_subdiv::constants::SHADE_DISPLACEMENT;
+    use bezier_subdiv::draw::DrawPath;
+    use bezier_subdiv::frame::View;
+    use bezier_subdiv::methods::MethodOptions;
+    let gpu = common::gpu();
+    let size = (320, 180);
+    let image = |scene: &str| {
+        let (scene, geo) = common::scene(scene);
+        let mut r = common::renderer(
+            &gpu,
+            &geo,
+            "subdiv",
+            size,
+            MethodOptions::new(DrawPath::Mesh),
+        );
+        let camera = scene.frame_camera(0).unwrap();
+        r.render(&View::new(&camera, size, 1.0, 0.5, SHADE_DISPLACEMENT))
+            .unwrap();
+        r.read_image().unwrap()
+    };
+    let near = |p: &[u8], c: [f32; 3]| (0..3).all(|k| (p[k] as f32 - c[k] * 255.0).abs() <= 3.0);
+    let (low, grey) = ([0.05, 0.10, 0.45], [0.35, 0.35, 0.35]);
+    let displaced = image("displaced.toml");
+    let px: Vec<&[u8]> = displaced.chunks_exact(4).collect();
+    let lows = px.iter().filter(|p| near(p, low)).count();
+    // Heights above 0.7: red above 0.7 of the way from dark blue to yellow.
+    let highs = px.iter().filter(|p| p[0] > 190 && p[2] < 110).count();
+    let colours: HashSet<&[u8]> = px.iter().copied().collect();
+    println!(
+        "displaced: {lows} low, {highs} high, {} colours",
+        colours.len()
+    );
+    assert!(lows > 500 && highs > 500 && colours.len() > 200);
+    let plain = image("teapot.toml");
+    let background = plain[..4].to_vec();
+    let model: Vec<&[u8]> = plain.chunks_exact(4).filter(|p| *p != background).collect();
+    assert!(model.len() > 1000, "the teapot is in view");
+    assert!(
+        model.iter().all(|p| near(p, grey)),
+        "an undisplaced model is grey"
+    );
+}

@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 
 /// Where the FLIP button, the "wireframe" radio button and the ε value
 /// field are.
-const FLIP_BUTTON: (u32, u32) = (193, 299);
+const FLIP_BUTTON: (u32, u32) = (193, 320);
 const WIREFRAME_RADIO: (u32, u32) = (93, 227);
 const EPS_FIELD: (u32, u32) = (146, 113);
 /// Long enough for lavapipe's first frames on a busy 2-core machine (the

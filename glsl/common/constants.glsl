@@ -583,6 +583,9 @@ const uint SHADE_TINT = 10;
 const uint SHADE_UV = 11;
 // The albedo unlit: the model's map where it has one, else its tint.
 const uint SHADE_TEXTURE = 12;
+// The height the displaced models' maps give at the fragment, dark
+// blue (0) to yellow (1), unlit; grey where a model is not displaced.
+const uint SHADE_DISPLACEMENT = 13;
 
 // The depth heat map's colours (0xRRGGBB, display values): depth 0
 // dark blue through cyan, green and yellow to dark red at 10, the

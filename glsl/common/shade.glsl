@@ -7,6 +7,7 @@
 
 #include "shading.glsl"
 #include "texture.glsl"
+#include "displace.glsl"
 // A shader that draws rational patches defines SHADE_RATIONAL before this
 // include: patches flagged PATCH_RATIONAL are then lit (and keyed) with
 // their own rational normal; everything else is shaded exactly as before.
@@ -25,6 +26,12 @@ uint shade_pn_triangle(uint patch_id) {
     return patch_id & ((1u << CT_PATCH_BITS) - 1u);
 }
 #endif
+
+// SHADE_DISPLACEMENT's colours (display values; src/commands/render.rs
+// `Shade::Displacement` and the window's legend say the same).
+const vec3 DISPLACEMENT_LOW = vec3(0.05, 0.10, 0.45);
+const vec3 DISPLACEMENT_HIGH = vec3(1.0, 0.85, 0.2);
+const vec3 UNDISPLACED_GREY = vec3(0.35);
 
 // The flags word (model index, two-sided) of the patch or PN triangle.
 uint shade_flags(uint patch_id) {
@@ -249,6 +256,16 @@ vec4 shade(vec3 world, vec2 uv, uint patch_id, uint depth_code, uint wedge_side,
     }
     if (pc.shade == SHADE_TEXTURE) {
         return vec4(surface_albedo(patch_id, st, st_dx, st_dy), 1.0);
+    }
+    if (pc.shade == SHADE_DISPLACEMENT) {
+        // The height at the fragment's own texture coordinates (a seam's
+        // owner evaluates the vertices there; the colour is the fragment's).
+        DispModel dm;
+        if (displaced_model(shade_flags(patch_id) >> PATCH_MODEL_SHIFT, dm)) {
+            float h = clamp(height_at(dm, st.x, st.y), 0.0, 1.0);
+            return vec4(mix(DISPLACEMENT_LOW, DISPLACEMENT_HIGH, h), 1.0);
+        }
+        return vec4(UNDISPLACED_GREY, 1.0);
     }
     if (pc.shade == SHADE_PARAMS) {
         uvec2 q = uvec2(clamp(uv, 0.0, 1.0) * 4095.0 + 0.5);

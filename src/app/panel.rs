@@ -191,7 +191,7 @@ pub struct FlipView {
     pub legend: egui::TextureHandle,
 }
 
-const SHADES: [(Shade, &str); 7] = [
+const SHADES: [(Shade, &str); 8] = [
     (Shade::Normal, "shaded"),
     (Shade::Wireframe, "wireframe"),
     (Shade::Depth, "depth heat map"),
@@ -199,6 +199,7 @@ const SHADES: [(Shade, &str); 7] = [
     (Shade::Normals, "normals"),
     (Shade::Uv, "texture coordinates"),
     (Shade::Texture, "albedo (texture)"),
+    (Shade::Displacement, "displacement height"),
 ];
 
 impl Controls {
@@ -422,6 +423,9 @@ fn legend_ui(ui: &mut egui::Ui, shade: Shade, method: &str) {
         }
         Shade::Texture => {
             ui.label("colour: each model's albedo map, unlit (its tint where it has none)");
+        }
+        Shade::Displacement => {
+            ui.label("colour: the displaced models' map height, dark blue 0 → yellow 1 (the surface moves bias + scale·height along its normal); grey: not displaced");
         }
         Shade::Normal => {}
     }

@@ -8,8 +8,8 @@ use serde_json::{json, Map, Value};
 
 use super::{keyframe, GpuRequest, ViewRequest};
 use crate::constants::{
-    SHADE_DEPTH, SHADE_NORMAL, SHADE_NORMALS, SHADE_TEXTURE, SHADE_UV, SHADE_WEDGES,
-    SHADE_WIREFRAME,
+    SHADE_DEPTH, SHADE_DISPLACEMENT, SHADE_NORMAL, SHADE_NORMALS, SHADE_TEXTURE, SHADE_UV,
+    SHADE_WEDGES, SHADE_WIREFRAME,
 };
 use crate::eval::flip::{flip, FlipResult};
 use crate::eval::ground_truth_image;
@@ -47,6 +47,10 @@ pub enum Shade {
     /// The albedo unlit: each model's map where it has one (MTL `map_Kd` or
     /// the scene's `texture`), else its tint.
     Texture,
+    /// The height of each displaced model's map at the surface, dark blue
+    /// (0) to yellow (1), unlit: where the surface is moved by bias +
+    /// scale·height; grey where a model is not displaced.
+    Displacement,
 }
 
 impl Shade {
@@ -60,6 +64,7 @@ impl Shade {
             Shade::Normals => SHADE_NORMALS,
             Shade::Uv => SHADE_UV,
             Shade::Texture => SHADE_TEXTURE,
+            Shade::Displacement => SHADE_DISPLACEMENT,
         }
     }
 
@@ -73,6 +78,7 @@ impl Shade {
             Shade::Normals => "normals",
             Shade::Uv => "uv",
             Shade::Texture => "texture",
+            Shade::Displacement => "displacement",
         }
     }
 }
