@@ -65,18 +65,7 @@ fn shared_sides(patches: &[BezierPatch]) -> HashSet<(u32, usize)> {
 /// Open edges of `tris` that do not lie on an unshared side of a base
 /// patch: cracks.
 fn cracks(patches: &[BezierPatch], tris: &[Triangle]) -> usize {
-    let shared = shared_sides(patches);
-    let on_model_boundary = |t: &Triangle, i: usize, j: usize| {
-        let (a, b) = (t.uv[i], t.uv[j]);
-        let sides = [
-            a.1 == 0.0 && b.1 == 0.0,
-            a.0 == 1.0 && b.0 == 1.0,
-            a.1 == 1.0 && b.1 == 1.0,
-            a.0 == 0.0 && b.0 == 0.0,
-        ];
-        (0..4).any(|e| sides[e] && !shared.contains(&(t.node.patch(), e)))
-    };
-    common::edges::unmatched_edges(tris, on_model_boundary).len()
+    common::edges::cracks(tris, &shared_sides(patches)).len()
 }
 
 /// Frame 0 of the scene and a view of it all from afar, each with `iso`

@@ -315,17 +315,7 @@ fn unmatched_edges(patches: &[BezierPatch], tris: &[Triangle]) -> Vec<(Vec3, Vec
         shared.insert(se.a);
         shared.insert(se.b);
     }
-    let on_model_boundary = |t: &Triangle, i: usize, j: usize| {
-        let (a, b) = (t.uv[i], t.uv[j]);
-        let sides = [
-            a.1 == 0.0 && b.1 == 0.0,
-            a.0 == 1.0 && b.0 == 1.0,
-            a.1 == 1.0 && b.1 == 1.0,
-            a.0 == 0.0 && b.0 == 0.0,
-        ];
-        (0..4).any(|e| sides[e] && !shared.contains(&(t.node.patch(), e)))
-    };
-    common::edges::unmatched_edges(tris, on_model_boundary)
+    common::edges::cracks(tris, &shared)
 }
 
 fn open_edges(patches: &[BezierPatch], tris: &[Triangle]) -> usize {

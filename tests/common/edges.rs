@@ -1,6 +1,6 @@
 //! Boundary curves that two base patches share, and the nodes along them.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
 
 use bezier_subdiv::patch::criterion::{line_sample_terms, EdgeSample};
@@ -196,4 +196,21 @@ pub fn unmatched_edges(
         .filter(|(_, &b)| b != 0)
         .map(|(&(a, b), _)| (points[a as usize], points[b as usize]))
         .collect()
+}
+
+/// [`unmatched_edges`] of `tris` that are cracks: those not lying on a
+/// base-patch side that no other patch shares (the model's own boundary);
+/// `shared` holds the (patch, side) pairs that another side shares.
+pub fn cracks(tris: &[Triangle], shared: &HashSet<(u32, usize)>) -> Vec<(Vec3, Vec3)> {
+    let on_model_boundary = |t: &Triangle, i: usize, j: usize| {
+        let (a, b) = (t.uv[i], t.uv[j]);
+        let sides = [
+            a.1 == 0.0 && b.1 == 0.0,
+            a.0 == 1.0 && b.0 == 1.0,
+            a.1 == 1.0 && b.1 == 1.0,
+            a.0 == 0.0 && b.0 == 0.0,
+        ];
+        (0..4).any(|e| sides[e] && !shared.contains(&(t.node.patch(), e)))
+    };
+    unmatched_edges(tris, on_model_boundary)
 }
