@@ -5,10 +5,13 @@
 // visible list of their part of the frame (patches_per_part consecutive
 // base patches each), their count going straight into the instance count of
 // that part's indexed indirect draw. Part k's list starts at entry
-// k * patches_per_part, its draw's first instance (set by the host).
+// k * patches_per_part, its draw's first instance (set by the host). A
+// displaced model's box grows by its largest |displacement|.
 #version 460
 
 #include "grid.glsl"
+#include "common/texture.glsl"
+#include "common/displace.glsl"
 
 layout(local_size_x = GRID_CULL_GROUP_SIZE) in;
 
@@ -30,6 +33,11 @@ void main() {
         load_patch(id, P);
         vec3 lo, hi;
         patch_bbox(P, lo, hi);
+        DispModel dm;
+        if (displaced_model(patch_flags_of(id) >> PATCH_MODEL_SHIFT, dm)) {
+            lo -= vec3(dm.margin);
+            hi += vec3(dm.margin);
+        }
         if (outside_frustum(lo, hi, view)) {
             atomicAdd(grid_counters[G_CULLED], 1u);
             return;

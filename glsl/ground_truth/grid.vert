@@ -9,11 +9,16 @@
 // homogeneous coordinates (common/rational.glsl, Schwarz and Stamminger
 // §3) and projected; curve4 is reversal-symmetric like curve, so its shared
 // edges meet bit for bit too. Shaded by ground_truth/grid.frag (its own rational normal).
+// A displaced model's grid points move by n̂·d like the subdivision's
+// vertices (common/displace.glsl, each shared point by its owner), so the
+// displaced reference is as watertight as the base one.
 #version 460
 
 #include "grid.glsl"
 #include "common/rational.glsl"
 #include "common/draw.glsl"
+#include "common/texture.glsl"
+#include "common/displace.glsl"
 
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec2 out_uv;
@@ -38,6 +43,11 @@ void main() {
         vec3 P[16];
         load_model_patch_in(t, id, P);
         p = place_in(t, eval_patch(P, uv.x, uv.y));
+        DispModel dm;
+        if (displaced_model(patch_flags_in(t, id) >> PATCH_MODEL_SHIFT, dm)) {
+            precise vec3 moved = p + displacement_offset(t, id, dm, uv);
+            p = moved;
+        }
     }
     gl_Position = clip_position(p);
     out_world = p;

@@ -376,6 +376,8 @@ pub const DEFAULT_METHOD: &str = subdiv::INFO.name;
 
 /// The reference's grid unless told otherwise (`--grid`).
 pub const REFERENCE_DEFAULT_GRID: u32 = ground_truth::DEFAULT_GRID;
+/// The reference's largest grid.
+pub const REFERENCE_MAX_GRID: u32 = ground_truth::MAX_GRID;
 
 /// The entry with role `role` (the registry has exactly one reference and
 /// one baseline: a test says so).
@@ -471,8 +473,8 @@ impl Reads {
         ..Reads::ALL
     };
 
-    /// What a tessellator reads: it sets its levels from ε alone and draws
-    /// itself.
+    /// What a tessellator reads: it sets its levels from ε (and a
+    /// displaced model's bound) alone and draws itself.
     pub const TESSELLATES: Reads = Reads {
         draw_path: false,
         lambda: false,
@@ -480,7 +482,6 @@ impl Reads {
         split: false,
         wedges: false,
         occlusion: false,
-        displacement: false,
         ..Reads::SUBDIVIDES
     };
 }

@@ -98,6 +98,10 @@ pub struct SceneDisplacement {
     /// Per model patch: its UV patch's second-derivative bounds
     /// ([`uv_curvature`]).
     pub uv_curvature: Vec<[f32; 2]>,
+    /// The most texels a displaced model patch spans along u or v (its UV
+    /// net's polygon, which bounds the curve's length): what a uniform grid
+    /// per patch must resolve to sample the maps ([`Self::resolving_grid`]).
+    pub texel_span: f32,
 }
 
 impl SceneDisplacement {
@@ -123,7 +127,44 @@ impl SceneDisplacement {
         }
         self.owners = owners(table);
         self.uv_curvature = uv_patches.iter().map(uv_curvature).collect();
+        self.texel_span = 0.0;
+        for t in &table.instances {
+            let model = (t.flags >> crate::constants::PATCH_MODEL_SHIFT) as usize;
+            let Some(Some(d)) = self.models.get(model) else {
+                continue;
+            };
+            let map = &self.maps[d.map].1;
+            let texels = [map.width as f32, map.height as f32];
+            for uv in &uv_patches[t.source as usize..(t.source + t.count) as usize] {
+                self.texel_span = self.texel_span.max(net_span(uv, texels));
+            }
+        }
     }
+
+    /// The power-of-two grid per patch side that puts at least two samples
+    /// in every texel a displaced patch spans (1 when nothing is displaced).
+    pub fn resolving_grid(&self) -> u32 {
+        ((2.0 * self.texel_span).ceil() as u32)
+            .max(1)
+            .next_power_of_two()
+    }
+}
+
+/// The longest row or column of a UV net's control polygon, in texels.
+fn net_span(uv: &[[f32; 2]; 16], texels: [f32; 2]) -> f32 {
+    let length =
+        |a: [f32; 2], b: [f32; 2]| ((a[0] - b[0]) * texels[0]).hypot((a[1] - b[1]) * texels[1]);
+    let mut span = 0.0f32;
+    for j in 0..4 {
+        let row: f32 = (0..3)
+            .map(|i| length(uv[4 * j + i], uv[4 * j + i + 1]))
+            .sum();
+        let column: f32 = (0..3)
+            .map(|i| length(uv[j + 4 * i], uv[j + 4 * i + 4]))
+            .sum();
+        span = span.max(row).max(column);
+    }
+    span
 }
 
 impl SceneDisplacement {

@@ -104,15 +104,27 @@ impl SceneGeometry {
 
     /// The patches `range` of this geometry with their flags, weights and
     /// the one model summary `model` (a model's instance, for the hole test).
-    pub fn subset(&self, range: std::ops::Range<usize>, model: ModelSummary) -> SceneGeometry {
+    /// The patches' model index becomes 0, the subset's one model; when
+    /// scene model `index` is displaced, the subset is too: its map, its UV
+    /// patches (transposed for a mirrored instance, as its world patches
+    /// are) and owner records made again over the subset's own patches.
+    pub fn subset(
+        &self,
+        range: std::ops::Range<usize>,
+        (index, model): (usize, ModelSummary),
+    ) -> SceneGeometry {
         let weights = if self.weights.is_empty() {
             Vec::new()
         } else {
             self.weights[range.clone()].to_vec()
         };
+        let model_bits = u32::MAX << PATCH_MODEL_SHIFT;
         let mut geo = SceneGeometry {
             patches: self.patches[range.clone()].to_vec(),
-            flags: self.flags[range].to_vec(),
+            flags: self.flags[range.clone()]
+                .iter()
+                .map(|f| f & !model_bits)
+                .collect(),
             models: vec![model],
             weights,
             pn: PnScene::default(),
@@ -123,7 +135,44 @@ impl SceneGeometry {
         if !geo.is_rational() {
             geo.weights.clear();
         }
+        if let Some(Some(d)) = self.displacement.models.get(index) {
+            self.displace_subset(&mut geo, range, d);
+        }
         geo
+    }
+
+    /// Gives `sub` (the patches `range`, see [`SceneGeometry::subset`])
+    /// this geometry's displacement `d` of their model.
+    fn displace_subset(
+        &self,
+        sub: &mut SceneGeometry,
+        range: std::ops::Range<usize>,
+        d: &ModelDisplacement,
+    ) {
+        let uv_patches = range
+            .map(|g| {
+                let (t, k) = self.instances.locate(g);
+                let uv = self.materials.uv_patches[k];
+                if t.mirrored() {
+                    std::array::from_fn(|i| uv[(i % 4) * 4 + i / 4])
+                } else {
+                    uv
+                }
+            })
+            .collect::<Vec<_>>();
+        sub.instances = InstanceTable::identity(&sub.patches, &sub.flags, &sub.weights);
+        sub.materials = SceneMaterials {
+            model_texture: vec![None],
+            uv_patches,
+            ..SceneMaterials::default()
+        };
+        sub.displacement = SceneDisplacement {
+            maps: vec![self.displacement.maps[d.map].clone()],
+            models: vec![Some(ModelDisplacement { map: 0, ..*d })],
+            ..SceneDisplacement::default()
+        };
+        sub.displacement
+            .finish(&sub.instances, &sub.materials.uv_patches);
     }
 }
 

@@ -369,6 +369,22 @@ fn command_line(args: &BenchArgs, plan: &Plan) -> String {
     c
 }
 
+/// Says when the ground truth's `grid` samples a displaced model's map
+/// more coarsely than two samples per texel: its geometric error and FLIP
+/// then measure against a reference that misses some of the map.
+fn note_reference_grid(geo: &crate::scene::geometry::SceneGeometry, grid: u32, flip_frames: u32) {
+    let d = &geo.displacement;
+    let needed = d.resolving_grid().min(methods::REFERENCE_MAX_GRID);
+    if flip_frames > 0 && d.in_use() && grid < needed {
+        eprintln!(
+            "note: the ground truth's grid {grid} samples the displaced maps at {:.2} samples \
+             per texel where a patch spans most texels ({:.0}); --grid {needed} gives 2",
+            grid as f32 / d.texel_span,
+            d.texel_span
+        );
+    }
+}
+
 /// Runs the benchmark on `ctx`; `cancel` stops it after the current frame,
 /// `watch` hears of every frame. Reports are written however it ends; an
 /// error comes back only when no report could be written.
@@ -386,6 +402,7 @@ pub fn run_on(
     let geo = &loaded.geometry;
     fit_methods_to_scene(&mut plan, geo, args.methods.is_some())?;
     crate::commands::note_undisplaced(geo, &plan.methods());
+    note_reference_grid(geo, args.grid, plan.flip_frames);
     prepare_output(&args.out, plan.flip_frames)?;
     let path = ScenePath::of(&plan.scene, geo);
     if plan.frames == 0 {
