@@ -230,10 +230,7 @@ float max4f(float a, float b, float c, float d) {
 
 // Twin of displace::uv_box: the corners' box of model patch k's UVs over
 // dom = (a, b, c, d) and how far they stray from their blend.
-void uv_box(uint k, vec4 dom, out vec2 lo, out vec2 hi, out float grow) {
-    vec2 P[16];
-    load_uv_patch(k, P);
-    vec2 m = uv_curvature_of(k);
+void uv_box_of(vec2 P[16], vec2 m, vec4 dom, out vec2 lo, out vec2 hi, out float grow) {
     precise vec2 q0 = eval_patch2(P, dom.x, dom.z);
     precise vec2 q1 = eval_patch2(P, dom.y, dom.z);
     precise vec2 q2 = eval_patch2(P, dom.x, dom.w);
@@ -249,13 +246,21 @@ void uv_box(uint k, vec4 dom, out vec2 lo, out vec2 hi, out float grow) {
     hi = vec2(max4f(q0.x, q1.x, q2.x, q3.x), max4f(q0.y, q1.y, q2.y, q3.y));
 }
 
-// How far displacement over dom of model patch k can stray (world units).
-precise float reach_of_box(DispModel m, uint k, vec4 dom) {
+// How far displacement over dom of a model patch can stray (world units),
+// from its UV patch P and that patch's bounds c.
+precise float reach_in(DispModel m, vec2 P[16], vec2 c, vec4 dom) {
     vec2 lo, hi;
     float grow;
-    uv_box(k, dom, lo, hi, grow);
+    uv_box_of(P, c, dom, lo, hi, grow);
     precise float r = height_variation(m, lo, hi, grow) * abs(m.scale);
     return r;
+}
+
+// reach_in over dom of model patch k.
+precise float reach_of_box(DispModel m, uint k, vec4 dom) {
+    vec2 P[16];
+    load_uv_patch(k, P);
+    return reach_in(m, P, uv_curvature_of(k), dom);
 }
 
 // ------------------------------------------------------------ owners
@@ -344,17 +349,19 @@ vec3 displacement_offset(Instance t, uint id, DispModel m, vec2 uv) {
     return r;
 }
 
-// Twin of Displaced::edge_reach: how far edge e of node q (base patch id
-// of instance t) can stray, from the edge owner's UVs; 0 on a pole.
-float displaced_edge_reach(Instance t, uint id, DispModel m, uvec2 q, uint e) {
+// The UV line edge e of domain dom (of base patch id, instance t) lies on,
+// in the terms of the edge's owner (twin of Displaced::edge_reach's
+// owned_line): the owner's model patch o and the line as a box, sorted
+// along it; false on a pole (a collapsed edge, one point).
+bool edge_owner_line(Instance t, uint id, vec4 dom, uint e, out uint o, out vec4 line,
+    out bool along) {
     uint k = t.source + (id - t.first);
-    vec4 dom = node_domain(q);
     bool along_u = e == EDGE_BOTTOM || e == EDGE_TOP;
     float fixed_at = e == EDGE_BOTTOM ? dom.z : (e == EDGE_TOP ? dom.w : (e == EDGE_LEFT ? dom.x : dom.y));
     float t0 = along_u ? dom.x : dom.z;
     float t1 = along_u ? dom.y : dom.w;
     along_u = along_u != ((t.flags & INSTANCE_MIRRORED) != 0u);
-    uint o = k;
+    o = k;
     int me = -1;
     if (fixed_at == 0.0 || fixed_at == 1.0) {
         me = along_u ? (fixed_at == 0.0 ? int(EDGE_BOTTOM) : int(EDGE_TOP))
@@ -363,7 +370,9 @@ float displaced_edge_reach(Instance t, uint id, DispModel m, uvec2 q, uint e) {
     if (me >= 0) {
         uint w = owner_word(k, uint(me));
         if ((w & OWNER_COLLAPSED) != 0u) {
-            return 0.0;
+            line = vec4(0.0);
+            along = true;
+            return false;
         }
         vec2 p[2];
         float ts[2] = float[2](t0, t1);
@@ -382,7 +391,20 @@ float displaced_edge_reach(Instance t, uint id, DispModel m, uvec2 q, uint e) {
         t1 = s1 < s0 ? s0 : s1;
         o = w >> OWNER_PATCH_SHIFT;
     }
-    vec4 line = along_u ? vec4(t0, t1, fixed_at, fixed_at) : vec4(fixed_at, fixed_at, t0, t1);
+    line = along_u ? vec4(t0, t1, fixed_at, fixed_at) : vec4(fixed_at, fixed_at, t0, t1);
+    along = along_u;
+    return true;
+}
+
+// Twin of Displaced::edge_reach: how far edge e of node q (base patch id
+// of instance t) can stray, from the edge owner's UVs; 0 on a pole.
+float displaced_edge_reach(Instance t, uint id, DispModel m, uvec2 q, uint e) {
+    uint o;
+    vec4 line;
+    bool along;
+    if (!edge_owner_line(t, id, node_domain(q), e, o, line, along)) {
+        return 0.0;
+    }
     return reach_of_box(m, o, line);
 }
 

@@ -128,10 +128,19 @@ void main() {
         P[i] = in_point[i];
     }
 
+    g_displaced = patch_displacement(id, g_dm);
+    g_instance = instances[instance_of(id)];
+    g_id = id;
     vec3 lo, hi;
     patch_bbox(P, lo, hi);
+    if (g_displaced) {
+        // The displaced surface reaches beyond the net, and its bumps face
+        // every way: grown box, no back-face test.
+        lo -= vec3(g_dm.margin);
+        hi += vec3(g_dm.margin);
+    }
     bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
-    bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u && !g_displaced;
     bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
         && back_facing(P, lo, hi, view.eye.xyz);
     if (frustum || away) {
@@ -156,6 +165,12 @@ void main() {
     vec2 b2 = edge_bounds(e2);
     vec2 b3 = edge_bounds(e3);
     vec4 outer = vec4(edge_level(e0, b0), edge_level(e1, b1), edge_level(e2, b2), edge_level(e3, b3));
+    if (g_displaced) {
+        outer = vec4(displaced_edge_level(0u, outer.x, tolerance_at(edge_depth(e0))),
+            displaced_edge_level(1u, outer.y, tolerance_at(edge_depth(e1))),
+            displaced_edge_level(2u, outer.z, tolerance_at(edge_depth(e2))),
+            displaced_edge_level(3u, outer.w, tolerance_at(edge_depth(e3))));
+    }
 
     // Inner levels: the bounds over the whole net, plus the mixed term, at
     // the tolerance of the nearest control point.
@@ -166,6 +181,9 @@ void main() {
     precise float v0 = v_bound(P, 0) + m;
     precise float v1 = v_bound(P, 1) + m;
     vec2 inner = vec2(tess_level(density(u0, u1), tol), tess_level(density(v0, v1), tol));
+    if (g_displaced) {
+        inner = displaced_inner_levels(inner, outer, tol);
+    }
 
     vec2 metric_inner = inner;
     narrow_strips(P, outer, inner, m, tol);

@@ -86,7 +86,9 @@ void main() {
     if (interior && ring.y > 0.0) {
         uv.y = narrow(v, ring.y, strip.y, strip.w);
     }
-    if (TESS_REPARAM != 0u) {
+    DispModel dm;
+    bool displaced = patch_displacement(patch_id, dm);
+    if (TESS_REPARAM != 0u && !displaced) {
         if (edge == 0u || edge == 2u) {
             uv.y = warp(v, edge_start[edge], edge_end[edge]);
         } else if (edge == 1u || edge == 3u) {
@@ -97,6 +99,12 @@ void main() {
     }
     uint id = patch_id;
     precise vec3 p = eval_patch(P, uv.x, uv.y);
+    if (displaced) {
+        // Every vertex by its point's owner (common/displace.glsl): a
+        // shared edge's vertices move alike from both sides.
+        precise vec3 moved = p + displacement_offset(instances[instance_of(id)], id, dm, uv);
+        p = moved;
+    }
     if (pc.capture_enabled != 0u && edge < 4u) {
         capture_edge(id, edge, (edge & 1u) == 0u ? gl_TessCoord.y : gl_TessCoord.x, p);
     }

@@ -43,6 +43,9 @@ layout(std430, set = SET_PASS, binding = BIND_TESS_EDGE_VERTICES) buffer TessEdg
 layout(constant_id = 0) const uint TESS_REPARAM = 0u;
 layout(constant_id = 1) const float TESS_MAX_LEVEL = 64.0;
 
+// Displaced patches (tess/displaced.glsl): their state, set per patch.
+#include "displaced.glsl"
+
 // The bound on the second derivative at the start of the cubic p0..p3
 // (when called with p0, p1, p2) or at its end (p1, p2, p3): the norm of
 // 6 ((p_i + p_i+2) - 2 p_i+1). The outer sum is the same two terms from
@@ -65,7 +68,8 @@ precise vec2 edge_bounds(vec3 p[4]) {
 // `depth` or further: ε pixels at that depth (clamped to the near plane,
 // as the subdivision's tolerance is). `eps_k` is ε · 2 tan(fov/2) / height.
 precise float tolerance_at(float depth) {
-    precise float t = view.eps_k * maxf(depth, view.near);
+    precise float d = g_displaced ? depth - g_dm.margin : depth;
+    precise float t = view.eps_k * maxf(d, view.near);
     return t;
 }
 
@@ -102,7 +106,7 @@ bool nearly_equal(float a, float b) {
 // 23-26 integrated in closed form): (2/3)(a + b + √a√b) / (√a + √b). The
 // uniform metric uses sqrt(max(a, b)) instead. Symmetric in a and b.
 precise float density(float a, float b) {
-    if (TESS_REPARAM == 0u || nearly_equal(a, b)) {
+    if (TESS_REPARAM == 0u || g_displaced || nearly_equal(a, b)) {
         precise float r = sqrt(maxf(a, b));
         return r;
     }
@@ -245,7 +249,8 @@ float strip_along_bound(vec3 P[16], uint k, float width) {
 // The error bound of outer edge k's strip at `width` across it.
 float strip_error(vec3 P[16], uint k, float width, float across, float mixed, float span) {
     float along = strip_along_bound(P, k, width);
-    return 0.125 * ((along * span * span + 2.0 * mixed * span * width) + across * width * width);
+    return 0.125 * ((along * span * span + 2.0 * mixed * span * width) + across * width * width)
+        + strip_reach(k, width, span);
 }
 
 // The strip width for outer edge k that keeps `tol`: the tessellator's
