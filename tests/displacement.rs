@@ -459,49 +459,57 @@ fn the_gpu_displaces_bit_for_bit_as_the_oracle() {
     }
 }
 
-/// The tessellator and the ground truth displace too (issue 40): on a small
-/// scene of UV seams, a mirrored instance and poles, `tess` puts the same
-/// levels and the same displaced vertices on both sides of every shared
-/// edge, bit for bit, and shows no hole against the displaced ground truth
-/// (pixels checked in every model). (`subdiv` against the same reference:
-/// `validate --scene tests/data/displaced_seams.toml`, left out of the
-/// suite for time; its cracks without wedges are counted on the CPU above.)
+/// The tessellators and the ground truth displace too (issue 40): on a
+/// small scene of UV seams, a mirrored instance and poles, `tess` and
+/// `cudatess` put the same levels (factors) and the same displaced vertices
+/// on both sides of every shared edge, bit for bit, and `tess` shows no
+/// hole against the displaced ground truth (pixels checked in every
+/// model). (`subdiv` against the same reference: `validate --scene
+/// tests/data/displaced_seams.toml`, left out of the suite for time; its
+/// cracks without wedges are counted on the CPU above.)
 #[test]
-fn tess_and_the_ground_truth_displace_watertight() {
+fn the_tessellators_and_the_ground_truth_displace_watertight() {
     use bezier_subdiv::commands::validate::{run, ValidateArgs};
     use bezier_subdiv::commands::GpuRequest;
     let _gpu = common::gpu();
     let scene =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/displaced_seams.toml");
-    let mut gpu = GpuRequest::new(scene);
-    gpu.size = (256, 144);
-    gpu.validation = true;
-    gpu.method = "tess".to_string();
-    let report = run(&ValidateArgs {
-        gpu,
-        frames: vec![0],
-        skip_holes: false,
-        debug_dir: None,
-    })
-    .unwrap();
-    println!("{}", report.table);
-    assert!(report.ok(), "{}", report.table);
-    let holes = report
-        .results
-        .iter()
-        .filter(|r| r.check.starts_with("holes") && r.ok);
-    assert_eq!(
-        holes.count(),
-        3,
-        "one hole test per model\n{}",
-        report.table
-    );
-    for check in ["edge levels", "edge vertices"] {
-        assert!(
-            report.results.iter().any(|r| r.check == check && r.ok),
-            "{check}\n{}",
-            report.table
-        );
+    let cases = [
+        ("tess", &["edge levels", "edge vertices"][..], true),
+        (
+            "cudatess",
+            &["edge factors", "largest factor", "edge vertices"][..],
+            false,
+        ),
+    ];
+    for (method, checks, holes) in cases {
+        let mut gpu = GpuRequest::new(scene.clone());
+        gpu.size = (256, 144);
+        gpu.validation = true;
+        gpu.method = method.to_string();
+        let report = run(&ValidateArgs {
+            gpu,
+            frames: vec![0],
+            skip_holes: !holes,
+            debug_dir: None,
+        })
+        .unwrap();
+        println!("{}", report.table);
+        assert!(report.ok(), "{method}\n{}", report.table);
+        let passed = |check: &str| report.results.iter().any(|r| r.check == check && r.ok);
+        for check in checks {
+            assert!(passed(check), "{method}: {check}\n{}", report.table);
+        }
+        if holes {
+            let models = ["catmark_torus.obj", "catmark_cube.obj", "teapot.bpt"];
+            for m in models {
+                assert!(
+                    passed(&format!("holes {m}")),
+                    "{method}: holes {m}\n{}",
+                    report.table
+                );
+            }
+        }
     }
 }
 

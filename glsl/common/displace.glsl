@@ -228,13 +228,11 @@ float max4f(float a, float b, float c, float d) {
     return maxf(maxf(a, b), maxf(c, d));
 }
 
-// Twin of displace::uv_box: the corners' box of model patch k's UVs over
-// dom = (a, b, c, d) and how far they stray from their blend.
-void uv_box_of(vec2 P[16], vec2 m, vec4 dom, out vec2 lo, out vec2 hi, out float grow) {
-    precise vec2 q0 = eval_patch2(P, dom.x, dom.z);
-    precise vec2 q1 = eval_patch2(P, dom.y, dom.z);
-    precise vec2 q2 = eval_patch2(P, dom.x, dom.w);
-    precise vec2 q3 = eval_patch2(P, dom.y, dom.w);
+// Twin of displace::uv_box, from the UVs q0..q3 at the corners (a, c),
+// (b, c), (a, d), (b, d) of dom = (a, b, c, d): their box and how far the
+// UVs stray from their blend (m: the UV patch's curvature bounds).
+void uv_box_from(vec2 q0, vec2 q1, vec2 q2, vec2 q3, vec2 m, vec4 dom, out vec2 lo, out vec2 hi,
+    out float grow) {
     precise float du = dom.y - dom.x;
     precise float dv = dom.w - dom.z;
     precise float tw_s = abs((q0.x - q1.x) - (q2.x - q3.x));
@@ -244,6 +242,15 @@ void uv_box_of(vec2 P[16], vec2 m, vec4 dom, out vec2 lo, out vec2 hi, out float
     grow = g;
     lo = vec2(min4f(q0.x, q1.x, q2.x, q3.x), min4f(q0.y, q1.y, q2.y, q3.y));
     hi = vec2(max4f(q0.x, q1.x, q2.x, q3.x), max4f(q0.y, q1.y, q2.y, q3.y));
+}
+
+// The same over dom of the UV patch P.
+void uv_box_of(vec2 P[16], vec2 m, vec4 dom, out vec2 lo, out vec2 hi, out float grow) {
+    precise vec2 q0 = eval_patch2(P, dom.x, dom.z);
+    precise vec2 q1 = eval_patch2(P, dom.y, dom.z);
+    precise vec2 q2 = eval_patch2(P, dom.x, dom.w);
+    precise vec2 q3 = eval_patch2(P, dom.y, dom.w);
+    uv_box_from(q0, q1, q2, q3, m, dom, lo, hi, grow);
 }
 
 // How far displacement over dom of a model patch can stray (world units),
@@ -406,6 +413,102 @@ float displaced_edge_reach(Instance t, uint id, DispModel m, uvec2 q, uint e) {
         return 0.0;
     }
     return reach_of_box(m, o, line);
+}
+
+// ------------------------------------------------------------ grids
+
+// The most cells per side cells_reach takes (a lattice row's points are
+// kept); a tessellator's largest level is 64 on every device known.
+const float GRID_LARGEST = 64.0;
+
+// The largest reach over an nu × nv grid of equal cells of base patch id
+// (instance t): what a tessellator's cells can stray by. The cells' UV
+// corners are evaluated once per lattice point, row by row (the same bits
+// as per cell). Stops at the first cell beyond `limit` (the answer is then
+// only known to exceed it).
+float cells_reach(Instance t, uint id, DispModel m, float nu, float nv, float limit) {
+    uint k = t.source + (id - t.first);
+    // In the model patch's own parameters: a mirrored instance swaps them
+    // (the largest over all cells does not depend on the order).
+    if ((t.flags & INSTANCE_MIRRORED) != 0u) {
+        float s = nu;
+        nu = nv;
+        nv = s;
+    }
+    vec2 P[16];
+    load_uv_patch(k, P);
+    vec2 c = uv_curvature_of(k);
+    vec2 row[65];
+    for (float i = 0.0; i <= nu; i += 1.0) {
+        precise vec2 q = eval_patch2(P, i / nu, 0.0);
+        row[int(i)] = q;
+    }
+    float r = 0.0;
+    for (float j = 0.0; j < nv; j += 1.0) {
+        float v0 = j / nv;
+        float v1 = (j + 1.0) / nv;
+        vec2 below = row[0];
+        precise vec2 left = eval_patch2(P, 0.0, v1);
+        row[0] = left;
+        for (float i = 0.0; i < nu; i += 1.0) {
+            int a = int(i);
+            precise vec2 above = eval_patch2(P, (i + 1.0) / nu, v1);
+            vec4 dom = vec4(i / nu, (i + 1.0) / nu, v0, v1);
+            vec2 lo, hi;
+            float grow;
+            uv_box_from(below, row[a + 1], row[a], above, c, dom, lo, hi, grow);
+            below = row[a + 1];
+            row[a + 1] = above;
+            r = max(r, height_variation(m, lo, hi, grow) * abs(m.scale));
+            if (r > limit) {
+                return r;
+            }
+        }
+    }
+    return r;
+}
+
+// Whether a grid of n cells keeps tol: the base surface's error, which a
+// metric asking for `base` segments keeps within tol and which falls as
+// the square of the segments, plus the cells' reach.
+bool grid_fits(Instance t, uint id, DispModel m, vec2 n, vec2 base, float tol) {
+    vec2 scaled = base / n;
+    float error = tol * max(scaled.x * scaled.x, scaled.y * scaled.y);
+    return error + cells_reach(t, id, m, n.x, n.y, tol - error) <= tol;
+}
+
+// A displaced patch's grid for a tessellator: n0 (at least the base
+// metric's) scaled by the least factor, found by doubling and then four
+// halvings of the gap, at which every cell fits; whole segments, at most
+// `largest` (where nothing fits, the largest).
+vec2 displaced_grid(Instance t, uint id, DispModel m, vec2 base, vec2 n0, float tol, float most) {
+    float largest = min(most, GRID_LARGEST);
+    n0 = min(n0, vec2(largest));
+    if (grid_fits(t, id, m, n0, base, tol)) {
+        return n0;
+    }
+    float lo = 1.0;
+    float hi = 1.0;
+    for (;;) {
+        hi *= 2.0;
+        vec2 n = min(ceil(n0 * hi), vec2(largest));
+        if (grid_fits(t, id, m, n, base, tol)) {
+            break;
+        }
+        if (min(n.x, n.y) >= largest) {
+            return n;
+        }
+        lo = hi;
+    }
+    for (int i = 0; i < 4; ++i) {
+        float mid = 0.5 * (lo + hi);
+        if (grid_fits(t, id, m, min(ceil(n0 * mid), vec2(largest)), base, tol)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    return min(ceil(n0 * hi), vec2(largest));
 }
 
 // Twin of Displaced::inner_reach.

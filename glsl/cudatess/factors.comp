@@ -12,11 +12,20 @@
 // point (as tess.glsl turns ε into object space), and each edge's factor
 // becomes the largest any of its patches asks for (atomicMax into the edge
 // table): the consistent factors of stage 2, with no second pass over edges.
+//
+// A displaced patch (issue 40) takes its factors from the subdivision's own
+// reach bound (common/displace.glsl, displaced_grid): the fewest m x n cells
+// for which the base bound's error plus every cell's reach keeps the
+// tolerance, taken `margin` nearer; its box grows by the margin and it is
+// never back-face culled. The core the pattern draws is at least as fine,
+// and a transition strip's triangles lie within one core cell.
 #version 460
 
 #include "common/cudatess.glsl"
 #include "push.glsl"
 #include "common/rational_subdiv.glsl"
+#include "common/texture.glsl"
+#include "common/displace.glsl"
 
 layout(local_size_x = CT_GROUP_SIZE) in;
 
@@ -49,8 +58,14 @@ void process(uint id) {
     load_patch(id, P);
     vec3 lo, hi;
     patch_bbox(P, lo, hi);
+    DispModel dm;
+    bool displaced = displaced_model(patch_flags_of(id) >> PATCH_MODEL_SHIFT, dm);
+    if (displaced) {
+        lo -= vec3(dm.margin);
+        hi += vec3(dm.margin);
+    }
     bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
-    bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u;
+    bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u && !displaced;
     bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
         && faces_away(id, P, lo, hi);
     if (frustum || away) {
@@ -64,6 +79,9 @@ void process(uint id) {
     float depth = affine_row(view.depth_row, P[0]);
     for (int i = 1; i < 16; ++i) {
         depth = minf(depth, affine_row(view.depth_row, P[i]));
+    }
+    if (displaced) {
+        depth -= dm.margin;
     }
     float tol = view.eps_k * maxf(depth, view.near);
     // Homogeneous points about the centre of the box (the error does not
@@ -106,6 +124,14 @@ void process(uint id) {
     float budget = 4.0 * tol * w_min;
     uint m = factor_of((duu + duv) / budget);
     uint n = factor_of((dvv + duv) / budget);
+    if (displaced) {
+        // The base bound keeps tol at sqrt(x) segments per direction.
+        vec2 base = sqrt(vec2((duu + duv) / budget, (dvv + duv) / budget));
+        vec2 grid = displaced_grid(instances[instance_of(id)], id, dm, base,
+            vec2(float(m), float(n)), tol, float(CT_MAX_FACTOR));
+        m = uint(grid.x);
+        n = uint(grid.y);
+    }
     ct_patches[rec + CT_REC_M] = m;
     ct_patches[rec + CT_REC_N] = n;
     uvec4 edges = ct_edge_ids[id];

@@ -17,6 +17,8 @@
 
 #include "common/cudatess.glsl"
 #include "push.glsl"
+#include "common/texture.glsl"
+#include "common/displace.glsl"
 
 layout(local_size_x = CT_GROUP_SIZE) in;
 
@@ -25,6 +27,18 @@ const uint PATCHES_PER_GROUP = CT_GROUP_SIZE / CT_VERTEX_THREADS;
 // Homogeneous control points (w p, w) of the group's patches; w = 1 exactly
 // reproduces p in xyz.
 shared vec4 points[PATCHES_PER_GROUP * 16u];
+
+// A displaced model's vertices move by n̂·d, each by its point's owner
+// (common/displace.glsl): shared edge vertices, at exactly complementary
+// parameters from either side, move alike.
+vec3 displaced(uint id, vec3 p, vec2 uv) {
+    DispModel dm;
+    if (!displaced_model(patch_flags_of(id) >> PATCH_MODEL_SHIFT, dm)) {
+        return p;
+    }
+    precise vec3 r = p + displacement_offset(instances[instance_of(id)], id, dm, uv);
+    return r;
+}
 
 void write_vertex(uint at, vec3 p, vec2 uv, uint word) {
     uint o = at * CT_VERTEX_WORDS;
@@ -67,7 +81,7 @@ void boundary_vertex(uint g, uint id, CtPattern t, uint base, uint k, uint word_
         uint a = k;
         uint b = (k + 1u) & 3u;
         bool transition = t.strip[a] || t.strip[b];
-        write_vertex(base + k, corner_point(id, k), corner_uv[k],
+        write_vertex(base + k, displaced(id, corner_point(id, k), corner_uv[k]), corner_uv[k],
             word_base | ((transition ? 1u : 0u) << CT_TRANSITION_SHIFT));
         return;
     }
@@ -82,7 +96,8 @@ void boundary_vertex(uint g, uint id, CtPattern t, uint base, uint k, uint word_
     vec3 p = edge_point(g, edge, s, t.e[edge], param);
     vec2 uv = edge == 0u ? vec2(0.0, param) : edge == 1u ? vec2(param, 0.0)
         : edge == 2u ? vec2(1.0, param) : vec2(param, 1.0);
-    write_vertex(base + k, p, uv, word_base | ((t.strip[edge] ? 1u : 0u) << CT_TRANSITION_SHIFT));
+    write_vertex(base + k, displaced(id, p, uv), uv,
+        word_base | ((t.strip[edge] ? 1u : 0u) << CT_TRANSITION_SHIFT));
 }
 
 // Interior vertex (i, j) evaluated directly.
@@ -105,7 +120,7 @@ vec3 interior_point(uint g, bool rational, float u, float v) {
 
 // Row j of interior vertices by forward differences along u: the row's
 // cubic (the columns evaluated at v) in power form, stepped by h = 1 / m.
-void forward_row(uint g, bool rational, CtPattern t, uint base, uint j, uint word) {
+void forward_row(uint g, uint id, bool rational, CtPattern t, uint base, uint j, uint word) {
     float v = float(j) / float(t.n);
     vec4 q0 = curve4(v, points[g + 0u], points[g + 4u], points[g + 8u], points[g + 12u]);
     vec4 q1 = curve4(v, points[g + 1u], points[g + 5u], points[g + 9u], points[g + 13u]);
@@ -127,7 +142,8 @@ void forward_row(uint g, bool rational, CtPattern t, uint base, uint j, uint wor
         d1 += d2;
         d2 += d3;
         vec3 p = rational ? f.xyz / f.w : f.xyz;
-        write_vertex(base + row + i - 1u, p, vec2(float(i) / float(t.m), v), word);
+        vec2 uv = vec2(float(i) / float(t.m), v);
+        write_vertex(base + row + i - 1u, displaced(id, p, uv), uv, word);
     }
 }
 
@@ -151,7 +167,7 @@ void emit(uint id, uint slot, uint lane) {
     uint cols = t.m - 1u;
     if ((ct.options & CT_OPT_FORWARD_DIFF) != 0u) {
         for (uint j = 1u + lane; j < t.n; j += CT_VERTEX_THREADS) {
-            forward_row(g, rational, t, base, j, word);
+            forward_row(g, id, rational, t, base, j, word);
         }
         return;
     }
@@ -160,7 +176,8 @@ void emit(uint id, uint slot, uint lane) {
         uint i = k % cols + 1u;
         uint j = k / cols + 1u;
         vec2 uv = vec2(float(i) / float(t.m), float(j) / float(t.n));
-        write_vertex(base + t.interior_base + k, interior_point(g, rational, uv.x, uv.y), uv, word);
+        write_vertex(base + t.interior_base + k, displaced(id, interior_point(g, rational, uv.x, uv.y), uv),
+            uv, word);
     }
 }
 

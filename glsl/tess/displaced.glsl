@@ -32,8 +32,8 @@ bool patch_displacement(uint id, out DispModel m) {
 }
 
 // The largest reach over n equal pieces of a UV line (a box with equal
-// ends in one direction) of model patch o.
-float line_pieces_reach(uint o, vec4 line, bool along_u, float n) {
+// ends in one direction) of model patch o; stops beyond `limit`.
+float line_pieces_reach(uint o, vec4 line, bool along_u, float n, float limit) {
     vec2 P[16];
     load_uv_patch(o, P);
     vec2 c = uv_curvature_of(o);
@@ -45,6 +45,9 @@ float line_pieces_reach(uint o, vec4 line, bool along_u, float n) {
         precise float s1 = a + (b - a) * ((i + 1.0) / n);
         vec4 box = along_u ? vec4(s0, s1, line.z, line.w) : vec4(line.x, line.y, s0, s1);
         r = max(r, reach_in(g_dm, P, c, box));
+        if (r > limit) {
+            return r;
+        }
     }
     return r;
 }
@@ -52,7 +55,8 @@ float line_pieces_reach(uint o, vec4 line, bool along_u, float n) {
 // Whether n segments of an edge keep tol: base error plus the pieces' reach.
 bool edge_fits(float n, float base, float tol, uint o, vec4 line, bool along_u) {
     float scaled = base / n;
-    return tol * (scaled * scaled) + line_pieces_reach(o, line, along_u, n) <= tol;
+    float error = tol * (scaled * scaled);
+    return error + line_pieces_reach(o, line, along_u, n, tol - error) <= tol;
 }
 
 // Outer edge k's level (k: 0 u = 0, 1 v = 0, 2 u = 1, 3 v = 1): the fewest
@@ -90,65 +94,11 @@ float displaced_edge_level(uint k, float base, float tol) {
     return hi;
 }
 
-// The largest reach over an nu × nv grid of cells of the patch.
-float cells_reach(float nu, float nv) {
-    uint k = g_instance.source + (g_id - g_instance.first);
-    bool mirrored = (g_instance.flags & INSTANCE_MIRRORED) != 0u;
-    vec2 P[16];
-    load_uv_patch(k, P);
-    vec2 c = uv_curvature_of(k);
-    float r = 0.0;
-    for (float j = 0.0; j < nv; j += 1.0) {
-        for (float i = 0.0; i < nu; i += 1.0) {
-            vec4 dom = vec4(i / nu, (i + 1.0) / nu, j / nv, (j + 1.0) / nv);
-            r = max(r, reach_in(g_dm, P, c, mirrored ? dom.zwxy : dom));
-        }
-    }
-    return r;
-}
-
-// Whether inner levels n keep tol: base error plus the cells' reach.
-bool inner_fits(vec2 n, vec2 base, float tol) {
-    vec2 scaled = base / n;
-    return tol * max(scaled.x * scaled.x, scaled.y * scaled.y) + cells_reach(n.x, n.y) <= tol;
-}
-
-// Inner levels n0 scaled by s (whole segments, at most the largest level).
-vec2 scaled_levels(vec2 n0, float s) {
-    return min(ceil(n0 * s), vec2(TESS_MAX_LEVEL));
-}
-
 // Inner levels: at least the metric's and the facing edges', scaled
-// together by the least factor (doubling, then four halvings of the gap)
-// at which the cells' reach plus the base error fits.
+// together (common/displace.glsl, displaced_grid) until every cell fits.
 vec2 displaced_inner_levels(vec2 base, vec4 outer, float tol) {
     vec2 n0 = vec2(ceil(max(base.x, max(outer.y, outer.w))), ceil(max(base.y, max(outer.x, outer.z))));
-    n0 = max(n0, vec2(1.0));
-    if (inner_fits(n0, base, tol)) {
-        return n0;
-    }
-    float lo = 1.0;
-    float hi = 1.0;
-    for (;;) {
-        hi *= 2.0;
-        vec2 n = scaled_levels(n0, hi);
-        if (inner_fits(n, base, tol)) {
-            break;
-        }
-        if (min(n.x, n.y) >= TESS_MAX_LEVEL) {
-            return n;  // nothing up to the largest levels fits
-        }
-        lo = hi;
-    }
-    for (int i = 0; i < 4; ++i) {
-        float mid = 0.5 * (lo + hi);
-        if (inner_fits(scaled_levels(n0, mid), base, tol)) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    return scaled_levels(n0, hi);
+    return displaced_grid(g_instance, g_id, g_dm, base, max(n0, vec2(1.0)), tol, TESS_MAX_LEVEL);
 }
 
 // The reach of outer edge k's border strip at `width` across it, in

@@ -75,11 +75,7 @@ pub const INFO: MethodInfo = MethodInfo {
             vertex and index buffers, one indexed indirect draw (rational patches too)",
     rational: true,
     pn: true,
-    // Its factors and vertices do not read a displacement yet.
-    reads: Reads {
-        displacement: false,
-        ..Reads::TESSELLATES
-    },
+    reads: Reads::TESSELLATES,
     role: Role::Compared,
     targets: &[],
     heat_map: "log2 of the patch's larger factor",
