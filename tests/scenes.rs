@@ -28,6 +28,7 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("kitchen-anim.toml", 35_940, 8),
     ("textured.toml", 199, 3),
     ("displaced.toml", 506, 2),
+    ("kitchen-displaced.toml", 35_940, 9),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),
@@ -122,7 +123,7 @@ fn header_table(text: &str) -> Vec<TableRow> {
 
 #[test]
 fn the_kitchen_header_tables_match_the_geometry() {
-    for name in ["kitchen.toml", "blobs.toml"] {
+    for name in ["kitchen.toml", "kitchen-displaced.toml", "blobs.toml"] {
         header_table_matches(name, "35,940");
     }
     header_table_matches("herd.toml", "1,008,406");
@@ -184,7 +185,7 @@ fn the_herd_is_what_its_script_writes() {
 #[test]
 fn the_kitchen_is_what_its_script_writes() {
     let out = run_make("kitchen");
-    let mut written = vec![out.join("kitchen.toml")];
+    let mut written = vec![out.join("kitchen.toml"), out.join("kitchen-displaced.toml")];
     for e in std::fs::read_dir(out.join("models")).unwrap() {
         written.push(e.unwrap().path());
     }

@@ -654,6 +654,42 @@ def main():
     os.replace(path + ".tmp", path)
     print("\n".join(t[1:] for t in table))
     print(f"  total {total:,} base patches -> {path}")
+    write_displaced(scenes, text)
+
+
+# The displaced kitchen's last keyframe, after the kitchen's.
+DISPLACED_KEY = '''# 8 (the displaced kitchen's own): low over the floor's left side, along
+# the grout to the table and the balls.
+[[camera_path.key]]
+position = [-26.0, 4.0, 3.0]
+target = [-14.0, -5.0, 0.0]
+fov_y_deg = 45.0
+near = 0.05
+far = 500.0
+
+'''
+
+
+def write_displaced(scenes, text):
+    """scenes/kitchen-displaced.toml: the kitchen with its floor's stone
+    tiles displaced by their height map (grout 0.15 deep on 3-unit tiles;
+    tools/textures/make.py writes the map) and one more keyframe, down on
+    the floor; frames 0-7 are the kitchen's."""
+    head = ("# The evaluation kitchen with a displaced floor (issue 40): written by\n"
+            "# tools/kitchen/make.py from scenes/kitchen.toml; edit the script.\n"
+            "# Frames 0-7 are the kitchen's; frame 8 looks along the floor's grout.\n#\n")
+    text = head + text.replace('name = "kitchen"\n', 'name = "kitchen-displaced"\n', 1)
+    orbit = "# The path `bench` samples"
+    assert orbit in text
+    text = text.replace(orbit, DISPLACED_KEY + orbit, 1)
+    floor = 'file = "models/kitchen_floor.obj"\n'
+    assert floor in text
+    text = text.replace(floor, floor + 'displacement = { map = "textures/kitchen_floor_height.png", scale = 0.15 }\n', 1)
+    path = os.path.join(scenes, "kitchen-displaced.toml")
+    with open(path + ".tmp", "w") as out:
+        out.write(text)
+    os.replace(path + ".tmp", path)
+    print(f"  the same with a displaced floor -> {path}")
 
 
 if __name__ == "__main__":
