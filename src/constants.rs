@@ -205,6 +205,9 @@ shared_constants! {
         /// Anisotropic splits: halve only the direction whose edges are not
         /// flat (1:2), 1:4 when both are or the inner tier fails.
         FLAG_ANISO = 8;
+        /// Draw displaced models undisplaced (the window's "displacement"
+        /// toggle; the CPU reference does not read it).
+        FLAG_UNDISPLACED = 16;
         /// Test-only: donate to the work queue on every split, not only when some
         /// invocation is idle, to exercise the queue (and its overflow) hard.
         FLAG_QUEUE_STRESS = 0x4000_0000;

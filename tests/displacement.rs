@@ -513,6 +513,48 @@ fn the_tessellators_and_the_ground_truth_displace_watertight() {
     }
 }
 
+/// The window's displacement toggle (`FLAG_UNDISPLACED`): the displaced
+/// scene drawn with the flag is, pixel for pixel, the scene without its
+/// displacement; without the flag it is not.
+#[test]
+fn the_undisplaced_flag_draws_the_base_surfaces() {
+    use bezier_subdiv::constants::{FLAG_UNDISPLACED, SHADE_NORMAL};
+    use bezier_subdiv::draw::DrawPath;
+    use bezier_subdiv::frame::View;
+    use bezier_subdiv::methods::MethodOptions;
+    use bezier_subdiv::scene::geometry::SceneGeometry;
+    let gpu = common::gpu();
+    let size = (320, 180);
+    let (scene, geo) = common::scene("displaced.toml");
+    let mut base = geo.clone();
+    base.displacement = Default::default();
+    let camera = scene.frame_camera(0).unwrap();
+    let image = |g: &SceneGeometry, flags: u32| {
+        let mut r = common::renderer(&gpu, g, "subdiv", size, MethodOptions::new(DrawPath::Mesh));
+        let mut view = View::new(&camera, size, 1.0, 0.5, SHADE_NORMAL);
+        view.params.flags |= flags;
+        r.render(&view).unwrap();
+        r.read_image().unwrap()
+    };
+    let differing = |a: &[u8], b: &[u8]| {
+        a.chunks_exact(4)
+            .zip(b.chunks_exact(4))
+            .filter(|(p, q)| p != q)
+            .count()
+    };
+    let plain = image(&base, 0);
+    let toggled = image(&geo, FLAG_UNDISPLACED);
+    let displaced = image(&geo, 0);
+    assert_eq!(
+        differing(&toggled, &plain),
+        0,
+        "the flag draws the base surfaces"
+    );
+    let moved = differing(&displaced, &plain);
+    println!("displaced against base: {moved} pixels differ");
+    assert!(moved > 5_000, "displacement shows ({moved} pixels)");
+}
+
 /// `--shade displacement` shows the maps' heights on displaced models
 /// (from dark blue at 0 to yellow at 1: both low and high and much between on
 /// scenes/displaced.toml, whose grout is 0 and bump tops 1) and grey on

@@ -87,6 +87,9 @@ const uint FLAG_WEDGES = 4;
 // Anisotropic splits: halve only the direction whose edges are not
 // flat (1:2), 1:4 when both are or the inner tier fails.
 const uint FLAG_ANISO = 8;
+// Draw displaced models undisplaced (the window's "displacement"
+// toggle; the CPU reference does not read it).
+const uint FLAG_UNDISPLACED = 16;
 // Test-only: donate to the work queue on every split, not only when some
 // invocation is idle, to exercise the queue (and its overflow) hard.
 const uint FLAG_QUEUE_STRESS = 0x40000000;

@@ -24,10 +24,11 @@ struct DispModel {
     float margin;  // largest |displacement|, a little enlarged
 };
 
-// Scene model `model`'s displacement; false where it has none.
+// Scene model `model`'s displacement; false where it has none, or where
+// the view draws every model undisplaced (FLAG_UNDISPLACED).
 bool displaced_model(uint model, out DispModel m) {
     m = DispModel(0u, 0u, 0u, 0u, 0u, 0.0, 0.0, 0.0);
-    if (!SCENE_DISPLACED || model >= disp_words[2]) {
+    if (!SCENE_DISPLACED || (view.flags & FLAG_UNDISPLACED) != 0u || model >= disp_words[2]) {
         return false;
     }
     uint o = DISPLACEMENT_HEADER_WORDS + model * DISPLACEMENT_MODEL_WORDS;

@@ -48,6 +48,8 @@ pub struct Controls {
     pub wedges: bool,
     /// Occlusion culling on (the level kernels' two phases).
     pub occlusion: bool,
+    /// Displaced models drawn displaced; `None` when no model is.
+    pub displacement: Option<bool>,
     /// How to shade.
     pub shade: Shade,
     /// Samples per pixel.
@@ -374,6 +376,14 @@ impl Controls {
             )
             .on_disabled_hover_text(&ignored);
         });
+        if let Some(on) = self.displacement.as_mut() {
+            ui.add_enabled(
+                reads.displacement,
+                egui::Checkbox::new(on, "displacement: height maps move the surfaces"),
+            )
+            .on_hover_text("off: the displaced models as their base surfaces")
+            .on_disabled_hover_text(&ignored);
+        }
     }
 
     /// The view and the sample counts the device offers.

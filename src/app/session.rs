@@ -28,7 +28,9 @@ use super::panel::{Action, AnimControls, Controls, DeviceOffer, FlipView, LiveSt
 use super::present::Presenter;
 use super::ViewArgs;
 use crate::commands::render::{stats_json, stats_path, write_outputs, RenderArgs};
-use crate::constants::{FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_WEDGES, L_MAX, SHADE_NORMAL};
+use crate::constants::{
+    FLAG_BACKFACE_CULL, FLAG_FRUSTUM_CULL, FLAG_UNDISPLACED, FLAG_WEDGES, L_MAX, SHADE_NORMAL,
+};
 use crate::frame::View;
 use crate::methods::{MethodOptions, RenderError};
 use crate::renderer::{FrameReport, FrameTicket, Renderer, DEFAULT_FRAMES_IN_FLIGHT};
@@ -161,6 +163,7 @@ impl Session {
             backface: true,
             wedges: true,
             occlusion: renderer.options().occlusion,
+            displacement: geo.displacement.in_use().then_some(true),
             shade: args.shade,
             msaa: args.gpu.msaa,
             grid: args.gpu.per_method.reference_grid(),
@@ -324,6 +327,9 @@ impl Session {
             if on {
                 flags |= flag;
             }
+        }
+        if c.displacement == Some(false) {
+            flags |= FLAG_UNDISPLACED;
         }
         view.params.flags = flags | c.split.flag();
         view
@@ -515,6 +521,7 @@ impl Session {
             "occlusion": c.occlusion,
         });
         stats["wedges"] = json!(c.wedges);
+        stats["displacement"] = json!(c.displacement);
         stats["split"] = json!(c.split.name());
         stats["present_mode"] = json!(self.presenter.present_mode());
         // What the window showed around the frame (the keys' effects).
