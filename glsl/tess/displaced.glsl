@@ -101,8 +101,10 @@ vec2 displaced_inner_levels(vec2 base, vec4 outer, float tol) {
     return displaced_grid(g_instance, g_id, g_dm, base, max(n0, vec2(1.0)), tol, TESS_MAX_LEVEL);
 }
 
-// The reach of outer edge k's border strip at `width` across it, in
-// pieces `span` long along it.
+// The reach of outer edge k's border strip at `width` across it. Its
+// triangles are at most `span` long along the edge but not aligned with
+// any grid, so the windows are two pieces of `span` long, one piece
+// apart: every triangle lies within one of them.
 float strip_reach(uint k, float width, float span) {
     if (!g_displaced) {
         return 0.0;
@@ -118,7 +120,7 @@ float strip_reach(uint k, float width, float span) {
     float r = 0.0;
     for (float i = 0.0; i < pieces; i += 1.0) {
         float a = i / pieces;
-        float b = (i + 1.0) / pieces;
+        float b = min((i + 2.0) / pieces, 1.0);
         vec4 dom = (k & 1u) == 0u ? vec4(lo, hi, a, b) : vec4(a, b, lo, hi);
         r = max(r, reach_in(g_dm, P, c, mirrored ? dom.zwxy : dom));
     }
