@@ -121,6 +121,23 @@ precise float height_at(DispModel m, float s, float t) {
     return r;
 }
 
+// The map's gradient (dh/ds, dh/dt) at (s, t): the bilinear blend's own
+// derivative inside its texel cell (for lighting, not for positions).
+vec2 height_gradient(DispModel m, float s, float t) {
+    float x = height_coord(s, m.width);
+    float y = height_coord(t, m.height);
+    float fx = x - floor(x);
+    float fy = y - floor(y);
+    int i = int(floor(x));
+    int j = int(floor(y));
+    float h00 = height_texel(m, i, j);
+    float h10 = height_texel(m, i + 1, j);
+    float h01 = height_texel(m, i, j + 1);
+    float h11 = height_texel(m, i + 1, j + 1);
+    return vec2(mix(h10 - h00, h11 - h01, fy) * float(m.width),
+        mix(h01 - h00, h11 - h10, fx) * float(m.height));
+}
+
 // A pyramid cell: h lo, hi; x-slope lo, hi; y-slope lo, hi.
 struct HCell {
     float v[6];

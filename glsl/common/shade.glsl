@@ -141,11 +141,43 @@ vec3 surface_normal(uint patch_id, vec2 uv, vec3 to_eye) {
     return facing_normal(patch_normal(P, uv.x, uv.y), to_eye, true);
 }
 
+// A displaced model's normal to light with (Blinn's bump mapping): the
+// shading normal n̂ tilted by the displacement's slope, n̂|N| + d_u (n × S_v)
+// + d_v (S_u × n), N = S_u × S_v the base patch's and n its unit normal
+// (what the displacement moves along), d_u and d_v the
+// derivatives of bias + scale·h along u and v (the map's gradient through
+// the UV patch's derivatives, by central differences). The turning of n̂
+// itself (d times its derivatives) is left out: second order for heights
+// small against the curvature's radius.
+vec3 bumped_normal(uint patch_id, vec2 uv, vec3 n, DispModel dm) {
+    vec3 P[16];
+    load_patch(patch_id, P);
+    vec3 su, sv;
+    exact_partials(P, uv.x, uv.y, su, sv);
+    vec3 big_n = cross(su, sv);
+    if (!(dot(n, n) > 0.0) || !(dot(big_n, big_n) > 0.0)) {
+        return n;
+    }
+    n = normalize(n);
+    // The displacement moves along N's unit normal; the tilt turns with n̂
+    // where the shading normal faces the other way.
+    vec3 n_g = normalize(big_n);
+    float o = dot(n, n_g) < 0.0 ? -1.0 : 1.0;
+    const float h = 1.0 / 4096.0;
+    vec2 st = shade_surface_uv(patch_id, uv);
+    vec2 st_u = (shade_surface_uv(patch_id, uv + vec2(h, 0.0)) - shade_surface_uv(patch_id, uv - vec2(h, 0.0))) / (2.0 * h);
+    vec2 st_v = (shade_surface_uv(patch_id, uv + vec2(0.0, h)) - shade_surface_uv(patch_id, uv - vec2(0.0, h))) / (2.0 * h);
+    vec2 g = height_gradient(dm, st.x, st.y) * dm.scale;
+    float d_u = dot(g, st_u);
+    float d_v = dot(g, st_v);
+    return n * length(big_n) + o * (d_u * cross(n_g, sv) + d_v * cross(su, n_g));
+}
+
 // The normal to light with at the base patch's (u, v): the shading
 // patches' (shading.glsl), not the flat triangle's nor the geometry
 // patch's own, which jump across patch edges next to extraordinary
-// vertices. `front`: which side of the surface the fragment shows (see
-// shade()).
+// vertices; a displaced model's tilted by its map (bumped_normal).
+// `front`: which side of the surface the fragment shows (see shade()).
 vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front) {
 #ifdef SHADE_PN
     if (shade_is_pn(patch_id)) {
@@ -157,7 +189,12 @@ vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front) {
         return facing_normal(rational_patch_normal(patch_id, uv.x, uv.y), to_eye, front);
     }
 #endif
-    return facing_normal(shading_patch_normal(patch_id, uv.x, uv.y), to_eye, front);
+    vec3 n = shading_patch_normal(patch_id, uv.x, uv.y);
+    DispModel dm;
+    if (displaced_model(shade_flags(patch_id) >> PATCH_MODEL_SHIFT, dm)) {
+        n = bumped_normal(patch_id, uv, n, dm);
+    }
+    return facing_normal(n, to_eye, front);
 }
 
 // |n·v| of the shading normal beyond which a wedge of a two-sided model
