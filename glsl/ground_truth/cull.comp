@@ -1,12 +1,15 @@
-// Ground truth, pass 1: one invocation per base patch. A patch whose control
-// points lie wholly outside the view frustum cannot draw a pixel (the patch
-// lies in their convex hull, a rational one too, its weights being
-// positive) and is counted as culled; the others are appended to the
-// visible list of their part of the frame (patches_per_part consecutive
-// base patches each), their count going straight into the instance count of
-// that part's indexed indirect draw. Part k's list starts at entry
-// k * patches_per_part, its draw's first instance (set by the host). A
-// displaced model's box grows by its largest |displacement|.
+// Ground truth, pass 1: one workgroup per part of the frame
+// (patches_per_part consecutive base patches each), walking its patches in
+// order, a workgroup-wide chunk at a time. A patch whose control points
+// lie wholly outside the view frustum cannot draw a pixel (the patch lies
+// in their convex hull, a rational one too, its weights being positive)
+// and is counted as culled; the others are appended, in patch order, to
+// the part's visible list (entry k * patches_per_part on), and their count
+// becomes the instance count of that part's indexed indirect draw (its
+// first instance set by the host). In order, not by atomic slots: where
+// two surfaces tie in depth the first drawn wins, so the image must not
+// depend on which invocation ran first. A displaced model's box grows by
+// its largest |displacement|.
 #version 460
 
 #include "grid.glsl"
@@ -23,27 +26,62 @@ layout(push_constant) uniform GridPush {
     uint pad0;
 } pc;
 
+// Per invocation of a chunk: shown (1) or not, then its exclusive prefix.
+shared uint slots[GRID_CULL_GROUP_SIZE];
+// Visible patches of the part so far.
+shared uint filled;
+
+// Whether patch `id` may draw a pixel (counting it culled when not).
+bool shown(uint id) {
+    if ((view.flags & FLAG_FRUSTUM_CULL) == 0u) {
+        return true;
+    }
+    vec3 P[16];
+    load_patch(id, P);
+    vec3 lo, hi;
+    patch_bbox(P, lo, hi);
+    DispModel dm;
+    if (displaced_model(patch_flags_of(id) >> PATCH_MODEL_SHIFT, dm)) {
+        lo -= vec3(dm.margin);
+        hi += vec3(dm.margin);
+    }
+    if (outside_frustum(lo, hi, view)) {
+        atomicAdd(grid_counters[G_CULLED], 1u);
+        return false;
+    }
+    return true;
+}
+
 void main() {
-    uint id = gl_GlobalInvocationID.x;
-    if (id >= pc.patch_count) {
-        return;
+    uint part = gl_WorkGroupID.x;
+    uint lane = gl_LocalInvocationID.x;
+    uint first = part * pc.patches_per_part;
+    uint end = min(first + pc.patches_per_part, pc.patch_count);
+    if (lane == 0u) {
+        filled = 0u;
     }
-    if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
-        vec3 P[16];
-        load_patch(id, P);
-        vec3 lo, hi;
-        patch_bbox(P, lo, hi);
-        DispModel dm;
-        if (displaced_model(patch_flags_of(id) >> PATCH_MODEL_SHIFT, dm)) {
-            lo -= vec3(dm.margin);
-            hi += vec3(dm.margin);
+    barrier();
+    for (uint chunk = first; chunk < end; chunk += GRID_CULL_GROUP_SIZE) {
+        uint id = chunk + lane;
+        bool here = id < end && shown(id);
+        slots[lane] = here ? 1u : 0u;
+        barrier();
+        if (lane == 0u) {
+            uint at = filled;
+            for (uint i = 0u; i < GRID_CULL_GROUP_SIZE; ++i) {
+                uint s = slots[i];
+                slots[i] = at;
+                at += s;
+            }
+            filled = at;
         }
-        if (outside_frustum(lo, hi, view)) {
-            atomicAdd(grid_counters[G_CULLED], 1u);
-            return;
+        barrier();
+        if (here) {
+            visible[first + slots[lane]] = id;
         }
+        barrier();
     }
-    uint part = id / pc.patches_per_part;
-    uint slot = atomicAdd(grid_counters[G_DRAW_ARGS + part * G_ARGS_WORDS + 1u], 1u);
-    visible[part * pc.patches_per_part + slot] = id;
+    if (lane == 0u) {
+        grid_counters[G_DRAW_ARGS + part * G_ARGS_WORDS + 1u] = filled;
+    }
 }

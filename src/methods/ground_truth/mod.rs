@@ -6,8 +6,10 @@
 //!
 //! One compute pass (`glsl/ground_truth/cull.comp`) drops patches whose control
 //! points lie wholly outside the view frustum (they could not draw a pixel)
-//! and appends the others to a visible list, counting them straight into
-//! the instance count of an indexed indirect draw. The draw instances one
+//! and lists the others in patch order (one workgroup per part of the
+//! frame, so the image does not depend on which invocation ran first where
+//! surfaces tie in depth), their count the instance count of an indexed
+//! indirect draw. The draw instances one
 //! index buffer of the `grid`×`grid` topology over the visible patches; the
 //! vertex shader (`glsl/ground_truth/grid.vert`) evaluates the base patch at
 //! `(i / grid, j / grid)` with the shared precise evaluation. Grids are
@@ -370,7 +372,8 @@ impl GroundTruth {
             pad: 0,
         };
         self.cull_layout.push(cmd, &pc);
-        let groups = f.scene.count.div_ceil(GRID_CULL_GROUP_SIZE);
+        // One workgroup per part: each fills its part's list in patch order.
+        let groups = plan.patch_parts.max(1);
         // The cull writes the draw's arguments and the visible list.
         let cull = Pass::new("cull")
             .pipeline(&self.cull)
