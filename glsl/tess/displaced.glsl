@@ -20,15 +20,34 @@
 #include "common/texture.glsl"
 #include "common/displace.glsl"
 
-// Set by the control stage per patch: whether it is displaced, and how.
+// Set by the control stage per patch (displaced_patch_begin): whether it
+// is displaced, and how; for a displaced patch also its own UV net and
+// that net's curvature bound, loaded once for the border strips' many
+// reach queries.
 bool g_displaced = false;
 DispModel g_dm;
 Instance g_instance;
 uint g_id;
+vec2 g_uv[16];
+vec2 g_uv_curvature;
 
 // Scene model of base patch `id`'s displacement (false: undisplaced).
 bool patch_displacement(uint id, out DispModel m) {
     return displaced_model(patch_flags_of(id) >> PATCH_MODEL_SHIFT, m);
+}
+
+// Sets the globals above for base patch `id` of `instance`; returns
+// whether the patch is displaced.
+bool displaced_patch_begin(uint id, Instance instance) {
+    g_displaced = patch_displacement(id, g_dm);
+    g_instance = instance;
+    g_id = id;
+    if (g_displaced) {
+        uint m = instance.source + (id - instance.first);
+        load_uv_patch(m, g_uv);
+        g_uv_curvature = uv_curvature_of(m);
+    }
+    return g_displaced;
 }
 
 // The largest reach over n equal pieces of a UV line (a box with equal
@@ -109,11 +128,7 @@ float strip_reach(uint k, float width, float span) {
     if (!g_displaced) {
         return 0.0;
     }
-    uint m = g_instance.source + (g_id - g_instance.first);
     bool mirrored = (g_instance.flags & INSTANCE_MIRRORED) != 0u;
-    vec2 P[16];
-    load_uv_patch(m, P);
-    vec2 c = uv_curvature_of(m);
     float pieces = ceil(1.0 / span);
     float lo = (k == 0u || k == 1u) ? 0.0 : 1.0 - width;
     float hi = (k == 0u || k == 1u) ? width : 1.0;
@@ -122,7 +137,7 @@ float strip_reach(uint k, float width, float span) {
         float a = i / pieces;
         float b = min((i + 2.0) / pieces, 1.0);
         vec4 dom = (k & 1u) == 0u ? vec4(lo, hi, a, b) : vec4(a, b, lo, hi);
-        r = max(r, reach_in(g_dm, P, c, mirrored ? dom.zwxy : dom));
+        r = max(r, reach_in(g_dm, g_uv, g_uv_curvature, mirrored ? dom.zwxy : dom));
     }
     return r;
 }

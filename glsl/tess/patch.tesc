@@ -128,9 +128,7 @@ void main() {
         P[i] = in_point[i];
     }
 
-    g_displaced = patch_displacement(id, g_dm);
-    g_instance = instances[instance_of(id)];
-    g_id = id;
+    displaced_patch_begin(id, instances[instance_of(id)]);
     vec3 lo, hi;
     patch_bbox(P, lo, hi);
     if (g_displaced) {
