@@ -29,6 +29,7 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("textured.toml", 199, 3),
     ("displaced.toml", 506, 2),
     ("kitchen-displaced.toml", 35_940, 9),
+    ("panels.toml", 470, 2),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),

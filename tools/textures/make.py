@@ -21,6 +21,11 @@ this file. Python's standard library only (zlib for the PNG stream).
   (displaced in scenes/displaced.toml and the kitchen's displaced frame).
 - bumps_height.png (128 x 128, 16-bit grey): smooth round bumps, 8 x 8 to
   a repeat, for curved models (the teapot, the torus).
+- panels_height.png (512 x 512, 16-bit grey): sparse detail, riveted
+  plating: a flat plate crossed by a few bevelled seams (rows at uneven
+  heights, each row's joints staggered) with domed rivets along the rows'
+  seams; most of the map is flat, so a surface's detail is local
+  (scenes/panels.toml).
 
 Usage: tools/textures/make.py [OUT_DIR]   (default: scenes/textures beside tools/)
 """
@@ -119,6 +124,40 @@ def bumps_height(x, y):
     return 0.5 * (1 + math.cos(math.pi * min(1.0, r)))
 
 
+# Riveted plating: the rows' seams (y), each row's joints (x) and the
+# rivets' spacing, in texels of the 512-texel map. Uneven on purpose, so
+# that no seam follows a patch edge of the models it is mapped on.
+PANEL_ROWS = (37, 151, 290, 404)
+PANEL_JOINTS = ((101, 333), (229, 467), (61, 283), (171, 409))
+RIVET_STEP = 32
+
+
+def panels_height(x, y):
+    size = 512
+    cx, cy = x + 0.5, y + 0.5
+
+    def seam(d):
+        # A groove 3 texels wide at the bottom, bevelled over 2 more.
+        return min(1.0, max(0.0, (abs(d) - 1.5) / 2.0))
+
+    def wrapped(d):
+        return (d + size / 2) % size - size / 2
+
+    row = sum(1 for r in PANEL_ROWS if cy >= r + 0.5) % len(PANEL_ROWS)
+    depth = min(seam(wrapped(cy - r - 0.5)) for r in PANEL_ROWS)
+    depth = min([depth] + [seam(wrapped(cx - j - 0.5)) for j in PANEL_JOINTS[row]])
+    height = 0.1 + 0.5 * depth
+    # Rivets: domes of radius 3.5 texels, 7 texels either side of each row seam.
+    for r in PANEL_ROWS:
+        for side in (-7, 7):
+            dy = wrapped(cy - (r + 0.5 + side))
+            dx = wrapped(cx - (round(cx / RIVET_STEP) * RIVET_STEP))
+            d = math.sqrt(dx * dx + dy * dy) / 3.5
+            if d < 1:
+                height = max(height, 0.6 + 0.3 * math.sqrt(1 - d * d))
+    return height
+
+
 def grid_pixel(x, y):
     cell = 64
     i, j = x // cell, y // cell
@@ -144,6 +183,7 @@ def main():
     for name, size, height_at in (
         ("kitchen_floor_height.png", 256, floor_height),
         ("bumps_height.png", 128, bumps_height),
+        ("panels_height.png", 512, panels_height),
     ):
         path = os.path.join(out, name)
         write_grey16_png(path, size, size, height_at)
