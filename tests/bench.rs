@@ -441,6 +441,7 @@ fn a_bench_against_tess_compares_at_equal_error() {
     // where the image error lies (per model: the teapot alone here).
     for want in [
         "## At equal geometric error (against `tess`)",
+        "## At equal geometric error, 99th percentile (against `tess`)",
         "## Geometric error and each method's ε",
         "## Where the image error lies (ε = 1)",
         "teapot 100 %",

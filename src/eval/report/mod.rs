@@ -206,6 +206,10 @@ pub fn markdown(
         &pareto::geometric_curves(configs, summaries),
         ErrorMeasure::Geometric,
     );
+    md += &equal_error(
+        &pareto::geometric_p99_curves(configs, summaries),
+        ErrorMeasure::GeometricP99,
+    );
     md += &geometric_error(&ix);
     md += &error_sources(&ix, setup);
     md += &targets::section(&ix, setup, &curves);
@@ -494,6 +498,7 @@ fn memory_table(ix: &Index<'_>) -> String {
 enum ErrorMeasure {
     Flip,
     Geometric,
+    GeometricP99,
 }
 
 /// The comparison at equal image error: per curve and ε, the triangles
@@ -503,6 +508,7 @@ fn equal_error(curves: &[Curve], what: ErrorMeasure) -> String {
     let (title, name, digits) = match what {
         ErrorMeasure::Flip => ("image error", "FLIP", 5),
         ErrorMeasure::Geometric => ("geometric error", "mean geometric error (px)", 3),
+        ErrorMeasure::GeometricP99 => ("geometric error, 99th percentile", "geometric p99 (px)", 3),
     };
     let base = crate::methods::baseline().name;
     let mut md = format!(
