@@ -492,8 +492,13 @@ fn shots(renderer: &mut Renderer, view: &View, background: [f32; 4]) -> Result<S
 /// cull it show too. (The interval test the subdividing methods cull a
 /// base patch by is too cautious for this: it keeps the folded patches of
 /// those sheets.)
+///
+/// A displaced model keeps every patch (`None`): its bumps can turn the
+/// surface of a patch whose base faces away towards the eye, which is why
+/// no method back-face culls a displaced patch; and a subset made here
+/// would draw the reference undisplaced.
 fn front_capable(geo: &SceneGeometry, view: &View, grid: u32) -> Option<SceneGeometry> {
-    if view.params.flags & FLAG_BACKFACE_CULL == 0 {
+    if view.params.flags & FLAG_BACKFACE_CULL == 0 || geo.displacement.in_use() {
         return None;
     }
     let eye = view.params.eye.truncate();
@@ -580,6 +585,36 @@ mod tests {
         let n = e.iter().filter(|&&m| m).count();
         assert_eq!(n, 7 * 7);
         assert!(e[10 * w + 10] && !e[10 * w + 6] && e[10 * w + 7]);
+    }
+
+    /// The hole test's reference for a displaced model is the displaced
+    /// surface in every view: the torus of tests/data/displaced_seams.toml,
+    /// cut out as `validate` cuts it, keeps all its patches in views
+    /// where some of them face away, while the same torus undisplaced
+    /// leaves those out. (The displaced model's reference was once this
+    /// function's subset, which drops the displacement: undisplaced in
+    /// every view where a patch faced away.)
+    #[test]
+    fn a_displaced_model_keeps_its_displaced_reference_in_every_view() {
+        use crate::constants::SHADE_KEY;
+        use crate::scene::desc::Scene;
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/displaced_seams.toml");
+        let geo = Scene::load(&path).unwrap().geometry().unwrap();
+        let torus = geo.models[0].clone();
+        let one = geo.subset(0..torus.patches_per_instance, (0, torus));
+        assert!(one.displacement.in_use());
+        let mut plain = one.clone();
+        plain.displacement = Default::default();
+        let grid = reference_grid(one.patches.len());
+        let mut faced_away = 0;
+        for cam in hole_cameras(&one.patches) {
+            let view = View::new(&cam, (256, 144), 1.0, 0.5, SHADE_KEY);
+            assert_ne!(view.params.flags & FLAG_BACKFACE_CULL, 0);
+            assert!(front_capable(&one, &view, grid).is_none());
+            faced_away += usize::from(front_capable(&plain, &view, grid).is_some());
+        }
+        assert!(faced_away > 0, "some view sees the back of a patch");
     }
 
     /// A sheet that folds back on itself (x runs out and back along u) seen
