@@ -248,6 +248,15 @@ shared_constants! {
         INSTANCE_MIRRORED = 4;
         /// The transform is the identity: control points are read unchanged.
         INSTANCE_IDENTITY = 8;
+        /// This frame draws the instance from a level of detail (src/lod),
+        /// not from its patches: every method leaves its patches alone. The
+        /// renderer sets and clears it per frame; it is never set while the
+        /// reference draws.
+        INSTANCE_LOD = 16;
+        /// u32 words per level-of-detail vertex (src/lod/gpu.rs): position
+        /// (3 floats), the unit normal (octahedral, two snorm16), the
+        /// texture coordinates (2 floats).
+        LOD_VERTEX_WORDS = 6;
         /// u32 words per instance record: 3 rows of 4 floats (the affine
         /// transform), first global patch id, first model patch, patch count,
         /// flags, and the box of its world control points (lo xyz, hi xyz,

@@ -14,6 +14,7 @@ pub mod files;
 pub mod frame;
 pub mod gpu;
 pub mod input;
+pub mod lod;
 pub mod methods;
 pub mod palette;
 pub mod patch;

@@ -285,8 +285,13 @@ struct BenchFlags {
     /// Occlusion culling of subdiv and subdiv-indirect, on or off
     /// (default off: the paper's comparison culls by frustum and back
     /// faces alone, like the tessellators).
-    #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off")]
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off", action = clap::ArgAction::Set)]
     occlusion: bool,
+    /// Levels of detail below one patch for every measured method, on or
+    /// off (default off; see `render --help`). The ground truth never
+    /// uses them, so the error figures measure them.
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off", action = clap::ArgAction::Set)]
+    lod: bool,
 }
 
 impl BenchFlags {
@@ -306,6 +311,7 @@ impl BenchFlags {
             validation: self.vk_validation,
             split: self.split,
             occlusion: self.occlusion,
+            lod: self.lod,
             ..BenchArgs::new(resolve_scene(Some(&self.scene)), self.out)
         }
     }
@@ -388,6 +394,13 @@ struct FrameArgs {
     /// and checks that it changes no pixel.
     #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
     occlusion: Option<bool>,
+    /// Levels of detail below one patch, on or off (default off): far
+    /// instances are drawn whole from a simplified triangle mesh of their
+    /// model's limit surface, the coarsest whose measured error, projected
+    /// at the instance's nearest depth, is within ε pixels. Made at scene
+    /// load (seconds per thousand patches); the reference never uses them.
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off", action = clap::ArgAction::Set)]
+    lod: bool,
     // Each method's own flags, declared with its knobs in its file, under
     // a heading per method.
     #[command(flatten)]
@@ -428,6 +441,7 @@ impl FrameArgs {
                 (None, None) => None,
             },
             occlusion: self.occlusion,
+            lod: self.lod,
         }
     }
 }

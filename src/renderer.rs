@@ -27,8 +27,10 @@ use crate::constants::FALLBACK_MAX_CHUNKS;
 use crate::frame::{FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
 use crate::gpu::anim::AnimGpu;
 use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, SceneSpec, Shaders};
+use crate::lod::gpu::{Lod, LodFrame};
+use crate::lod::SceneLevels;
 use crate::methods::{
-    self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
+    self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError, Role,
 };
 use crate::patch::view::ViewParams;
 use crate::scene::geometry::{SceneGeometry, SceneShading};
@@ -80,12 +82,22 @@ pub struct FrameReport {
     /// same for every method), and which query; `None` where the device
     /// has no query for the frame's kind of pipeline.
     pub primitives: Option<(PrimitiveQuery, u64)>,
+    /// What levels of detail drew (nothing unless the renderer has levels,
+    /// [`Renderer::set_levels`]).
+    pub lod: LodFrame,
 }
 
 impl FrameReport {
     /// Triangles drawn: the query's count less the placeholders the method
-    /// drew (which cover nothing), else the method's own count.
+    /// drew (which cover nothing), else the method's own count; and the
+    /// levels of detail's (counted on the host: their draw is recorded
+    /// after the method's query).
     pub fn triangles(&self) -> u64 {
+        self.method_triangles() + self.lod.triangles
+    }
+
+    /// The method's share of [`FrameReport::triangles`].
+    pub fn method_triangles(&self) -> u64 {
         self.primitives.map_or(self.stats.triangles, |(_, n)| {
             n.saturating_sub(self.stats.placeholder_triangles)
         })
@@ -129,6 +141,8 @@ struct SlotData {
     frame: Option<(usize, u64)>,
     /// Whether that frame may wait for a compile ([`FrameReport::compiled`]).
     compiled: bool,
+    /// What levels of detail drew in it.
+    lod: LodFrame,
 }
 
 /// The renderer.
@@ -153,6 +167,9 @@ pub struct Renderer {
     /// What moves, its update pass, and the time frames are drawn at.
     anim: Option<(Animation, AnimGpu)>,
     time: f64,
+    /// Levels of detail below a patch (`None`: every instance from its
+    /// patches, as before they existed).
+    lod: Option<Lod>,
     ctx: Arc<Context>,
 }
 
@@ -197,6 +214,7 @@ impl Renderer {
                     )?,
                     frame: None,
                     compiled: false,
+                    lod: LodFrame::default(),
                 })
             })
             .collect::<VkResult<Vec<_>>>()?;
@@ -216,6 +234,7 @@ impl Renderer {
             capture: false,
             anim: None,
             time: 0.0,
+            lod: None,
             ctx,
         };
         r.set_method(method)?;
@@ -366,8 +385,10 @@ impl Renderer {
         methods::check_pn(methods::find(self.method().name())?, &scene)?;
         self.frames.wait_all()?;
         self.scene = scene;
-        // The animation wrote into the old scene's patches.
+        // The animation wrote into the old scene's patches, and the levels
+        // were the old scene's models.
         self.anim = None;
+        self.lod = None;
         let spec = SceneSpec::of(&self.scene);
         if spec != self.shaders.scene {
             // The methods' pipelines were specialized for the old scene.
@@ -396,6 +417,46 @@ impl Renderer {
     pub fn reset_visibility(&mut self) -> Result<(), RenderError> {
         self.frames.wait_all()?;
         Ok(self.scene.reset_visibility(&self.ctx)?)
+    }
+
+    /// Draws far instances from levels of detail of their models (`levels`
+    /// made for the uploaded scene by [`SceneLevels::build`]), or, with
+    /// `None`, every instance from its patches again. Levels are never used
+    /// by the reference (`ground-truth`), whose image the others' error is
+    /// measured against, nor in an animated scene (its records change per
+    /// frame).
+    pub fn set_levels(&mut self, levels: Option<SceneLevels>) -> Result<(), RenderError> {
+        self.frames.wait_all()?;
+        self.forget_frames();
+        if self.lod.take().is_some() {
+            // Records flagged for the levels go back to their patches.
+            let records = self.scene.instance_records.clone();
+            self.scene.instances.write(&self.ctx, 0, &records)?;
+        }
+        if let Some(levels) = levels {
+            self.lod = Some(Lod::new(
+                &self.ctx,
+                &self.scene,
+                &self.scene_layout,
+                levels,
+            )?);
+        }
+        Ok(())
+    }
+
+    /// Draws every instance that has levels from level `level` (its
+    /// model's coarsest where it has fewer) whatever its distance, or with
+    /// `None` as its distance says: for the hole test of a level. No-op
+    /// without levels.
+    pub fn force_level(&mut self, level: Option<usize>) {
+        if let Some(lod) = &mut self.lod {
+            lod.set_force(level);
+        }
+    }
+
+    /// The levels of detail in use.
+    pub fn levels(&self) -> Option<&SceneLevels> {
+        self.lod.as_ref().map(Lod::levels)
     }
 
     /// Whether frames from now on keep their depth, for
@@ -516,6 +577,9 @@ impl Renderer {
         if let Some((_, gpu)) = &self.anim {
             v.push(("animation", gpu.bytes()));
         }
+        if let Some(lod) = &self.lod {
+            v.push(("levels_of_detail", lod.bytes()));
+        }
         v.extend(self.method().memory());
         v
     }
@@ -535,7 +599,7 @@ impl Renderer {
         self.scene.set_view(&self.ctx, slot, &params)?;
         let (slot, cmd) = self.frames.begin()?;
         let mut retired = Retired::default();
-        let recorded = self.record(slot, cmd, view, &mut retired);
+        let recorded = self.record(slot, cmd, view, &params, &mut retired);
         // Whatever was retired while recording may still be used by the
         // frames submitted before this one.
         self.defer(retired);
@@ -558,13 +622,33 @@ impl Renderer {
         })
     }
 
+    /// Chooses what draws each instance this frame and flags the records
+    /// (before anything reads them); returns whether levels draw anything,
+    /// after the method, which then leaves its target to be loaded.
+    fn prepare_levels(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        params: &ViewParams,
+    ) -> Result<bool, RenderError> {
+        let Some(lod) = &mut self.lod else {
+            return Ok(false);
+        };
+        let reference = methods::find(self.methods[self.active].name())?.role == Role::Reference;
+        let enabled = !reference && self.anim.is_none();
+        lod.prepare(&self.ctx, cmd, &self.scene, params, enabled);
+        self.target.set_more_parts(lod.draws_any());
+        Ok(lod.draws_any())
+    }
+
     fn record(
         &mut self,
         slot: usize,
         cmd: vk::CommandBuffer,
         view: &View,
+        params: &ViewParams,
         retired: &mut Retired,
     ) -> Result<(), RenderError> {
+        let levels_now = self.prepare_levels(cmd, params)?;
         let data = &mut self.slots[slot];
         data.timer.reset(cmd);
         data.primitives.reset(cmd);
@@ -604,8 +688,27 @@ impl Renderer {
         // The query ends even when the method refused the frame, so the
         // abandoned command buffer is still well formed.
         let ended = data.primitives.end(last);
+        self.target.set_more_parts(false);
         recorded?;
         ended?;
+        data.lod = LodFrame::default();
+        if let Some(lod) = self.lod.as_mut().filter(|_| levels_now) {
+            data.timer.begin(last, "levels")?;
+            self.target.begin_part(&self.ctx, last, false, true);
+            let drawn = lod.draw(
+                &self.ctx,
+                last,
+                &mut self.shaders,
+                &self.scene,
+                slot,
+                view,
+                retired,
+            );
+            self.target.end(&self.ctx, last);
+            drawn?;
+            data.timer.end(last, "levels")?;
+            data.lod = lod.frame();
+        }
         data.timer.end(last, "frame")?;
         // Everything the frame wrote, for the host after the fence.
         let mut rec = Recorder::new(&self.ctx, last);
@@ -665,6 +768,7 @@ impl Renderer {
                 redone: 0,
                 compiled,
                 primitives,
+                lod: self.slots[slot].lod.clone(),
             },
             redo,
         ))

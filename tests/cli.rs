@@ -233,6 +233,34 @@ fn render_refuses_bad_requests_before_gpu_work() {
     assert!(!dir.join("out").exists(), "nothing written on failure");
 }
 
+/// `bench --occlusion on|off` and `--lod on|off` are values, not switches:
+/// clap took a `bool` field for a switch and then refused its own `true`
+/// ("invalid value 'true' for '--occlusion'") until the flags said
+/// `ArgAction::Set`. Each reaches the run's own checks (here: the frame
+/// count), whatever its value.
+#[test]
+fn on_off_flags_take_their_values() {
+    let dir = temp_dir("on-off");
+    for flag in ["--occlusion", "--lod"] {
+        for value in ["on", "off"] {
+            let run = bin()
+                .args(["bench", "--scene"])
+                .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml"))
+                .args([flag, value, "--frames", "0", "--out"])
+                .arg(dir.join("out"))
+                .current_dir(&dir)
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&run.stderr);
+            assert!(!run.status.success(), "{flag} {value}");
+            assert!(
+                err.contains("--frames must be at least 1"),
+                "{flag} {value}: {err}"
+            );
+        }
+    }
+}
+
 /// Runs `cmd`, again while the executable is "busy": a freshly copied
 /// binary can be, for as long as a process forked meanwhile by another
 /// test thread still holds the copy's write handle (until it execs).

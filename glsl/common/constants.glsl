@@ -124,6 +124,15 @@ const uint SPEC_SCENE_DISPLACED = 18;
 const uint INSTANCE_MIRRORED = 4;
 // The transform is the identity: control points are read unchanged.
 const uint INSTANCE_IDENTITY = 8;
+// This frame draws the instance from a level of detail (src/lod),
+// not from its patches: every method leaves its patches alone. The
+// renderer sets and clears it per frame; it is never set while the
+// reference draws.
+const uint INSTANCE_LOD = 16;
+// u32 words per level-of-detail vertex (src/lod/gpu.rs): position
+// (3 floats), the unit normal (octahedral, two snorm16), the
+// texture coordinates (2 floats).
+const uint LOD_VERTEX_WORDS = 6;
 // u32 words per instance record: 3 rows of 4 floats (the affine
 // transform), first global patch id, first model patch, patch count,
 // flags, and the box of its world control points (lo xyz, hi xyz,

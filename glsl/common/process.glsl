@@ -147,6 +147,11 @@ uint process_displaced(uvec2 q, vec3 P[16], Instance t, DispModel dm, out uvec2 
 // The patch's instance is looked up once for the whole item.
 uint process(uvec2 q, out uvec2 kids[4], out uint nkids) {
     Instance t = instances[instance_of(node_patch(q))];
+    if ((t.flags & INSTANCE_LOD) != 0u) {
+        // Drawn from a level of detail this frame (src/lod): the level
+        // schedule never lists its roots; the queue kernel drops them here.
+        return OUT_CULLED;
+    }
     uint flags = patch_flags_in(t, node_patch(q));
     if (flags_rational(flags)) {
         vec4 H[16];

@@ -27,6 +27,15 @@ uint shade_pn_triangle(uint patch_id) {
 }
 #endif
 
+#ifdef SHADE_LEVEL
+// A level of detail's draw (lod/draw.frag) has no patch to take the normal
+// or the texture coordinates from: its triangles span patches. It sets
+// these, interpolated from its vertices (the limit surface's there), before
+// calling shade().
+vec3 g_level_normal;
+vec2 g_level_st;
+#endif
+
 // SHADE_DISPLACEMENT's colours (display values; src/commands/render.rs
 // `Shade::Displacement` and the window's legend say the same).
 const vec3 DISPLACEMENT_LOW = vec3(0.05, 0.10, 0.45);
@@ -69,6 +78,9 @@ vec3 model_tint(uint index) {
 // The texture coordinates at the base patch's (u, v) (texture.glsl); a PN
 // triangle has none but its own (u, v).
 vec2 shade_surface_uv(uint patch_id, vec2 uv) {
+#ifdef SHADE_LEVEL
+    return g_level_st;
+#endif
 #ifdef SHADE_PN
     if (shade_is_pn(patch_id)) {
         return uv;
@@ -126,6 +138,9 @@ vec3 facing_normal(vec3 n, vec3 to_eye, bool front) {
 // direction where it vanishes): which side of the surface is seen, for the
 // hole test's key colours and for wedges.
 vec3 surface_normal(uint patch_id, vec2 uv, vec3 to_eye) {
+#ifdef SHADE_LEVEL
+    return facing_normal(g_level_normal, to_eye, true);
+#endif
 #ifdef SHADE_PN
     if (shade_is_pn(patch_id)) {
         return facing_normal(pn_normal(shade_pn_triangle(patch_id), uv), to_eye, true);
@@ -179,6 +194,9 @@ vec3 bumped_normal(uint patch_id, vec2 uv, vec3 n, DispModel dm) {
 // vertices; a displaced model's tilted by its map (bumped_normal).
 // `front`: which side of the surface the fragment shows (see shade()).
 vec3 shading_normal(uint patch_id, vec2 uv, vec3 to_eye, bool front) {
+#ifdef SHADE_LEVEL
+    return facing_normal(g_level_normal, to_eye, front);
+#endif
 #ifdef SHADE_PN
     if (shade_is_pn(patch_id)) {
         return facing_normal(pn_normal(shade_pn_triangle(patch_id), uv), to_eye, front);

@@ -25,6 +25,9 @@ void main() {
     if (id >= pc.patch_count) {
         return;
     }
+    if ((instances[instance_of(id)].flags & INSTANCE_LOD) != 0u) {
+        return;  // drawn from a level of detail (src/lod)
+    }
     if ((view.flags & FLAG_FRUSTUM_CULL) != 0u) {
         vec3 c0 = patch_point(id, 0u);
         vec3 c1 = patch_point(id, 3u);

@@ -64,7 +64,9 @@ void process(uint id) {
         lo -= vec3(dm.margin);
         hi += vec3(dm.margin);
     }
-    bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
+    // An instance drawn from a level of detail (src/lod) counts as culled.
+    bool frustum = ((view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view))
+        || (instances[instance_of(id)].flags & INSTANCE_LOD) != 0u;
     bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u && !displaced;
     bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
         && faces_away(id, P, lo, hi);

@@ -77,7 +77,9 @@ void main() {
     uint lane = block_lane();
     for (uint first = 0u; first < n; first += LEVEL_GROUP_SIZE) {
         uint i = first + lane;
-        uint count = i < n ? instances[i].count : 0u;
+        // An instance drawn from a level of detail this frame has no
+        // patches to process (src/lod).
+        uint count = i < n && (instances[i].flags & INSTANCE_LOD) == 0u ? instances[i].count : 0u;
         bool out_of_view = count > 0u && frustum
             && outside_frustum(instances[i].lo.xyz, instances[i].hi.xyz, view);
         bool in_view = count > 0u && !out_of_view;

@@ -137,7 +137,9 @@ void main() {
         lo -= vec3(g_dm.margin);
         hi += vec3(g_dm.margin);
     }
-    bool frustum = (view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view);
+    // An instance drawn from a level of detail (src/lod) counts as culled.
+    bool frustum = ((view.flags & FLAG_FRUSTUM_CULL) != 0u && outside_frustum(lo, hi, view))
+        || (instances[instance_of(id)].flags & INSTANCE_LOD) != 0u;
     bool one_sided = (patch_flags_of(id) & PATCH_TWO_SIDED) == 0u && !g_displaced;
     bool away = !frustum && (view.flags & FLAG_BACKFACE_CULL) != 0u && one_sided
         && back_facing(P, lo, hi, view.eye.xyz);

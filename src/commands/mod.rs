@@ -70,6 +70,9 @@ pub struct GpuRequest {
     /// `subdiv`, `subdiv-indirect`: occlusion culling (`None`: the
     /// command's default, on for render and view, off for bench).
     pub occlusion: Option<bool>,
+    /// Levels of detail below one patch (src/lod) for the methods the
+    /// reference measures.
+    pub lod: bool,
 }
 
 /// When in a scene's animation a frame is drawn.
@@ -99,6 +102,7 @@ impl GpuRequest {
             split: None,
             time: None,
             occlusion: None,
+            lod: false,
         }
     }
 
@@ -179,13 +183,11 @@ impl GpuRequest {
             frames_in_flight: crate::renderer::DEFAULT_FRAMES_IN_FLIGHT,
             methods,
         };
-        Ok(Renderer::new(
-            Arc::clone(ctx),
-            geo,
-            shading,
-            &self.method,
-            options,
-        )?)
+        let mut renderer = Renderer::new(Arc::clone(ctx), geo, shading, &self.method, options)?;
+        if self.lod {
+            renderer.set_levels(Some(build_levels(geo)))?;
+        }
+        Ok(renderer)
     }
 
     /// A Vulkan context on the requested device.
@@ -198,6 +200,32 @@ impl GpuRequest {
         })
         .map(Arc::new)
     }
+}
+
+/// The levels of detail of `geo`'s models, saying on stderr what was
+/// made and how long it took (seconds for a model of thousands of
+/// patches), and which models got none and why.
+pub fn build_levels(geo: &crate::scene::geometry::SceneGeometry) -> crate::lod::SceneLevels {
+    let start = std::time::Instant::now();
+    let levels = crate::lod::SceneLevels::build(geo);
+    let (patch_bytes, level_bytes) = levels.bytes();
+    let with = levels
+        .models
+        .iter()
+        .filter(|m| !m.levels.is_empty())
+        .count();
+    eprintln!(
+        "levels of detail: {with} of {} models, {} levels, {} bytes ({:.2}× their patches'), made in {:.1} s",
+        levels.models.len(),
+        levels.models.iter().map(|m| m.levels.len()).sum::<usize>(),
+        crate::figures::thousands(level_bytes),
+        level_bytes as f64 / patch_bytes.max(1) as f64,
+        start.elapsed().as_secs_f64()
+    );
+    for m in levels.models.iter().filter_map(|m| m.none_because) {
+        eprintln!("levels of detail: a model gets none ({m})");
+    }
+    levels
 }
 
 /// What the Vulkan layer tells a user of the command line while it waits

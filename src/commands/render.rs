@@ -209,8 +209,17 @@ fn render_to(
         .or_else(|| report.ms("frame"))
         .unwrap_or(0.0);
     let occlusion = occlusion_summary(report);
+    let lod = if report.lod.bytes > 0 {
+        format!(
+            ", levels of detail on ({} instances, {} triangles of them)",
+            thousands(report.lod.instances),
+            thousands(report.lod.triangles)
+        )
+    } else {
+        String::new()
+    };
     Ok(format!(
-        "{} ({}) on {}{}, {} path{occlusion}: {} triangles{}, {:.3} ms GPU{}{}\n{flip_line}wrote {} and {}\n",
+        "{} ({}) on {}{}, {} path{occlusion}{lod}: {} triangles{}, {:.3} ms GPU{}{}\n{flip_line}wrote {} and {}\n",
         args.gpu.scene.display(),
         method.name,
         info.name,
@@ -516,6 +525,7 @@ pub(crate) fn stats_json(
         },
         "memory_per_instance_bytes": crate::scene::instances::GPU_BYTES_PER_INSTANCE,
         "method_stats": own,
+        "levels_of_detail": renderer.levels().map(|l| levels_json(l, &report.lod)),
         "animation": renderer.animation().map(|a| json!({
             "time": renderer.time(),
             "wrapped_time": a.wrap(renderer.time()),
@@ -526,5 +536,45 @@ pub(crate) fn stats_json(
             "vertices": a.vertices(),
             "patches": a.patches(),
         })),
+    })
+}
+
+/// The levels of detail made for the scene (per model: each level's
+/// triangles, vertices, measured error and bytes) and what they drew in
+/// the frame.
+fn levels_json(levels: &crate::lod::SceneLevels, frame: &crate::lod::gpu::LodFrame) -> Value {
+    let models: Vec<Value> = levels
+        .models
+        .iter()
+        .map(|m| {
+            let each: Vec<Value> = m
+                .levels
+                .iter()
+                .map(|l| {
+                    json!({
+                        "triangles": l.mesh.triangles(),
+                        "vertices": l.mesh.positions.len(),
+                        "error": l.error,
+                        "target": l.target,
+                        "simplifier_error": l.simplifier_error,
+                        "bytes": l.bytes(),
+                    })
+                })
+                .collect();
+            json!({
+                "first_model_patch": m.source,
+                "patches": m.count,
+                "patch_bytes": m.patch_bytes(),
+                "levels": each,
+                "none_because": m.none_because,
+            })
+        })
+        .collect();
+    json!({
+        "instances": frame.instances,
+        "triangles": frame.triangles,
+        "by_level": frame.by_level,
+        "bytes": frame.bytes,
+        "models": models,
     })
 }

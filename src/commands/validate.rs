@@ -25,7 +25,7 @@ use crate::renderer::Renderer;
 use crate::scene::desc::Scene;
 use crate::scene::displaced::Displaced;
 use crate::scene::geometry::SceneGeometry;
-use crate::validate::holes::{self, run_model};
+use crate::validate::holes::{self, run_model, run_model_from};
 use crate::validate::{
     compare_capture, compare_ready, compare_vertices, positions_source, CheckResult, ReorderCheck,
 };
@@ -87,6 +87,9 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
     let request = GpuRequest {
         msaa: 1,
         occlusion: Some(false),
+        // The oracle compares patches: levels of detail are checked on
+        // their own below (the hole test of every level).
+        lod: false,
         ..args.gpu.clone()
     };
     let mut renderer = request.renderer(&ctx, &loaded.geometry, &loaded.shading)?;
@@ -133,6 +136,14 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
             (eps, lambda, split),
             debug,
         )?);
+        if args.gpu.lod {
+            results.extend(level_hole_checks(
+                &mut renderer,
+                &geo,
+                (eps, lambda, split),
+                debug,
+            )?);
+        }
     }
     if args.gpu.validation {
         let errors = ctx.validation_errors();
@@ -486,6 +497,67 @@ fn hole_checks(
         let views = run_model(renderer, &one, eps_lambda, &name, debug_dir)?;
         let (ok, detail) = holes::verdict(&views);
         out.push(CheckResult::new(&format!("holes {name}"), None, ok, detail));
+    }
+    Ok(out)
+}
+
+/// Levels of detail in a model's image narrower than this (pixels) are
+/// not hole-tested: the test's erosion would leave nothing to check.
+const LEVEL_TEST_MIN_SPAN: f64 = 48.0;
+
+/// The hole test of the levels of detail (`--lod on`): for the first
+/// instance of every distinct model file with levels, each level whose
+/// model still spans [`LEVEL_TEST_MIN_SPAN`] pixels at the distance where
+/// its measured error projects to ε, drawn from that level from there and
+/// held against the reference drawn from patches.
+fn level_hole_checks(
+    renderer: &mut Renderer,
+    geo: &SceneGeometry,
+    eps_lambda: (f64, f64, Split),
+    debug_dir: Option<&Path>,
+) -> anyhow::Result<Vec<CheckResult>> {
+    let mut out = Vec::new();
+    let mut seen = HashSet::new();
+    let mut offset = 0usize;
+    let height = renderer.target().size().1;
+    for (index, m) in geo.models.iter().enumerate() {
+        let start = offset;
+        offset += m.patches_per_instance * m.instances;
+        if !seen.insert(m.file.clone()) || m.patches_per_instance == 0 {
+            continue;
+        }
+        let one = geo.subset(start..start + m.patches_per_instance, (index, m.clone()));
+        let levels = crate::lod::SceneLevels::build(&one);
+        let Some(model) = levels.models.first().filter(|m| !m.levels.is_empty()) else {
+            continue;
+        };
+        let name = m
+            .file
+            .file_name()
+            .map_or("model".into(), |f| f.to_string_lossy().into_owned());
+        for (l, level) in model.levels.iter().enumerate() {
+            let (cameras, span) =
+                holes::level_cameras(&one.patches, level.error, eps_lambda.0, height);
+            if l > 0 && span < LEVEL_TEST_MIN_SPAN {
+                break;
+            }
+            let tag = format!("{name} level {l}");
+            let views = run_model_from(
+                renderer,
+                &one,
+                eps_lambda,
+                (&tag, &cameras, Some((&levels, l))),
+                debug_dir,
+            )?;
+            renderer.set_levels(None)?;
+            let (ok, detail) = holes::verdict(&views);
+            let detail = format!(
+                "{detail}; {} triangles, error {:.3e} (model units), {span:.0} px across",
+                level.mesh.triangles(),
+                level.error
+            );
+            out.push(CheckResult::new(&format!("holes {tag}"), None, ok, detail));
+        }
     }
     Ok(out)
 }

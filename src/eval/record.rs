@@ -111,6 +111,14 @@ pub fn flatten(report: &FrameReport, memory: &[(&'static str, u64)]) -> Vec<(Str
         let share = w as f64 / s.triangles.max(1) as f64;
         v.push(("wedge_share".into(), json!(share)));
     }
+    let lod = &report.lod;
+    if lod.bytes > 0 {
+        // Levels of detail were on: what they drew, and per level index
+        // (0 the finest of each model) instances and triangles.
+        v.push(("lod.instances".into(), json!(lod.instances)));
+        v.push(("lod.triangles".into(), json!(lod.triangles)));
+        v.push(("lod.by_level".into(), json!(lod.by_level)));
+    }
     v.extend(
         report
             .gpu_ms
@@ -513,6 +521,7 @@ mod tests {
             redone: 0,
             compiled: false,
             primitives: None,
+            lod: Default::default(),
         }
     }
 

@@ -74,6 +74,9 @@ pub struct DrawTarget {
     /// Whether the last part stores its depth (for [`DrawTarget::read_depth`];
     /// otherwise the depth is dropped once drawn).
     keep_depth: AtomicBool,
+    /// A part follows the method's last one (the levels of detail's draw,
+    /// src/lod): the method's last part then stores what it drew.
+    more_parts: AtomicBool,
 }
 
 impl DrawTarget {
@@ -162,6 +165,7 @@ impl DrawTarget {
             clear,
             rendered: AtomicBool::new(false),
             keep_depth: AtomicBool::new(false),
+            more_parts: AtomicBool::new(false),
         })
     }
 
@@ -214,6 +218,7 @@ impl DrawTarget {
     /// the earlier parts drew (colour samples and depth); every part but
     /// the `last` stores them for the next, and every part resolves.
     pub fn begin_part(&self, ctx: &Context, cmd: vk::CommandBuffer, first: bool, last: bool) {
+        let last = last && !self.more_parts.load(Ordering::Relaxed);
         self.to_attachment_layouts(ctx, cmd, first);
         let load = if first {
             vk::AttachmentLoadOp::CLEAR
@@ -374,6 +379,13 @@ impl DrawTarget {
             )));
         }
         self.color.read_pixels(ctx, Self::FINAL_LAYOUT)
+    }
+
+    /// Whether a part follows what the method records as its last (the
+    /// levels of detail's draw): its last part then stores samples and
+    /// depth for that part to load.
+    pub fn set_more_parts(&self, more: bool) {
+        self.more_parts.store(more, Ordering::Relaxed);
     }
 
     /// Whether frames from now on keep their depth for

@@ -132,6 +132,35 @@ pub fn hole_cameras(patches: &[BezierPatch]) -> Vec<Camera> {
         .collect()
 }
 
+/// The hole cameras of `patches` moved back until an error of `error`
+/// (model units) projects to at most ε pixels at the model's nearest
+/// point in an image `height` pixels high (the distance at which a level
+/// with that error is drawn), and how many pixels the model's bounding
+/// sphere then spans.
+pub fn level_cameras(
+    patches: &[BezierPatch],
+    error: f32,
+    eps: f64,
+    height: u32,
+) -> (Vec<Camera>, f64) {
+    let mut cameras = hole_cameras(patches);
+    let (lo, hi) = BezierPatch::bounds(patches).unwrap_or_default();
+    let r = (((hi - lo).length() * 0.5) as f64).max(1e-3);
+    let mut span = 0.0;
+    for cam in &mut cameras {
+        let pixel = 2.0 * (cam.fov_y_deg.to_radians() * 0.5).tan() / f64::from(height);
+        // Nearest depth (the sphere's) where the error is 0.95 ε.
+        let depth = f64::from(error) / (0.95 * eps * pixel);
+        let target = glam::DVec3::from_array(cam.target);
+        let eye = glam::DVec3::from_array(cam.position);
+        let dist = (eye - target).length().max(depth + r);
+        cam.position = (target + (eye - target).normalize() * dist).to_array();
+        cam.far = dist + 100.0 * r;
+        span = 2.0 * r / (dist * pixel);
+    }
+    (cameras, span)
+}
+
 /// `mask` eroded by a disk of radius `r` pixels.
 pub fn erode(mask: &[bool], w: usize, h: usize, r: i64) -> Vec<bool> {
     let offsets: Vec<(i64, i64)> = (-r..=r)
@@ -331,24 +360,49 @@ pub fn run_model(
     name: &str,
     debug_dir: Option<&std::path::Path>,
 ) -> Result<Vec<HoleView>, RenderError> {
+    let cameras = hole_cameras(&geo.patches);
+    run_model_from(renderer, geo, view_setup, (name, &cameras, None), debug_dir)
+}
+
+/// A level of detail under the hole test: the model's levels and the one
+/// every instance is drawn from.
+pub type LevelUnderTest<'a> = (&'a crate::lod::SceneLevels, usize);
+
+/// [`run_model`] from `cameras`, and with `level` the tested method's
+/// image drawn from that level of detail (the reference's from patches,
+/// as always).
+pub fn run_model_from(
+    renderer: &mut Renderer,
+    geo: &SceneGeometry,
+    view_setup: (f64, f64, Split),
+    (name, cameras, level): (&str, &[Camera], Option<LevelUnderTest<'_>>),
+    debug_dir: Option<&std::path::Path>,
+) -> Result<Vec<HoleView>, RenderError> {
     let (eps, lambda, split) = view_setup;
     // The key colours come from the patches' own normals (which side of
     // the surface is seen), never from the shading patches.
     renderer.set_geometry(geo, &SceneShading::own_derivatives(geo))?;
     let tested = renderer.method().name();
-    let with_wedges_too = renderer.method().has_wedges();
+    // A level of detail has no wedges to turn off.
+    let with_wedges_too = renderer.method().has_wedges() && level.is_none();
     let (w, h) = renderer.target().size();
     let size = (w, h);
     let radius = (2.0 * eps).ceil() as i64 + 2;
     let grid = reference_grid(geo.patches.len());
     let mut views = Vec::new();
-    for (k, cam) in hole_cameras(&geo.patches).iter().enumerate() {
+    for (k, cam) in cameras.iter().enumerate() {
         let scale = cam.far as f32;
         let mut view = View {
             distance_scale: scale,
             ..View::new(cam, size, eps, lambda, SHADE_KEY)
         };
         view.params.flags |= split.flag();
+        if let Some((levels, l)) = level {
+            // The reference's shots below load other geometry, which
+            // drops the levels: given again for every camera.
+            renderer.set_levels(Some(levels.clone()))?;
+            renderer.force_level(Some(l));
+        }
         let with = shots(renderer, &view, KEY_BACKGROUND)?;
         let without = if with_wedges_too {
             view.params.flags &= !FLAG_WEDGES;

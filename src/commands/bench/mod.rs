@@ -79,6 +79,8 @@ pub struct BenchArgs {
     pub split: Option<crate::patch::view::Split>,
     /// Occlusion culling of `subdiv` and `subdiv-indirect`.
     pub occlusion: bool,
+    /// Levels of detail below one patch for the measured methods.
+    pub lod: bool,
 }
 
 impl BenchArgs {
@@ -100,6 +102,7 @@ impl BenchArgs {
             validation: false,
             split: None,
             occlusion: false,
+            lod: false,
         }
     }
 }
@@ -363,6 +366,9 @@ fn command_line(args: &BenchArgs, plan: &Plan) -> String {
     if let Some(s) = args.split {
         c += &format!(" --split {}", s.name());
     }
+    if args.lod {
+        c += " --lod on";
+    }
     if args.occlusion {
         c += " --occlusion on";
     }
@@ -464,6 +470,7 @@ fn bench_renderer(
     // Off unless asked: the paper's comparison culls by frustum and back
     // faces alone, like the tessellators.
     request.occlusion = Some(args.occlusion);
+    request.lod = args.lod;
     request.per_method.set_reference_grid(args.grid);
     request.size = args.size;
     request.method = plan.configs[0].method.clone();

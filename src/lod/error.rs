@@ -1,0 +1,318 @@
+//! How far a level lies from the limit surface, measured: the largest
+//! distance from points sampled on one surface to the other, both ways
+//! (a one-sided measure misses a level that bulges out where the surface
+//! does not, or a surface feature the level cut off).
+
+use glam::Vec3;
+
+use super::mesh::TriMesh;
+use crate::patch::bezier::BezierPatch;
+
+/// The closest point to `p` on triangle `t` (by regions of the triangle's
+/// plane: a corner, an edge or the face).
+pub fn closest_on_triangle(p: Vec3, t: [Vec3; 3]) -> Vec3 {
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+/// Most cells of a [`NearestTriangle`] grid (the cell grows to keep
+/// within it).
+const MAX_CELLS: f32 = 2.0e6;
+
+/// A triangle mesh bucketed on a uniform grid for nearest-point queries:
+/// per cell the triangles whose box touches it, stored as one list with
+/// each cell's start (compressed rows).
+pub struct NearestTriangle<'a> {
+    mesh: &'a TriMesh,
+    lo: Vec3,
+    cell: f32,
+    dims: [i64; 3],
+    starts: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl<'a> NearestTriangle<'a> {
+    /// Buckets every triangle in the cells its box touches; the cell is
+    /// about the mean edge, so a cell holds a few.
+    pub fn new(mesh: &'a TriMesh) -> Self {
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        for p in &mesh.positions {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let extent = (hi - lo).max(Vec3::splat(1e-12));
+        let mut edge_sum = 0.0f64;
+        for t in 0..mesh.triangles() {
+            let [a, b, c] = mesh.triangle(t);
+            edge_sum += f64::from((b - a).length() + (c - b).length() + (a - c).length());
+        }
+        let mean_edge = (edge_sum / (3 * mesh.triangles().max(1)) as f64) as f32;
+        let fit = (extent.x * extent.y * extent.z / MAX_CELLS).cbrt();
+        let cell = mean_edge
+            .max(extent.max_element() / 256.0)
+            .max(fit)
+            .max(1e-12);
+        let dims = (extent / cell)
+            .ceil()
+            .as_i64vec3()
+            .max(glam::I64Vec3::ONE)
+            .to_array();
+        let mut grid = Self {
+            mesh,
+            lo,
+            cell,
+            dims,
+            starts: Vec::new(),
+            items: Vec::new(),
+        };
+        let cells = (dims[0] * dims[1] * dims[2]) as usize;
+        // Twice over the triangles: count per cell, then place.
+        let mut counts = vec![0u32; cells + 1];
+        grid.each_cell_of_each_triangle(|c, _| counts[c] += 1);
+        let mut total = 0u32;
+        for n in counts.iter_mut() {
+            let here = *n;
+            *n = total;
+            total += here;
+        }
+        let mut fill = counts.clone();
+        let mut items = vec![0u32; total as usize];
+        grid.each_cell_of_each_triangle(|c, t| {
+            items[fill[c] as usize] = t;
+            fill[c] += 1;
+        });
+        grid.starts = counts;
+        grid.items = items;
+        grid
+    }
+
+    fn each_cell_of_each_triangle(&self, mut visit: impl FnMut(usize, u32)) {
+        for t in 0..self.mesh.triangles() {
+            let [a, b, c] = self.mesh.triangle(t);
+            let (l, h) = (self.cell_of(a.min(b).min(c)), self.cell_of(a.max(b).max(c)));
+            for x in l[0]..=h[0] {
+                for y in l[1]..=h[1] {
+                    for z in l[2]..=h[2] {
+                        if let Some(k) = self.index([x, y, z]) {
+                            visit(k, t as u32);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn cell_of(&self, p: Vec3) -> [i64; 3] {
+        let c = ((p - self.lo) / self.cell).floor();
+        [c.x as i64, c.y as i64, c.z as i64]
+    }
+
+    /// The index of cell `c`, if it is in the grid.
+    fn index(&self, c: [i64; 3]) -> Option<usize> {
+        let [dx, dy, dz] = self.dims;
+        let inside = (0..dx).contains(&c[0]) && (0..dy).contains(&c[1]) && (0..dz).contains(&c[2]);
+        inside.then(|| ((c[2] * dy + c[1]) * dx + c[0]) as usize)
+    }
+
+    /// The distance from `p` to the mesh: shells of cells around `p`'s
+    /// cell, outwards, until the nearest triangle found lies nearer than
+    /// any cell not yet searched.
+    pub fn distance(&self, p: Vec3) -> f32 {
+        let c = self.cell_of(p);
+        // How far p lies inside its own cell: every cell beyond shell r is
+        // at least r cells and this much away.
+        let own = self.lo + Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) * self.cell;
+        let inner = (p - own)
+            .min(own + Vec3::splat(self.cell) - p)
+            .min_element()
+            .max(0.0);
+        let mut best = f32::MAX;
+        // Past this shell every cell of the grid has been searched.
+        let reach = (0..3)
+            .map(|i| c[i].abs().max((self.dims[i] - 1 - c[i]).abs()))
+            .max()
+            .unwrap_or(0)
+            + 1;
+        for r in 0..=reach {
+            for x in c[0] - r..=c[0] + r {
+                for y in c[1] - r..=c[1] + r {
+                    for z in c[2] - r..=c[2] + r {
+                        let shell =
+                            (x - c[0]).abs() == r || (y - c[1]).abs() == r || (z - c[2]).abs() == r;
+                        let Some(k) = self.index([x, y, z]).filter(|_| shell) else {
+                            continue;
+                        };
+                        for &t in &self.items[self.starts[k] as usize..self.starts[k + 1] as usize]
+                        {
+                            let q = closest_on_triangle(p, self.mesh.triangle(t as usize));
+                            best = best.min(q.distance(p));
+                        }
+                    }
+                }
+            }
+            if best <= r as f32 * self.cell + inner {
+                break;
+            }
+        }
+        best
+    }
+}
+
+/// An upper bound of how far the welded grid mesh of `patches` at `n`
+/// cells a side ([`super::mesh::limit_mesh`]) lies from the surface,
+/// sampled: each cell's centre and the midpoints of its sides and diagonal,
+/// measured to the cell's own two triangles (the mesh is no farther than
+/// those).
+pub fn grid_error(patches: &[BezierPatch], n: usize) -> f32 {
+    let h = 1.0 / n as f32;
+    let mut worst = 0.0f32;
+    for p in patches {
+        for j in 0..n {
+            for i in 0..n {
+                let (u0, v0) = (i as f32 * h, j as f32 * h);
+                let (u1, v1) = (u0 + h, v0 + h);
+                let [a, b, c, d] = [
+                    p.eval(u0, v0),
+                    p.eval(u1, v0),
+                    p.eval(u1, v1),
+                    p.eval(u0, v1),
+                ];
+                let halves = [
+                    (u0 + 0.5 * h, v0),
+                    (u0, v0 + 0.5 * h),
+                    (u0 + 0.5 * h, v0 + 0.5 * h),
+                ];
+                let quarter = [
+                    (u0 + 0.75 * h, v0 + 0.25 * h),
+                    (u0 + 0.25 * h, v0 + 0.75 * h),
+                ];
+                for (u, v) in halves.into_iter().chain(quarter) {
+                    let s = p.eval(u, v);
+                    let near = closest_on_triangle(s, [a, b, c])
+                        .distance(s)
+                        .min(closest_on_triangle(s, [a, c, d]).distance(s));
+                    worst = worst.max(near);
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// Points of the limit surface: each patch at `n` + 1 by `n` + 1
+/// parameters, its corners included.
+pub fn surface_samples(patches: &[BezierPatch], n: usize) -> Vec<Vec3> {
+    let mut out = Vec::with_capacity(patches.len() * (n + 1) * (n + 1));
+    for p in patches {
+        for j in 0..=n {
+            for i in 0..=n {
+                out.push(p.eval(i as f32 / n as f32, j as f32 / n as f32));
+            }
+        }
+    }
+    out
+}
+
+/// Points of a mesh: every vertex, every edge's midpoint and every
+/// triangle's centroid.
+pub fn mesh_samples(mesh: &TriMesh) -> Vec<Vec3> {
+    let mut out = mesh.positions.clone();
+    for t in 0..mesh.triangles() {
+        let [a, b, c] = mesh.triangle(t);
+        out.extend([
+            (a + b) * 0.5,
+            (b + c) * 0.5,
+            (c + a) * 0.5,
+            (a + b + c) / 3.0,
+        ]);
+    }
+    out
+}
+
+/// The largest distance from any of `points` to `mesh` (the points split
+/// among the machine's cores).
+pub fn max_distance(points: &[Vec3], mesh: &TriMesh) -> f32 {
+    let near = NearestTriangle::new(mesh);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let chunk = points.len().div_ceil(threads).max(1);
+    std::thread::scope(|s| {
+        let parts: Vec<_> = points
+            .chunks(chunk)
+            .map(|part| {
+                let near = &near;
+                s.spawn(move || part.iter().map(|p| near.distance(*p)).fold(0.0, f32::max))
+            })
+            .collect();
+        parts
+            .into_iter()
+            .map(|h| h.join().expect("a distance thread does not panic"))
+            .fold(0.0, f32::max)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_closest_point_is_in_every_region_of_the_triangle() {
+        let t = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let cases = [
+            (Vec3::new(0.2, 0.2, 1.0), Vec3::new(0.2, 0.2, 0.0)),
+            (Vec3::new(-1.0, -1.0, 0.0), Vec3::ZERO),
+            (Vec3::new(2.0, -0.5, 0.0), Vec3::X),
+            (Vec3::new(0.5, -1.0, 3.0), Vec3::new(0.5, 0.0, 0.0)),
+            (Vec3::new(-1.0, 0.5, 0.0), Vec3::new(0.0, 0.5, 0.0)),
+            (Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.5, 0.5, 0.0)),
+        ];
+        for (p, want) in cases {
+            assert!(closest_on_triangle(p, t).distance(want) < 1e-6, "{p}");
+        }
+    }
+
+    #[test]
+    fn the_grid_finds_what_brute_force_finds() {
+        let mesh = super::super::mesh::limit_mesh(
+            &super::super::mesh::shapes::ball(1),
+            3,
+            &super::super::mesh::plain_uv,
+        );
+        let near = NearestTriangle::new(&mesh);
+        for k in 0..200 {
+            let s = k as f32 * 0.37;
+            let p = Vec3::new(s.sin(), (s * 1.3).cos(), (s * 0.7).sin()) * (0.2 + 0.01 * k as f32);
+            let brute = (0..mesh.triangles())
+                .map(|t| closest_on_triangle(p, mesh.triangle(t)).distance(p))
+                .fold(f32::MAX, f32::min);
+            assert_eq!(near.distance(p), brute, "{p}");
+        }
+    }
+}

@@ -1,0 +1,318 @@
+//! Levels of detail below one patch (issue 41): far instances drawn from a
+//! simplified triangle mesh of their model's limit surface instead of from
+//! patches, so a frame of many small, distant models costs about what its
+//! pixels need rather than two triangles per patch.
+//!
+//! Why triangle meshes and not coarser patches: a patch set fitted over
+//! groups of patches must share edge curves across groups to stay
+//! watertight, which means refitting the cage; the limit surface on a
+//! uniform grid, welded where patches meet ([`mesh::limit_mesh`]) and
+//! simplified with meshoptimizer (edge collapses under a quadric error,
+//! borders locked), is closed wherever the model is and keeps that through
+//! every collapse. Each level's error against the limit surface is
+//! *measured* ([`error`]), both ways, not taken from the simplifier.
+//!
+//! An instance is drawn whole from one level or whole from patches
+//! ([`select`]), so no crack can open inside it: the levels are separate
+//! objects as the instances already are.
+
+pub mod error;
+pub mod gpu;
+pub mod mesh;
+pub mod select;
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use crate::constants::{LOD_VERTEX_WORDS, PATCH_MODEL_SHIFT, PATCH_RATIONAL};
+use crate::patch::bezier::BezierPatch;
+use crate::scene::geometry::SceneGeometry;
+use crate::scene::material::eval_uv_patch;
+use mesh::TriMesh;
+
+/// Cells per patch side of the welded mesh the levels are simplified from.
+pub const SOURCE_GRID: usize = 8;
+/// Cells per patch side of the dense mesh that stands for the limit surface
+/// when the levels' own points are measured against it.
+pub const PROXY_GRID: usize = 16;
+/// Bytes a level vertex takes on the GPU (`LOD_VERTEX_WORDS` words:
+/// position, octahedral normal, texture coordinates).
+pub const VERTEX_BYTES: u64 = LOD_VERTEX_WORDS as u64 * 4;
+/// Bytes a level triangle takes on the GPU (three u32 indices).
+pub const TRIANGLE_BYTES: u64 = 12;
+/// Bytes a base patch takes on the GPU (16 points of 3 floats).
+pub const PATCH_BYTES: u64 = 192;
+/// The simplifier's targets, as fractions of the model's box diagonal,
+/// finest first: from 2⁻¹⁰ to 2⁻⁴ in steps of √2 (a coarser level is
+/// chosen at √2 times less distance than the one before it).
+pub fn targets() -> impl Iterator<Item = f32> {
+    (0..=12).map(|k| (2.0f32).powf(-10.0 + 0.5 * k as f32))
+}
+
+/// A level is kept only if it has at most this share of the triangles of
+/// the finer one kept before it (else it is nearly the same cost).
+pub const KEEP_RATIO: f32 = 0.8;
+
+/// A level is kept only if it has fewer triangles than this many per base
+/// patch: the patches draw at least two each (one quad), so a level with
+/// more never draws an instance cheaper than its patches do where both
+/// are within ε.
+pub const MOST_TRIANGLES_PER_PATCH: usize = 2;
+
+/// One level of a model.
+#[derive(Clone, Debug)]
+pub struct Level {
+    /// The simplified mesh, its vertices compacted to those it uses.
+    pub mesh: TriMesh,
+    /// Its distance from the limit surface, in model units, measured both
+    /// ways ([`measured_error`]).
+    pub error: f32,
+    /// What the simplifier was asked for, in model units.
+    pub target: f32,
+    /// What the simplifier says it reached, in model units.
+    pub simplifier_error: f32,
+}
+
+impl Level {
+    /// GPU bytes of its vertices and indices.
+    pub fn bytes(&self) -> u64 {
+        self.mesh.positions.len() as u64 * VERTEX_BYTES
+            + self.mesh.triangles() as u64 * TRIANGLE_BYTES
+    }
+}
+
+/// The levels of one model (a range of model patches), finest first.
+#[derive(Clone, Debug)]
+pub struct ModelLevels {
+    /// The model's first model patch.
+    pub source: u32,
+    /// Its number of patches.
+    pub count: u32,
+    /// The levels, finest first; empty where the model gets none.
+    pub levels: Vec<Level>,
+    /// Why it has none, if so.
+    pub none_because: Option<&'static str>,
+}
+
+impl ModelLevels {
+    /// GPU bytes of its base patches.
+    pub fn patch_bytes(&self) -> u64 {
+        u64::from(self.count) * PATCH_BYTES
+    }
+
+    /// GPU bytes of all its levels.
+    pub fn level_bytes(&self) -> u64 {
+        self.levels.iter().map(Level::bytes).sum()
+    }
+}
+
+/// Every model's levels.
+#[derive(Clone, Debug, Default)]
+pub struct SceneLevels {
+    /// By first model patch, in the order the instances first name them.
+    pub models: Vec<ModelLevels>,
+    by_source: HashMap<u32, usize>,
+}
+
+impl SceneLevels {
+    /// The levels of every model `geo`'s instances place. Rational and
+    /// displaced models get none (the welded mesh would be of the wrong
+    /// surface), nor does a scene's PN-triangle model (not patches).
+    pub fn build(geo: &SceneGeometry) -> Self {
+        // The table the GPU is given (a geometry cut or edited after
+        // loading is uploaded as one identity instance).
+        let table = geo
+            .instances
+            .or_identity(&geo.patches, &geo.flags, &geo.weights);
+        let mut out = SceneLevels::default();
+        for t in &table.instances {
+            if out.by_source.contains_key(&t.source) {
+                continue;
+            }
+            let range = t.source as usize..(t.source + t.count) as usize;
+            let model = (t.flags >> PATCH_MODEL_SHIFT) as usize;
+            let rational = table.flags[range.clone()]
+                .iter()
+                .any(|f| f & PATCH_RATIONAL != 0);
+            let displaced = geo
+                .displacement
+                .models
+                .get(model)
+                .is_some_and(Option::is_some);
+            let none_because = if rational {
+                Some("rational patches")
+            } else if displaced {
+                Some("displaced")
+            } else {
+                None
+            };
+            let levels = match none_because {
+                Some(_) => Vec::new(),
+                None => {
+                    let uv = &geo.materials.uv_patches;
+                    let first = t.source as usize;
+                    let st = |k: usize, u: f32, v: f32| match uv.get(first + k) {
+                        Some(p) => eval_uv_patch(p, u, v),
+                        None => [u, v],
+                    };
+                    model_levels(&table.patches[range], &st)
+                }
+            };
+            out.by_source.insert(t.source, out.models.len());
+            out.models.push(ModelLevels {
+                source: t.source,
+                count: t.count,
+                levels,
+                none_because,
+            });
+        }
+        out
+    }
+
+    /// The index in [`Self::models`] of the model starting at model patch
+    /// `source`.
+    pub fn model_of(&self, source: u32) -> Option<usize> {
+        self.by_source.get(&source).copied()
+    }
+
+    /// GPU bytes of the base patches of the models with levels, and of
+    /// their levels.
+    pub fn bytes(&self) -> (u64, u64) {
+        let with = self.models.iter().filter(|m| !m.levels.is_empty());
+        with.fold((0, 0), |(p, l), m| {
+            (p + m.patch_bytes(), l + m.level_bytes())
+        })
+    }
+}
+
+/// The levels of one model's patches, finest first; `st(k, u, v)` the
+/// texture coordinates of its patch k at (u, v).
+pub fn model_levels(
+    patches: &[BezierPatch],
+    st: &dyn Fn(usize, f32, f32) -> [f32; 2],
+) -> Vec<Level> {
+    let Some((lo, hi)) = BezierPatch::bounds(patches) else {
+        return Vec::new();
+    };
+    let diagonal = (hi - lo).length();
+    let source = mesh::limit_mesh(patches, SOURCE_GRID, st);
+    let proxy = mesh::limit_mesh(patches, PROXY_GRID, &mesh::plain_uv);
+    // The proxy's own distance from the surface, added to every distance
+    // measured against it.
+    let proxy_error = error::grid_error(patches, PROXY_GRID);
+    let surface = error::surface_samples(patches, 2 * SOURCE_GRID);
+    let mut levels: Vec<Level> = Vec::new();
+    let mut finer = MOST_TRIANGLES_PER_PATCH * patches.len();
+    for fraction in targets() {
+        let target = fraction * diagonal;
+        let (mesh, simplifier_error) = simplify(&source, target);
+        if mesh.triangles() == 0 || mesh.triangles() as f32 >= KEEP_RATIO * finer as f32 {
+            continue;
+        }
+        finer = mesh.triangles();
+        let error = measured_error(&surface, &mesh, &proxy, proxy_error);
+        levels.push(Level {
+            mesh,
+            error,
+            target,
+            simplifier_error,
+        });
+    }
+    levels
+}
+
+/// The larger of: the farthest limit-surface sample from the level, and
+/// the farthest level sample (vertices, edge midpoints, centroids) from the
+/// proxy plus the proxy's own error.
+pub fn measured_error(surface: &[Vec3], level: &TriMesh, proxy: &TriMesh, proxy_error: f32) -> f32 {
+    let to_level = error::max_distance(surface, level);
+    let from_level = error::max_distance(&error::mesh_samples(level), proxy) + proxy_error;
+    to_level.max(from_level)
+}
+
+/// `source` simplified with error at most `target` (absolute), its
+/// vertices split where creases need ([`TriMesh::split`]); and the error the simplifier reports.
+fn simplify(source: &TriMesh, target: f32) -> (TriMesh, f32) {
+    let positions: &[f32] = bytemuck::cast_slice(&source.positions);
+    let adapter = meshopt::VertexDataAdapter::new(bytemuck::cast_slice(positions), 12, 0)
+        .expect("a Vec3 slice is 12-byte vertices");
+    let mut reached = 0.0f32;
+    // Borders not locked: the whole model is simplified at once, so a
+    // border is the model's own open edge, which may be simplified like
+    // the rest (the simplifier still never opens a new one).
+    let options = meshopt::SimplifyOptions::ErrorAbsolute;
+    let indices = meshopt::simplify(
+        &source.indices,
+        &adapter,
+        0,
+        target,
+        options,
+        Some(&mut reached),
+    );
+    (source.split(&indices), reached)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_coarsen_measured_and_stay_closed() {
+        let ball = mesh::shapes::ball(4);
+        let levels = model_levels(&ball, &mesh::plain_uv);
+        assert!(levels.len() >= 2, "{} levels", levels.len());
+        let mut finer = MOST_TRIANGLES_PER_PATCH * ball.len();
+        for l in &levels {
+            assert!(l.mesh.triangles() as f32 <= KEEP_RATIO * finer as f32);
+            finer = l.mesh.triangles();
+            // Closed as the ball is: no collapse opened it.
+            assert_eq!(l.mesh.boundary_edges(), vec![]);
+            // The measured error is real (a simplified ball is not the
+            // ball) and not far from what was asked for.
+            assert!(l.error > 0.0 && l.error < 4.0 * l.target, "{l:?}");
+        }
+        // Coarser levels lie farther from the surface.
+        assert!(levels.last().unwrap().error > levels[0].error);
+    }
+
+    /// No collapse opens the mesh: a level's border runs only through
+    /// vertices on the model's own border (it may be simplified, not cut
+    /// anew through the interior).
+    #[test]
+    fn an_open_model_opens_nowhere_else_on_any_level() {
+        let open = &mesh::shapes::ball(4)[..5 * 16];
+        let source = mesh::limit_mesh(open, SOURCE_GRID, &mesh::plain_uv);
+        let key = |m: &TriMesh, v: u32| m.positions[v as usize].to_array().map(f32::to_bits);
+        let border: std::collections::HashSet<_> = source
+            .boundary_edges()
+            .iter()
+            .flat_map(|&(a, b)| [key(&source, a), key(&source, b)])
+            .collect();
+        let levels = model_levels(open, &mesh::plain_uv);
+        assert!(!levels.is_empty());
+        for l in levels {
+            let edges = l.mesh.boundary_edges();
+            assert!(!edges.is_empty(), "the model is open");
+            for (a, b) in edges {
+                assert!(border.contains(&key(&l.mesh, a)) && border.contains(&key(&l.mesh, b)));
+            }
+        }
+    }
+
+    /// A crease stays sharp: the flat-faced cube's levels light each face
+    /// with its own normal, not the corners' average.
+    #[test]
+    fn creases_keep_their_normals() {
+        let cube = mesh::shapes::cube_with(4, |p| p);
+        let levels = model_levels(&cube, &mesh::plain_uv);
+        assert!(!levels.is_empty());
+        for l in &levels {
+            for n in &l.mesh.normals {
+                assert!(n[0].abs().max_element() > 0.999, "{n:?}");
+            }
+            // Closed, by position, as the cube is.
+            assert_eq!(l.mesh.boundary_edges(), vec![]);
+        }
+    }
+}

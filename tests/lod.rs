@@ -1,0 +1,98 @@
+//! Levels of detail below one patch (issue 41) on lavapipe, validation
+//! layer on: seen from afar, every instance of the parking scene is drawn
+//! from a level; every method then leaves its patches alone (draws none of
+//! its own triangles), the reference never uses levels, and turning them
+//! off again gives the image without levels to the byte. `validate --lod
+//! on` holds each level of each model to the hole test.
+
+mod common;
+
+use bezier_subdiv::commands::validate::{run, ValidateArgs};
+use bezier_subdiv::commands::GpuRequest;
+use bezier_subdiv::constants::SHADE_NORMAL;
+use bezier_subdiv::draw::DrawPath;
+use bezier_subdiv::frame::View;
+use bezier_subdiv::lod::SceneLevels;
+use bezier_subdiv::methods::MethodOptions;
+
+const SIZE: (u32, u32) = (640, 360);
+
+#[test]
+fn far_instances_come_from_levels_in_every_method_and_off_is_unchanged() {
+    let gpu = common::gpu();
+    let (scene, geo) = common::scene("parking.toml");
+    let levels = SceneLevels::build(&geo);
+    let instances = geo.instances.instances.len() as u64;
+    let cam = scene.frame_camera(0).unwrap();
+    let view = View::new(&cam, SIZE, 1.0, 0.5, SHADE_NORMAL);
+    let mut options = MethodOptions::new(DrawPath::Mesh);
+    // The reference only has to show it ignores levels: a coarse grid.
+    options.per_method.set_reference_grid(4);
+    for method in [
+        "subdiv",
+        "subdiv-indirect",
+        "tess",
+        "cudatess",
+        "corners",
+        "ground-truth",
+    ] {
+        let mut r = common::renderer(&gpu, &geo, method, SIZE, options.clone());
+        let patches = r.render(&view).unwrap();
+        let before = r.read_image().unwrap();
+        assert_eq!(patches.lod.instances, 0);
+        r.set_levels(Some(levels.clone())).unwrap();
+        let leveled = r.render(&view).unwrap();
+        if method == "ground-truth" {
+            // The reference: what every other image is measured against.
+            assert_eq!(leveled.lod.instances, 0, "{method}");
+            assert_eq!(leveled.triangles(), patches.triangles(), "{method}");
+        } else {
+            assert_eq!(
+                leveled.lod.instances, instances,
+                "{method}: {:?}",
+                leveled.lod
+            );
+            // Every instance is a level's: the method draws nothing itself.
+            assert_eq!(leveled.method_triangles(), 0, "{method}");
+            assert!(
+                leveled.triangles() < patches.triangles(),
+                "{method}: {} triangles from levels against {} from patches",
+                leveled.triangles(),
+                patches.triangles()
+            );
+        }
+        r.set_levels(None).unwrap();
+        r.render(&view).unwrap();
+        assert!(
+            r.read_image().unwrap() == before,
+            "{method}: levels off changed the image"
+        );
+    }
+    gpu.finish();
+}
+
+#[test]
+fn every_level_tested_has_no_holes() {
+    let _gpu = common::gpu();
+    let mut gpu = GpuRequest::new(common::repo_path("scenes/parking.toml"));
+    gpu.size = (320, 180);
+    gpu.validation = true;
+    gpu.lod = true;
+    let report = run(&ValidateArgs {
+        gpu,
+        frames: vec![0],
+        skip_holes: false,
+        debug_dir: Some(common::output_dir("lod-holes")),
+    })
+    .unwrap();
+    println!("{}", report.table);
+    assert!(report.ok(), "{}", report.table);
+    // The floor's level and the car's finest at least (the hole verdict
+    // fails a level that left no pixel to check).
+    let tested: Vec<_> = report
+        .results
+        .iter()
+        .filter(|r| r.check.contains(" level "))
+        .collect();
+    assert!(tested.len() >= 2, "{}", report.table);
+}
