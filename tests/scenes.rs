@@ -30,6 +30,7 @@ const SCENES: &[(&str, usize, usize)] = &[
     ("displaced.toml", 506, 2),
     ("kitchen-displaced.toml", 35_940, 9),
     ("panels.toml", 470, 2),
+    ("parking.toml", 19_300, 2),
 ];
 
 /// Scenes of PN triangles alone (no patches: only cudatess draws them),
