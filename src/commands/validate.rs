@@ -472,13 +472,10 @@ impl OcclusionDiff {
     }
 }
 
-/// The hole test for the first instance of every distinct model file.
-fn hole_checks(
-    renderer: &mut Renderer,
-    geo: &SceneGeometry,
-    eps_lambda: (f64, f64, Split),
-    debug_dir: Option<&Path>,
-) -> anyhow::Result<Vec<CheckResult>> {
+/// The first instance of every distinct model file that has patches, as
+/// a geometry of its own, with the file's name: what the hole tests look
+/// at, one model at a time.
+fn distinct_models(geo: &SceneGeometry) -> Vec<(String, SceneGeometry)> {
     let mut out = Vec::new();
     let mut seen = HashSet::new();
     let mut offset = 0usize;
@@ -488,12 +485,25 @@ fn hole_checks(
         if !seen.insert(m.file.clone()) || m.patches_per_instance == 0 {
             continue;
         }
-        let range = start..start + m.patches_per_instance;
-        let one = geo.subset(range, (index, m.clone()));
+        let one = geo.subset(start..start + m.patches_per_instance, (index, m.clone()));
         let name = m
             .file
             .file_name()
             .map_or("model".into(), |f| f.to_string_lossy().into_owned());
+        out.push((name, one));
+    }
+    out
+}
+
+/// The hole test for the first instance of every distinct model file.
+fn hole_checks(
+    renderer: &mut Renderer,
+    geo: &SceneGeometry,
+    eps_lambda: (f64, f64, Split),
+    debug_dir: Option<&Path>,
+) -> anyhow::Result<Vec<CheckResult>> {
+    let mut out = Vec::new();
+    for (name, one) in distinct_models(geo) {
         let views = run_model(renderer, &one, eps_lambda, &name, debug_dir)?;
         let (ok, detail) = holes::verdict(&views);
         out.push(CheckResult::new(&format!("holes {name}"), None, ok, detail));
@@ -517,24 +527,12 @@ fn level_hole_checks(
     debug_dir: Option<&Path>,
 ) -> anyhow::Result<Vec<CheckResult>> {
     let mut out = Vec::new();
-    let mut seen = HashSet::new();
-    let mut offset = 0usize;
     let height = renderer.target().size().1;
-    for (index, m) in geo.models.iter().enumerate() {
-        let start = offset;
-        offset += m.patches_per_instance * m.instances;
-        if !seen.insert(m.file.clone()) || m.patches_per_instance == 0 {
-            continue;
-        }
-        let one = geo.subset(start..start + m.patches_per_instance, (index, m.clone()));
+    for (name, one) in distinct_models(geo) {
         let levels = crate::lod::SceneLevels::build(&one);
         let Some(model) = levels.models.first().filter(|m| !m.levels.is_empty()) else {
             continue;
         };
-        let name = m
-            .file
-            .file_name()
-            .map_or("model".into(), |f| f.to_string_lossy().into_owned());
         for (l, level) in model.levels.iter().enumerate() {
             let (cameras, span) =
                 holes::level_cameras(&one.patches, level.error, eps_lambda.0, height);
