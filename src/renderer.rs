@@ -22,15 +22,16 @@ use std::time::Duration;
 
 use ash::vk;
 
+mod levels;
+
 use crate::anim::Animation;
 use crate::constants::FALLBACK_MAX_CHUNKS;
 use crate::frame::{FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
 use crate::gpu::anim::AnimGpu;
 use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, SceneSpec, Shaders};
 use crate::lod::gpu::{Lod, LodFrame};
-use crate::lod::SceneLevels;
 use crate::methods::{
-    self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError, Role,
+    self, Finished, Method, MethodOptions, MethodSetup, MethodStats, RenderError,
 };
 use crate::patch::view::ViewParams;
 use crate::scene::geometry::{SceneGeometry, SceneShading};
@@ -419,46 +420,6 @@ impl Renderer {
         Ok(self.scene.reset_visibility(&self.ctx)?)
     }
 
-    /// Draws far instances from levels of detail of their models (`levels`
-    /// made for the uploaded scene by [`SceneLevels::build`]), or, with
-    /// `None`, every instance from its patches again. Levels are never used
-    /// by the reference (`ground-truth`), whose image the others' error is
-    /// measured against, nor in an animated scene (its records change per
-    /// frame).
-    pub fn set_levels(&mut self, levels: Option<SceneLevels>) -> Result<(), RenderError> {
-        self.frames.wait_all()?;
-        self.forget_frames();
-        if self.lod.take().is_some() {
-            // Records flagged for the levels go back to their patches.
-            let records = self.scene.instance_records.clone();
-            self.scene.instances.write(&self.ctx, 0, &records)?;
-        }
-        if let Some(levels) = levels {
-            self.lod = Some(Lod::new(
-                &self.ctx,
-                &self.scene,
-                &self.scene_layout,
-                levels,
-            )?);
-        }
-        Ok(())
-    }
-
-    /// Draws every instance that has levels from level `level` (its
-    /// model's coarsest where it has fewer) whatever its distance, or with
-    /// `None` as its distance says: for the hole test of a level. No-op
-    /// without levels.
-    pub fn force_level(&mut self, level: Option<usize>) {
-        if let Some(lod) = &mut self.lod {
-            lod.set_force(level);
-        }
-    }
-
-    /// The levels of detail in use.
-    pub fn levels(&self) -> Option<&SceneLevels> {
-        self.lod.as_ref().map(Lod::levels)
-    }
-
     /// Whether frames from now on keep their depth, for
     /// [`Renderer::read_depth`].
     pub fn set_keep_depth(&mut self, keep: bool) {
@@ -620,24 +581,6 @@ impl Renderer {
             slot,
             serial: self.serial,
         })
-    }
-
-    /// Chooses what draws each instance this frame and flags the records
-    /// (before anything reads them); returns whether levels draw anything,
-    /// after the method, which then leaves its target to be loaded.
-    fn prepare_levels(
-        &mut self,
-        cmd: vk::CommandBuffer,
-        params: &ViewParams,
-    ) -> Result<bool, RenderError> {
-        let Some(lod) = &mut self.lod else {
-            return Ok(false);
-        };
-        let reference = methods::find(self.methods[self.active].name())?.role == Role::Reference;
-        let enabled = !reference && self.anim.is_none();
-        lod.prepare(&self.ctx, cmd, &self.scene, params, enabled);
-        self.target.set_more_parts(lod.draws_any());
-        Ok(lod.draws_any())
     }
 
     fn record(
