@@ -124,10 +124,9 @@ const uint SPEC_SCENE_DISPLACED = 18;
 const uint INSTANCE_MIRRORED = 4;
 // The transform is the identity: control points are read unchanged.
 const uint INSTANCE_IDENTITY = 8;
-// This frame draws the instance from a level of detail (src/lod),
-// not from its patches: every method leaves its patches alone. The
-// renderer sets and clears it per frame; it is never set while the
-// reference draws.
+// This frame draws the instance from a level of detail (src/lod):
+// every method leaves its patches alone (set per frame, never for
+// the reference).
 const uint INSTANCE_LOD = 16;
 // u32 words per level-of-detail vertex (src/lod/gpu.rs): position
 // (3 floats), the unit normal (octahedral, two snorm16), the
