@@ -398,9 +398,11 @@ pub fn run_model_from(
         };
         view.params.flags |= split.flag();
         if let Some((levels, l)) = level {
-            // The reference's shots below load other geometry, which
-            // drops the levels: given again for every camera.
-            renderer.set_levels(Some(levels.clone()))?;
+            // The reference's shots may load other geometry, which drops
+            // the levels: given again only then.
+            if renderer.levels().is_none() {
+                renderer.set_levels(Some(levels.clone()))?;
+            }
             renderer.force_level(Some(l));
         }
         let with = shots(renderer, &view, KEY_BACKGROUND)?;
