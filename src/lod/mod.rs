@@ -16,6 +16,7 @@
 //! ([`select`]), so no crack can open inside it: the levels are separate
 //! objects as the instances already are.
 
+pub mod constants;
 pub mod error;
 pub mod gpu;
 pub mod mesh;

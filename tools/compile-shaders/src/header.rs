@@ -42,13 +42,14 @@ impl<'a> Header<'a> {
         }
     }
 
-    /// A method's header, `<method>/constants.glsl`, which its shaders
-    /// include as `constants.glsl` from their own folder.
-    pub fn method(method: &str, table: &'a [SharedConst]) -> Self {
+    /// A folder's header, `<folder>/constants.glsl` (a method's, or the
+    /// levels of detail's), which its shaders include as `constants.glsl`
+    /// from their own folder; `source` is the Rust file declaring `table`.
+    pub fn folder(folder: &str, source: &str, table: &'a [SharedConst]) -> Self {
         Self {
-            glsl: format!("{method}/constants.glsl"),
-            source: format!("src/methods/{method}/constants.rs"),
-            guard: format!("{}_CONSTANTS_GLSL", method.to_ascii_uppercase()),
+            glsl: format!("{folder}/constants.glsl"),
+            source: source.to_owned(),
+            guard: format!("{}_CONSTANTS_GLSL", folder.to_ascii_uppercase()),
             table,
         }
     }

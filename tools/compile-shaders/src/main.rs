@@ -167,8 +167,8 @@ fn run(args: impl IntoIterator<Item = String>) -> Result<u8, Error> {
     // `--check` compiles what a run would even while a file on disk is stale
     // or missing.
     let mut headers = vec![header::Header::shared(constants::ALL)];
-    for (method, table) in method_constants::METHODS {
-        headers.push(header::Header::method(method, table));
+    for (folder, source, table) in method_constants::METHODS {
+        headers.push(header::Header::folder(folder, source, table));
     }
     header::check_distinct(&headers)?;
     let mut generated = Vec::new();

@@ -97,7 +97,7 @@ fn the_committed_header_is_what_src_constants_rs_generates() {
 fn method_headers() -> Vec<Header<'static>> {
     crate::method_constants::METHODS
         .iter()
-        .map(|(m, table)| Header::method(m, table))
+        .map(|(m, source, table)| Header::folder(m, source, table))
         .collect()
 }
 
@@ -106,10 +106,10 @@ fn every_method_with_constants_has_its_committed_header() {
     let headers = method_headers();
     let names: Vec<&str> = crate::method_constants::METHODS
         .iter()
-        .map(|(m, _)| *m)
+        .map(|(m, ..)| *m)
         .collect();
     // build.rs found the methods that declare constants of their own.
-    for m in ["cudatess", "ground_truth", "subdiv", "tess"] {
+    for m in ["cudatess", "ground_truth", "lod", "subdiv", "tess"] {
         assert!(names.contains(&m), "{names:?}");
     }
     let glsl = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../glsl");
@@ -133,7 +133,10 @@ fn every_method_with_constants_has_its_committed_header() {
 #[test]
 fn a_name_in_two_headers_is_refused_naming_both_files() {
     let one = [entry("X", 1, false, Some(&[]), &[])];
-    let headers = [Header::shared(&one), Header::method("toy", &one)];
+    let headers = [
+        Header::shared(&one),
+        Header::folder("toy", "src/methods/toy/constants.rs", &one),
+    ];
     let err = check_distinct(&headers).unwrap_err().0;
     assert!(
         err.contains("`X`")
@@ -143,7 +146,10 @@ fn a_name_in_two_headers_is_refused_naming_both_files() {
     );
     // A method's header refuses its own guard as a name, naming its file.
     let guard = [entry("TOY_CONSTANTS_GLSL", 1, false, None, &[])];
-    let err = Header::method("toy", &guard).text().unwrap_err().0;
+    let err = Header::folder("toy", "src/methods/toy/constants.rs", &guard)
+        .text()
+        .unwrap_err()
+        .0;
     assert!(
         err.contains("include guard") && err.contains("src/methods/toy/constants.rs"),
         "{err}"
