@@ -241,6 +241,18 @@ impl<'a> FrameRec<'a> {
         self.scene.bind_to(pass, self.slot)
     }
 
+    /// Words of the slot's copy-out area taken so far.
+    pub fn copied(&self) -> u32 {
+        self.copied
+    }
+
+    /// The recorder of a frame's later part, whose earlier recorder took
+    /// the first `words` words of the copy-out area (used by the renderer).
+    pub fn after_copies(mut self, words: u32) -> Self {
+        self.copied = words;
+        self
+    }
+
     /// Records `f` between the timestamps of scope `name`.
     pub fn scoped<R>(
         &mut self,

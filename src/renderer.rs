@@ -26,7 +26,7 @@ mod levels;
 
 use crate::anim::Animation;
 use crate::constants::FALLBACK_MAX_CHUNKS;
-use crate::frame::{FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
+use crate::frame::{CopyRange, FrameOut, FrameRec, Retired, View, COPY_OUT_WORDS};
 use crate::gpu::anim::AnimGpu;
 use crate::gpu::{DrawTarget, SceneGpu, SceneLayout, SceneSpec, Shaders};
 use crate::lod::gpu::{Lod, LodFrame};
@@ -142,8 +142,9 @@ struct SlotData {
     frame: Option<(usize, u64)>,
     /// Whether that frame may wait for a compile ([`FrameReport::compiled`]).
     compiled: bool,
-    /// What levels of detail drew in it.
-    lod: LodFrame,
+    /// Where the level cull's counters landed in the copy-out area, and
+    /// the levels' bytes, when levels drew in it.
+    lod: Option<(CopyRange, u64)>,
 }
 
 /// The renderer.
@@ -215,7 +216,7 @@ impl Renderer {
                     )?,
                     frame: None,
                     compiled: false,
-                    lod: LodFrame::default(),
+                    lod: None,
                 })
             })
             .collect::<VkResult<Vec<_>>>()?;
@@ -540,6 +541,9 @@ impl Renderer {
         }
         if let Some(lod) = &self.lod {
             v.push(("levels_of_detail", lod.bytes()));
+            // Their per-instance choice and draws, and the depth pyramid
+            // their cull reads (with occlusion culling on).
+            v.push(("levels_of_detail_cull", lod.memory() - lod.bytes()));
         }
         v.extend(self.method().memory());
         v
@@ -611,7 +615,7 @@ impl Renderer {
         data.primitives.begin(cmd, mesh)?;
         // The command buffer of the last part the method recorded, and
         // whether it recorded the frame.
-        let (recorded, last) = {
+        let (recorded, last, copied) = {
             let mut f = FrameRec::new(
                 &self.ctx,
                 cmd,
@@ -626,7 +630,7 @@ impl Renderer {
             )
             .with_parts(&mut self.frames, &mut data.primitives);
             let recorded = self.methods[self.active].record(&mut f);
-            (recorded, f.cmd)
+            (recorded, f.cmd, f.copied())
         };
         // The query ends even when the method refused the frame, so the
         // abandoned command buffer is still well formed.
@@ -634,23 +638,25 @@ impl Renderer {
         self.target.set_more_parts(false);
         recorded?;
         ended?;
-        data.lod = LodFrame::default();
+        data.lod = None;
         if let Some(lod) = self.lod.as_mut().filter(|_| levels_now) {
-            data.timer.begin(last, "levels")?;
-            self.target.begin_part(&self.ctx, last, false, true);
-            let drawn = lod.draw(
+            let mut f = FrameRec::new(
                 &self.ctx,
                 last,
-                &mut self.shaders,
-                &self.scene,
                 slot,
+                &self.scene,
                 view,
+                &self.target,
+                false,
                 retired,
-            );
-            self.target.end(&self.ctx, last);
-            drawn?;
-            data.timer.end(last, "levels")?;
-            data.lod = lod.frame();
+                &mut data.timer,
+                &data.copy_out,
+            )
+            .after_copies(copied);
+            let (shaders, layout) = (&mut self.shaders, &self.scene_layout);
+            let occlusion = self.options.occlusion;
+            let counters = f.scoped("levels", |f| lod.record(f, shaders, layout, occlusion))?;
+            data.lod = Some((counters, lod.bytes()));
         }
         data.timer.end(last, "frame")?;
         // Everything the frame wrote, for the host after the fence.
@@ -711,7 +717,13 @@ impl Renderer {
                 redone: 0,
                 compiled,
                 primitives,
-                lod: self.slots[slot].lod.clone(),
+                lod: self.slots[slot]
+                    .lod
+                    .map(|(r, bytes)| {
+                        let at = r.offset as usize;
+                        LodFrame::from_counters(&words[at..at + r.len as usize], bytes)
+                    })
+                    .unwrap_or_default(),
             },
             redo,
         ))

@@ -11,7 +11,14 @@
 #ifndef HIZ_GLSL
 #define HIZ_GLSL
 
-layout(std430, set = SET_PRODUCER, binding = BIND_LEVEL_HIZ) readonly buffer Hiz {
+// The pyramid's binding: the level kernels' unless the includer names
+// another (the levels of detail's cull, glsl/lod/cull.comp).
+#ifndef HIZ_SET
+#define HIZ_SET SET_PRODUCER
+#define HIZ_BINDING BIND_LEVEL_HIZ
+#endif
+
+layout(std430, set = HIZ_SET, binding = HIZ_BINDING) readonly buffer Hiz {
     float hiz[];
 };
 

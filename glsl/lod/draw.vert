@@ -1,13 +1,15 @@
 // Levels of detail (src/lod), vertex stage: an indexed draw per instance
-// drawn from a level, its instance index the instance record's. Vertices
+// drawn from a level (written by cull.comp), its instance index the
+// instance record's. Vertices
 // are pulled from the level buffer (LOD_VERTEX_WORDS each, model space) and
 // placed by the instance like a patch's control points.
 #version 460
 
 #include "common/scene.glsl"
 #include "common/draw.glsl"
+#include "constants.glsl"
 
-layout(std430, set = SET_PASS, binding = 0) readonly buffer LodVertices {
+layout(std430, set = SET_PASS, binding = BIND_LOD_VERTICES) readonly buffer LodVertices {
     uint lod_vertices[];
 };
 

@@ -211,9 +211,10 @@ fn render_to(
     let occlusion = occlusion_summary(report);
     let lod = if report.lod.bytes > 0 {
         format!(
-            ", levels of detail on ({} instances, {} triangles of them)",
+            ", levels of detail on ({} instances, {} triangles of them, {} hidden)",
             thousands(report.lod.instances),
-            thousands(report.lod.triangles)
+            thousands(report.lod.triangles),
+            thousands(report.lod.occluded)
         )
     } else {
         String::new()
@@ -573,6 +574,7 @@ fn levels_json(levels: &crate::lod::SceneLevels, frame: &crate::lod::gpu::LodFra
     json!({
         "instances": frame.instances,
         "triangles": frame.triangles,
+        "occluded": frame.occluded,
         "by_level": frame.by_level,
         "bytes": frame.bytes,
         "models": models,

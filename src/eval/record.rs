@@ -113,10 +113,12 @@ pub fn flatten(report: &FrameReport, memory: &[(&'static str, u64)]) -> Vec<(Str
     }
     let lod = &report.lod;
     if lod.bytes > 0 {
-        // Levels of detail were on: what they drew, and per level index
+        // Levels of detail were on: what they drew, what occlusion culling
+        // kept them from drawing, and per level index
         // (0 the finest of each model) instances and triangles.
         v.push(("lod.instances".into(), json!(lod.instances)));
         v.push(("lod.triangles".into(), json!(lod.triangles)));
+        v.push(("lod.occluded".into(), json!(lod.occluded)));
         v.push(("lod.by_level".into(), json!(lod.by_level)));
     }
     v.extend(

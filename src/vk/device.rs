@@ -307,6 +307,7 @@ fn read_features(
         mesh_shader: mesh_ext && on(fmesh.task_shader) && on(fmesh.mesh_shader),
         multi_draw_indirect: on(f10.multi_draw_indirect),
         draw_indirect_count: on(f12.draw_indirect_count),
+        draw_indirect_first_instance: on(f10.draw_indirect_first_instance),
         vertex_pipeline_stores_and_atomics: on(f10.vertex_pipeline_stores_and_atomics),
         fragment_stores_and_atomics: on(f10.fragment_stores_and_atomics),
         shader_int64: on(f10.shader_int64),
@@ -461,6 +462,7 @@ pub(crate) fn create_device(
 
     let core = vk::PhysicalDeviceFeatures::default()
         .multi_draw_indirect(f.multi_draw_indirect)
+        .draw_indirect_first_instance(f.draw_indirect_first_instance)
         .vertex_pipeline_stores_and_atomics(f.vertex_pipeline_stores_and_atomics)
         .fragment_stores_and_atomics(f.fragment_stores_and_atomics)
         .shader_int64(f.shader_int64)

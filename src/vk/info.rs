@@ -52,6 +52,9 @@ pub struct OptionalFeatures {
     pub multi_draw_indirect: bool,
     /// `drawIndirectCount` (Vulkan 1.2).
     pub draw_indirect_count: bool,
+    /// `drawIndirectFirstInstance`: an indirect draw's first instance other
+    /// than 0 (the levels of detail's culled draws name their instance so).
+    pub draw_indirect_first_instance: bool,
     /// `vertexPipelineStoresAndAtomics`.
     pub vertex_pipeline_stores_and_atomics: bool,
     /// `fragmentStoresAndAtomics`.
@@ -81,11 +84,15 @@ pub struct OptionalFeatures {
 
 impl OptionalFeatures {
     /// (name, enabled) pairs in a stable order, for reports.
-    pub fn list(&self) -> [(&'static str, bool); 14] {
+    pub fn list(&self) -> [(&'static str, bool); 15] {
         [
             ("mesh shader (VK_EXT_mesh_shader)", self.mesh_shader),
             ("multiDrawIndirect", self.multi_draw_indirect),
             ("drawIndirectCount", self.draw_indirect_count),
+            (
+                "drawIndirectFirstInstance",
+                self.draw_indirect_first_instance,
+            ),
             (
                 "vertexPipelineStoresAndAtomics",
                 self.vertex_pipeline_stores_and_atomics,
