@@ -556,6 +556,7 @@ fn levels_json(levels: &crate::lod::SceneLevels, frame: &crate::lod::gpu::LodFra
                         "triangles": l.mesh.triangles(),
                         "vertices": l.mesh.positions.len(),
                         "error": l.error,
+                        "normal_error_deg": l.normal_error.to_degrees(),
                         "target": l.target,
                         "simplifier_error": l.simplifier_error,
                         "bytes": l.bytes(),

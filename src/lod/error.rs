@@ -43,6 +43,22 @@ pub fn closest_on_triangle(p: Vec3, t: [Vec3; 3]) -> Vec3 {
     a + ab * (vb * denom) + ac * (vc * denom)
 }
 
+/// The barycentric weights of `p` (a point of triangle `t`'s plane) in `t`;
+/// a degenerate triangle's first corner takes all.
+pub fn barycentric(p: Vec3, t: [Vec3; 3]) -> Vec3 {
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (ab.dot(ab), ab.dot(ac), ac.dot(ac));
+    let (d20, d21) = (ap.dot(ab), ap.dot(ac));
+    let denom = d00 * d11 - d01 * d01;
+    if denom.abs() <= f32::EPSILON * d00 * d11 {
+        return Vec3::X;
+    }
+    let v = (d11 * d20 - d01 * d21) / denom;
+    let w = (d00 * d21 - d01 * d20) / denom;
+    Vec3::new(1.0 - v - w, v, w)
+}
+
 /// Most cells of a [`NearestTriangle`] grid (the cell grows to keep
 /// within it).
 const MAX_CELLS: f32 = 2.0e6;
@@ -146,6 +162,12 @@ impl<'a> NearestTriangle<'a> {
     /// cell, outwards, until the nearest triangle found lies nearer than
     /// any cell not yet searched.
     pub fn distance(&self, p: Vec3) -> f32 {
+        self.nearest(p).0
+    }
+
+    /// The distance from `p` to the mesh and the triangle that nearest
+    /// point lies on (see [`NearestTriangle::distance`]).
+    pub fn nearest(&self, p: Vec3) -> (f32, usize) {
         let c = self.cell_of(p);
         // How far p lies inside its own cell: every cell beyond shell r is
         // at least r cells and this much away.
@@ -154,7 +176,7 @@ impl<'a> NearestTriangle<'a> {
             .min(own + Vec3::splat(self.cell) - p)
             .min_element()
             .max(0.0);
-        let mut best = f32::MAX;
+        let mut best = (f32::MAX, 0);
         // Past this shell every cell of the grid has been searched.
         let reach = (0..3)
             .map(|i| c[i].abs().max((self.dims[i] - 1 - c[i]).abs()))
@@ -173,12 +195,15 @@ impl<'a> NearestTriangle<'a> {
                         for &t in &self.items[self.starts[k] as usize..self.starts[k + 1] as usize]
                         {
                             let q = closest_on_triangle(p, self.mesh.triangle(t as usize));
-                            best = best.min(q.distance(p));
+                            let d = q.distance(p);
+                            if d < best.0 {
+                                best = (d, t as usize);
+                            }
                         }
                     }
                 }
             }
-            if best <= r as f32 * self.cell + inner {
+            if best.0 <= r as f32 * self.cell + inner {
                 break;
             }
         }
@@ -278,6 +303,122 @@ pub fn max_distance(points: &[Vec3], mesh: &TriMesh) -> f32 {
     })
 }
 
+/// A point of the limit surface, its unit normal and the surface area it
+/// stands for.
+#[derive(Clone, Copy, Debug)]
+pub struct NormalSample {
+    /// The point.
+    pub point: Vec3,
+    /// The unit normal there (∂u × ∂v).
+    pub normal: Vec3,
+    /// Its share of the surface's area (trapezoid weights of the
+    /// parameter grid times |∂u × ∂v|).
+    pub area: f32,
+}
+
+/// Points of the limit surface with their normals and areas: each patch
+/// at `n` + 1 by `n` + 1 parameters, as [`surface_samples`]; a point whose
+/// normal is undefined (a collapsed corner) is left out.
+pub fn surface_normals(patches: &[BezierPatch], n: usize) -> Vec<NormalSample> {
+    let mut out = Vec::with_capacity(patches.len() * (n + 1) * (n + 1));
+    let cell = 1.0 / (n * n) as f32;
+    let edge = |i: usize| if i == 0 || i == n { 0.5 } else { 1.0 };
+    for p in patches {
+        for j in 0..=n {
+            for i in 0..=n {
+                let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+                let (du, dv) = p.partials(u, v);
+                let normal = p.normal(u, v).normalize_or_zero();
+                if normal != Vec3::ZERO {
+                    out.push(NormalSample {
+                        point: p.eval(u, v),
+                        normal,
+                        area: du.cross(dv).length() * cell * edge(i) * edge(j),
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Sets each vertex normal of `mesh` to the one that stands best for the
+/// surface its triangles stand in for: the area-weighted mean of the
+/// normals of the surface `samples` whose nearest point lies on a triangle
+/// of the vertex, each weighted by the vertex's barycentric share of that
+/// point. A sample whose normal faces away from that triangle (the far
+/// side of a thin sheet) is left out; a vertex no sample reaches keeps its
+/// normal. The limit surface's normal at a vertex is not that: where a
+/// coarse triangle spans a rounded edge and a flat face, the edge's normal
+/// at its corner tilts the whole face.
+pub fn fit_normals(mesh: &mut TriMesh, samples: &[NormalSample]) {
+    let mut sums = vec![Vec3::ZERO; mesh.positions.len()];
+    {
+        let near = NearestTriangle::new(mesh);
+        for s in samples {
+            let (_, t) = near.nearest(s.point);
+            let corners = mesh.triangle(t);
+            let [a, b, c] = corners;
+            if (b - a).cross(c - a).dot(s.normal) <= 0.0 {
+                continue;
+            }
+            let w = barycentric(closest_on_triangle(s.point, corners), corners).max(Vec3::ZERO);
+            for k in 0..3 {
+                sums[mesh.indices[3 * t + k] as usize] += s.normal * (s.area * w[k]);
+            }
+        }
+    }
+    for (normals, sum) in mesh.normals.iter_mut().zip(sums) {
+        if let (Some(n), Some(fitted)) = (normals.first_mut(), sum.try_normalize()) {
+            *n = fitted;
+        }
+    }
+}
+
+/// The surface-area-weighted mean angle, in radians, between the limit
+/// surface's normal at `samples` and the normal `mesh` is shaded with at
+/// its nearest point (its vertex normals interpolated, as the rasterizer
+/// does); `two_sided`: a normal and its opposite are one (such a model is
+/// lit from the side it is seen from). The points are split among the
+/// machine's cores.
+pub fn normal_error(samples: &[NormalSample], mesh: &TriMesh, two_sided: bool) -> f32 {
+    let near = NearestTriangle::new(mesh);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let chunk = samples.len().div_ceil(threads).max(1);
+    let angle = |s: &NormalSample| {
+        let (_, t) = near.nearest(s.point);
+        let corners = mesh.triangle(t);
+        let w = barycentric(closest_on_triangle(s.point, corners), corners);
+        let ids = &mesh.indices[3 * t..3 * t + 3];
+        let shaded = (0..3)
+            .map(|k| mesh.normals[ids[k] as usize][0] * w[k])
+            .sum::<Vec3>()
+            .normalize_or_zero();
+        let cos = shaded.dot(s.normal);
+        let cos = if two_sided { cos.abs() } else { cos };
+        f64::from(cos.clamp(-1.0, 1.0).acos())
+    };
+    let (sum, area) = std::thread::scope(|scope| {
+        let parts: Vec<_> = samples
+            .chunks(chunk)
+            .map(|part| {
+                let angle = &angle;
+                scope.spawn(move || {
+                    part.iter().fold((0.0f64, 0.0f64), |(sum, area), s| {
+                        let a = f64::from(s.area);
+                        (sum + angle(s) * a, area + a)
+                    })
+                })
+            })
+            .collect();
+        parts
+            .into_iter()
+            .map(|h| h.join().expect("a normal thread does not panic"))
+            .fold((0.0, 0.0), |x, y| (x.0 + y.0, x.1 + y.1))
+    });
+    (sum / area.max(f64::MIN_POSITIVE)) as f32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -296,6 +437,31 @@ mod tests {
         for (p, want) in cases {
             assert!(closest_on_triangle(p, t).distance(want) < 1e-6, "{p}");
         }
+    }
+
+    #[test]
+    fn a_finer_mesh_of_the_ball_is_shaded_nearer_its_normals() {
+        let ball = super::super::mesh::shapes::ball(2);
+        let samples = surface_normals(&ball, 8);
+        let error = |cells: usize| {
+            let mesh = super::super::mesh::limit_mesh(&ball, cells, &super::super::mesh::plain_uv);
+            normal_error(&samples, &mesh, false).to_degrees()
+        };
+        let (fine, coarse) = (error(8), error(1));
+        // The ball's patches meet at an angle across the cube's edges
+        // (their welded normals are averaged there): not zero even fine.
+        assert!(fine < 3.0, "{fine}");
+        assert!(coarse > 2.0 * fine, "{coarse} against {fine}");
+        // Turned inside out, one-sided: every normal opposite.
+        let mut flipped = super::super::mesh::limit_mesh(&ball, 8, &super::super::mesh::plain_uv);
+        flipped.normals.iter_mut().flatten().for_each(|n| *n = -*n);
+        let inside_out = normal_error(&samples, &flipped, false).to_degrees();
+        assert!(inside_out > 170.0, "{inside_out}");
+        let two_sided = normal_error(&samples, &flipped, true).to_degrees();
+        assert!(
+            (two_sided - fine).abs() < 1e-3,
+            "{two_sided} against {fine}"
+        );
     }
 
     #[test]

@@ -276,6 +276,17 @@ pub(crate) mod shapes {
     pub fn ball(k: usize) -> Vec<BezierPatch> {
         cube_with(k, |p| (p - Vec3::splat(0.5)).normalize() * 0.8)
     }
+
+    /// A box with flat faces and narrow rounded edges (the control points
+    /// pushed onto a superellipsoid of exponent 8), `k` × `k` patches a face.
+    pub fn rounded_box(k: usize) -> Vec<BezierPatch> {
+        cube_with(k, |p| {
+            let q = p - Vec3::splat(0.5);
+            let a = q.abs();
+            let norm = (a.x.powi(8) + a.y.powi(8) + a.z.powi(8)).powf(0.125);
+            q * (0.5 / norm.max(1e-12))
+        })
+    }
 }
 
 #[cfg(test)]

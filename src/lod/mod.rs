@@ -26,7 +26,7 @@ use std::collections::HashMap;
 
 use glam::Vec3;
 
-use crate::constants::{LOD_VERTEX_WORDS, PATCH_MODEL_SHIFT, PATCH_RATIONAL};
+use crate::constants::{LOD_VERTEX_WORDS, PATCH_MODEL_SHIFT, PATCH_RATIONAL, PATCH_TWO_SIDED};
 use crate::patch::bezier::BezierPatch;
 use crate::scene::geometry::SceneGeometry;
 use crate::scene::material::eval_uv_patch;
@@ -61,6 +61,13 @@ pub const KEEP_RATIO: f32 = 0.8;
 /// are within ε.
 pub const MOST_TRIANGLES_PER_PATCH: usize = 2;
 
+/// A level is kept only if its shading normals lie within this mean angle
+/// (radians, 20°) of the surface's ([`Level::normal_error`]): ε bounds a
+/// level's geometry, not its lighting, and a coarse level of a model with
+/// narrow rounded edges (the kitchen's sideboard, its books) loses their
+/// highlights at any distance.
+pub const MOST_NORMAL_ERROR: f32 = 20.0 * std::f32::consts::PI / 180.0;
+
 /// One level of a model.
 #[derive(Clone, Debug)]
 pub struct Level {
@@ -69,6 +76,9 @@ pub struct Level {
     /// Its distance from the limit surface, in model units, measured both
     /// ways ([`measured_error`]).
     pub error: f32,
+    /// How far its shading normals lie from the surface's: the
+    /// area-weighted mean angle, in radians ([`error::normal_error`]).
+    pub normal_error: f32,
     /// What the simplifier was asked for, in model units.
     pub target: f32,
     /// What the simplifier says it reached, in model units.
@@ -136,6 +146,7 @@ impl SceneLevels {
             let rational = table.flags[range.clone()]
                 .iter()
                 .any(|f| f & PATCH_RATIONAL != 0);
+            let two_sided = (t.flags | table.flags[range.start]) & PATCH_TWO_SIDED != 0;
             let displaced = geo
                 .displacement
                 .models
@@ -157,7 +168,7 @@ impl SceneLevels {
                         Some(p) => eval_uv_patch(p, u, v),
                         None => [u, v],
                     };
-                    model_levels(&table.patches[range], &st)
+                    model_levels(&table.patches[range], &st, two_sided, MOST_NORMAL_ERROR)
                 }
             };
             out.by_source.insert(t.source, out.models.len());
@@ -188,10 +199,15 @@ impl SceneLevels {
 }
 
 /// The levels of one model's patches, finest first; `st(k, u, v)` the
-/// texture coordinates of its patch k at (u, v).
+/// texture coordinates of its patch k at (u, v); `two_sided`: the model is
+/// lit from the side it is seen from (its normal error then ignores
+/// orientation); levels whose normal error exceeds `most_normal_error`
+/// (radians; [`MOST_NORMAL_ERROR`] for a scene) are not kept.
 pub fn model_levels(
     patches: &[BezierPatch],
     st: &dyn Fn(usize, f32, f32) -> [f32; 2],
+    two_sided: bool,
+    most_normal_error: f32,
 ) -> Vec<Level> {
     let Some((lo, hi)) = BezierPatch::bounds(patches) else {
         return Vec::new();
@@ -203,12 +219,18 @@ pub fn model_levels(
     // measured against it.
     let proxy_error = error::grid_error(patches, PROXY_GRID);
     let surface = error::surface_samples(patches, 2 * SOURCE_GRID);
+    let normals = error::surface_normals(patches, 2 * SOURCE_GRID);
     let mut levels: Vec<Level> = Vec::new();
     let mut finer = MOST_TRIANGLES_PER_PATCH * patches.len();
     for fraction in targets() {
         let target = fraction * diagonal;
-        let (mesh, simplifier_error) = simplify(&source, target);
+        let (mut mesh, simplifier_error) = simplify(&source, target);
         if mesh.triangles() == 0 || mesh.triangles() as f32 >= KEEP_RATIO * finer as f32 {
+            continue;
+        }
+        error::fit_normals(&mut mesh, &normals);
+        let normal_error = error::normal_error(&normals, &mesh, two_sided);
+        if normal_error > most_normal_error {
             continue;
         }
         finer = mesh.triangles();
@@ -216,6 +238,7 @@ pub fn model_levels(
         levels.push(Level {
             mesh,
             error,
+            normal_error,
             target,
             simplifier_error,
         });
@@ -261,7 +284,7 @@ mod tests {
     #[test]
     fn levels_coarsen_measured_and_stay_closed() {
         let ball = mesh::shapes::ball(4);
-        let levels = model_levels(&ball, &mesh::plain_uv);
+        let levels = model_levels(&ball, &mesh::plain_uv, false, MOST_NORMAL_ERROR);
         assert!(levels.len() >= 2, "{} levels", levels.len());
         let mut finer = MOST_TRIANGLES_PER_PATCH * ball.len();
         for l in &levels {
@@ -290,7 +313,7 @@ mod tests {
             .iter()
             .flat_map(|&(a, b)| [key(&source, a), key(&source, b)])
             .collect();
-        let levels = model_levels(open, &mesh::plain_uv);
+        let levels = model_levels(open, &mesh::plain_uv, false, MOST_NORMAL_ERROR);
         assert!(!levels.is_empty());
         for l in levels {
             let edges = l.mesh.boundary_edges();
@@ -301,12 +324,44 @@ mod tests {
         }
     }
 
+    /// A coarse level of a box with narrow rounded edges: its vertices
+    /// lie on the edges, whose normals, taken from the surface there,
+    /// tilted the flat faces' lighting; fitted to the surface each
+    /// triangle stands for, the shading lies nearer the surface's.
+    #[test]
+    fn fitted_normals_shade_a_rounded_box_nearer_its_surface() {
+        let rounded = mesh::shapes::rounded_box(4);
+        let source = mesh::limit_mesh(&rounded, SOURCE_GRID, &mesh::plain_uv);
+        let samples = error::surface_normals(&rounded, 2 * SOURCE_GRID);
+        let (mut level, _) = simplify(&source, 0.06);
+        assert!(level.triangles() < 200, "{}", level.triangles());
+        let surface = error::normal_error(&samples, &level, false);
+        error::fit_normals(&mut level, &samples);
+        let fitted = error::normal_error(&samples, &level, false);
+        assert!(
+            fitted < 0.8 * surface,
+            "{}° fitted against {}° from the surface",
+            fitted.to_degrees(),
+            surface.to_degrees()
+        );
+        // A bound of 5° refuses the coarse levels (unbounded, they reach
+        // 8°), and every level kept is within it.
+        let all = model_levels(&rounded, &mesh::plain_uv, false, std::f32::consts::PI);
+        let bound = 5f32.to_radians();
+        let kept = model_levels(&rounded, &mesh::plain_uv, false, bound);
+        assert!(all.iter().any(|l| l.normal_error > bound));
+        assert!(!kept.is_empty() && kept.len() < all.len());
+        for l in &kept {
+            assert!(l.normal_error <= bound, "{l:?}");
+        }
+    }
+
     /// A crease stays sharp: the flat-faced cube's levels light each face
     /// with its own normal, not the corners' average.
     #[test]
     fn creases_keep_their_normals() {
         let cube = mesh::shapes::cube_with(4, |p| p);
-        let levels = model_levels(&cube, &mesh::plain_uv);
+        let levels = model_levels(&cube, &mesh::plain_uv, false, MOST_NORMAL_ERROR);
         assert!(!levels.is_empty());
         for l in &levels {
             for n in &l.mesh.normals {

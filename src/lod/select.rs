@@ -112,7 +112,12 @@ mod tests {
         s.models.push(ModelLevels {
             source: 0,
             count: 96,
-            levels: crate::lod::model_levels(&shapes::ball(4), &crate::lod::mesh::plain_uv),
+            levels: crate::lod::model_levels(
+                &shapes::ball(4),
+                &crate::lod::mesh::plain_uv,
+                false,
+                crate::lod::MOST_NORMAL_ERROR,
+            ),
             none_because: None,
         });
         s.by_source.insert(0, 0);
