@@ -292,6 +292,10 @@ struct BenchFlags {
     /// uses them, so the error figures measure them.
     #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off", action = clap::ArgAction::Set)]
     lod: bool,
+    /// With --lod on: the largest mean angle in degrees between a level's
+    /// shading normals and the surface's (see `render --help`).
+    #[arg(long, value_name = "DEG", value_parser = parse_degrees, default_value_t = bezier_subdiv::lod::MOST_NORMAL_ERROR.to_degrees())]
+    lod_shading: f32,
 }
 
 impl BenchFlags {
@@ -312,6 +316,7 @@ impl BenchFlags {
             split: self.split,
             occlusion: self.occlusion,
             lod: self.lod,
+            lod_shading: self.lod_shading,
             ..BenchArgs::new(resolve_scene(Some(&self.scene)), self.out)
         }
     }
@@ -401,6 +406,13 @@ struct FrameArgs {
     /// load (seconds per thousand patches); the reference never uses them.
     #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off", action = clap::ArgAction::Set)]
     lod: bool,
+    /// With --lod on: the largest mean angle, in degrees, between a
+    /// level's shading normals and the limit surface's (measured per level
+    /// at load; levels over it are not made). ε bounds a level's geometry
+    /// only; rounded edges lose their highlights on coarse levels. Lower
+    /// keeps the image nearer the patches', higher allows coarser levels.
+    #[arg(long, value_name = "DEG", value_parser = parse_degrees, default_value_t = bezier_subdiv::lod::MOST_NORMAL_ERROR.to_degrees())]
+    lod_shading: f32,
     // Each method's own flags, declared with its knobs in its file, under
     // a heading per method.
     #[command(flatten)]
@@ -442,6 +454,7 @@ impl FrameArgs {
             },
             occlusion: self.occlusion,
             lod: self.lod,
+            lod_shading: self.lod_shading,
         }
     }
 }
@@ -470,6 +483,17 @@ fn parse_on_off(s: &str) -> Result<bool, String> {
         "on" => Ok(true),
         "off" => Ok(false),
         _ => Err(format!("expected on or off, got `{s}`")),
+    }
+}
+
+/// An angle in degrees, above 0 and at most 180.
+fn parse_degrees(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(d) if d > 0.0 && d <= 180.0 => Ok(d),
+        Ok(d) => Err(format!(
+            "expected an angle above 0 and at most 180 degrees, got {d}"
+        )),
+        Err(_) => Err(format!("expected an angle in degrees, got `{s}`")),
     }
 }
 

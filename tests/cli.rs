@@ -261,6 +261,39 @@ fn on_off_flags_take_their_values() {
     }
 }
 
+/// The levels' shading bound is an angle: refused outside (0, 180] with
+/// the reason, taken inside (the run then stops at `--frames 0`).
+#[test]
+fn lod_shading_takes_an_angle() {
+    let dir = temp_dir("lod-shading");
+    for (value, says) in [
+        ("0", "above 0 and at most 180"),
+        ("200", "above 0 and at most 180"),
+        ("wide", "an angle in degrees"),
+        ("12.5", "--frames must be at least 1"),
+    ] {
+        let run = bin()
+            .args(["bench", "--scene"])
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml"))
+            .args([
+                "--lod",
+                "on",
+                "--lod-shading",
+                value,
+                "--frames",
+                "0",
+                "--out",
+            ])
+            .arg(dir.join("out"))
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{value}");
+        assert!(err.contains(says), "{value}: {err}");
+    }
+}
+
 /// Runs `cmd`, again while the executable is "busy": a freshly copied
 /// binary can be, for as long as a process forked meanwhile by another
 /// test thread still holds the copy's write handle (until it execs).

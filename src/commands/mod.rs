@@ -73,6 +73,9 @@ pub struct GpuRequest {
     /// Levels of detail below one patch (src/lod) for the methods the
     /// reference measures.
     pub lod: bool,
+    /// The largest mean angle, in degrees, between a level's shading
+    /// normals and the surface's (`lod::MOST_NORMAL_ERROR` by default).
+    pub lod_shading: f32,
 }
 
 /// When in a scene's animation a frame is drawn.
@@ -103,6 +106,7 @@ impl GpuRequest {
             time: None,
             occlusion: None,
             lod: false,
+            lod_shading: crate::lod::MOST_NORMAL_ERROR.to_degrees(),
         }
     }
 
@@ -185,7 +189,7 @@ impl GpuRequest {
         };
         let mut renderer = Renderer::new(Arc::clone(ctx), geo, shading, &self.method, options)?;
         if self.lod {
-            renderer.set_levels(Some(build_levels(geo)))?;
+            renderer.set_levels(Some(build_levels(geo, self.lod_shading)))?;
         }
         Ok(renderer)
     }
@@ -205,9 +209,12 @@ impl GpuRequest {
 /// The levels of detail of `geo`'s models, saying on stderr what was
 /// made and how long it took (seconds for a model of thousands of
 /// patches), and which models got none and why.
-pub fn build_levels(geo: &crate::scene::geometry::SceneGeometry) -> crate::lod::SceneLevels {
+pub fn build_levels(
+    geo: &crate::scene::geometry::SceneGeometry,
+    shading_degrees: f32,
+) -> crate::lod::SceneLevels {
     let start = std::time::Instant::now();
-    let levels = crate::lod::SceneLevels::build(geo);
+    let levels = crate::lod::SceneLevels::build_with(geo, shading_degrees.to_radians());
     let (patch_bytes, level_bytes) = levels.bytes();
     let with = levels
         .models

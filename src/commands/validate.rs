@@ -141,6 +141,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<ValidateReport> {
                 &mut renderer,
                 &geo,
                 (eps, lambda, split),
+                args.gpu.lod_shading,
                 debug,
             )?);
         }
@@ -519,17 +520,19 @@ const LEVEL_TEST_MIN_SPAN: f64 = 48.0;
 /// instance of every distinct model file with levels, each level whose
 /// model still spans [`LEVEL_TEST_MIN_SPAN`] pixels at the distance where
 /// its measured error projects to ε, drawn from that level from there and
-/// held against the reference drawn from patches.
+/// held against the reference drawn from patches (the levels made with
+/// the shading bound `shading`, degrees, as the run draws them).
 fn level_hole_checks(
     renderer: &mut Renderer,
     geo: &SceneGeometry,
     eps_lambda: (f64, f64, Split),
+    shading: f32,
     debug_dir: Option<&Path>,
 ) -> anyhow::Result<Vec<CheckResult>> {
     let mut out = Vec::new();
     let height = renderer.target().size().1;
     for (name, one) in distinct_models(geo) {
-        let levels = crate::lod::SceneLevels::build(&one);
+        let levels = crate::lod::SceneLevels::build_with(&one, shading.to_radians());
         let Some(model) = levels.models.first().filter(|m| !m.levels.is_empty()) else {
             continue;
         };

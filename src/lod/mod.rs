@@ -62,10 +62,12 @@ pub const KEEP_RATIO: f32 = 0.8;
 pub const MOST_TRIANGLES_PER_PATCH: usize = 2;
 
 /// A level is kept only if its shading normals lie within this mean angle
-/// (radians, 20°) of the surface's ([`Level::normal_error`]): ε bounds a
-/// level's geometry, not its lighting, and a coarse level of a model with
-/// narrow rounded edges (the kitchen's sideboard, its books) loses their
-/// highlights at any distance.
+/// (radians, 20°) of the surface's ([`Level::normal_error`]) unless told
+/// otherwise (`--lod-shading`): ε bounds a level's geometry, not its
+/// lighting, and a coarse level of a model with narrow rounded edges (the
+/// kitchen's sideboard, its books) loses their highlights at any distance.
+/// 20° keeps the car's levels the herd needs; 10° keeps the kitchen's
+/// image as good as without levels (docs/BENCHMARKS.md).
 pub const MOST_NORMAL_ERROR: f32 = 20.0 * std::f32::consts::PI / 180.0;
 
 /// One level of a model.
@@ -131,6 +133,12 @@ impl SceneLevels {
     /// displaced models get none (the welded mesh would be of the wrong
     /// surface), nor does a scene's PN-triangle model (not patches).
     pub fn build(geo: &SceneGeometry) -> Self {
+        Self::build_with(geo, MOST_NORMAL_ERROR)
+    }
+
+    /// [`SceneLevels::build`], keeping only levels whose normal error is
+    /// at most `most_normal_error` (radians).
+    pub fn build_with(geo: &SceneGeometry, most_normal_error: f32) -> Self {
         // The table the GPU is given (a geometry cut or edited after
         // loading is uploaded as one identity instance).
         let table = geo
@@ -168,7 +176,7 @@ impl SceneLevels {
                         Some(p) => eval_uv_patch(p, u, v),
                         None => [u, v],
                     };
-                    model_levels(&table.patches[range], &st, two_sided, MOST_NORMAL_ERROR)
+                    model_levels(&table.patches[range], &st, two_sided, most_normal_error)
                 }
             };
             out.by_source.insert(t.source, out.models.len());

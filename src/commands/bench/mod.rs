@@ -81,6 +81,8 @@ pub struct BenchArgs {
     pub occlusion: bool,
     /// Levels of detail below one patch for the measured methods.
     pub lod: bool,
+    /// Their shading bound in degrees (`GpuRequest::lod_shading`).
+    pub lod_shading: f32,
 }
 
 impl BenchArgs {
@@ -103,6 +105,7 @@ impl BenchArgs {
             split: None,
             occlusion: false,
             lod: false,
+            lod_shading: crate::lod::MOST_NORMAL_ERROR.to_degrees(),
         }
     }
 }
@@ -368,6 +371,9 @@ fn command_line(args: &BenchArgs, plan: &Plan) -> String {
     }
     if args.lod {
         c += " --lod on";
+        if args.lod_shading != crate::lod::MOST_NORMAL_ERROR.to_degrees() {
+            c += &format!(" --lod-shading {}", args.lod_shading);
+        }
     }
     if args.occlusion {
         c += " --occlusion on";
@@ -471,6 +477,7 @@ fn bench_renderer(
     // faces alone, like the tessellators.
     request.occlusion = Some(args.occlusion);
     request.lod = args.lod;
+    request.lod_shading = args.lod_shading;
     request.per_method.set_reference_grid(args.grid);
     request.size = args.size;
     request.method = plan.configs[0].method.clone();
