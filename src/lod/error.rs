@@ -342,13 +342,21 @@ pub fn surface_normals(patches: &[BezierPatch], n: usize) -> Vec<NormalSample> {
     out
 }
 
+/// The cosine of the largest angle between a surface sample's normal and
+/// a level triangle's for the sample to count in the triangle's vertex
+/// normals (60°: a rounded edge a coarse triangle spans counts, a sharp
+/// crease of 90° does not).
+const FIT_COS: f32 = 0.5;
+
 /// Sets each vertex normal of `mesh` to the one that stands best for the
 /// surface its triangles stand in for: the area-weighted mean of the
 /// normals of the surface `samples` whose nearest point lies on a triangle
 /// of the vertex, each weighted by the vertex's barycentric share of that
-/// point. A sample whose normal faces away from that triangle (the far
-/// side of a thin sheet) is left out; a vertex no sample reaches keeps its
-/// normal. The limit surface's normal at a vertex is not that: where a
+/// point. A sample whose normal lies more than 60° from that triangle's
+/// (across a crease the triangle only touches, or the far side of a thin
+/// sheet) is left out, and so, at a vertex on a crease (more than one
+/// normal: [`TriMesh::split`]), is one not nearer the vertex's own normal
+/// than another side's; a vertex no sample reaches keeps its normal. The limit surface's normal at a vertex is not that: where a
 /// coarse triangle spans a rounded edge and a flat face, the edge's normal
 /// at its corner tilts the whole face.
 pub fn fit_normals(mesh: &mut TriMesh, samples: &[NormalSample]) {
@@ -359,12 +367,22 @@ pub fn fit_normals(mesh: &mut TriMesh, samples: &[NormalSample]) {
             let (_, t) = near.nearest(s.point);
             let corners = mesh.triangle(t);
             let [a, b, c] = corners;
-            if (b - a).cross(c - a).dot(s.normal) <= 0.0 {
+            if (b - a).cross(c - a).normalize_or_zero().dot(s.normal) < FIT_COS {
                 continue;
             }
             let w = barycentric(closest_on_triangle(s.point, corners), corners).max(Vec3::ZERO);
             for k in 0..3 {
-                sums[mesh.indices[3 * t + k] as usize] += s.normal * (s.area * w[k]);
+                let v = mesh.indices[3 * t + k] as usize;
+                // At a crease vertex, only samples nearer its own side's
+                // normal than any other's: one across the crease (on the
+                // crease itself, this side's triangle may be nearest), or
+                // of a third face a collapse folded onto this corner.
+                let list = &mesh.normals[v];
+                let own = list.first().map_or(1.0, |m| m.dot(s.normal));
+                if list.iter().skip(1).any(|m| m.dot(s.normal) >= own) {
+                    continue;
+                }
+                sums[v] += s.normal * (s.area * w[k]);
             }
         }
     }

@@ -17,7 +17,8 @@ pub struct TriMesh {
     /// Per vertex, its unit normals: the limit surface's (∂u × ∂v) from
     /// each patch that meets there, those within [`SMOOTH_COS`] of each
     /// other averaged into one. A vertex on a crease has one per side; a
-    /// triangle takes the one nearest its own normal ([`TriMesh::split`]).
+    /// triangle takes the one nearest its own normal ([`TriMesh::split`]),
+    /// which then comes first (the one drawn), the other sides' after it.
     pub normals: Vec<Vec<Vec3>>,
     /// Per vertex: its texture coordinates, those of the patch it was
     /// first sampled from (continuous across patches where the model's UV
@@ -210,8 +211,15 @@ impl TriMesh {
                     .unwrap_or(0);
                 let v = *made.entry((i, k)).or_insert_with(|| {
                     out.positions.push(self.positions[i as usize]);
-                    out.normals
-                        .push(vec![list.get(k).copied().unwrap_or(Vec3::Z)]);
+                    // The chosen normal first (the one drawn), the other
+                    // sides' after it: a crease vertex keeps more than one.
+                    let mut normals = list.clone();
+                    if normals.is_empty() {
+                        normals.push(Vec3::Z);
+                    }
+                    let last = normals.len() - 1;
+                    normals.swap(0, k.min(last));
+                    out.normals.push(normals);
                     out.st.push(self.st[i as usize]);
                     out.positions.len() as u32 - 1
                 });
