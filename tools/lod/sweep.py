@@ -5,6 +5,7 @@ distance, one `render` per distance and setting. Prints a Markdown table.
 
     python3 tools/lod/sweep.py [--scene scenes/herd.toml] [--size 960x540]
         [--factors 0.5,0.7,1,1.4,2,2.8,4] [--bin target/release/bezier-subdiv]
+        [--lod-shading DEG]
 
 Each distance is the scene camera's times a factor; the projected area of
 the scene falls as 1/factor². With levels on the triangles should follow
@@ -30,9 +31,11 @@ def camera_at(text, factor):
     return text.replace(cam, moved, 1)
 
 
-def render(binary, scene, size, lod):
+def render(binary, scene, size, lod, shading):
     out = tempfile.mktemp(suffix=".png")
     cmd = [binary, "render", "--scene", scene, "--size", size, "--lod", lod, "--out", out]
+    if shading is not None and lod == "on":
+        cmd += ["--lod-shading", shading]
     subprocess.run(cmd, check=True, capture_output=True)
     stats = json.load(open(out[:-4] + ".json"))
     os.remove(out)
@@ -46,6 +49,7 @@ def main():
     ap.add_argument("--size", default="960x540")
     ap.add_argument("--factors", default="0.5,0.7,1,1.4,2,2.8,4")
     ap.add_argument("--bin", default="target/release/bezier-subdiv")
+    ap.add_argument("--lod-shading", default=None, help="the levels' shading bound (render's default if not given)")
     a = ap.parse_args()
     text = open(a.scene).read()
     folder = os.path.dirname(os.path.abspath(a.scene))
@@ -56,8 +60,8 @@ def main():
         with open(path, "w") as fh:
             fh.write(camera_at(text, f))
         try:
-            off = render(a.bin, path, a.size, "off")
-            on = render(a.bin, path, a.size, "on")
+            off = render(a.bin, path, a.size, "off", a.lod_shading)
+            on = render(a.bin, path, a.size, "on", a.lod_shading)
         finally:
             os.remove(path)
         lod = on.get("levels_of_detail") or {}
