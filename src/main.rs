@@ -294,7 +294,7 @@ struct BenchFlags {
     lod: bool,
     /// With --lod on: the largest mean angle in degrees between a level's
     /// shading normals and the surface's (see `render --help`).
-    #[arg(long, value_name = "DEG", value_parser = parse_degrees, default_value_t = bezier_subdiv::lod::MOST_NORMAL_ERROR.to_degrees())]
+    #[arg(long, value_name = "DEG", value_parser = parse_degrees, default_value_t = bezier_subdiv::lod::MOST_NORMAL_ERROR_DEG)]
     lod_shading: f32,
 }
 
@@ -411,7 +411,7 @@ struct FrameArgs {
     /// at load; levels over it are not made). ε bounds a level's geometry
     /// only; rounded edges lose their highlights on coarse levels. Lower
     /// keeps the image nearer the patches', higher allows coarser levels.
-    #[arg(long, value_name = "DEG", value_parser = parse_degrees, default_value_t = bezier_subdiv::lod::MOST_NORMAL_ERROR.to_degrees())]
+    #[arg(long, value_name = "DEG", value_parser = parse_degrees, default_value_t = bezier_subdiv::lod::MOST_NORMAL_ERROR_DEG)]
     lod_shading: f32,
     // Each method's own flags, declared with its knobs in its file, under
     // a heading per method.

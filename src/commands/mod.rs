@@ -106,7 +106,7 @@ impl GpuRequest {
             time: None,
             occlusion: None,
             lod: false,
-            lod_shading: crate::lod::MOST_NORMAL_ERROR.to_degrees(),
+            lod_shading: crate::lod::MOST_NORMAL_ERROR_DEG,
         }
     }
 

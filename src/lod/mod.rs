@@ -68,7 +68,10 @@ pub const MOST_TRIANGLES_PER_PATCH: usize = 2;
 /// kitchen's sideboard, its books) loses their highlights at any distance.
 /// 20° keeps the car's levels the herd needs; 10° keeps the kitchen's
 /// image as good as without levels (docs/BENCHMARKS.md).
-pub const MOST_NORMAL_ERROR: f32 = 20.0 * std::f32::consts::PI / 180.0;
+pub const MOST_NORMAL_ERROR: f32 = MOST_NORMAL_ERROR_DEG * std::f32::consts::PI / 180.0;
+
+/// [`MOST_NORMAL_ERROR`] in degrees, as `--lod-shading` takes it.
+pub const MOST_NORMAL_ERROR_DEG: f32 = 20.0;
 
 /// One level of a model.
 #[derive(Clone, Debug)]

@@ -105,7 +105,7 @@ impl BenchArgs {
             split: None,
             occlusion: false,
             lod: false,
-            lod_shading: crate::lod::MOST_NORMAL_ERROR.to_degrees(),
+            lod_shading: crate::lod::MOST_NORMAL_ERROR_DEG,
         }
     }
 }
@@ -371,7 +371,7 @@ fn command_line(args: &BenchArgs, plan: &Plan) -> String {
     }
     if args.lod {
         c += " --lod on";
-        if args.lod_shading != crate::lod::MOST_NORMAL_ERROR.to_degrees() {
+        if args.lod_shading != crate::lod::MOST_NORMAL_ERROR_DEG {
             c += &format!(" --lod-shading {}", args.lod_shading);
         }
     }
