@@ -282,25 +282,45 @@ pub fn mesh_samples(mesh: &TriMesh) -> Vec<Vec3> {
     out
 }
 
-/// The largest distance from any of `points` to `mesh` (the points split
-/// among the machine's cores).
+/// Samples a worker takes at a time in [`fold_chunks`].
+const CHUNK: usize = 4096;
+
+/// `fold` over `items` in chunks of [`CHUNK`], the chunks split among the
+/// machine's cores, their results merged in chunk order: the same result
+/// (sums included) whatever the number of cores, so a level's normals and
+/// errors do not depend on the machine that made them.
+fn fold_chunks<T: Sync, A: Send>(
+    items: &[T],
+    fold: impl Fn(&[T]) -> A + Sync,
+    merge: impl Fn(A, A) -> A,
+    empty: A,
+) -> A {
+    let chunks: Vec<&[T]> = items.chunks(CHUNK).collect();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let per = chunks.len().div_ceil(threads).max(1);
+    let results: Vec<A> = std::thread::scope(|s| {
+        let fold = &fold;
+        let workers: Vec<_> = chunks
+            .chunks(per)
+            .map(|mine| s.spawn(move || mine.iter().map(|c| fold(c)).collect::<Vec<A>>()))
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("a level worker does not panic"))
+            .collect()
+    });
+    results.into_iter().fold(empty, merge)
+}
+
+/// The largest distance from any of `points` to `mesh`.
 pub fn max_distance(points: &[Vec3], mesh: &TriMesh) -> f32 {
     let near = NearestTriangle::new(mesh);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = points.len().div_ceil(threads).max(1);
-    std::thread::scope(|s| {
-        let parts: Vec<_> = points
-            .chunks(chunk)
-            .map(|part| {
-                let near = &near;
-                s.spawn(move || part.iter().map(|p| near.distance(*p)).fold(0.0, f32::max))
-            })
-            .collect();
-        parts
-            .into_iter()
-            .map(|h| h.join().expect("a distance thread does not panic"))
-            .fold(0.0, f32::max)
-    })
+    fold_chunks(
+        points,
+        |part| part.iter().map(|p| near.distance(*p)).fold(0.0, f32::max),
+        f32::max,
+        0.0,
+    )
 }
 
 /// A point of the limit surface, its unit normal and the surface area it
@@ -360,32 +380,26 @@ const FIT_COS: f32 = 0.5;
 /// coarse triangle spans a rounded edge and a flat face, the edge's normal
 /// at its corner tilts the whole face.
 pub fn fit_normals(mesh: &mut TriMesh, samples: &[NormalSample]) {
-    let mut sums = vec![Vec3::ZERO; mesh.positions.len()];
-    {
+    let sums = {
+        let mesh = &*mesh;
         let near = NearestTriangle::new(mesh);
-        for s in samples {
-            let (_, t) = near.nearest(s.point);
-            let corners = mesh.triangle(t);
-            let [a, b, c] = corners;
-            if (b - a).cross(c - a).normalize_or_zero().dot(s.normal) < FIT_COS {
-                continue;
-            }
-            let w = barycentric(closest_on_triangle(s.point, corners), corners).max(Vec3::ZERO);
-            for k in 0..3 {
-                let v = mesh.indices[3 * t + k] as usize;
-                // At a crease vertex, only samples nearer its own side's
-                // normal than any other's: one across the crease (on the
-                // crease itself, this side's triangle may be nearest), or
-                // of a third face a collapse folded onto this corner.
-                let list = &mesh.normals[v];
-                let own = list.first().map_or(1.0, |m| m.dot(s.normal));
-                if list.iter().skip(1).any(|m| m.dot(s.normal) >= own) {
-                    continue;
+        let vertices = mesh.positions.len();
+        fold_chunks(
+            samples,
+            |part| {
+                let mut sums = vec![Vec3::ZERO; vertices];
+                for s in part {
+                    add_fitted(mesh, &near, s, &mut sums);
                 }
-                sums[v] += s.normal * (s.area * w[k]);
-            }
-        }
-    }
+                sums
+            },
+            |mut a, b| {
+                a.iter_mut().zip(b).for_each(|(a, b)| *a += b);
+                a
+            },
+            vec![Vec3::ZERO; vertices],
+        )
+    };
     for (normals, sum) in mesh.normals.iter_mut().zip(sums) {
         if let (Some(n), Some(fitted)) = (normals.first_mut(), sum.try_normalize()) {
             *n = fitted;
@@ -393,16 +407,38 @@ pub fn fit_normals(mesh: &mut TriMesh, samples: &[NormalSample]) {
     }
 }
 
+/// Adds sample `s`'s weighted normal to the sums of the vertices of its
+/// nearest triangle that take it ([`fit_normals`]).
+fn add_fitted(mesh: &TriMesh, near: &NearestTriangle<'_>, s: &NormalSample, sums: &mut [Vec3]) {
+    let (_, t) = near.nearest(s.point);
+    let corners = mesh.triangle(t);
+    let [a, b, c] = corners;
+    if (b - a).cross(c - a).normalize_or_zero().dot(s.normal) < FIT_COS {
+        return;
+    }
+    let w = barycentric(closest_on_triangle(s.point, corners), corners).max(Vec3::ZERO);
+    for k in 0..3 {
+        let v = mesh.indices[3 * t + k] as usize;
+        // At a crease vertex, only samples nearer its own side's normal
+        // than any other's: one across the crease (on the crease itself,
+        // this side's triangle may be nearest), or of a third face a
+        // collapse folded onto this corner.
+        let list = &mesh.normals[v];
+        let own = list.first().map_or(1.0, |m| m.dot(s.normal));
+        if list.iter().skip(1).any(|m| m.dot(s.normal) >= own) {
+            continue;
+        }
+        sums[v] += s.normal * (s.area * w[k]);
+    }
+}
+
 /// The surface-area-weighted mean angle, in radians, between the limit
 /// surface's normal at `samples` and the normal `mesh` is shaded with at
 /// its nearest point (its vertex normals interpolated, as the rasterizer
 /// does); `two_sided`: a normal and its opposite are one (such a model is
-/// lit from the side it is seen from). The points are split among the
-/// machine's cores.
+/// lit from the side it is seen from).
 pub fn normal_error(samples: &[NormalSample], mesh: &TriMesh, two_sided: bool) -> f32 {
     let near = NearestTriangle::new(mesh);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = samples.len().div_ceil(threads).max(1);
     let angle = |s: &NormalSample| {
         let (_, t) = near.nearest(s.point);
         let corners = mesh.triangle(t);
@@ -416,24 +452,17 @@ pub fn normal_error(samples: &[NormalSample], mesh: &TriMesh, two_sided: bool) -
         let cos = if two_sided { cos.abs() } else { cos };
         f64::from(cos.clamp(-1.0, 1.0).acos())
     };
-    let (sum, area) = std::thread::scope(|scope| {
-        let parts: Vec<_> = samples
-            .chunks(chunk)
-            .map(|part| {
-                let angle = &angle;
-                scope.spawn(move || {
-                    part.iter().fold((0.0f64, 0.0f64), |(sum, area), s| {
-                        let a = f64::from(s.area);
-                        (sum + angle(s) * a, area + a)
-                    })
-                })
+    let (sum, area) = fold_chunks(
+        samples,
+        |part| {
+            part.iter().fold((0.0f64, 0.0f64), |(sum, area), s| {
+                let a = f64::from(s.area);
+                (sum + angle(s) * a, area + a)
             })
-            .collect();
-        parts
-            .into_iter()
-            .map(|h| h.join().expect("a normal thread does not panic"))
-            .fold((0.0, 0.0), |x, y| (x.0 + y.0, x.1 + y.1))
-    });
+        },
+        |x, y| (x.0 + y.0, x.1 + y.1),
+        (0.0, 0.0),
+    );
     (sum / area.max(f64::MIN_POSITIVE)) as f32
 }
 
@@ -479,6 +508,24 @@ mod tests {
         assert!(
             (two_sided - fine).abs() < 1e-3,
             "{two_sided} against {fine}"
+        );
+    }
+
+    #[test]
+    fn chunks_merge_in_order_whatever_the_cores() {
+        // Float sums whose value depends on the order they are added in.
+        let items: Vec<f32> = (0..3 * CHUNK + 17)
+            .map(|k| 1.0 / (1.0 + k as f32 * 0.37))
+            .collect();
+        let in_order = items
+            .chunks(CHUNK)
+            .map(|c| c.iter().sum::<f32>())
+            .fold(0.0f32, |a, b| a + b);
+        let got = fold_chunks(&items, |c| c.iter().sum::<f32>(), |a, b| a + b, 0.0);
+        assert_eq!(got.to_bits(), in_order.to_bits());
+        assert_eq!(
+            fold_chunks(&[] as &[f32], |_| 1.0f32, |a, b| a + b, 0.0),
+            0.0
         );
     }
 

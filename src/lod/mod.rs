@@ -8,9 +8,12 @@
 //! watertight, which means refitting the cage; the limit surface on a
 //! uniform grid, welded where patches meet ([`mesh::limit_mesh`]) and
 //! simplified with meshoptimizer (edge collapses under a quadric error,
-//! borders locked), is closed wherever the model is and keeps that through
-//! every collapse. Each level's error against the limit surface is
-//! *measured* ([`error`]), both ways, not taken from the simplifier.
+//! which never open the mesh), is closed wherever the model is and keeps
+//! that through every collapse. Each level's error against the limit
+//! surface is *measured* ([`error`]), both ways, not taken from the
+//! simplifier; its vertex normals are fitted to the surface its triangles
+//! stand for and their error measured too, and a level shaded farther from
+//! the surface than a bound ([`MOST_NORMAL_ERROR`]) is not kept.
 //!
 //! An instance is drawn whole from one level or whole from patches
 //! ([`select`]), so no crack can open inside it: the levels are separate
