@@ -204,6 +204,5 @@ pub fn shared_blocks() -> Vec<BlockEntry> {
         block::<HizPush>(),
         block::<ViewParams>(),
         block::<crate::scene::instances::Instance>(),
-        block::<crate::lod::gpu::LodCullPush>(),
     ]
 }

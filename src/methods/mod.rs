@@ -362,6 +362,10 @@ impl MethodInfo {
 /// methods share `LevelPush`).
 pub fn all_blocks() -> Vec<BlockEntry> {
     let mut all = crate::gpu::blocks::shared_blocks();
+    // The levels of detail's cull, which every method's frame may end with
+    // (registered here: src/lod uses gpu::blocks, so gpu::blocks cannot
+    // name it).
+    all.push(crate::gpu::blocks::block::<crate::lod::gpu::LodCullPush>());
     for make in METHODS.iter().flat_map(|m| m.blocks) {
         let b = make();
         if !all.iter().any(|a| a.0 == b.0) {
