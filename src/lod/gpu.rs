@@ -144,7 +144,9 @@ fn pack(levels: &SceneLevels) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
 }
 
 impl Buffers {
-    fn new(ctx: &Context, levels: &SceneLevels, instances: usize) -> VkResult<Self> {
+    /// The buffers for `levels` and `instances` instance records, and the
+    /// level table they hold (for direct draws on the host).
+    fn new(ctx: &Context, levels: &SceneLevels, instances: usize) -> VkResult<(Self, Vec<u32>)> {
         let (mut words, mut indices, mut table) = pack(levels);
         // Never empty: a scene whose models all lack levels binds a word.
         words.resize(words.len().max(LOD_VERTEX_WORDS as usize), 0);
@@ -154,7 +156,7 @@ impl Buffers {
         let gpu = MemoryLocation::GpuOnly;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let written = storage | vk::BufferUsageFlags::TRANSFER_DST;
-        Ok(Self {
+        let buffers = Self {
             vertices: Buffer::with_data(ctx, "level-of-detail vertices", &words, storage, gpu)?,
             indices: Buffer::with_data(
                 ctx,
@@ -185,7 +187,8 @@ impl Buffers {
                 written | vk::BufferUsageFlags::TRANSFER_SRC,
                 gpu,
             )?,
-        })
+        };
+        Ok((buffers, table))
     }
 
     /// The set binding them, and the pyramid `hiz` (the counters stand in
@@ -278,8 +281,7 @@ impl Lod {
         levels: SceneLevels,
     ) -> VkResult<Self> {
         let n = scene.instance_records.len();
-        let buffers = Buffers::new(ctx, &levels, n)?;
-        let table = pack(&levels).2;
+        let (buffers, table) = Buffers::new(ctx, &levels, n)?;
         let mut rows = Vec::new();
         let mut row = 0;
         for m in &levels.models {
