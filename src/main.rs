@@ -407,10 +407,13 @@ struct FrameArgs {
     #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off", action = clap::ArgAction::Set)]
     lod: bool,
     /// With --lod on: the largest mean angle, in degrees, between a
-    /// level's shading normals and the limit surface's (measured per level
-    /// at load; levels over it are not made). ε bounds a level's geometry
-    /// only; rounded edges lose their highlights on coarse levels. Lower
-    /// keeps the image nearer the patches', higher allows coarser levels.
+    /// level's shading normals and the limit surface's as seen at the
+    /// instance's distance (measured per level at load over footprints of
+    /// growing size; an instance takes a level only where the error over
+    /// the footprint FLIP's filter averages, about 3.6 pixels, is within
+    /// it). ε bounds a level's geometry only; rounded edges lose their
+    /// highlights on coarse levels up close. Lower keeps the image nearer
+    /// the patches', higher allows coarser levels.
     #[arg(long, value_name = "DEG", value_parser = parse_degrees, default_value_t = bezier_subdiv::lod::MOST_NORMAL_ERROR_DEG)]
     lod_shading: f32,
     // Each method's own flags, declared with its knobs in its file, under

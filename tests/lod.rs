@@ -120,7 +120,10 @@ fn the_walls_levels_keep_each_faces_normal() {
         .unwrap()
         .geometry()
         .unwrap();
-    let levels = SceneLevels::build(&geo);
+    // Every level the simplifier makes, whatever its shading error (the
+    // wall's two are 18° and 27° from the surface at each point and kept
+    // by no default bound): the creases are what is checked here.
+    let levels = SceneLevels::build_with(&geo, std::f32::consts::PI);
     let wall = &levels.models[0];
     assert!(!wall.levels.is_empty(), "{:?}", wall.none_because);
     for level in &wall.levels {

@@ -557,6 +557,11 @@ fn levels_json(levels: &crate::lod::SceneLevels, frame: &crate::lod::gpu::LodFra
                         "vertices": l.mesh.positions.len(),
                         "error": l.error,
                         "normal_error_deg": l.normal_error.to_degrees(),
+                        "normal_error_deg_by_footprint": l
+                            .shading
+                            .iter()
+                            .map(|&(side, e)| [side, e.to_degrees()])
+                            .collect::<Vec<_>>(),
                         "target": l.target,
                         "simplifier_error": l.simplifier_error,
                         "bytes": l.bytes(),

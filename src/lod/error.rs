@@ -289,7 +289,7 @@ const CHUNK: usize = 4096;
 /// machine's cores, their results merged in chunk order: the same result
 /// (sums included) whatever the number of cores, so a level's normals and
 /// errors do not depend on the machine that made them.
-fn fold_chunks<T: Sync, A: Send>(
+pub(super) fn fold_chunks<T: Sync, A: Send>(
     items: &[T],
     fold: impl Fn(&[T]) -> A + Sync,
     merge: impl Fn(A, A) -> A,
@@ -432,6 +432,19 @@ fn add_fitted(mesh: &TriMesh, near: &NearestTriangle<'_>, s: &NormalSample, sums
     }
 }
 
+/// The unit normal `mesh` is shaded with at its point nearest `p`: its
+/// vertex normals interpolated, as the rasterizer does.
+pub fn shaded_normal(mesh: &TriMesh, near: &NearestTriangle<'_>, p: Vec3) -> Vec3 {
+    let (_, t) = near.nearest(p);
+    let corners = mesh.triangle(t);
+    let w = barycentric(closest_on_triangle(p, corners), corners);
+    let ids = &mesh.indices[3 * t..3 * t + 3];
+    (0..3)
+        .map(|k| mesh.normals[ids[k] as usize][0] * w[k])
+        .sum::<Vec3>()
+        .normalize_or_zero()
+}
+
 /// The surface-area-weighted mean angle, in radians, between the limit
 /// surface's normal at `samples` and the normal `mesh` is shaded with at
 /// its nearest point (its vertex normals interpolated, as the rasterizer
@@ -440,15 +453,7 @@ fn add_fitted(mesh: &TriMesh, near: &NearestTriangle<'_>, s: &NormalSample, sums
 pub fn normal_error(samples: &[NormalSample], mesh: &TriMesh, two_sided: bool) -> f32 {
     let near = NearestTriangle::new(mesh);
     let angle = |s: &NormalSample| {
-        let (_, t) = near.nearest(s.point);
-        let corners = mesh.triangle(t);
-        let w = barycentric(closest_on_triangle(s.point, corners), corners);
-        let ids = &mesh.indices[3 * t..3 * t + 3];
-        let shaded = (0..3)
-            .map(|k| mesh.normals[ids[k] as usize][0] * w[k])
-            .sum::<Vec3>()
-            .normalize_or_zero();
-        let cos = shaded.dot(s.normal);
+        let cos = shaded_normal(mesh, &near, s.point).dot(s.normal);
         let cos = if two_sided { cos.abs() } else { cos };
         f64::from(cos.clamp(-1.0, 1.0).acos())
     };

@@ -1,7 +1,8 @@
 //! Which level draws each instance: the coarsest whose measured error,
 //! scaled by the instance and projected at the instance's nearest depth,
-//! is within ε pixels, with hysteresis so an instance near a threshold
-//! does not switch every frame.
+//! is within ε pixels and whose shading, seen at that distance, is within
+//! the shading bound, with hysteresis so an instance near a threshold does
+//! not switch every frame.
 
 use glam::{Vec3, Vec4};
 
@@ -41,6 +42,14 @@ pub fn allowed_error(view: &ViewParams, inst: &Instance) -> Option<f32> {
     let depth = |a: f32, l: f32, h: f32| (a * l).min(a * h);
     let z = depth(r.x, lo.x, hi.x) + depth(r.y, lo.y, hi.y) + depth(r.z, lo.z, hi.z) + r.w;
     (z > view.near).then_some(view.eps_k * z)
+}
+
+/// The side, in world units, of the footprint FLIP's filter averages
+/// ([`super::shading::footprint_pixels`]) at the depth `allowed` was
+/// found for ([`allowed_error`]; a pixel there is `allowed` / ε).
+pub fn footprint(view: &ViewParams, allowed: f32) -> f32 {
+    let pixel = allowed * view.pixel_at_unit_depth() / view.eps_k;
+    super::shading::footprint_pixels() * pixel
 }
 
 /// How much the instance's transform stretches a distance at most: the
@@ -84,16 +93,24 @@ pub fn choose(
         return Draw::Patches;
     };
     let scale = stretch(inst);
-    let coarsest_within = |limit: f32| model.levels.iter().rposition(|l| l.error * scale <= limit);
-    let keep = coarsest_within(allowed);
-    let enter = coarsest_within(ENTER * allowed);
+    let footprint = footprint(view, allowed) / scale;
+    // Within ε, and shaded near enough to the surface for a footprint of
+    // `fraction` of the instance's.
+    let fits = |k: usize, fraction: f32| {
+        let l = &model.levels[k];
+        l.error * scale <= fraction * allowed
+            && l.shading_error(fraction * footprint) <= levels.most_normal_error
+    };
+    let coarsest_within =
+        |fraction: f32| (0..model.levels.len()).rev().find(|&k| fits(k, fraction));
+    let keep = coarsest_within(1.0);
+    let enter = coarsest_within(ENTER);
     let level = |k: Option<usize>| k.map_or(Draw::Patches, |k| Draw::Level(m, k));
     match prev {
         None => level(keep),
-        // Still within ε and no coarser level with room to spare: stay.
-        Some(Draw::Level(pm, p))
-            if pm == m && keep.is_some_and(|k| p <= k) && enter.is_none_or(|e| p >= e) =>
-        {
+        // Still within both bounds and no coarser level with room to
+        // spare: stay.
+        Some(Draw::Level(pm, p)) if pm == m && fits(p, 1.0) && enter.is_none_or(|e| p >= e) => {
             Draw::Level(pm, p)
         }
         Some(Draw::Patches) if enter.is_none() => Draw::Patches,
@@ -108,16 +125,20 @@ mod tests {
     use glam::DMat4;
 
     fn scene() -> SceneLevels {
-        let mut s = SceneLevels::default();
+        scene_of(&shapes::ball(4), crate::lod::MOST_NORMAL_ERROR)
+    }
+
+    /// One model, `patches`, its levels kept and chosen under the shading
+    /// bound `bound` (radians).
+    fn scene_of(patches: &[crate::patch::bezier::BezierPatch], bound: f32) -> SceneLevels {
+        let mut s = SceneLevels {
+            most_normal_error: bound,
+            ..Default::default()
+        };
         s.models.push(ModelLevels {
             source: 0,
-            count: 96,
-            levels: crate::lod::model_levels(
-                &shapes::ball(4),
-                &crate::lod::mesh::plain_uv,
-                false,
-                crate::lod::MOST_NORMAL_ERROR,
-            ),
+            count: patches.len() as u32,
+            levels: crate::lod::model_levels(patches, &crate::lod::mesh::plain_uv, false, bound),
             none_because: None,
         });
         s.by_source.insert(0, 0);
@@ -130,6 +151,11 @@ mod tests {
         v.depth_row = Vec4::new(0.0, 0.0, -1.0, 0.0);
         v.near = 0.1;
         v.eps_k = 0.001;
+        // ε = 1: a pixel of 0.001 at depth 1 (a focal length of 1 over
+        // half of 2000 rows).
+        v.height = 2000;
+        v.clip[1] = Vec4::new(0.0, 1.0, 0.0, 0.0);
+        v.clip[3] = Vec4::new(0.0, 0.0, -1.0, 0.0);
         v
     }
 
@@ -161,6 +187,45 @@ mod tests {
         }
         assert_eq!(choose(&s, &v, &ball_at(0.05), None), Draw::Patches);
         assert_eq!(last as usize, s.models[0].levels.len() - 1);
+    }
+
+    /// The rounded box under a 3° shading bound: every level is farther
+    /// than 3° from the surface up close, so where ε alone would take a
+    /// level, the instance keeps its patches (or a finer level) until the
+    /// footprint FLIP averages over has grown enough.
+    #[test]
+    fn a_level_shaded_too_far_up_close_waits_for_distance() {
+        let bound = 3f32.to_radians();
+        let s = scene_of(&shapes::rounded_box(4), bound);
+        let levels = &s.models[0].levels;
+        assert!(levels.len() >= 2, "{} levels", levels.len());
+        let v = view();
+        let (mut held_back, mut last) = (0, -1i64);
+        for k in 0..60 {
+            let z = 1.2f64.powi(k);
+            let m = DMat4::from_translation(glam::DVec3::new(0.0, 0.0, -z));
+            let patches = shapes::rounded_box(4);
+            let t = Instance::new(&m, 0, 0, patches.len() as u32, 0);
+            let world: Vec<_> = patches.iter().map(|p| t.patch(p)).collect();
+            let inst = t.bounded(&world);
+            let Some(allowed) = allowed_error(&v, &inst) else {
+                continue;
+            };
+            let by_eps = levels.iter().rposition(|l| l.error <= allowed);
+            let rank = match choose(&s, &v, &inst, None) {
+                Draw::Patches => -1,
+                Draw::Level(_, l) => {
+                    let seen = levels[l].shading_error(footprint(&v, allowed));
+                    assert!(seen <= bound, "z {z}: level {l} at {}°", seen.to_degrees());
+                    l as i64
+                }
+            };
+            held_back += usize::from(by_eps.map_or(-1, |e| e as i64) > rank);
+            assert!(rank >= last, "z {z}");
+            last = rank;
+        }
+        assert!(held_back > 0, "the shading bound never chose finer than ε");
+        assert_eq!(last as usize, levels.len() - 1);
     }
 
     #[test]

@@ -137,6 +137,13 @@ impl ViewParams {
         }
     }
 
+    /// The height of one pixel at unit depth (world units): the view's
+    /// vertical focal length, from its clip rows, over half the image.
+    pub fn pixel_at_unit_depth(&self) -> f32 {
+        let (y, w) = (self.clip[1].truncate(), self.clip[3].truncate());
+        2.0 * w.length() / (y.length() * self.height as f32)
+    }
+
     /// True when `flag` is set.
     pub fn has(&self, flag: u32) -> bool {
         self.flags & flag != 0

@@ -171,6 +171,8 @@ mod tests {
         let vp = c.view_params(640, 360, 2.0, 0.5);
         let want = 2.0 * 2.0 * (20f64.to_radians()).tan() / 360.0;
         assert!((vp.eps_k as f64 - want).abs() < 1e-9);
+        // The same pixel, found from the projection alone.
+        assert!((f64::from(vp.pixel_at_unit_depth()) - want / 2.0).abs() < 1e-6);
         assert_eq!(vp.w_orth, 0.5);
         let d = c.eye().distance(DVec3::new(0.0, 0.0, 1.0));
         let z = crate::patch::ops::affine_row(vp.depth_row, glam::Vec3::new(0.0, 0.0, 1.0));
