@@ -93,7 +93,7 @@ pub struct Level {
     /// area-weighted mean angle, in radians ([`error::normal_error`]).
     pub normal_error: f32,
     /// The same seen through footprints of growing side: (side in model
-    /// units, error in radians), finest first ([`shading::filtered_errors`]).
+    /// units, error in radians), finest first ([`shading::measure`]).
     pub shading: Vec<(f32, f32)>,
     /// What the simplifier was asked for, in model units.
     pub target: f32,
@@ -264,7 +264,6 @@ pub fn model_levels(
     let proxy_error = error::grid_error(patches, PROXY_GRID);
     let surface = error::surface_samples(patches, 2 * SOURCE_GRID);
     let normals = error::surface_normals(patches, 2 * SOURCE_GRID);
-    let scales: Vec<f32> = shading::scale_fractions().map(|f| f * diagonal).collect();
     let mut levels: Vec<Level> = Vec::new();
     let mut finer = MOST_TRIANGLES_PER_PATCH * patches.len();
     for fraction in targets() {
@@ -274,14 +273,10 @@ pub fn model_levels(
             continue;
         }
         error::fit_normals(&mut mesh, &normals);
-        let normal_error = error::normal_error(&normals, &mesh, two_sided);
-        let shading: Vec<(f32, f32)> = scales
-            .iter()
-            .copied()
-            .zip(shading::filtered_errors(
-                &normals, &mesh, two_sided, &scales,
-            ))
-            .collect();
+        let shading::Shading {
+            unfiltered: normal_error,
+            by_scale: shading,
+        } = shading::measure(&normals, &mesh, two_sided, shading::FINEST * diagonal);
         let level_shading = |side| shading::error_at(&shading, normal_error, side);
         // Shaded too far from the surface even seen from the farthest
         // scale measured: no distance would take it.

@@ -15,7 +15,9 @@
 //! the normals bounds the mean difference of the diffuse shade; a
 //! highlight is not linear, and for it this is an estimate, not a bound.
 
-use glam::{DVec3, Vec3};
+use std::collections::HashMap;
+
+use glam::{DVec3, I64Vec3, Vec3};
 
 use super::error::{fold_chunks, shaded_normal, NearestTriangle, NormalSample};
 use super::mesh::TriMesh;
@@ -35,83 +37,138 @@ pub fn footprint_pixels() -> f32 {
     sigma_deg * PIXELS_PER_DEGREE * 12f32.sqrt()
 }
 
-/// The scales a level's shading is measured at, as fractions of its
-/// model's box diagonal, finest first: 2⁻¹⁰ to 2⁻² by factors of 2.
-pub fn scale_fractions() -> impl Iterator<Item = f32> {
-    (0..=8).map(|k| (2.0f32).powi(k - 10))
+/// The finest footprint a level's shading is measured at, as a fraction
+/// of its model's box diagonal (2⁻¹⁰), and how many are measured, each
+/// twice the one before (up to 2⁻²).
+pub const FINEST: f32 = 1.0 / 1024.0;
+/// See [`FINEST`].
+pub const SCALES: usize = 9;
+
+/// A level's shading error: at each point, and over footprints of growing
+/// side.
+#[derive(Clone, Debug, Default)]
+pub struct Shading {
+    /// The surface-area-weighted mean angle, in radians, between the
+    /// surface's normal at each sample and the level's shaded normal at
+    /// its nearest point (as [`super::error::normal_error`] measures it).
+    pub unfiltered: f32,
+    /// (side in model units, error in radians), finest first: per cubic
+    /// cell of that side, the angle whose chord is the cell's area-weighted
+    /// mean of (level normal − surface normal), 2·asin(|mean Δn| / 2) (for
+    /// one sample, the angle between the two), averaged over the cells by
+    /// area.
+    pub by_scale: Vec<(f32, f32)>,
 }
 
-/// For each of `scales` (model units, finest first): the surface-area-
-/// weighted mean, over cubic cells of that side, of the angle whose chord
-/// is the cell's mean difference between `mesh`'s shaded normal and the
-/// surface's at `samples` (2·asin(|mean Δn| / 2); for one sample, the angle
-/// between the two). `two_sided`: the level's normal is taken on the
-/// sample's side first, as such a model is lit.
-pub fn filtered_errors(
-    samples: &[NormalSample],
-    mesh: &TriMesh,
-    two_sided: bool,
-    scales: &[f32],
-) -> Vec<f32> {
+/// [`Shading`] of `mesh` against the surface `samples`, at [`SCALES`]
+/// footprints from `finest` (model units) up, each twice the one before.
+/// `two_sided`: the level's normal is taken on the sample's side first, as
+/// such a model is lit. One nearest-point query per sample; the cells of a
+/// footprint are those of the one before merged in eights, their sums made
+/// in sample order and in the order cells were first met, so the result
+/// does not depend on the machine.
+pub fn measure(samples: &[NormalSample], mesh: &TriMesh, two_sided: bool, finest: f32) -> Shading {
     let near = NearestTriangle::new(mesh);
-    let deltas = fold_chunks(
+    // Per chunk: each sample's normal difference, and the chunk's sums of
+    // angle × area and area (merged in chunk order, as `normal_error`).
+    let (deltas, angle_sum, area_sum) = fold_chunks(
         samples,
         |part| {
-            part.iter()
-                .map(|s| {
-                    let n = shaded_normal(mesh, &near, s.point);
-                    let n = if two_sided && n.dot(s.normal) < 0.0 {
-                        -n
-                    } else {
-                        n
-                    };
-                    n - s.normal
-                })
-                .collect::<Vec<Vec3>>()
+            let mut out = (Vec::with_capacity(part.len()), 0.0f64, 0.0f64);
+            for s in part {
+                let n = shaded_normal(mesh, &near, s.point);
+                let n = if two_sided && n.dot(s.normal) < 0.0 {
+                    -n
+                } else {
+                    n
+                };
+                let a = f64::from(s.area);
+                out.0.push(n - s.normal);
+                out.1 += f64::from(n.dot(s.normal).clamp(-1.0, 1.0).acos()) * a;
+                out.2 += a;
+            }
+            out
         },
         |mut a, b| {
-            a.extend(b);
-            a
+            a.0.extend(b.0);
+            (a.0, a.1 + b.1, a.2 + b.2)
         },
-        Vec::new(),
+        (Vec::new(), 0.0, 0.0),
     );
     let lo = samples
         .iter()
         .fold(Vec3::splat(f32::MAX), |lo, s| lo.min(s.point));
-    let deltas = deltas.as_slice();
-    std::thread::scope(|s| {
-        let workers: Vec<_> = scales
-            .iter()
-            .map(|&side| s.spawn(move || error_at_scale(samples, deltas, lo, side)))
-            .collect();
-        workers
-            .into_iter()
-            .map(|w| w.join().expect("a shading worker does not panic"))
-            .collect()
-    })
+    let mut cells = finest_cells(samples, &deltas, lo, finest);
+    let mut by_scale = Vec::with_capacity(SCALES);
+    for k in 0..SCALES {
+        if k > 0 {
+            cells = merged(&cells);
+        }
+        by_scale.push((finest * (1u32 << k) as f32, mean_over(&cells)));
+    }
+    Shading {
+        unfiltered: (angle_sum / area_sum.max(f64::MIN_POSITIVE)) as f32,
+        by_scale,
+    }
 }
 
-/// [`filtered_errors`] at one cell side: the cells' sums are made in
-/// sample order and averaged in the order the cells were first met, so the
-/// result does not depend on the machine.
-fn error_at_scale(samples: &[NormalSample], deltas: &[Vec3], lo: Vec3, side: f32) -> f32 {
-    let mut index = std::collections::HashMap::new();
-    let mut cells: Vec<(DVec3, f64)> = Vec::new();
+/// A cell: its integer coordinates at its side, its sum of Δn × area, its
+/// area.
+type Cell = (I64Vec3, DVec3, f64);
+
+/// The samples' sums per cell of side `side` from `lo`, in the order the
+/// cells are first met.
+fn finest_cells(samples: &[NormalSample], deltas: &[Vec3], lo: Vec3, side: f32) -> Vec<Cell> {
+    let mut cells = Vec::new();
+    let mut index = HashMap::new();
     for (s, d) in samples.iter().zip(deltas) {
         let key = ((s.point - lo) / side).floor().as_i64vec3();
-        let k = *index.entry(key).or_insert_with(|| {
-            cells.push((DVec3::ZERO, 0.0));
-            cells.len() - 1
-        });
-        let a = f64::from(s.area);
-        cells[k].0 += d.as_dvec3() * a;
-        cells[k].1 += a;
+        add(
+            &mut cells,
+            &mut index,
+            key,
+            d.as_dvec3() * f64::from(s.area),
+            f64::from(s.area),
+        );
     }
+    cells
+}
+
+/// The cells of twice the side: each eight of `cells` merged.
+fn merged(cells: &[Cell]) -> Vec<Cell> {
+    let mut out = Vec::new();
+    let mut index = HashMap::new();
+    for &(key, sum, area) in cells {
+        // Coordinates are never negative (measured from the samples' lower
+        // corner): a shift halves them rounding down, as floor would.
+        add(&mut out, &mut index, key >> 1, sum, area);
+    }
+    out
+}
+
+fn add(
+    cells: &mut Vec<Cell>,
+    index: &mut HashMap<I64Vec3, usize>,
+    key: I64Vec3,
+    sum: DVec3,
+    area: f64,
+) {
+    let k = *index.entry(key).or_insert_with(|| {
+        cells.push((key, DVec3::ZERO, 0.0));
+        cells.len() - 1
+    });
+    cells[k].1 += sum;
+    cells[k].2 += area;
+}
+
+/// The area-weighted mean over `cells` of the angle whose chord is the
+/// cell's mean normal difference.
+fn mean_over(cells: &[Cell]) -> f32 {
     let (sum, area) =
         cells
             .iter()
-            .filter(|(_, a)| *a > 0.0)
-            .fold((0.0, 0.0), |(sum, area), (d, a)| {
+            .filter(|c| c.2 > 0.0)
+            .fold((0.0, 0.0), |(sum, area), (_, d, a)| {
                 let chord = (d.length() / a).min(2.0);
                 (sum + 2.0 * (chord / 2.0).asin() * a, area + a)
             });
@@ -149,27 +206,26 @@ mod tests {
         let mut coarse = mesh::limit_mesh(&ball, 1, &mesh::plain_uv);
         error::fit_normals(&mut coarse, &samples);
         let unfiltered = error::normal_error(&samples, &coarse, false);
-        let scales: Vec<f32> = [0.001, 0.05, 0.3, 1.0].to_vec();
-        let by_scale = filtered_errors(&samples, &coarse, false, &scales);
+        // Footprints 0.002 to 0.512 (the ball's radius is 1).
+        let m = measure(&samples, &coarse, false, 0.002);
+        assert_eq!(m.unfiltered, unfiltered);
+        let e: Vec<f32> = m.by_scale.iter().map(|s| s.1).collect();
+        assert_eq!(m.by_scale[8].0, 0.512);
         // At cells much finer than the samples' spacing each cell holds
         // one sample (two or four where patches meet, at an angle on the
-        // ball): about the unfiltered error, as `normal_error` measures it.
+        // ball): about the unfiltered error.
         assert!(
-            (by_scale[0] - unfiltered).abs() < 0.1 * unfiltered,
-            "{by_scale:?} {unfiltered}"
+            (e[0] - unfiltered).abs() < 0.1 * unfiltered,
+            "{e:?} {unfiltered}"
         );
-        // Cells as large as a coarse triangle (about 0.5) average much of
-        // its error away (measured: 0.13 unfiltered, 0.07 and 0.04 at 0.3
-        // and 1).
-        assert!(by_scale[2] < 0.7 * unfiltered, "{by_scale:?}");
-        assert!(by_scale[3] < 0.4 * unfiltered, "{by_scale:?}");
-        assert!(
-            by_scale.windows(2).all(|w| w[1] <= w[0] + 1e-4),
-            "{by_scale:?}"
-        );
-        let pairs: Vec<(f32, f32)> = scales.iter().copied().zip(by_scale.clone()).collect();
-        assert_eq!(error_at(&pairs, unfiltered, 0.0005), unfiltered);
-        assert_eq!(error_at(&pairs, unfiltered, 0.2), by_scale[1]);
-        assert_eq!(error_at(&pairs, unfiltered, 5.0), by_scale[3]);
+        // Cells as large as a coarse triangle (about 0.5) average half of
+        // its error away (measured: 0.121 at 0.002, 0.104 at 0.256, 0.053
+        // at 0.512).
+        assert!(e[7] < 0.9 * unfiltered, "{e:?}");
+        assert!(e[8] < 0.5 * unfiltered, "{e:?}");
+        assert!(e.windows(2).all(|w| w[1] <= w[0] + 1e-4), "{e:?}");
+        assert_eq!(error_at(&m.by_scale, unfiltered, 0.001), unfiltered);
+        assert_eq!(error_at(&m.by_scale, unfiltered, 0.3), e[7]);
+        assert_eq!(error_at(&m.by_scale, unfiltered, 5.0), e[8]);
     }
 }
