@@ -402,8 +402,11 @@ struct FrameArgs {
     /// Levels of detail below one patch, on or off (default off): far
     /// instances are drawn whole from a simplified triangle mesh of their
     /// model's limit surface, the coarsest whose measured error, projected
-    /// at the instance's nearest depth, is within ε pixels. Made at scene
-    /// load (seconds per thousand patches); the reference never uses them.
+    /// at the instance's nearest depth, is within ε pixels. Made at the
+    /// first load of a model (seconds per thousand patches) and kept for
+    /// later runs of this build in $BEZIER_SUBDIV_CACHE (set empty: no
+    /// cache), else $XDG_CACHE_HOME/bezier-subdiv or ~/.cache/bezier-subdiv;
+    /// the reference never uses them.
     #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value = "off", action = clap::ArgAction::Set)]
     lod: bool,
     /// With --lod on: the largest mean angle, in degrees, between a

@@ -294,6 +294,40 @@ fn lod_shading_takes_an_angle() {
     }
 }
 
+/// Levels are made once and read back after: a second `render --lod on`
+/// of the same scene reads every model's levels from the cache
+/// (`BEZIER_SUBDIV_CACHE`) and draws the same image.
+#[test]
+fn levels_are_read_back_from_the_cache() {
+    let dir = temp_dir("lod-cache");
+    let render = |out: &str| {
+        let run = bin()
+            .args(["render", "--scene"])
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot.toml"))
+            .args(["--size", "128x96", "--lod", "on", "--out", out])
+            .env("BEZIER_SUBDIV_CACHE", dir.join("cache"))
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        common::cli::assert_success(&run, "render --lod on: ");
+        String::from_utf8_lossy(&run.stderr).into_owned()
+    };
+    let first = render("a.png");
+    assert!(
+        first.contains("0 models' levels read, 1 made and stored"),
+        "{first}"
+    );
+    let second = render("b.png");
+    assert!(
+        second.contains("1 models' levels read, 0 made and stored"),
+        "{second}"
+    );
+    assert_eq!(
+        std::fs::read(dir.join("a.png")).unwrap(),
+        std::fs::read(dir.join("b.png")).unwrap()
+    );
+}
+
 /// Runs `cmd`, again while the executable is "busy": a freshly copied
 /// binary can be, for as long as a process forked meanwhile by another
 /// test thread still holds the copy's write handle (until it execs).

@@ -214,15 +214,26 @@ pub fn build_levels(
     shading_degrees: f32,
 ) -> crate::lod::SceneLevels {
     let start = std::time::Instant::now();
-    let levels = crate::lod::SceneLevels::build_with(geo, shading_degrees.to_radians());
+    let cache = crate::lod::cache::LevelCache::from_env();
+    let levels =
+        crate::lod::SceneLevels::build_cached(geo, shading_degrees.to_radians(), cache.as_ref());
     let (patch_bytes, level_bytes) = levels.bytes();
     let with = levels
         .models
         .iter()
         .filter(|m| !m.levels.is_empty())
         .count();
+    // Where the levels came from: read back, or made (and stored).
+    let cached = cache.map_or_else(String::new, |c| {
+        format!(
+            "; level cache {}: {} models' levels read, {} made and stored",
+            c.dir().display(),
+            c.hits.get(),
+            c.stored.get()
+        )
+    });
     eprintln!(
-        "levels of detail: {with} of {} models, {} levels, {} bytes ({:.2}× their patches'), made in {:.1} s",
+        "levels of detail: {with} of {} models, {} levels, {} bytes ({:.2}× their patches'), ready in {:.1} s{cached}",
         levels.models.len(),
         levels.models.iter().map(|m| m.levels.len()).sum::<usize>(),
         crate::figures::thousands(level_bytes),

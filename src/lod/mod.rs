@@ -21,6 +21,7 @@
 //! ([`select`]), so no crack can open inside it: the levels are separate
 //! objects as the instances already are.
 
+pub mod cache;
 pub mod constants;
 pub mod error;
 pub mod gpu;
@@ -172,6 +173,16 @@ impl SceneLevels {
     /// [`SceneLevels::build`], keeping only levels whose normal error is
     /// at most `most_normal_error` (radians).
     pub fn build_with(geo: &SceneGeometry, most_normal_error: f32) -> Self {
+        Self::build_cached(geo, most_normal_error, None)
+    }
+
+    /// [`SceneLevels::build_with`], each model's levels read from `cache`
+    /// where it has them, else made and stored there.
+    pub fn build_cached(
+        geo: &SceneGeometry,
+        most_normal_error: f32,
+        cache: Option<&cache::LevelCache>,
+    ) -> Self {
         // The table the GPU is given (a geometry cut or edited after
         // loading is uploaded as one identity instance).
         let table = geo
@@ -212,7 +223,12 @@ impl SceneLevels {
                         Some(p) => eval_uv_patch(p, u, v),
                         None => [u, v],
                     };
-                    model_levels(&table.patches[range], &st, two_sided, most_normal_error)
+                    let patches = &table.patches[range];
+                    let make = || model_levels(patches, &st, two_sided, most_normal_error);
+                    match cache {
+                        Some(c) => c.levels(patches, &st, two_sided, most_normal_error, make),
+                        None => make(),
+                    }
                 }
             };
             out.by_source.insert(t.source, out.models.len());
