@@ -577,6 +577,9 @@ impl Renderer {
         let name = self.method().name();
         self.frames
             .submit(&self.ctx, slot, &format!("frame ({name})"))?;
+        if let Some(lod) = &mut self.lod {
+            lod.submitted();
+        }
         self.slots[slot].compiled = self.frames.compile_allowance(slot) > Duration::ZERO;
         self.serial += 1;
         self.slots[slot].frame = Some((self.active, self.serial));

@@ -263,6 +263,9 @@ pub struct Lod {
     flagged: Vec<bool>,
     /// Per instance: its `BIND_LOD_CHOICE` word on the GPU.
     words: Vec<u32>,
+    /// `flagged` and `words` as the frame being recorded leaves them, kept
+    /// until it is submitted ([`Lod::submitted`]).
+    pending: Option<(Vec<bool>, Vec<u32>)>,
     /// The instances this frame draws from a level (in view), in instance
     /// order: (instance, model, level).
     draws: Vec<(u32, usize, usize)>,
@@ -323,6 +326,7 @@ impl Lod {
             force: None,
             flagged: vec![false; n],
             words: vec![LOD_NONE; n],
+            pending: None,
             draws: Vec::new(),
         })
     }
@@ -368,18 +372,22 @@ impl Lod {
         for &(i, m, l) in &self.draws {
             next[i as usize] = self.rows[m][l] + 1;
         }
+        let mut flagged = self.flagged.clone();
         for (i, inst) in scene.instance_records.iter().enumerate() {
             let lod = matches!(self.choice[i], Some(Draw::Level(..)));
-            if lod != self.flagged[i] {
-                self.flagged[i] = lod;
+            if lod != flagged[i] {
+                flagged[i] = lod;
                 let f = inst.flags | if lod { INSTANCE_LOD } else { 0 };
                 flags.push((i as u64 * INSTANCE_BYTES + FLAGS_OFFSET, f));
             }
             if next[i] != self.words[i] {
-                self.words[i] = next[i];
                 words.push((i as u64 * 4, next[i]));
             }
         }
+        // What the GPU will hold once this frame is submitted; until then
+        // (a frame whose recording fails is never submitted) the mirrors
+        // keep what it holds now, so the next frame writes the changes.
+        self.pending = Some((flagged, next));
         if flags.is_empty() && words.is_empty() {
             return;
         }
@@ -404,6 +412,15 @@ impl Lod {
             }
         });
         rec.hand_off(Res::Memory, Access::ALL);
+    }
+
+    /// The frame [`Lod::prepare`] recorded was submitted: the GPU's flag
+    /// and choice words are what it wrote.
+    pub fn submitted(&mut self) {
+        if let Some((flagged, words)) = self.pending.take() {
+            self.flagged = flagged;
+            self.words = words;
+        }
     }
 
     /// Each instance's choice this frame and the level-drawn ones in view.
