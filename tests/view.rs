@@ -135,14 +135,15 @@ fn the_window_shows_what_render_draws() {
 }
 
 /// The other draw path, the other kinds of method (multisampled too), the
-/// heat-map views and presenting without vsync start and run clean too.
+/// heat-map views, presenting without vsync and levels of detail start
+/// and run clean too.
 #[test]
 fn other_methods_and_views_run_in_the_window() {
     let dir = temp_dir("methods");
-    for (method, draw, shade, vsync, msaa) in [
-        ("subdiv-indirect", "fallback", "wedges", "off", "1"),
-        ("ground-truth", "auto", "wireframe", "on", "1"),
-        ("tess", "auto", "depth", "on", "4"),
+    for (method, draw, shade, vsync, msaa, lod) in [
+        ("subdiv-indirect", "fallback", "wedges", "off", "1", "on"),
+        ("ground-truth", "auto", "wireframe", "on", "1", "off"),
+        ("tess", "auto", "depth", "on", "4", "off"),
     ] {
         let shot = dir.join(format!("{method}.png"));
         let run = view(&[
@@ -164,6 +165,8 @@ fn other_methods_and_views_run_in_the_window() {
             msaa,
             "--vsync",
             vsync,
+            "--lod",
+            lod,
             "--screenshot",
             shot.to_str().unwrap(),
             "--vk-validation",
@@ -173,6 +176,9 @@ fn other_methods_and_views_run_in_the_window() {
             serde_json::from_slice(&std::fs::read(shot.with_extension("json")).unwrap()).unwrap();
         assert_eq!(stats["method"], method);
         assert_eq!(stats["shade"], shade);
+        // Started with levels, the window's switch for them is there, on.
+        let switch = (lod == "on").then_some(true);
+        assert_eq!(stats["levels_of_detail_on"], serde_json::json!(switch));
         // FIFO is always there; without vsync anything the display offers.
         if vsync == "on" {
             assert_eq!(stats["present_mode"], "fifo");

@@ -50,6 +50,9 @@ pub struct Controls {
     pub occlusion: bool,
     /// Displaced models drawn displaced; `None` when no model is.
     pub displacement: Option<bool>,
+    /// Far instances drawn from levels of detail; `None` when the session
+    /// was started without them (`--lod off`).
+    pub levels: Option<bool>,
     /// How to shade.
     pub shade: Shade,
     /// Samples per pixel.
@@ -376,6 +379,13 @@ impl Controls {
             )
             .on_disabled_hover_text(&ignored);
         });
+        if let Some(on) = self.levels.as_mut() {
+            ui.checkbox(on, "levels of detail: far instances from simplified meshes")
+                .on_hover_text(
+                    "the coarsest level within ε (and the shading bound) at each instance's \
+                     distance; off: every instance from its patches",
+                );
+        }
         if let Some(on) = self.displacement.as_mut() {
             ui.add_enabled(
                 reads.displacement,

@@ -164,6 +164,7 @@ impl Session {
             wedges: true,
             occlusion: renderer.options().occlusion,
             displacement: geo.displacement.in_use().then_some(true),
+            levels: renderer.levels().is_some().then_some(true),
             shade: args.shade,
             msaa: args.gpu.msaa,
             grid: args.gpu.per_method.reference_grid(),
@@ -341,6 +342,8 @@ impl Session {
     /// the session.
     fn apply_controls(&mut self, size: (u32, u32)) -> anyhow::Result<()> {
         let c = &self.controls;
+        // Chosen per frame on the host: no drain needed.
+        self.renderer.enable_levels(c.levels.unwrap_or(false));
         let mut wanted = MethodOptions {
             draw: c.draw,
             samples: c.msaa,
@@ -522,6 +525,7 @@ impl Session {
         });
         stats["wedges"] = json!(c.wedges);
         stats["displacement"] = json!(c.displacement);
+        stats["levels_of_detail_on"] = json!(c.levels);
         stats["split"] = json!(c.split.name());
         stats["present_mode"] = json!(self.presenter.present_mode());
         // What the window showed around the frame (the keys' effects).

@@ -263,6 +263,8 @@ pub struct Lod {
     flagged: Vec<bool>,
     /// Per instance: its `BIND_LOD_CHOICE` word on the GPU.
     words: Vec<u32>,
+    /// Levels on ([`Lod::set_enabled`]).
+    enabled: bool,
     /// `flagged` and `words` as the frame being recorded leaves them, kept
     /// until it is submitted ([`Lod::submitted`]).
     pending: Option<(Vec<bool>, Vec<u32>)>,
@@ -326,9 +328,16 @@ impl Lod {
             force: None,
             flagged: vec![false; n],
             words: vec![LOD_NONE; n],
+            enabled: true,
             pending: None,
             draws: Vec::new(),
         })
+    }
+
+    /// Levels on (the default) or off: off, every instance is drawn from
+    /// its patches, as without levels, and the levels stay made.
+    pub fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
     }
 
     /// Draws every instance with levels from level `level` (see
@@ -365,7 +374,7 @@ impl Lod {
         params: &ViewParams,
         enabled: bool,
     ) {
-        self.choose(scene, params, enabled);
+        self.choose(scene, params, enabled && self.enabled);
         let mut flags = Vec::new();
         let mut words = Vec::new();
         let mut next = vec![LOD_NONE; self.words.len()];

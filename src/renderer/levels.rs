@@ -46,6 +46,15 @@ impl Renderer {
         }
     }
 
+    /// Turns the levels given ([`Renderer::set_levels`]) on or off
+    /// without making them again (the window's switch). No-op without
+    /// levels.
+    pub fn enable_levels(&mut self, on: bool) {
+        if let Some(lod) = &mut self.lod {
+            lod.set_enabled(on);
+        }
+    }
+
     /// The levels of detail in use.
     pub fn levels(&self) -> Option<&SceneLevels> {
         self.lod.as_ref().map(Lod::levels)
