@@ -170,8 +170,10 @@ impl SceneLevels {
         Self::build_with(geo, MOST_NORMAL_ERROR)
     }
 
-    /// [`SceneLevels::build`], keeping only levels whose normal error is
-    /// at most `most_normal_error` (radians).
+    /// [`SceneLevels::build`] under the shading bound `most_normal_error`
+    /// (radians): levels over it even through the largest footprint are
+    /// not kept, and [`select::choose`] holds the others to it at each
+    /// instance's distance.
     pub fn build_with(geo: &SceneGeometry, most_normal_error: f32) -> Self {
         Self::build_cached(geo, most_normal_error, None)
     }

@@ -93,6 +93,8 @@ pub fn choose(
         return Draw::Patches;
     };
     let scale = stretch(inst);
+    // In model units: the largest stretch makes it the smallest, the
+    // footprint whose error is the largest.
     let footprint = footprint(view, allowed) / scale;
     // Within ε, and shaded near enough to the surface for a footprint of
     // `fraction` of the instance's.
