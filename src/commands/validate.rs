@@ -513,15 +513,18 @@ fn hole_checks(
 }
 
 /// Levels of detail in a model's image narrower than this (pixels) are
-/// not hole-tested: the test's erosion would leave nothing to check.
+/// not hole-tested by pixels: the test's erosion would leave nothing to
+/// check.
 const LEVEL_TEST_MIN_SPAN: f64 = 48.0;
 
 /// The hole test of the levels of detail (`--lod on`): for the first
 /// instance of every distinct model file with levels, each level whose
 /// model still spans [`LEVEL_TEST_MIN_SPAN`] pixels at the distance where
 /// its measured error projects to ε, drawn from that level from there and
-/// held against the reference drawn from patches (the levels made with
-/// the shading bound `shading`, degrees, as the run draws them).
+/// held against the reference drawn from patches; each smaller one by its
+/// mesh: open nowhere its model is closed ([`crate::lod::edges_opened`])
+/// (the levels made with the shading bound `shading`, degrees, as the run
+/// draws them).
 fn level_hole_checks(
     renderer: &mut Renderer,
     geo: &SceneGeometry,
@@ -539,10 +542,23 @@ fn level_hole_checks(
         for (l, level) in model.levels.iter().enumerate() {
             let (cameras, span) =
                 holes::level_cameras(&one.patches, level.error, eps_lambda.0, height);
-            if l > 0 && span < LEVEL_TEST_MIN_SPAN {
-                break;
-            }
             let tag = format!("{name} level {l}");
+            if span < LEVEL_TEST_MIN_SPAN {
+                let opened = crate::lod::edges_opened(&one, model, level);
+                let detail = format!(
+                    "{} open edges where the model is closed (by its mesh: {span:.0} px \
+                     across at ε, too small for the pixel test); {} triangles",
+                    crate::figures::thousands(opened as u64),
+                    level.mesh.triangles()
+                );
+                out.push(CheckResult::new(
+                    &format!("holes {tag}"),
+                    None,
+                    opened == 0,
+                    detail,
+                ));
+                continue;
+            }
             let views = run_model_from(
                 renderer,
                 &one,

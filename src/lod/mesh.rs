@@ -44,6 +44,23 @@ impl TriMesh {
         ]
     }
 
+    /// How many of this mesh's open edges ([`TriMesh::boundary_edges`])
+    /// end at a point that is not on `source`'s own open boundary: 0 for a
+    /// simplification of `source` that opened it nowhere (collapses keep
+    /// the source's vertex positions, so a border can be compared by them).
+    pub fn edges_opened_from(&self, source: &TriMesh) -> usize {
+        let key = |m: &TriMesh, v: u32| m.positions[v as usize].to_array().map(f32::to_bits);
+        let border: std::collections::HashSet<[u32; 3]> = source
+            .boundary_edges()
+            .iter()
+            .flat_map(|&(a, b)| [key(source, a), key(source, b)])
+            .collect();
+        self.boundary_edges()
+            .iter()
+            .filter(|&&(a, b)| !border.contains(&key(self, a)) || !border.contains(&key(self, b)))
+            .count()
+    }
+
     /// The edges used by exactly one triangle, each as (lower, higher)
     /// vertex index, sorted: the mesh's open boundary. Vertices at the same
     /// position (a crease's split copies) count as one: the first.
