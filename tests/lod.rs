@@ -97,6 +97,36 @@ fn every_level_tested_has_no_holes() {
     assert!(tested.len() >= 2, "{}", report.table);
 }
 
+/// The case that failed `validate --lod on` on the default scene: the
+/// teapot's coarse levels are drawn only while it spans a few pixels, too
+/// small for the pixel hole test (nothing left after its erosion, which
+/// fails a check). Such a level is held to its mesh instead, and the run
+/// passes.
+#[test]
+fn levels_too_small_for_the_pixel_test_are_checked_by_their_mesh() {
+    let _gpu = common::gpu();
+    let mut gpu = GpuRequest::new(common::repo_path("scenes/teapot.toml"));
+    gpu.size = (320, 180);
+    gpu.validation = true;
+    gpu.lod = true;
+    let report = run(&ValidateArgs {
+        gpu,
+        frames: vec![0],
+        skip_holes: false,
+        debug_dir: Some(common::output_dir("lod-small-holes")),
+    })
+    .unwrap();
+    assert!(report.ok(), "{}", report.table);
+    let by_mesh = report
+        .results
+        .iter()
+        .filter(|r| {
+            r.check.starts_with("holes teapot.bpt level") && r.detail.contains("by its mesh")
+        })
+        .count();
+    assert!(by_mesh >= 1, "{}", report.table);
+}
+
 /// The case that showed crease normals averaged: the kitchen's walls
 /// (`kitchen_square.obj`, a box with sharp creases) drawn from a level
 /// were lit with their corners' mean normal, a gradient across each face
