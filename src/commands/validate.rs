@@ -534,8 +534,10 @@ fn level_hole_checks(
 ) -> anyhow::Result<Vec<CheckResult>> {
     let mut out = Vec::new();
     let height = renderer.target().size().1;
+    let cache = crate::lod::cache::LevelCache::from_env();
     for (name, one) in distinct_models(geo) {
-        let levels = crate::lod::SceneLevels::build_with(&one, shading.to_radians());
+        let levels =
+            crate::lod::SceneLevels::build_cached(&one, shading.to_radians(), cache.as_ref());
         let Some(model) = levels.models.first().filter(|m| !m.levels.is_empty()) else {
             continue;
         };

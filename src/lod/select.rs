@@ -11,9 +11,10 @@ use crate::patch::view::ViewParams;
 use crate::scene::instances::Instance;
 
 /// A coarser level is entered only when its projected error is at most
-/// this fraction of ε; a level is left (for a finer one) as soon as it
-/// exceeds ε. Between the two an instance keeps what it has, and ε itself
-/// is never exceeded. An instance seen for the first time (no level chosen
+/// this fraction of ε, and its shading error within the bound at this
+/// fraction of the instance's footprint; a level is left (for a finer one)
+/// as soon as either fails at the whole. Between the two an instance keeps
+/// what it has, and neither bound is ever exceeded. An instance seen for the first time (no level chosen
 /// before, or ε changed) takes the coarsest level within ε.
 pub const ENTER: f32 = 0.8;
 
