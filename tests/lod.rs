@@ -71,20 +71,29 @@ fn far_instances_come_from_levels_in_every_method_and_off_is_unchanged() {
     gpu.finish();
 }
 
-#[test]
-fn every_level_tested_has_no_holes() {
+/// `validate --lod on` of `scene` at 320×180, keyframe 0, validation
+/// layer on; its debug images under the output folder `tag`.
+fn validate_with_levels(
+    scene: &str,
+    tag: &str,
+) -> bezier_subdiv::commands::validate::ValidateReport {
     let _gpu = common::gpu();
-    let mut gpu = GpuRequest::new(common::repo_path("scenes/parking.toml"));
+    let mut gpu = GpuRequest::new(common::repo_path(scene));
     gpu.size = (320, 180);
     gpu.validation = true;
     gpu.lod = true;
-    let report = run(&ValidateArgs {
+    run(&ValidateArgs {
         gpu,
         frames: vec![0],
         skip_holes: false,
-        debug_dir: Some(common::output_dir("lod-holes")),
+        debug_dir: Some(common::output_dir(tag)),
     })
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn every_level_tested_has_no_holes() {
+    let report = validate_with_levels("scenes/parking.toml", "lod-holes");
     println!("{}", report.table);
     assert!(report.ok(), "{}", report.table);
     // The floor's level and the car's finest at least (the hole verdict
@@ -104,18 +113,7 @@ fn every_level_tested_has_no_holes() {
 /// passes.
 #[test]
 fn levels_too_small_for_the_pixel_test_are_checked_by_their_mesh() {
-    let _gpu = common::gpu();
-    let mut gpu = GpuRequest::new(common::repo_path("scenes/teapot.toml"));
-    gpu.size = (320, 180);
-    gpu.validation = true;
-    gpu.lod = true;
-    let report = run(&ValidateArgs {
-        gpu,
-        frames: vec![0],
-        skip_holes: false,
-        debug_dir: Some(common::output_dir("lod-small-holes")),
-    })
-    .unwrap();
+    let report = validate_with_levels("scenes/teapot.toml", "lod-small-holes");
     assert!(report.ok(), "{}", report.table);
     let by_mesh = report
         .results
